@@ -1,0 +1,21 @@
+#include "cloud.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace tigris {
+
+void validate_cloud(const PointCloud& cloud, const std::string& label) {
+  if (cloud.empty()) throw InputError(label + ": the point cloud is empty");
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Point3& p = cloud[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      std::ostringstream msg;
+      msg << label << ": point " << i << " has a non-finite coordinate (" << p.x << ", " << p.y
+          << ", " << p.z << "); NaN/Inf points are rejected, filter them out first";
+      throw InputError(msg.str());
+    }
+  }
+}
+
+}  // namespace tigris

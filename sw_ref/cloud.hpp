@@ -1,0 +1,25 @@
+// Point clouds as the golden model sees them: float32 x, y, z indexed 0..N-1 in input order.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "arith.hpp"
+
+namespace tigris {
+
+using PointCloud = std::vector<Point3>;
+
+// Any input problem (missing/malformed file, NaN/Inf, empty cloud). The message names the
+// file (or the cloud's label) and what is wrong; the CLI prints it and exits non-zero.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Policy (DESIGN.md section 2): a cloud with a NaN/Inf coordinate or no point is rejected,
+// never silently repaired. `label` names the source in the message (usually the file path).
+void validate_cloud(const PointCloud& cloud, const std::string& label);
+
+}  // namespace tigris

@@ -1,0 +1,331 @@
+#include "search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace tigris {
+
+Mode parse_mode(const std::string& name) {
+  if (name == "nn") return Mode::NN;
+  if (name == "knn") return Mode::KNN;
+  if (name == "radius") return Mode::Radius;
+  throw std::invalid_argument("unknown search mode '" + name + "' (use nn, knn or radius)");
+}
+
+const char* to_string(Mode mode) {
+  switch (mode) {
+    case Mode::NN: return "nn";
+    case Mode::KNN: return "knn";
+    default: return "radius";
+  }
+}
+
+float default_approx_thd(const SearchParams& p) {
+  return p.mode == Mode::Radius ? 0.4f * p.radius : 1.2f;
+}
+
+void validate(const SearchParams& p) {
+  if (p.mode == Mode::KNN && p.k < 1) throw std::invalid_argument("k must be >= 1, got " + std::to_string(p.k));
+  if (p.mode == Mode::Radius && !(p.radius > 0.0f && std::isfinite(p.radius)))
+    throw std::invalid_argument("radius must be a finite number > 0, got " + std::to_string(p.radius));
+  if (p.approximate) {
+    if (!(p.approx_thd >= 0.0f && std::isfinite(p.approx_thd)))
+      throw std::invalid_argument("approximation threshold must be a finite number >= 0");
+    if (p.leader_capacity < 0) throw std::invalid_argument("leader capacity must be >= 0");
+    if (p.leader_width < 0) throw std::invalid_argument("leader result width must be >= 0");
+  }
+}
+
+void VisitTotals::add(const QueryVisits& v) {
+  top += v.top;
+  pruned += v.pruned;
+  leaf_points += v.leaf_points;
+  follower_points += v.follower_points;
+  leader_checks += v.leader_checks;
+  leaf_visits += v.leaf_visits;
+}
+
+namespace {
+
+constexpr std::uint32_t kDone = 0xFFFFFFFFu;
+constexpr std::size_t kProgressStep = 4096;
+
+// ---- Result collectors: offer() keeps the canonical answer, bound() prunes -------------------
+
+struct NnCollector {
+  Neighbor best{kNoPoint, kInfinity};
+  explicit NnCollector(const SearchParams&) {}
+  float bound() const { return best.dist2; }
+  void offer(float d, std::uint32_t i) {
+    if (d < best.dist2 || (d == best.dist2 && i < best.index)) best = {i, d};
+  }
+  void emit(Results& r) {
+    r.append_query(&best, &best + (best.index == kNoPoint ? 0 : 1));
+    best = {kNoPoint, kInfinity};
+  }
+};
+
+struct KnnCollector {
+  std::vector<Neighbor> list;  // ascending canonical order, at most k
+  std::size_t k;
+  explicit KnnCollector(const SearchParams& p) : k(static_cast<std::size_t>(p.k)) { list.reserve(k); }
+  float bound() const { return list.size() < k ? kInfinity : list.back().dist2; }
+  void offer(float d, std::uint32_t i) {
+    const Neighbor n{i, d};
+    if (list.size() == k) {
+      if (!closer(n, list.back())) return;
+      list.pop_back();
+    }
+    list.insert(std::upper_bound(list.begin(), list.end(), n, Closer{}), n);
+  }
+  void emit(Results& r) {
+    r.append_query(list.data(), list.data() + list.size());
+    list.clear();
+  }
+};
+
+struct RadiusCollector {
+  std::vector<Neighbor> hits;
+  float r2;
+  std::uint32_t max_nn;
+  explicit RadiusCollector(const SearchParams& p) : r2(square(p.radius)), max_nn(p.max_nn) {}
+  float bound() const { return r2; }
+  void offer(float d, std::uint32_t i) {
+    if (d <= r2) hits.push_back({i, d});
+  }
+  void emit(Results& r) {
+    std::sort(hits.begin(), hits.end(), Closer{});
+    if (max_nn > 0 && hits.size() > max_nn) hits.resize(max_nn);
+    r.append_query(hits.data(), hits.data() + hits.size());
+    hits.clear();
+  }
+};
+
+struct StackEntry {
+  std::uint32_t node;
+  float plane2;  // squared distance to the split plane that separates this subtree
+};
+
+// ---- Leader Buffer state of the approximate search ---------------------------------------------
+
+struct Leader {
+  Point3 point;
+  std::vector<std::uint32_t> list;  // positions in the tree's leaf arrays
+};
+
+// ---- One query's depth-first search, resumable between leaf visits -----------------------------
+
+template <class Collector>
+struct Walker {
+  Point3 q;
+  StackEntry* stack;
+  int sp = 0;
+  QueryVisits* visits;
+  Collector result;
+};
+
+template <class Collector>
+class Engine {
+ public:
+  Engine(const KdTree& tree, const SearchParams& params, SearchOutput& out)
+      : t_(tree), p_(params), out_(out), first_leaf_(tree.first_leaf_node()),
+        thd2_(square(params.approx_thd)) {
+    // nonempty_[node] for every heap node down to the leaves: empty ones are never pushed.
+    const std::size_t nodes = t_.top.size() + t_.num_leaves();
+    nonempty_.resize(nodes);
+    for (std::size_t n = 0; n < t_.top.size(); ++n) nonempty_[n] = !t_.top[n].empty();
+    for (std::uint32_t j = 0; j < t_.num_leaves(); ++j)
+      nonempty_[first_leaf_ + j] = t_.leaf_size(j) > 0;
+    if (p_.approximate) leaders_.resize(t_.num_leaves());
+  }
+
+  int stack_capacity() const { return std::max(t_.top_height, 1); }
+
+  void start(Walker<Collector>& w) const {
+    w.sp = 0;
+    if (nonempty_[0]) w.stack[w.sp++] = {0, 0.0f};
+  }
+
+  // Walks the top-tree to the query's next non-empty leaf; returns the leaf id or kDone.
+  std::uint32_t advance(Walker<Collector>& w) const {
+    while (w.sp > 0) {
+      const StackEntry e = w.stack[--w.sp];
+      if (e.plane2 > w.result.bound()) {
+        ++w.visits->pruned;
+        continue;
+      }
+      std::uint32_t node = e.node;
+      while (node < first_leaf_) {
+        const TopNode& n = t_.top[node];
+        ++w.visits->top;
+        w.result.offer(dist2(w.q, n.point), n.index);
+        const bool left = w.q[n.axis] < n.point[n.axis];
+        const std::uint32_t near = 2 * node + (left ? 1 : 2);
+        const std::uint32_t far = 2 * node + (left ? 2 : 1);
+        if (nonempty_[far]) w.stack[w.sp++] = {far, plane_dist2(w.q, n.point, n.axis)};
+        node = nonempty_[near] ? near : kDone;
+      }
+      if (node != kDone) return node - first_leaf_;
+    }
+    return kDone;
+  }
+
+  void visit_leaf(Walker<Collector>& w, std::uint32_t leaf) {
+    ++w.visits->leaf_visits;
+    if (!p_.approximate) {
+      scan(w, t_.leaf_begin[leaf], t_.leaf_begin[leaf + 1]);
+      return;
+    }
+    // Paper Algorithm 1: follow the closest leader (order (dist2, arrival)) if within thd.
+    std::vector<Leader>& leaders = leaders_[leaf];
+    const Leader* closest = nullptr;
+    float closest_d = kInfinity;
+    for (const Leader& l : leaders) {
+      const float d = dist2(w.q, l.point);
+      ++w.visits->leader_checks;
+      if (closest == nullptr || d < closest_d) closest = &l, closest_d = d;
+    }
+    if (closest != nullptr && closest_d < thd2_) {
+      ++out_.leaders.followers;
+      for (std::uint32_t pos : closest->list) {
+        ++w.visits->follower_points;
+        w.result.offer(dist2(w.q, t_.leaf_points[pos]), t_.leaf_index[pos]);
+      }
+      return;
+    }
+    scan(w, t_.leaf_begin[leaf], t_.leaf_begin[leaf + 1]);
+    if (leaders.size() >= static_cast<std::size_t>(p_.leader_capacity)) {
+      ++out_.leaders.leader_buffer_full;
+      return;
+    }
+    ++out_.leaders.leaders;
+    leaders.push_back({w.q, local_list(w.q, leaf)});
+  }
+
+  void scan(Walker<Collector>& w, std::uint32_t first, std::uint32_t last) const {
+    w.visits->leaf_points += last - first;
+    for (std::uint32_t pos = first; pos < last; ++pos)
+      w.result.offer(dist2(w.q, t_.leaf_points[pos]), t_.leaf_index[pos]);
+  }
+
+  // A new leader's local result list at `leaf`: its in-radius points (radius) or its R best
+  // points of the leaf set (NN/kNN), as positions in the leaf arrays.
+  std::vector<std::uint32_t> local_list(const Point3& q, std::uint32_t leaf) const {
+    std::vector<Neighbor> cand;  // index field holds the position
+    const float r2 = square(p_.radius);
+    for (std::uint32_t pos = t_.leaf_begin[leaf]; pos < t_.leaf_begin[leaf + 1]; ++pos) {
+      const float d = dist2(q, t_.leaf_points[pos]);
+      if (p_.mode != Mode::Radius || d <= r2) cand.push_back({pos, d});
+    }
+    if (p_.mode != Mode::Radius) {
+      // Positions ascend with point index inside a leaf set, so this is (dist2, index) order.
+      const std::size_t width = std::min<std::size_t>(cand.size(), p_.effective_leader_width());
+      std::partial_sort(cand.begin(), cand.begin() + width, cand.end(), Closer{});
+      cand.resize(width);
+    }
+    std::vector<std::uint32_t> list;
+    list.reserve(cand.size());
+    for (const Neighbor& c : cand) list.push_back(c.index);
+    return list;
+  }
+
+  void record(std::uint32_t query, std::uint32_t leaf) {
+    if (p_.record_schedule) out_.schedule.push_back({query, leaf});
+  }
+
+ private:
+  const KdTree& t_;
+  const SearchParams& p_;
+  SearchOutput& out_;
+  std::uint32_t first_leaf_;
+  float thd2_;
+  std::vector<std::uint8_t> nonempty_;
+  std::vector<std::vector<Leader>> leaders_;
+};
+
+template <class Collector>
+void run_in_order(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
+                  SearchOutput& out, const Progress& progress) {
+  Engine<Collector> engine(tree, p, out);
+  std::vector<StackEntry> stack(engine.stack_capacity());
+  Walker<Collector> w{{}, stack.data(), 0, nullptr, Collector(p)};  // emit() resets the result
+  for (std::uint32_t q = 0; q < queries.size(); ++q) {
+    w.q = queries[q];
+    w.visits = &out.per_query[q];
+    engine.start(w);
+    for (std::uint32_t leaf; (leaf = engine.advance(w)) != kDone;) {
+      engine.record(q, leaf);
+      engine.visit_leaf(w, leaf);
+    }
+    w.result.emit(out.results);
+    if (progress && (q + 1) % kProgressStep == 0) progress(q + 1, queries.size());
+  }
+}
+
+template <class Collector>
+void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
+                const Schedule& schedule, SearchOutput& out, const Progress& progress) {
+  Engine<Collector> engine(tree, p, out);
+  const std::size_t cap = engine.stack_capacity();
+  std::vector<StackEntry> stacks(queries.size() * cap);
+  std::vector<Walker<Collector>> walkers;
+  walkers.reserve(queries.size());
+  std::vector<std::uint32_t> pending(queries.size());
+  for (std::uint32_t q = 0; q < queries.size(); ++q) {
+    walkers.push_back({queries[q], stacks.data() + q * cap, 0, &out.per_query[q], Collector(p)});
+    engine.start(walkers[q]);
+    pending[q] = engine.advance(walkers[q]);
+  }
+  for (std::size_t s = 0; s < schedule.size(); ++s) {
+    const ScheduleEntry& e = schedule[s];
+    const std::string row = "schedule row " + std::to_string(s) + " (query " +
+                            std::to_string(e.query) + ", leaf " + std::to_string(e.leaf) + "): ";
+    if (e.query >= queries.size())
+      throw ScheduleError(row + "there are only " + std::to_string(queries.size()) + " queries");
+    if (pending[e.query] == kDone)
+      throw ScheduleError(row + "the query has already finished its search");
+    if (pending[e.query] != e.leaf)
+      throw ScheduleError(row + "the query's next leaf visit is leaf " +
+                          std::to_string(pending[e.query]));
+    engine.visit_leaf(walkers[e.query], e.leaf);
+    pending[e.query] = engine.advance(walkers[e.query]);
+    if (progress && (s + 1) % kProgressStep == 0) progress(s + 1, schedule.size());
+  }
+  for (std::uint32_t q = 0; q < queries.size(); ++q)
+    if (pending[q] != kDone)
+      throw ScheduleError("the schedule ends but query " + std::to_string(q) +
+                          " still has to visit leaf " + std::to_string(pending[q]));
+  for (auto& w : walkers) w.result.emit(out.results);
+  out.schedule = schedule;
+}
+
+template <class Collector>
+void run(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
+         const Schedule* replay, SearchOutput& out, const Progress& progress) {
+  if (replay)
+    run_replay<Collector>(tree, queries, p, *replay, out, progress);
+  else
+    run_in_order<Collector>(tree, queries, p, out, progress);
+}
+
+}  // namespace
+
+SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                    const Schedule* replay, const Progress& progress) {
+  validate(params);
+  validate_cloud(queries, "queries");
+  if (queries.size() >= kNoPoint) throw std::invalid_argument("too many queries");
+  SearchOutput out;
+  out.per_query.resize(queries.size());
+  out.results.offset.reserve(queries.size() + 1);
+  switch (params.mode) {
+    case Mode::NN: run<NnCollector>(tree, queries, params, replay, out, progress); break;
+    case Mode::KNN: run<KnnCollector>(tree, queries, params, replay, out, progress); break;
+    case Mode::Radius: run<RadiusCollector>(tree, queries, params, replay, out, progress); break;
+  }
+  for (const QueryVisits& v : out.per_query) out.visits.add(v);
+  return out;
+}
+
+}  // namespace tigris

@@ -1,0 +1,95 @@
+// The golden model's searches (DESIGN.md sections 4 and 5): exact NN, kNN and radius search on
+// a KdTree, depth-first, with visit counts, and the approximate (leader/follower) search of the
+// paper's Algorithm 1 at every leaf visit, driven by an optional schedule.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cloud.hpp"
+#include "kdtree.hpp"
+#include "results.hpp"
+
+namespace tigris {
+
+enum class Mode { NN, KNN, Radius };
+Mode parse_mode(const std::string& name);  // "nn" | "knn" | "radius"
+const char* to_string(Mode mode);
+
+struct SearchParams {
+  Mode mode = Mode::NN;
+  int k = 1;                   // neighbours for kNN (NN: 1)
+  float radius = 0.0f;         // metres, radius mode
+  std::uint32_t max_nn = 0;    // radius: keep only the first max_nn (0: all); no effect on visits
+  bool approximate = false;    // leader/follower search at every leaf visit
+  float approx_thd = 0.0f;     // metres: a query within thd of a leader follows it
+  int leader_capacity = 16;    // leaders kept per leaf
+  int leader_width = 0;        // R: a leader's local result list for NN/kNN (0: k)
+  bool record_schedule = true; // keep the (query, leaf) visit decisions
+
+  int effective_k() const { return mode == Mode::NN ? 1 : k; }
+  int effective_leader_width() const { return leader_width > 0 ? leader_width : effective_k(); }
+};
+
+// Paper defaults for the approximation threshold: 1.2 m for NN/kNN, 0.4 r for radius.
+float default_approx_thd(const SearchParams& params);
+
+// Throws std::invalid_argument naming the parameter: k < 1, r <= 0 or non-finite, thd < 0, ...
+void validate(const SearchParams& params);
+
+// One query's visit counts.
+struct QueryVisits {
+  std::uint32_t top = 0;              // top-tree nodes whose point was compared
+  std::uint32_t pruned = 0;           // popped subtrees skipped by plane2 > bound
+  std::uint32_t leaf_points = 0;      // leaf-set points compared (exact scans)
+  std::uint32_t follower_points = 0;  // leader-list entries compared by a follower
+  std::uint32_t leader_checks = 0;    // distances to a leaf's leaders
+  std::uint32_t leaf_visits = 0;      // non-empty leaf sets reached
+};
+
+struct VisitTotals {
+  std::uint64_t top = 0, pruned = 0, leaf_points = 0, follower_points = 0, leader_checks = 0,
+                leaf_visits = 0;
+  void add(const QueryVisits& v);
+};
+
+struct LeaderTotals {
+  std::uint64_t leaders = 0;             // exact scans whose query joined the Leader Buffer
+  std::uint64_t followers = 0;           // leaf visits served from a leader's list
+  std::uint64_t leader_buffer_full = 0;  // exact scans that found the Leader Buffer full
+};
+
+// One leaf visit decision: query `query` scans leaf `leaf` (non-empty leaves only).
+struct ScheduleEntry {
+  std::uint32_t query = 0;
+  std::uint32_t leaf = 0;
+  bool operator==(const ScheduleEntry& o) const { return query == o.query && leaf == o.leaf; }
+};
+using Schedule = std::vector<ScheduleEntry>;
+
+struct SearchOutput {
+  Results results;
+  std::vector<QueryVisits> per_query;
+  VisitTotals visits;
+  LeaderTotals leaders;
+  Schedule schedule;  // the schedule used (recorded, or the replayed one)
+};
+
+// Thrown when a replayed schedule does not match the queries' own traversal.
+class ScheduleError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Searches every query in `tree`. Without `replay`, queries run one at a time in index order;
+// with it, leaf visits happen in the schedule's order (each query's top-tree walk is its own,
+// so only the leader state depends on the order) and every visit must match the query's
+// traversal exactly, else ScheduleError.
+// `progress(done, total)` is called now and then (queries, or schedule rows when replaying).
+using Progress = std::function<void(std::size_t done, std::size_t total)>;
+SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                    const Schedule* replay = nullptr, const Progress& progress = {});
+
+}  // namespace tigris

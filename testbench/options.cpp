@@ -1,0 +1,95 @@
+#include "options.hpp"
+
+#include <stdexcept>
+
+namespace tigris {
+
+void add_search_options(CLI::App& app, SearchOptions& o) {
+  app.add_option("--cloud", o.cloud,
+                 "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply "
+                 "(default: the built-in synthetic frame 0)");
+  app.add_option("--queries", o.queries,
+                 "Query points, same formats (default: the built-in synthetic frame 1, the same "
+                 "street scanned 1 m further on and turned 1 degree)");
+  app.add_option("--seed", o.seed, "Seed of the built-in synthetic frames")->capture_default_str();
+  app.add_option("--mode", o.mode, "Search: nn, knn or radius")
+      ->check(CLI::IsMember({"nn", "knn", "radius"}))
+      ->capture_default_str();
+  app.add_option("--k", o.k, "Neighbours per query for --mode knn")->capture_default_str();
+  app.add_option("--radius", o.radius, "Radius in metres for --mode radius")->capture_default_str();
+  app.add_option("--max-nn", o.max_nn,
+                 "Radius search keeps only the max-nn nearest (0: all); visits are unchanged")
+      ->capture_default_str();
+  app.add_option("--height", o.height,
+                 "Top-tree height h: 0 (brute force) .. full; 'full' is the canonical KD-tree")
+      ->capture_default_str();
+  app.add_option("--split-axis", o.split_axis, "Split axis rule: widest (extent) or round-robin")
+      ->check(CLI::IsMember({"widest", "round-robin"}))
+      ->capture_default_str();
+  app.add_option("--approx-thd", o.approx_thd,
+                 "Approximate (leader/follower) search with this threshold in metres; 'default' "
+                 "takes the paper's 1.2 m for nn/knn and 0.4 r for radius (default: exact)");
+  app.add_option("--leader-capacity", o.leader_capacity, "Leaders kept per leaf (approximate search)")
+      ->capture_default_str();
+  app.add_option("--leader-width", o.leader_width,
+                 "Leader result width R for nn/knn (approximate search; 0: k)")
+      ->capture_default_str();
+  app.add_option("--dump-results", o.dump_results,
+                 "Write the results as CSV query,rank,index,dist2 (canonical order)");
+  app.add_option("--dump-schedule", o.dump_schedule,
+                 "Write the leaf-visit schedule as CSV seq,query,leaf");
+  app.add_option("--schedule", o.schedule,
+                 "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
+  app.add_option("--out", o.out, "Output folder for stats.json")->capture_default_str();
+}
+
+int parse_height(const std::string& text) {
+  if (text == "full") return -1;
+  std::size_t used = 0;
+  int h = -1;
+  try {
+    h = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || h < 0 || h > 30)
+    throw std::invalid_argument("--height must be 'full' or a whole number from 0 to 30, got '" +
+                                text + "'");
+  return h;
+}
+
+SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
+  SearchParams p;
+  p.mode = parse_mode(o.mode);
+  if (app.count("--k") && p.mode != Mode::KNN)
+    throw std::invalid_argument("--k applies to --mode knn only (nn is the k = 1 search)");
+  if ((app.count("--radius") || app.count("--max-nn")) && p.mode != Mode::Radius)
+    throw std::invalid_argument("--radius and --max-nn apply to --mode radius only");
+  p.k = p.mode == Mode::KNN ? o.k : 1;
+  p.radius = o.radius;
+  p.max_nn = o.max_nn;
+  if (!o.approx_thd.empty()) {
+    p.approximate = true;
+    if (o.approx_thd == "default") {
+      p.approx_thd = default_approx_thd(p);
+    } else {
+      std::size_t used = 0;
+      try {
+        p.approx_thd = std::stof(o.approx_thd, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != o.approx_thd.size())
+        throw std::invalid_argument("--approx-thd must be a number in metres or 'default', got '" +
+                                    o.approx_thd + "'");
+    }
+  } else if (app.count("--leader-capacity") || app.count("--leader-width")) {
+    throw std::invalid_argument("--leader-capacity and --leader-width need --approx-thd");
+  }
+  p.leader_capacity = o.leader_capacity;
+  p.leader_width = o.leader_width;
+  validate(p);
+  return p;
+}
+
+}  // namespace tigris

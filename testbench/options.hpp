@@ -1,0 +1,40 @@
+// The flags `tigris ref` and `tigris run` share (DESIGN.md section 10), and their translation
+// into validated golden-model parameters.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "sw_ref/kdtree.hpp"
+#include "sw_ref/search.hpp"
+
+namespace tigris {
+
+struct SearchOptions {
+  std::string cloud, queries;
+  std::uint64_t seed = 1;
+  std::string mode = "nn";
+  int k = 10;
+  float radius = 0.30f;
+  std::uint32_t max_nn = 0;
+  std::string height = "10";
+  std::string split_axis = "widest";
+  std::string approx_thd;  // empty: exact search; a number in metres, or "default"
+  int leader_capacity = 16;
+  int leader_width = 0;
+  std::string dump_results, dump_schedule, schedule;
+  std::string out = "tigris-out";
+};
+
+void add_search_options(CLI::App& app, SearchOptions& o);
+
+// Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws
+// std::invalid_argument naming the flag.
+SearchParams search_params(const CLI::App& app, const SearchOptions& o);
+
+// --height: a number from 0 to the full height, or "full" (-1).
+int parse_height(const std::string& text);
+
+}  // namespace tigris

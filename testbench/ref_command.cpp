@@ -1,0 +1,87 @@
+#include "ref_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "progress.hpp"
+#include "report.hpp"
+#include "sw_ref/stats.hpp"
+#include "traces/schedule_csv.hpp"
+#include "workload.hpp"
+
+namespace tigris {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int run_ref_command(const CLI::App& app, const SearchOptions& o) {
+  const SearchParams params = search_params(app, o);
+  const int height = parse_height(o.height);
+  const SplitRule split = parse_split_rule(o.split_axis);
+  Schedule replay;
+  if (!o.schedule.empty()) replay = read_schedule_csv(o.schedule);
+
+  const Workload w = load_workload(o.cloud, o.queries, o.seed);
+  auto t0 = std::chrono::steady_clock::now();
+  const KdTree tree = build_kdtree(w.cloud, height, split);
+  const double build_s = seconds_since(t0);
+  ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");
+  t0 = std::chrono::steady_clock::now();
+  const SearchOutput out = search(tree, w.queries, params, o.schedule.empty() ? nullptr : &replay,
+                                  std::ref(progress));
+  const double search_s = seconds_since(t0);
+
+  nlohmann::json stats;
+  stats["command"] = "ref";
+  stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
+  stats["queries"] = w.queries.size();
+  stats["config"] = search_config_json(params, tree);
+  stats["tree"] = tree_json(tree);
+  stats["visits"] = visits_json(out);
+  if (params.approximate) stats["leaders"] = leaders_json(out);
+  stats["results"] = {{"neighbors", out.results.neighbors.size()}};
+  stats["schedule"] = {{"source", o.schedule.empty() ? "query index order" : o.schedule},
+                       {"leaf_visits", out.visits.leaf_visits}};
+  stats["wall_seconds"] = {{"build", build_s}, {"search", search_s}};
+  const std::string stats_path = o.out + "/stats.json";
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
+  if (!o.dump_results.empty())
+    write_file(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
+  if (!o.dump_schedule.empty())
+    write_file(o.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, out.schedule); });
+
+  const double nq = static_cast<double>(w.queries.size());
+  const auto& v = out.visits;
+  std::printf("tigris ref: %s%s search of %zu queries in %zu points\n", to_string(params.mode),
+              params.approximate ? " (approximate)" : "", w.queries.size(), w.cloud.size());
+  std::printf("  cloud   %s\n  queries %s\n", w.cloud_name.c_str(), w.queries_name.c_str());
+  std::printf("  tree    top height %d of %d (%s split), %u leaves, mean leaf set %.1f\n",
+              tree.top_height, tree.full_height, to_string(split), tree.num_leaves(),
+              stats["tree"]["leaf_set_mean"].get<double>());
+  std::printf("  time    build %.3f s, search %.3f s (%.0f queries/s)\n", build_s, search_s,
+              search_s > 0 ? nq / search_s : 0.0);
+  std::printf("  visits  top %llu, pruned %llu, leaf points %llu (per query %.1f / %.1f / %.1f)\n",
+              static_cast<unsigned long long>(v.top), static_cast<unsigned long long>(v.pruned),
+              static_cast<unsigned long long>(v.leaf_points), v.top / nq, v.pruned / nq,
+              v.leaf_points / nq);
+  if (params.approximate)
+    std::printf("  approx  thd %.3g m: %llu leaders, %llu followers, %llu buffer-full; "
+                "leader checks %llu, follower points %llu\n",
+                static_cast<double>(params.approx_thd),
+                static_cast<unsigned long long>(out.leaders.leaders),
+                static_cast<unsigned long long>(out.leaders.followers),
+                static_cast<unsigned long long>(out.leaders.leader_buffer_full),
+                static_cast<unsigned long long>(v.leader_checks),
+                static_cast<unsigned long long>(v.follower_points));
+  std::printf("  results %zu neighbours\n  stats   %s\n", out.results.neighbors.size(),
+              stats_path.c_str());
+  return 0;
+}
+
+}  // namespace tigris

@@ -1,0 +1,100 @@
+#include "report.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "sw_ref/stats.hpp"
+
+namespace tigris {
+
+namespace {
+
+nlohmann::json dist_json(const Distribution& d) {
+  return {{"mean", d.mean}, {"p50", d.p50}, {"p99", d.p99}, {"max", d.max}};
+}
+
+template <class Field>
+nlohmann::json per_query(const SearchOutput& out, Field field) {
+  std::vector<std::uint64_t> v;
+  v.reserve(out.per_query.size());
+  for (const QueryVisits& q : out.per_query) v.push_back(field(q));
+  return dist_json(distribution(std::move(v)));
+}
+
+}  // namespace
+
+nlohmann::json visits_json(const SearchOutput& out) {
+  const VisitTotals& t = out.visits;
+  nlohmann::json j = {{"top", t.top},
+                      {"pruned", t.pruned},
+                      {"leaf_points", t.leaf_points},
+                      {"follower_points", t.follower_points},
+                      {"leader_checks", t.leader_checks},
+                      {"leaf_visits", t.leaf_visits}};
+  j["per_query"] = {
+      {"top", per_query(out, [](const QueryVisits& q) { return q.top; })},
+      {"pruned", per_query(out, [](const QueryVisits& q) { return q.pruned; })},
+      {"leaf_points", per_query(out, [](const QueryVisits& q) { return q.leaf_points; })},
+      {"follower_points", per_query(out, [](const QueryVisits& q) { return q.follower_points; })},
+      {"leader_checks", per_query(out, [](const QueryVisits& q) { return q.leader_checks; })},
+      {"leaf_visits", per_query(out, [](const QueryVisits& q) { return q.leaf_visits; })},
+      // Distance computations of any kind: what a search unit or recursion unit pays for.
+      {"nodes", per_query(out, [](const QueryVisits& q) {
+         return std::uint64_t{q.top} + q.leaf_points + q.follower_points + q.leader_checks;
+       })}};
+  return j;
+}
+
+nlohmann::json leaders_json(const SearchOutput& out) {
+  return {{"leaders", out.leaders.leaders},
+          {"followers", out.leaders.followers},
+          {"leader_buffer_full", out.leaders.leader_buffer_full}};
+}
+
+nlohmann::json tree_json(const KdTree& t) {
+  std::uint32_t nonempty = 0, largest = 0;
+  for (std::uint32_t j = 0; j < t.num_leaves(); ++j) {
+    nonempty += t.leaf_size(j) > 0;
+    largest = std::max(largest, t.leaf_size(j));
+  }
+  return {{"points", t.num_points},
+          {"top_height", t.top_height},
+          {"full_height", t.full_height},
+          {"split_axis", to_string(t.split)},
+          {"top_nodes", t.top.size()},
+          {"leaves", t.num_leaves()},
+          {"nonempty_leaves", nonempty},
+          {"leaf_set_mean", nonempty ? static_cast<double>(t.leaf_index.size()) / nonempty : 0.0},
+          {"leaf_set_max", largest}};
+}
+
+nlohmann::json search_config_json(const SearchParams& p, const KdTree& tree) {
+  nlohmann::json j;
+  j["tree"] = {{"top_height", tree.top_height}, {"split_axis", to_string(tree.split)}};
+  j["search"] = {{"mode", to_string(p.mode)}, {"k", p.effective_k()}};
+  if (p.mode == Mode::Radius) {
+    j["search"]["radius"] = p.radius;
+    j["search"]["max_nn"] = p.max_nn;
+  }
+  j["approx"] = {{"enabled", p.approximate}};
+  if (p.approximate) {
+    j["approx"]["thd"] = p.approx_thd;
+    j["approx"]["leader_result_width"] = p.effective_leader_width();
+    j["leader"] = {{"capacity_per_leaf", p.leader_capacity}};
+  }
+  return j;
+}
+
+void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot open for writing");
+  write(f);
+  f.flush();
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace tigris

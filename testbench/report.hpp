@@ -1,0 +1,28 @@
+// Pieces of the stats JSON (DESIGN.md section 8/10) and output files shared by the commands.
+#pragma once
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "sw_ref/kdtree.hpp"
+#include "sw_ref/search.hpp"
+
+namespace tigris {
+
+// `visits`: totals and the per-query distribution (mean, p50, p99, max) of each count.
+nlohmann::json visits_json(const SearchOutput& out);
+// `leaders`: leader/follower decisions of the approximate search.
+nlohmann::json leaders_json(const SearchOutput& out);
+// The tree's shape: heights, leaves, leaf-set sizes.
+nlohmann::json tree_json(const KdTree& tree);
+// The search parameters as configuration keys.
+nlohmann::json search_config_json(const SearchParams& p, const KdTree& tree);
+
+// Opens `path` for writing (creating its folder), calls `write`, and throws a clear
+// std::runtime_error if the file cannot be written.
+void write_file(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace tigris

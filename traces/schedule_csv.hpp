@@ -1,0 +1,18 @@
+// The schedule trace (DESIGN.md section 10): CSV `seq,query,leaf`, one row per non-empty leaf
+// visit in decision order, seq counting from 0. The golden model replays it (`--schedule`).
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "sw_ref/search.hpp"
+
+namespace tigris {
+
+void write_schedule_csv(std::ostream& out, const Schedule& schedule);
+
+// Throws InputError naming the file and line on a bad header, a malformed row, or a seq that
+// does not count up from 0.
+Schedule read_schedule_csv(const std::string& path);
+
+}  // namespace tigris
