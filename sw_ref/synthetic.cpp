@@ -282,8 +282,10 @@ Scene make_scene(std::uint64_t seed) {
     x = x_back + rng.uniform(2.0, 10.0);
     while (x < x_front - 2.0) {
       if (x < cross0 || x > cross1) {
-        scene.cylinders.push_back(Cylinder{x, side * (curb[k] + rng.uniform(0.4, 0.7)),
-                                           rng.uniform(0.08, 0.15), 0.0, rng.uniform(5.0, 9.0)});
+        const double py = side * (curb[k] + rng.uniform(0.4, 0.7));
+        const double radius = rng.uniform(0.08, 0.15);
+        const double height = rng.uniform(5.0, 9.0);
+        scene.cylinders.push_back(Cylinder{x, py, radius, 0.0, height});
       }
       x += rng.uniform(15.0, 25.0);
     }
@@ -294,7 +296,8 @@ Scene make_scene(std::uint64_t seed) {
         const double ty = side * (curb[k] + rng.uniform(1.2, 1.8));
         const double trunk_h = rng.uniform(2.2, 3.5);
         const double crown_r = rng.uniform(1.2, 2.2);
-        scene.cylinders.push_back(Cylinder{x, ty, rng.uniform(0.12, 0.25), 0.0, trunk_h});
+        const double trunk_r = rng.uniform(0.12, 0.25);
+        scene.cylinders.push_back(Cylinder{x, ty, trunk_r, 0.0, trunk_h});
         scene.spheres.push_back(Sphere{x, ty, trunk_h + 0.7 * crown_r, crown_r});
       }
       x += rng.uniform(8.0, 20.0);
@@ -305,7 +308,10 @@ Scene make_scene(std::uint64_t seed) {
   for (int i = 0; i < traffic; ++i) {
     const double length = rng.uniform(4.0, 4.7);
     const double cx = rng.chance(0.6) ? rng.uniform(10.0, 16.0) : -rng.uniform(10.0, 40.0);
-    add_car(scene, cx, curb[0] - 3.65, length, rng.uniform(1.7, 1.9), rng.uniform(1.4, 1.6));
+    // One draw per statement: the order of evaluation of function arguments is unspecified.
+    const double height = rng.uniform(1.4, 1.6);
+    const double width = rng.uniform(1.7, 1.9);
+    add_car(scene, cx, curb[0] - 3.65, length, width, height);
   }
   return scene;
 }
