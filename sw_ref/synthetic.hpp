@@ -30,6 +30,8 @@ struct SyntheticPair {
   Transform frame1_to_frame0{};
 };
 
+// Throws InputError("synthetic scene: ...") for impossible settings (no rings, max range
+// below min range, negative noise, non-finite pose).
 SyntheticPair make_synthetic_pair(const SyntheticConfig& config = {});
 
 }  // namespace tigris
