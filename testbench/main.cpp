@@ -4,9 +4,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
+
 #include "ref_command.hpp"
+#include "run_command.hpp"
+
+// SystemC's own main() would print its banner before we could silence it, so `tigris` has a
+// plain main(); the library still needs an sc_main symbol to link.
+extern "C" int sc_main(int, char**) { return 2; }
 
 int main(int argc, char** argv) {
+  setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1);
   CLI::App app{"tigris: the Tigris KD-tree search accelerator (MICRO 2019) and its golden model"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "tigris 0.1.0");
@@ -16,6 +24,12 @@ int main(int argc, char** argv) {
       "ref", "Run the golden software model only: KD-tree search with visit counts");
   tigris::add_search_options(*ref, ref_options);
 
+  tigris::RunOptions run_options;
+  CLI::App* run = app.add_subcommand(
+      "run", "Run the accelerator model; every query is checked against the golden model "
+             "(exit 0 only when all match, 1 on a mismatch or deadlock)");
+  tigris::add_run_options(*run, run_options);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -24,6 +38,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*ref) return tigris::run_ref_command(*ref, ref_options);
+    if (*run) return tigris::run_run_command(*run, run_options);
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << e.what() << '\n';
     return 2;

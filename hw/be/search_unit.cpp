@@ -1,0 +1,133 @@
+#include "search_unit.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "hw/be/pe_array.hpp"
+#include "hw/fe/front_end.hpp"
+#include "hw/mem/result_dram.hpp"
+#include "hw/mem/result_slots.hpp"
+#include "hw/qdn/distribution_network.hpp"
+
+namespace tigris::hw {
+
+SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
+                       const AcceleratorConfig& config, const IssuePolicy& policy, FrontEnd& fe,
+                       DistributionNetwork& qdn, NodeCache& cache, ResultDram& dram, Job& job)
+    : sc_module(name), points("points"), results("results"), id_(id), config_(config),
+      policy_(policy), fe_(fe), qdn_(qdn), cache_(cache), dram_(dram), job_(job),
+      capacity_(static_cast<std::size_t>(config.be.bqb_entries)),
+      pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_) {
+  SC_METHOD(step);
+  sensitive << wake_;
+  dont_initialize();
+}
+
+void SearchUnit::reset() {
+  bqb_.clear();
+  running_.clear();
+  free_pes_ = pes_;
+  busy_until_ = 0;
+  stats_ = {};
+}
+
+void SearchUnit::accept(const QueryToken& token) {
+  bqb_.push_back(token);
+  stats_.bqb_max_occupancy = std::max<std::uint64_t>(stats_.bqb_max_occupancy, bqb_.size());
+  const std::uint64_t now = job_.cycle();
+  wake_.notify((token.ready > now ? token.ready - now : 0) * job_.period);
+}
+
+void SearchUnit::step() {
+  const std::uint64_t now = job_.cycle();
+  // Retire batches whose stream has drained: their queries go back to the front-end.
+  for (std::size_t i = 0; i < running_.size();) {
+    if (running_[i].end > now) {
+      ++i;
+      continue;
+    }
+    for (const QueryToken& t : running_[i].tokens)
+      fe_.reinsert(t, now + static_cast<std::uint64_t>(config_.cost.be_to_fe));
+    free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
+    running_[i] = std::move(running_.back());
+    running_.pop_back();
+  }
+  // Issue while the policy finds work for the free PEs.
+  bool issued = false;
+  while (free_pes_ > 0 && !(policy_.shared_stream() && free_pes_ < pes_)) {
+    const IssueDecision d = policy_.pick(bqb_, free_pes_, now);
+    if (d.picks.empty()) break;
+    std::vector<QueryToken> tokens;
+    for (std::size_t i : d.picks) tokens.push_back(bqb_[i]);
+    for (auto it = d.picks.rbegin(); it != d.picks.rend(); ++it) bqb_.erase(bqb_.begin() + static_cast<std::ptrdiff_t>(*it));
+    const std::uint64_t setup = d.search_cycles + static_cast<std::uint64_t>(config_.cost.issue_cycle);
+    stats_.issue_cycles += setup;
+    if (policy_.shared_stream()) {
+      issue(std::move(tokens), now + setup);
+    } else {
+      for (QueryToken& t : tokens) issue({t}, now + setup);
+    }
+    issued = true;
+  }
+  if (issued) qdn_.space_freed(id_);
+  // Sleep until a batch drains or a queued query arrives.
+  std::uint64_t next = std::numeric_limits<std::uint64_t>::max();
+  for (const Batch& b : running_) next = std::min(next, b.end);
+  for (const QueryToken& t : bqb_)
+    if (t.ready > now) next = std::min(next, t.ready);
+  if (next != std::numeric_limits<std::uint64_t>::max()) wake_.notify((next - now) * job_.period);
+}
+
+void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t start) {
+  const std::uint32_t leaf = tokens.front().leaf;
+  const std::uint64_t n = job_.leaf_dir[leaf + 1] - job_.leaf_dir[leaf];
+  const std::uint64_t b = tokens.size();
+  const std::uint64_t set_bytes = n * sizeof(tlm_if::PointEntry);
+  free_pes_ -= static_cast<std::uint32_t>(b);
+  ++stats_.batches;
+  stats_.queries += b;
+  stats_.leaf_points += n * b;
+
+  // Node Set: from the Node Cache on a hit, else one burst from the Point Buffer.
+  std::uint64_t data_ready = start;
+  if (!cache_.lookup(leaf, set_bytes)) {
+    tlm_if::AccessProfile a;
+    a.first_byte = (job_.num_top_nodes + job_.leaf_dir[leaf]) * sizeof(tlm_if::PointEntry);
+    a.words = static_cast<std::uint32_t>(n);
+    a.bytes = set_bytes;
+    data_ready = points.charge(start, a, job_.period);
+  }
+  // Result Buffer: NN/kNN slots are read into the PEs and written back once.
+  const bool radius = job_.mode == tlm_if::SearchMode::Radius;
+  if (!radius) {
+    tlm_if::AccessProfile a;
+    a.first_byte = tokens.front().slot * job_.result_slot_bytes;
+    a.words = static_cast<std::uint32_t>(b * ((job_.result_slot_bytes + 7) / 8));
+    a.bytes = b * job_.result_slot_bytes;
+    data_ready = std::max(data_ready, results.charge(start, a, job_.period));
+  }
+  const int depth = config_.cost.pe_pipeline_depth;
+  const std::uint64_t compute_end = start + PeArray::stream_cycles(n, b, depth);
+  // The stream cannot run ahead of its data: the last point enters the array once it arrived.
+  std::uint64_t end = std::max(compute_end, data_ready + b - 1 + static_cast<std::uint64_t>(depth));
+  // Function: every PE scans the Node Set for its query.
+  hits_.clear();
+  for (const QueryToken& t : tokens) PeArray::scan(job_, t, hits_);
+  if (!radius) {
+    tlm_if::AccessProfile a;
+    a.write = true;
+    a.first_byte = tokens.front().slot * job_.result_slot_bytes;
+    a.words = static_cast<std::uint32_t>(b * ((job_.result_slot_bytes + 7) / 8));
+    a.bytes = b * job_.result_slot_bytes;
+    end = std::max(end, results.charge(end, a, job_.period));
+  } else if (!hits_.empty()) {
+    end = std::max(end, dram_.write(end, hits_.data(), hits_.size()));
+  }
+  stats_.busy_cycles += end - std::max(start, std::min(end, busy_until_));  // cycles with a PE busy
+  busy_until_ = std::max(busy_until_, end);
+  stats_.sram_stall_cycles += end - compute_end;
+  stats_.pe_busy_cycles += b * (end - start);
+  running_.push_back({std::move(tokens), end});
+}
+
+}  // namespace tigris::hw

@@ -1,0 +1,68 @@
+// Search Unit (paper section 5.3): BE Query Buffer, query issue logic, systolic PE array and
+// the Node Set stream from the Point Buffer (or the Node Cache). A batch is one work item: its
+// cycles are the stream formula, stretched by the buffers' bank contention.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <systemc>
+
+#include "hw/be/issue_policy.hpp"
+#include "hw/be/node_cache.hpp"
+#include "hw/config.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/buffer_port.hpp"
+#include "hw/stats.hpp"
+
+namespace tigris::hw {
+
+class FrontEnd;
+class DistributionNetwork;
+class ResultDram;
+
+class SearchUnit : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(SearchUnit);
+  BufferPort points, results;
+
+  SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
+             const IssuePolicy& policy, FrontEnd& fe, DistributionNetwork& qdn, NodeCache& cache,
+             ResultDram& dram, Job& job);
+
+  bool has_room() const { return bqb_.size() < capacity_; }
+  std::size_t room() const { return capacity_ - bqb_.size(); }
+  void accept(const QueryToken& token);  // from the QDN; the caller checked has_room()
+  void reset();
+
+  std::size_t bqb_occupancy() const { return bqb_.size(); }
+  std::uint32_t busy_pes() const { return pes_ - free_pes_; }
+  const SearchUnitStats& stats() const { return stats_; }
+
+ private:
+  struct Batch {
+    std::vector<QueryToken> tokens;
+    std::uint64_t end = 0;
+  };
+  void step();  // SC_METHOD: retire finished batches, issue new ones
+  void issue(std::vector<QueryToken> tokens, std::uint64_t start);
+
+  std::uint32_t id_;
+  const AcceleratorConfig& config_;
+  const IssuePolicy& policy_;
+  FrontEnd& fe_;
+  DistributionNetwork& qdn_;
+  NodeCache& cache_;
+  ResultDram& dram_;
+  Job& job_;
+  std::size_t capacity_;
+  std::uint32_t pes_, free_pes_;
+  std::uint64_t busy_until_ = 0;
+  std::vector<QueryToken> bqb_;
+  std::vector<Batch> running_;
+  std::vector<tlm_if::ResultRecord> hits_;
+  sc_core::sc_event wake_;
+  SearchUnitStats stats_;
+};
+
+}  // namespace tigris::hw

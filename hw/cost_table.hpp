@@ -1,0 +1,34 @@
+// The one cost table of the timing model (DESIGN.md section 7): every cycle count a unit
+// charges comes from here, so a reader can see the whole timing model at a glance.
+#pragma once
+
+namespace tigris::hw {
+
+struct CostTable {
+  // Recursion Unit, stages FQ RS RN CD PI CL (paper Fig. 8).
+  int ru_fetch_query = 1;       // FQ: once per activation (a query taken from the FQQ)
+  int ru_node = 1;              // one node through RS..PI when nothing stalls
+  int ru_pi_rs_stall = 3;       // PI->RS dependency per visited node without forwarding
+  int ru_prune_at_rn = 2;       // a pruned node with bypassing leaves at RN (RS, RN)
+  int ru_prune_no_bypass = 4;   // a pruned node without bypassing goes down to PI: RS..PI
+  int ru_drain = 2;             // CD..CL behind the last node before the query is sent on
+  // Query Distribution Network.
+  int qdn_latency = 1;          // FE -> BQB wire + arbitration
+  int qdn_port_interval = 1;    // one query per cycle per SU port
+  // Search Unit.
+  int pe_pipeline_depth = 3;    // read, distance, insert (paper Fig. 9)
+  int issue_cycle = 1;          // issue logic per batch beyond the associative search
+  int result_writeback = 1;     // a finished query's results leave the PE
+  int be_to_fe = 1;             // a scanned query re-enters the FQQ
+};
+
+// Energy per access/operation in picojoules (16 nm estimates; configurable).
+struct EnergyTable {
+  double distance_pj = 3.0;     // one float32 dist2 (3 sub, 3 mul, 2 add)
+  double sram_read_pj_per_byte = 0.6;
+  double sram_write_pj_per_byte = 0.7;
+  double node_cache_pj_per_byte = 0.15;
+  double dram_pj_per_byte = 20.0;
+};
+
+}  // namespace tigris::hw

@@ -1,0 +1,85 @@
+#include "front_end.hpp"
+
+#include <string>
+
+namespace tigris::hw {
+
+FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                   DistributionNetwork& qdn, ResultDram& dram, Job& job)
+    : sc_module(name), config_(config), job_(job) {
+  for (int i = 0; i < config.fe.recursion_units; ++i)
+    rus.push_back(std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config,
+                                                  *this, qdn, dram, job));
+  SC_METHOD(dispatch);
+  sensitive << wake_;
+  dont_initialize();
+}
+
+void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
+  on_all_done_ = std::move(on_all_done);
+  fqq_.clear();
+  fqq_max_ = 0;
+  next_query_ = finished_ = 0;
+  idle_rus_.clear();
+  for (auto it = rus.rbegin(); it != rus.rend(); ++it) idle_rus_.push_back(it->get());
+  free_slots_.clear();
+  for (std::uint32_t s = job_.slots; s-- > 0;) free_slots_.push_back(s);
+  const std::uint64_t now = job_.cycle();
+  while (!free_slots_.empty() && next_query_ < job_.num_queries) {
+    QueryToken t;
+    t.query = next_query_++;
+    t.slot = free_slots_.back();
+    free_slots_.pop_back();
+    t.ready = now;
+    push(t);
+  }
+  if (job_.num_queries == 0 && on_all_done_) on_all_done_(now);
+}
+
+void FrontEnd::push(const QueryToken& token) {
+  fqq_.push_back(token);
+  fqq_max_ = std::max(fqq_max_, fqq_.size());
+  wake_.notify(sc_core::SC_ZERO_TIME);
+}
+
+void FrontEnd::reinsert(QueryToken token, std::uint64_t ready_cycle) {
+  token.ready = ready_cycle;
+  push(token);
+}
+
+void FrontEnd::ru_idle(RecursionUnit& ru) {
+  idle_rus_.push_back(&ru);
+  wake_.notify(sc_core::SC_ZERO_TIME);
+}
+
+void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
+  ++finished_;
+  if (progress_ && finished_ % 4096 == 0) progress_(finished_, job_.num_queries);
+  free_slots_.push_back(token.slot);
+  if (next_query_ < job_.num_queries) {
+    QueryToken t;
+    t.query = next_query_++;
+    t.slot = free_slots_.back();
+    free_slots_.pop_back();
+    t.ready = cycle;
+    push(t);
+  }
+  if (finished_ == job_.num_queries && on_all_done_) on_all_done_(cycle);
+}
+
+void FrontEnd::dispatch() {
+  const std::uint64_t now = job_.cycle();
+  while (!idle_rus_.empty() && !fqq_.empty()) {
+    if (fqq_.front().ready > now) {
+      wake_.notify((fqq_.front().ready - now) * job_.period);
+      return;
+    }
+    RecursionUnit* ru = idle_rus_.back();
+    idle_rus_.pop_back();
+    const QueryToken t = fqq_.front();
+    fqq_.pop_front();
+    ru->start(t);
+  }
+}
+
+}  // namespace tigris::hw

@@ -1,0 +1,57 @@
+// Front-end (paper section 5.2): the FE Query Queue and the Recursion Units. New queries are
+// admitted when a Query Stack Buffer slot is free (a slot also reserves an FQQ entry, so the
+// back-end can always re-insert a scanned query and the FQQ never deadlocks the machine).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <systemc>
+
+#include "hw/config.hpp"
+#include "hw/fe/recursion_unit.hpp"
+#include "hw/job.hpp"
+
+namespace tigris::hw {
+
+class FrontEnd : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(FrontEnd);
+  std::vector<std::unique_ptr<RecursionUnit>> rus;
+
+  FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, DistributionNetwork& qdn,
+           ResultDram& dram, Job& job);
+
+  // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
+  void start(std::function<void(std::uint64_t)> on_all_done);
+
+  void reinsert(QueryToken token, std::uint64_t ready_cycle);  // from a Search Unit
+  void ru_idle(RecursionUnit& ru);
+  void query_finished(const QueryToken& token, std::uint64_t cycle);
+
+  void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
+  std::size_t fqq_occupancy() const { return fqq_.size(); }
+  std::size_t fqq_max_occupancy() const { return fqq_max_; }
+  std::uint32_t finished() const { return finished_; }
+  std::uint32_t admitted() const { return next_query_; }
+
+ private:
+  void dispatch();  // SC_METHOD: idle RUs take ready queries from the FQQ
+  void push(const QueryToken& token);
+
+  const AcceleratorConfig& config_;
+  Job& job_;
+  std::deque<QueryToken> fqq_;
+  std::size_t fqq_max_ = 0;
+  std::vector<RecursionUnit*> idle_rus_;
+  std::vector<std::uint32_t> free_slots_;
+  std::uint32_t next_query_ = 0, finished_ = 0;
+  std::function<void(std::uint64_t)> on_all_done_;
+  std::function<void(std::uint32_t, std::uint32_t)> progress_;
+  sc_core::sc_event wake_;
+};
+
+}  // namespace tigris::hw

@@ -1,0 +1,159 @@
+#include "recursion_unit.hpp"
+
+#include <algorithm>
+
+#include "hw/fe/front_end.hpp"
+#include "hw/mem/result_dram.hpp"
+#include "hw/mem/result_slots.hpp"
+#include "hw/qdn/distribution_network.hpp"
+
+namespace tigris::hw {
+
+RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
+                             FrontEnd& fe, DistributionNetwork& qdn, ResultDram& dram, Job& job)
+    : sc_module(name), points("points"), queries("queries"), stacks("stacks"),
+      results("results"), id_(id), config_(config), cost_(config.cost), fe_(fe), qdn_(qdn),
+      dram_(dram), job_(job) {
+  SC_METHOD(on_done);
+  sensitive << done_;
+  dont_initialize();
+}
+
+void RecursionUnit::start(const QueryToken& token) {
+  token_ = token;
+  state_ = State::Walking;
+  ++stats_.activations;
+  const std::uint64_t now = job_.cycle();
+  const std::uint64_t pipeline = walk();
+  stats_.busy_cycles += pipeline;
+
+  // One transaction per buffer for the whole activation.
+  tlm_if::AccessProfile a;
+  std::uint64_t done = now + pipeline;
+  a.first_byte = std::uint64_t{token_.query} * 12, a.words = 1, a.bytes = 12;
+  done = std::max(done, queries.charge(now, a, job_.period));
+  a = {};
+  a.scatter = node_addrs_.data(), a.scatter_count = static_cast<std::uint32_t>(node_addrs_.size());
+  a.bytes = node_addrs_.size() * sizeof(tlm_if::PointEntry);
+  done = std::max(done, points.charge(now, a, job_.period));
+  a = {};
+  a.first_byte = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
+  a.words = stack_ops_, a.bytes = stack_ops_ * sizeof(StackSlotEntry);
+  done = std::max(done, stacks.charge(now, a, job_.period));
+  if (job_.mode != tlm_if::SearchMode::Radius) {
+    a = {};
+    a.first_byte = token_.slot * job_.result_slot_bytes;
+    a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + 7) / 8);
+    a.bytes = job_.result_slot_bytes;
+    done = std::max(done, results.charge(now, a, job_.period));
+  }
+  stats_.sram_stall_cycles += done - (now + pipeline);
+
+  // Results leave for DRAM: radius hits of this walk, or the final list of a finished query.
+  if (job_.mode != tlm_if::SearchMode::Radius && finished_) {
+    const ResultSlots slots(job_.result_slots, job_.k);
+    const std::uint32_t n = slots.count(token_.slot);
+    for (std::uint32_t i = 0; i < n; ++i)
+      hits_.push_back({token_.query, slots.entries(token_.slot)[i].index, slots.entries(token_.slot)[i].dist2});
+  }
+  if (!hits_.empty()) done = std::max(done, dram_.write(done, hits_.data(), hits_.size()));
+  done_.notify((done - now) * job_.period);
+}
+
+std::uint64_t RecursionUnit::walk() {
+  node_addrs_.clear();
+  hits_.clear();
+  stack_ops_ = 0;
+  finished_ = false;
+  QueryCounters& count = job_.counters[token_.query];
+  ResultSlots slots(job_.result_slots, job_.k);
+  StackSlotEntry* stack = job_.stacks + std::uint64_t{token_.slot} * job_.stack_entries;
+  const bool radius = job_.mode == tlm_if::SearchMode::Radius;
+  const bool forwarding = config_.fe.forwarding, bypassing = config_.fe.bypassing;
+
+  // FQ: fetch the query point and its stack address.
+  std::uint64_t cycles = static_cast<std::uint64_t>(cost_.ru_fetch_query);
+  const Point3 q = job_.query(token_.query);
+  if (!token_.started) {
+    token_.started = true;
+    token_.sp = 0;
+    if (!radius) slots.clear(token_.slot);
+    if (job_.node_nonempty(0)) stack[token_.sp++] = {0, 0.0f};
+  }
+  while (token_.sp > 0) {
+    // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
+    const StackSlotEntry tos = stack[--token_.sp];
+    ++stack_ops_;
+    const float bound = radius ? job_.r2 : slots.bound(token_.slot);
+    if (tos.plane2 > bound) {
+      ++count.pruned;
+      ++stats_.pruned;
+      const int c = bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass;
+      cycles += static_cast<std::uint64_t>(c);
+      stats_.prune_cycles += static_cast<std::uint64_t>(c);
+      continue;
+    }
+    std::uint32_t node = tos.node;
+    while (node < job_.num_top_nodes) {
+      // RN: read the node; CD: its distance to the query; PI: insert into the result, push
+      // the far child with its plane distance, go on with the near child.
+      const tlm_if::PointEntry& e = job_.entries[node];
+      node_addrs_.push_back(std::uint64_t{node} * sizeof(tlm_if::PointEntry));
+      ++count.top;
+      ++stats_.nodes;
+      cycles += static_cast<std::uint64_t>(cost_.ru_node);
+      if (!forwarding) {
+        cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
+        stats_.pi_rs_stall_cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
+      }
+      const Point3 p{e.x, e.y, e.z};
+      const std::uint32_t index = e.tag & tlm_if::kIndexMask;
+      const float d = dist2(q, p);
+      if (radius) {
+        if (d <= job_.r2) hits_.push_back({token_.query, index, d});
+      } else {
+        slots.insert(token_.slot, index, d);
+      }
+      const int axis = static_cast<int>(e.tag >> tlm_if::kAxisShift);
+      const bool left = q[axis] < p[axis];
+      const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
+      const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
+      if (job_.node_nonempty(far_child)) {
+        stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
+        ++stack_ops_;
+      }
+      if (!job_.node_nonempty(near_child)) break;
+      node = near_child;
+    }
+    if (node >= job_.num_top_nodes && job_.node_nonempty(node)) {
+      // CL: the query leaves for the back-end with the leaf set it must scan.
+      token_.leaf = node - job_.num_top_nodes;
+      node_addrs_.push_back(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4);
+      return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
+    }
+  }
+  finished_ = true;
+  return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
+}
+
+void RecursionUnit::on_done() {
+  const std::uint64_t now = job_.cycle();
+  if (state_ == State::Blocked) stats_.bqb_full_stall_cycles += now - blocked_since_;
+  if (finished_) {
+    state_ = State::Idle;
+    fe_.query_finished(token_, now);
+    fe_.ru_idle(*this);
+    return;
+  }
+  if (!qdn_.route(token_, now, *this)) {
+    blocked_since_ = now;
+    state_ = State::Blocked;
+    return;  // the QDN calls retry_dispatch() when the BE Query Buffer has room
+  }
+  state_ = State::Idle;
+  fe_.ru_idle(*this);
+}
+
+void RecursionUnit::retry_dispatch() { done_.notify(sc_core::SC_ZERO_TIME); }
+
+}  // namespace tigris::hw

@@ -1,0 +1,64 @@
+// Recursion Unit (paper section 5.2): walks one query's top-tree part of the depth-first
+// search at a time, stages FQ RS RN CD PI CL. One activation (from taking the query out of the
+// FQQ to sending it to a leaf set, or finishing it) is one work item whose cycles come from the
+// cost table; the buffers charge their accesses as one transaction each.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <systemc>
+
+#include "hw/config.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/buffer_port.hpp"
+#include "hw/stats.hpp"
+
+namespace tigris::hw {
+
+class FrontEnd;
+class DistributionNetwork;
+class ResultDram;
+
+class RecursionUnit : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(RecursionUnit);
+  BufferPort points, queries, stacks, results;
+
+  RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
+                FrontEnd& fe, DistributionNetwork& qdn, ResultDram& dram, Job& job);
+
+  int id() const { return id_; }
+  bool idle() const { return state_ == State::Idle; }
+  void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
+  void retry_dispatch();                // the BE Query Buffer it waits for has room again
+  const RecursionUnitStats& stats() const { return stats_; }
+  bool busy_flag() const { return state_ != State::Idle; }
+  std::uint32_t current_query() const { return token_.query; }
+
+ private:
+  enum class State { Idle, Walking, Blocked };
+  void on_done();
+  // Runs the walk functionally; returns the cycles the pipeline needs; sets leaf_/finished_.
+  std::uint64_t walk();
+
+  int id_;
+  const AcceleratorConfig& config_;
+  const CostTable& cost_;
+  FrontEnd& fe_;
+  DistributionNetwork& qdn_;
+  ResultDram& dram_;
+  Job& job_;
+
+  State state_ = State::Idle;
+  QueryToken token_;
+  bool finished_ = false;
+  std::uint64_t blocked_since_ = 0;
+  sc_core::sc_event done_;
+  RecursionUnitStats stats_;
+  std::vector<std::uint64_t> node_addrs_;  // Point Buffer words read by this walk
+  std::uint32_t stack_ops_ = 0;            // Query Stack Buffer pops and pushes
+  std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
+};
+
+}  // namespace tigris::hw

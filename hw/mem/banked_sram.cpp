@@ -1,0 +1,111 @@
+#include "banked_sram.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace tigris::hw {
+
+BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
+                       sc_core::sc_time period)
+    : sc_module(name), socket("socket"), config_(config), period_(period),
+      data_(config.bytes, 0), bank_free_(config.banks, 0), bank_count_(config.banks, 0) {
+  socket.register_b_transport(this, &BankedSram::b_transport);
+  socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
+  socket.register_transport_dbg(this, &BankedSram::transport_dbg);
+}
+
+std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
+  const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
+  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
+  std::uint64_t n = 0;
+  std::fill(bank_count_.begin(), bank_count_.end(), 0u);
+  if (a.scatter) {
+    for (std::uint32_t i = 0; i < a.scatter_count; ++i) ++bank_count_[(a.scatter[i] / word) % banks];
+    n = a.scatter_count;
+  } else {
+    n = a.words;
+    const std::uint32_t first = static_cast<std::uint32_t>((a.first_byte / word) % banks);
+    const std::uint64_t full = n / banks, rem = n % banks;
+    for (std::uint32_t b = 0; b < banks; ++b)
+      bank_count_[b] = static_cast<std::uint32_t>(full + (((b + banks - first) % banks) < rem ? 1 : 0));
+  }
+  if (n == 0) return start;
+  std::uint64_t finish = start;
+  for (std::uint32_t b = 0; b < banks; ++b) {
+    if (bank_count_[b] == 0) continue;
+    const std::uint64_t s = std::max(start, bank_free_[b]);
+    bank_free_[b] = s + bank_count_[b];
+    finish = std::max(finish, bank_free_[b]);
+  }
+  const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
+  finish = std::max(finish, start + (n + ports - 1) / ports);
+  const std::uint64_t lanes = std::min<std::uint64_t>(banks, ports);
+  const std::uint64_t ideal = start + (n + lanes - 1) / lanes;
+  stats_.conflict_cycles += finish - ideal;
+  if (a.write) {
+    stats_.writes += n;
+    stats_.write_bytes += a.bytes;
+  } else {
+    stats_.reads += n;
+    stats_.read_bytes += a.bytes;
+  }
+  return finish + static_cast<std::uint64_t>(config_.latency_cycles);
+}
+
+void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
+  const std::uint64_t start = static_cast<std::uint64_t>((sc_core::sc_time_stamp() + delay) / period_);
+  if (trans.get_command() == tlm::TLM_IGNORE_COMMAND) {
+    tlm_if::AccessProfile* a = nullptr;
+    trans.get_extension(a);
+    if (a) delay = (charge(start, *a)) * period_ - sc_core::sc_time_stamp();
+    trans.set_response_status(tlm::TLM_OK_RESPONSE);
+    return;
+  }
+  const std::uint64_t addr = trans.get_address();
+  const std::uint64_t len = trans.get_data_length();
+  if (addr > data_.size() || len > data_.size() - addr) {
+    trans.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
+    return;
+  }
+  if (trans.get_byte_enable_ptr() != nullptr) {
+    trans.set_response_status(tlm::TLM_BYTE_ENABLE_ERROR_RESPONSE);
+    return;
+  }
+  const bool write = trans.get_command() == tlm::TLM_WRITE_COMMAND;
+  if (write)
+    std::memcpy(data_.data() + addr, trans.get_data_ptr(), len);
+  else
+    std::memcpy(trans.get_data_ptr(), data_.data() + addr, len);
+  tlm_if::AccessProfile burst;
+  burst.write = write;
+  burst.first_byte = addr;
+  burst.words = static_cast<std::uint32_t>((len + config_.word_bytes - 1) / config_.word_bytes);
+  burst.bytes = len;
+  delay = charge(start, burst) * period_ - sc_core::sc_time_stamp();
+  trans.set_dmi_allowed(true);
+  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+bool BankedSram::get_direct_mem_ptr(int, tlm::tlm_generic_payload&, tlm::tlm_dmi& dmi) {
+  dmi.allow_read_write();
+  dmi.set_dmi_ptr(data_.data());
+  dmi.set_start_address(0);
+  dmi.set_end_address(data_.empty() ? 0 : data_.size() - 1);
+  dmi.set_read_latency(config_.latency_cycles * period_);
+  dmi.set_write_latency(period_);
+  return true;
+}
+
+unsigned int BankedSram::transport_dbg(int, tlm::tlm_generic_payload& trans) {
+  const std::uint64_t addr = trans.get_address();
+  if (addr >= data_.size()) return 0;
+  const unsigned int len = static_cast<unsigned int>(
+      std::min<std::uint64_t>(trans.get_data_length(), data_.size() - addr));
+  if (trans.get_command() == tlm::TLM_WRITE_COMMAND)
+    std::memcpy(data_.data() + addr, trans.get_data_ptr(), len);
+  else if (trans.get_command() == tlm::TLM_READ_COMMAND)
+    std::memcpy(trans.get_data_ptr(), data_.data() + addr, len);
+  return len;
+}
+
+}  // namespace tigris::hw

@@ -1,0 +1,50 @@
+#include "distribution_network.hpp"
+
+#include <algorithm>
+
+#include "hw/be/search_unit.hpp"
+#include "hw/fe/recursion_unit.hpp"
+
+namespace tigris::hw {
+
+DistributionNetwork::DistributionNetwork(const AcceleratorConfig& config, Job& job)
+    : cost_(config.cost), job_(job) {}
+
+void DistributionNetwork::connect(std::vector<SearchUnit*> units) {
+  units_ = std::move(units);
+  reset();
+}
+
+void DistributionNetwork::reset() {
+  port_free_.assign(units_.size(), 0);
+  waiting_.assign(units_.size(), {});
+  stats_ = {};
+}
+
+bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, RecursionUnit& from) {
+  const std::uint32_t su = target(token.leaf);
+  if (!units_[su]->has_room()) {
+    waiting_[su].push_back(&from);
+    return false;
+  }
+  const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency);
+  const std::uint64_t arrival = std::max(earliest, port_free_[su]);
+  stats_.port_wait_cycles += arrival - earliest;
+  port_free_[su] = arrival + static_cast<std::uint64_t>(cost_.qdn_port_interval);
+  ++stats_.queries;
+  QueryToken t = token;
+  t.ready = arrival;
+  units_[su]->accept(t);
+  return true;
+}
+
+void DistributionNetwork::space_freed(std::uint32_t su) {
+  // Wake as many waiting Recursion Units as there is room; they retry in order.
+  std::size_t room = units_[su]->room();
+  while (room-- > 0 && !waiting_[su].empty()) {
+    waiting_[su].front()->retry_dispatch();
+    waiting_[su].pop_front();
+  }
+}
+
+}  // namespace tigris::hw

@@ -1,0 +1,77 @@
+// The Tigris accelerator: front-end, Query Distribution Network, back-end, global buffers,
+// Node Cache and the result write-back, behind one host-facing TLM-2.0 target socket (CSRs and
+// windows onto the buffers, tlm/address_map.hpp) and a done interrupt.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+#include <tlm_utils/simple_target_socket.h>
+
+#include "hw/be/issue_policy.hpp"
+#include "hw/be/node_cache.hpp"
+#include "hw/be/search_unit.hpp"
+#include "hw/config.hpp"
+#include "hw/fe/front_end.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/banked_sram.hpp"
+#include "hw/mem/result_dram.hpp"
+#include "hw/qdn/distribution_network.hpp"
+
+namespace tigris::hw {
+
+class TigrisAccelerator : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(TigrisAccelerator);
+  tlm_utils::simple_target_socket<TigrisAccelerator> host;
+  sc_core::sc_out<bool> irq;
+
+  explicit TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config);
+
+  const AcceleratorConfig& config() const { return config_; }
+  const Job& job() const { return job_; }
+  std::uint64_t job_cycles() const { return done_cycle_ - start_cycle_; }
+  bool done() const { return done_; }
+  // What every queue and unit holds: the report of a run that stopped before it finished.
+  std::string describe_state() const;
+  void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
+
+  BankedSram points_sram, queries_sram, stack_sram, results_sram;
+  ResultDram dram;
+  NodeCache node_cache;
+  DistributionNetwork qdn;
+  FrontEnd fe;
+  std::vector<std::unique_ptr<SearchUnit>> sus;
+
+ private:
+  void host_b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
+  unsigned int host_transport_dbg(tlm::tlm_generic_payload& trans);
+  void csr_access(tlm::tlm_generic_payload& trans);
+  void do_start();   // SC_METHOD on start_
+  void do_finish();  // SC_METHOD on finish_
+  void fail(std::uint32_t code);
+  // Returns an empty string when the job fits the buffers, else why it does not.
+  std::string configure_job();
+
+  AcceleratorConfig config_;
+  std::unique_ptr<IssuePolicy> policy_;
+  Job job_;
+  std::uint32_t csr_[0x40 / 4] = {};
+  tlm_utils::simple_initiator_socket<TigrisAccelerator> to_points_, to_queries_, to_dram_;
+  sc_core::sc_event start_, finish_;
+  std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
+  bool done_ = false;
+  std::string error_;
+  std::function<void(std::uint32_t, std::uint32_t)> progress_;
+
+ public:
+  const std::string& error() const { return error_; }
+};
+
+}  // namespace tigris::hw

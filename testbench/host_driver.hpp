@@ -1,0 +1,59 @@
+// The host side of a run (DESIGN.md section 6): writes the tree image and the queries through
+// the accelerator's TLM-2.0 target socket, programs the CSRs, starts the job, waits for the
+// done interrupt and reads the result stream back into canonical per-query results.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+
+#include "sw_ref/cloud.hpp"
+#include "sw_ref/results.hpp"
+#include "tlm/address_map.hpp"
+#include "tlm/tree_image.hpp"
+
+namespace tigris {
+
+struct HostJob {
+  tlm_if::SearchMode mode = tlm_if::SearchMode::NN;
+  std::uint32_t k = 1;
+  float radius = 0.0f;
+  std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
+};
+
+class HostDriver : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(HostDriver);
+  tlm_utils::simple_initiator_socket<HostDriver> socket;
+  sc_core::sc_in<bool> irq;
+
+  HostDriver(sc_core::sc_module_name name, const tlm_if::TreeImage& image,
+             const PointCloud& queries, std::uint32_t num_points, const HostJob& job);
+
+  bool finished() const { return finished_; }
+  const std::string& error() const { return error_; }  // empty when the job completed
+  const Results& results() const { return results_; }
+  std::uint64_t cycles() const { return cycles_; }
+
+ private:
+  void run();  // SC_THREAD
+  void write(std::uint64_t addr, const void* data, std::size_t len);
+  void read(std::uint64_t addr, void* data, std::size_t len);
+  void write_csr(std::uint32_t offset, std::uint32_t value);
+  std::uint32_t read_csr(std::uint32_t offset);
+  void collect(const std::vector<std::uint8_t>& stream);
+
+  const tlm_if::TreeImage& image_;
+  const PointCloud& queries_;
+  std::uint32_t num_points_;
+  HostJob job_;
+  bool finished_ = false;
+  std::string error_;
+  Results results_;
+  std::uint64_t cycles_ = 0;
+};
+
+}  // namespace tigris

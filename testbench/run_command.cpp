@@ -1,0 +1,166 @@
+#include "run_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "config.hpp"
+#include "host_driver.hpp"
+#include "hw/top.hpp"
+#include "progress.hpp"
+#include "report.hpp"
+#include "run_report.hpp"
+#include "scoreboard.hpp"
+#include "tlm/tree_image.hpp"
+#include "workload.hpp"
+
+namespace tigris {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The accelerator's visit counters in the golden model's shape, for the same JSON and checks.
+SearchOutput hardware_visits(const std::vector<hw::QueryCounters>& counters) {
+  SearchOutput out;
+  out.per_query.reserve(counters.size());
+  for (const hw::QueryCounters& c : counters) {
+    QueryVisits v;
+    v.top = c.top, v.pruned = c.pruned, v.leaf_points = c.leaf_points, v.leaf_visits = c.leaf_visits;
+    out.per_query.push_back(v);
+    out.visits.add(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_run_options(CLI::App& app, RunOptions& o) {
+  add_search_options(app, o.search);
+  app.add_option("--config", o.config_file,
+                 "Accelerator configuration, JSON nested by block (see testbench/configs/paper.json)");
+  app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
+  app.add_flag("--list-config", o.list_config, "Print every configuration key with its default and exit");
+}
+
+int run_run_command(const CLI::App& app, const RunOptions& o) {
+  if (o.list_config) {
+    std::cout << config_reference();
+    return 0;
+  }
+  const SearchParams params = search_params(app, o.search);
+  if (params.approximate)
+    throw std::invalid_argument("--approx-thd: the accelerator model runs exact search only so far "
+                                "(tigris ref models approximate search)");
+  if (!o.search.schedule.empty())
+    throw std::invalid_argument("--schedule replays a schedule in the golden model: use tigris ref");
+  hw::AcceleratorConfig cfg;
+  if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
+  for (const std::string& s : o.settings) apply_setting(cfg, s);
+  if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
+  if (app.count("--split-axis")) cfg.tree.split_axis = o.search.split_axis;
+  validate_config(cfg);
+
+  const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, parse_split_rule(cfg.tree.split_axis));
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  if (image.bytes.size() > cfg.sram.points.bytes)
+    throw std::invalid_argument("the tree image of " + std::to_string(w.cloud.size()) + " points needs " +
+                                std::to_string(image.bytes.size()) + " bytes, the Point Buffer holds " +
+                                std::to_string(cfg.sram.points.bytes) + " (sram.points.bytes)");
+  if (w.queries.size() * 12 > cfg.sram.queries.bytes)
+    throw std::invalid_argument(std::to_string(w.queries.size()) + " queries need " +
+                                std::to_string(w.queries.size() * 12) + " bytes, the Query Buffer holds " +
+                                std::to_string(cfg.sram.queries.bytes) + " (sram.queries.bytes)");
+
+  // Golden model first: its results and visit counts are what the accelerator must reproduce.
+  auto t0 = std::chrono::steady_clock::now();
+  const SearchOutput golden = search(tree, w.queries, params);
+  const double golden_s = seconds_since(t0);
+
+  HostJob job;
+  job.mode = params.mode == Mode::NN ? tlm_if::SearchMode::NN
+             : params.mode == Mode::KNN ? tlm_if::SearchMode::KNN : tlm_if::SearchMode::Radius;
+  job.k = static_cast<std::uint32_t>(params.effective_k());
+  job.radius = params.radius;
+  job.max_nn = params.max_nn;
+  hw::TigrisAccelerator accel("tigris", cfg);
+  HostDriver host("host", image, w.queries, static_cast<std::uint32_t>(w.cloud.size()), job);
+  sc_core::sc_signal<bool> irq("irq");
+  accel.irq(irq);
+  host.irq(irq);
+  host.socket.bind(accel.host);
+  ProgressReporter progress("tigris run: queries finished");
+  accel.set_progress([&](std::uint32_t done, std::uint32_t total) { progress(done, total); });
+  t0 = std::chrono::steady_clock::now();
+  sc_core::sc_start();
+  const double sim_s = seconds_since(t0);
+  if (!host.finished()) {
+    if (!accel.error().empty())
+      throw std::invalid_argument("the accelerator rejected the job: " + accel.error());
+    if (!host.error().empty()) throw std::runtime_error(host.error());
+    std::cerr << "tigris run: DEADLOCK: simulation stopped at " << sc_core::sc_time_stamp()
+              << " with work left:\n" << accel.describe_state();
+    return 1;
+  }
+
+  const Verdict verdict = check_against_golden(golden, host.results(), accel.job().counters);
+  const std::uint64_t cycles = host.cycles();
+  const double seconds = static_cast<double>(cycles) / (cfg.clock_mhz * 1e6);
+  const SearchOutput hw_view = hardware_visits(accel.job().counters);
+
+  nlohmann::json stats;
+  stats["command"] = "run";
+  stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
+  stats["cycles"] = cycles;
+  stats["seconds"] = seconds;
+  stats["queries"] = w.queries.size();
+  stats["verdict"] = verdict.match ? "match" : "mismatch";
+  stats["mismatches"] = {{"results", verdict.result_mismatches}, {"visits", verdict.visit_mismatches},
+                         {"first", verdict.first}};
+  stats["visits"] = visits_json(hw_view);
+  stats["lower_bound_cycles"] = lower_bound_cycles(accel);
+  stats["units"] = units_json(accel, cycles);
+  stats["buffers"] = buffers_json(accel);
+  stats["energy_pj"] = energy_json(accel);
+  stats["config"] = config_to_json(cfg);
+  stats["config"]["search"] = search_config_json(params, tree)["search"];
+  stats["tree"] = tree_json(tree);
+  stats["wall_seconds"] = {{"golden", golden_s}, {"simulation", sim_s}};
+  const std::string stats_path = o.search.out + "/stats.json";
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
+  if (!o.search.dump_results.empty())
+    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, host.results()); });
+
+  const auto& u = stats["units"];
+  std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
+              w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
+  std::printf("  config  %d RU, %d SU x %d PE (%s), top height %d of %d, %.0f MHz\n",
+              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
+              tree.top_height, tree.full_height, cfg.clock_mhz);
+  std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
+              static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,
+              stats["lower_bound_cycles"].get<double>());
+  std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
+              100 * u["recursion_units"]["utilization"].get<double>(),
+              100 * u["search_units"]["utilization"].get<double>(),
+              100 * u["search_units"]["pe_utilization"].get<double>());
+  std::printf("  visits  top %llu, pruned %llu, leaf points %llu\n",
+              static_cast<unsigned long long>(hw_view.visits.top),
+              static_cast<unsigned long long>(hw_view.visits.pruned),
+              static_cast<unsigned long long>(hw_view.visits.leaf_points));
+  std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
+              stats_path.c_str());
+  if (!verdict.match) {
+    std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
+                 static_cast<unsigned long long>(verdict.result_mismatches),
+                 static_cast<unsigned long long>(verdict.visit_mismatches));
+    for (const std::string& m : verdict.first) std::fprintf(stderr, "  %s\n", m.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace tigris

@@ -1,0 +1,22 @@
+// `tigris run`: the accelerator model on a workload, every query checked against the golden
+// model; exit 0 only when all match.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "options.hpp"
+
+namespace tigris {
+
+struct RunOptions {
+  SearchOptions search;
+  std::string config_file;
+  std::vector<std::string> settings;  // --set key=value
+  bool list_config = false;
+};
+
+void add_run_options(CLI::App& app, RunOptions& o);
+int run_run_command(const CLI::App& app, const RunOptions& options);
+
+}  // namespace tigris
