@@ -52,7 +52,7 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
 
 void TigrisAccelerator::host_b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
   const std::uint64_t addr = trans.get_address();
-  const std::uint64_t window = addr & ~(kWindowSize - 1);
+  const std::uint64_t window = addr >= kResultDramBase ? kResultDramBase : addr & ~(kWindowSize - 1);
   trans.set_address(addr - window);
   if (window == kCsrBase) {
     csr_access(trans);

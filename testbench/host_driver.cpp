@@ -92,9 +92,7 @@ void HostDriver::run() {
     }
     cycles_ = read_csr(kCyclesLo) | (std::uint64_t{read_csr(kCyclesHi)} << 32);
     const std::uint64_t bytes = read_csr(kResultBytesLo) | (std::uint64_t{read_csr(kResultBytesHi)} << 32);
-    std::vector<std::uint8_t> stream(bytes);
-    read(kResultDramBase, stream.data(), stream.size());
-    collect(stream);
+    collect(bytes);
     finished_ = true;
   } catch (const std::exception& e) {
     error_ = e.what();
@@ -102,36 +100,46 @@ void HostDriver::run() {
   sc_core::sc_stop();
 }
 
-void HostDriver::collect(const std::vector<std::uint8_t>& stream) {
-  // Records arrive in completion order; group them by query, then put each query's list in
-  // canonical (dist2, index) order (radius hits come in scan order) and apply max_nn.
-  const std::size_t n = stream.size() / sizeof(ResultRecord);
-  if (n * sizeof(ResultRecord) != stream.size())
+void HostDriver::collect(std::uint64_t bytes) {
+  // Records arrive in completion order. Two passes over the DRAM window, a chunk at a time (the
+  // stream can be gigabytes for wide radius searches): count per query, then place.
+  if (bytes % sizeof(ResultRecord) != 0)
     throw std::runtime_error("result stream is not a whole number of records");
-  std::vector<std::uint64_t> count(queries_.size() + 1, 0);
-  std::vector<ResultRecord> recs(n);
-  std::memcpy(recs.data(), stream.data(), stream.size());
-  for (const ResultRecord& r : recs) {
-    if (r.query >= queries_.size())
-      throw std::runtime_error("result stream names query " + std::to_string(r.query));
-    ++count[r.query + 1];
-  }
-  for (std::size_t q = 0; q < queries_.size(); ++q) count[q + 1] += count[q];
-  std::vector<Neighbor> flat(n);
-  std::vector<std::uint64_t> fill(count.begin(), count.end() - 1);
-  for (const ResultRecord& r : recs) flat[fill[r.query]++] = {r.index, r.dist2};
-  results_ = Results{};
-  for (std::size_t q = 0; q < queries_.size(); ++q) {
-    Neighbor* first = flat.data() + count[q];
-    Neighbor* last = flat.data() + count[q + 1];
-    // NN/kNN lists leave the Result Buffer already in canonical order (kept as written, so the
-    // golden check sees the hardware's order); radius hits come in scan order.
-    if (job_.mode == SearchMode::Radius) {
-      std::sort(first, last, Closer{});
-      if (job_.max_nn > 0 && last - first > job_.max_nn) last = first + job_.max_nn;
+  const std::size_t nq = queries_.size();
+  std::vector<ResultRecord> chunk(1 << 16);
+  auto for_each_record = [&](auto&& visit) {
+    for (std::uint64_t done = 0; done < bytes;) {
+      const std::uint64_t n = std::min<std::uint64_t>(chunk.size(), (bytes - done) / sizeof(ResultRecord));
+      read(kResultDramBase + done, chunk.data(), n * sizeof(ResultRecord));
+      for (std::uint64_t i = 0; i < n; ++i) visit(chunk[i]);
+      done += n * sizeof(ResultRecord);
     }
-    results_.append_query(first, last);
+  };
+  results_ = Results{};
+  std::vector<std::uint64_t>& offset = results_.offset;
+  offset.assign(nq + 1, 0);
+  for_each_record([&](const ResultRecord& r) {
+    if (r.query >= nq) throw std::runtime_error("result stream names query " + std::to_string(r.query));
+    ++offset[r.query + 1];
+  });
+  for (std::size_t q = 0; q < nq; ++q) offset[q + 1] += offset[q];
+  std::vector<Neighbor>& flat = results_.neighbors;
+  flat.resize(offset[nq]);
+  std::vector<std::uint64_t> fill(offset.begin(), offset.end() - 1);
+  for_each_record([&](const ResultRecord& r) { flat[fill[r.query]++] = {r.index, r.dist2}; });
+  if (job_.mode != SearchMode::Radius) return;  // NN/kNN lists arrive in canonical order already
+  // Radius hits come in scan order: sort each query's, keep its first max_nn, compact.
+  std::uint64_t out = 0;
+  for (std::size_t q = 0; q < nq; ++q) {
+    Neighbor* first = flat.data() + offset[q];
+    Neighbor* last = flat.data() + offset[q + 1];
+    std::sort(first, last, Closer{});
+    if (job_.max_nn > 0 && static_cast<std::uint64_t>(last - first) > job_.max_nn) last = first + job_.max_nn;
+    offset[q] = out;
+    out = static_cast<std::uint64_t>(std::copy(first, last, flat.data() + out) - flat.data());
   }
+  offset[nq] = out;
+  flat.resize(out);
 }
 
 }  // namespace tigris

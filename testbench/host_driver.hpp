@@ -44,7 +44,7 @@ class HostDriver : public sc_core::sc_module {
   void read(std::uint64_t addr, void* data, std::size_t len);
   void write_csr(std::uint32_t offset, std::uint32_t value);
   std::uint32_t read_csr(std::uint32_t offset);
-  void collect(const std::vector<std::uint8_t>& stream);
+  void collect(std::uint64_t bytes);
 
   const tlm_if::TreeImage& image_;
   const PointCloud& queries_;

@@ -12,8 +12,9 @@ constexpr std::uint64_t kCsrBase = 0x0000'0000;
 constexpr std::uint64_t kCsrSize = 0x1000;
 constexpr std::uint64_t kPointBufferBase = 0x1000'0000;   // tree image (tree_image.hpp)
 constexpr std::uint64_t kQueryBufferBase = 0x2000'0000;   // queries, 12 bytes each (x, y, z)
-constexpr std::uint64_t kResultDramBase = 0x4000'0000;    // result stream written back to DRAM
-constexpr std::uint64_t kWindowSize = 0x1000'0000;
+constexpr std::uint64_t kWindowSize = 0x1000'0000;        // buffer windows: 256 MiB each
+constexpr std::uint64_t kResultDramBase = 0x1'0000'0000;  // result stream written back to DRAM
+constexpr std::uint64_t kResultDramSize = 0xF'0000'0000;  // up to 60 GiB of records
 
 // CSRs: 32-bit registers at these byte offsets in the CSR window.
 enum Csr : std::uint32_t {

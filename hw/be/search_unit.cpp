@@ -46,8 +46,8 @@ void SearchUnit::step() {
       ++i;
       continue;
     }
-    for (const QueryToken& t : running_[i].tokens)
-      fe_.reinsert(t, now + static_cast<std::uint64_t>(config_.cost.be_to_fe));
+    const std::uint64_t back = retire(running_[i]) + static_cast<std::uint64_t>(config_.cost.be_to_fe);
+    for (const QueryToken& t : running_[i].tokens) fe_.reinsert(t, back);
     free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
     running_[i] = std::move(running_.back());
     running_.pop_back();
@@ -63,9 +63,9 @@ void SearchUnit::step() {
     const std::uint64_t setup = d.search_cycles + static_cast<std::uint64_t>(config_.cost.issue_cycle);
     stats_.issue_cycles += setup;
     if (policy_.shared_stream()) {
-      issue(std::move(tokens), now + setup);
+      issue(std::move(tokens), now, setup);
     } else {
-      for (QueryToken& t : tokens) issue({t}, now + setup);
+      for (QueryToken& t : tokens) issue({t}, now, setup);
     }
     issued = true;
   }
@@ -78,7 +78,8 @@ void SearchUnit::step() {
   if (next != std::numeric_limits<std::uint64_t>::max()) wake_.notify((next - now) * job_.period);
 }
 
-void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t start) {
+void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup) {
+  const std::uint64_t start = now + setup;  // buffers are read during the issue search
   const std::uint32_t leaf = tokens.front().leaf;
   const std::uint64_t n = job_.leaf_dir[leaf + 1] - job_.leaf_dir[leaf];
   const std::uint64_t b = tokens.size();
@@ -95,7 +96,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t start) {
     a.first_byte = (job_.num_top_nodes + job_.leaf_dir[leaf]) * sizeof(tlm_if::PointEntry);
     a.words = static_cast<std::uint32_t>(n);
     a.bytes = set_bytes;
-    data_ready = points.charge(start, a, job_.period);
+    data_ready = points.charge(now, a, job_.period);
   }
   // Result Buffer: NN/kNN slots are read into the PEs and written back once.
   const bool radius = job_.mode == tlm_if::SearchMode::Radius;
@@ -104,30 +105,38 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t start) {
     a.first_byte = tokens.front().slot * job_.result_slot_bytes;
     a.words = static_cast<std::uint32_t>(b * ((job_.result_slot_bytes + 7) / 8));
     a.bytes = b * job_.result_slot_bytes;
-    data_ready = std::max(data_ready, results.charge(start, a, job_.period));
+    data_ready = std::max(data_ready, results.charge(now, a, job_.period));
   }
   const int depth = config_.cost.pe_pipeline_depth;
   const std::uint64_t compute_end = start + PeArray::stream_cycles(n, b, depth);
   // The stream cannot run ahead of its data: the last point enters the array once it arrived.
   std::uint64_t end = std::max(compute_end, data_ready + b - 1 + static_cast<std::uint64_t>(depth));
   // Function: every PE scans the Node Set for its query.
-  hits_.clear();
-  for (const QueryToken& t : tokens) PeArray::scan(job_, t, hits_);
-  if (!radius) {
-    tlm_if::AccessProfile a;
-    a.write = true;
-    a.first_byte = tokens.front().slot * job_.result_slot_bytes;
-    a.words = static_cast<std::uint32_t>(b * ((job_.result_slot_bytes + 7) / 8));
-    a.bytes = b * job_.result_slot_bytes;
-    end = std::max(end, results.charge(end, a, job_.period));
-  } else if (!hits_.empty()) {
-    end = std::max(end, dram_.write(end, hits_.data(), hits_.size()));
-  }
+  std::vector<tlm_if::ResultRecord> hits;
+  for (const QueryToken& t : tokens) PeArray::scan(job_, t, hits);
   stats_.busy_cycles += end - std::max(start, std::min(end, busy_until_));  // cycles with a PE busy
   busy_until_ = std::max(busy_until_, end);
   stats_.sram_stall_cycles += end - compute_end;
   stats_.pe_busy_cycles += b * (end - start);
-  running_.push_back({std::move(tokens), end});
+  running_.push_back({std::move(tokens), std::move(hits), end});
+}
+
+std::uint64_t SearchUnit::retire(Batch& batch) {
+  // The PEs' insert stage writes NN/kNN slots back (posted) or streams the radius hits out.
+  const std::uint64_t now = job_.cycle();
+  if (job_.mode != tlm_if::SearchMode::Radius) {
+    tlm_if::AccessProfile a;
+    a.write = true;
+    a.first_byte = batch.tokens.front().slot * job_.result_slot_bytes;
+    a.words = static_cast<std::uint32_t>(batch.tokens.size() * ((job_.result_slot_bytes + 7) / 8));
+    a.bytes = batch.tokens.size() * job_.result_slot_bytes;
+    results.charge(now, a, job_.period);
+    return now;
+  }
+  if (batch.hits.empty()) return now;
+  const std::uint64_t accepted = dram_.write(now, batch.hits.data(), batch.hits.size());
+  stats_.sram_stall_cycles += accepted - now;
+  return accepted;
 }
 
 }  // namespace tigris::hw

@@ -42,10 +42,12 @@ class SearchUnit : public sc_core::sc_module {
  private:
   struct Batch {
     std::vector<QueryToken> tokens;
+    std::vector<tlm_if::ResultRecord> hits;  // radius hits, streamed out at the end
     std::uint64_t end = 0;
   };
   void step();  // SC_METHOD: retire finished batches, issue new ones
-  void issue(std::vector<QueryToken> tokens, std::uint64_t start);
+  void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
+  std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
 
   std::uint32_t id_;
   const AcceleratorConfig& config_;
@@ -60,7 +62,6 @@ class SearchUnit : public sc_core::sc_module {
   std::uint64_t busy_until_ = 0;
   std::vector<QueryToken> bqb_;
   std::vector<Batch> running_;
-  std::vector<tlm_if::ResultRecord> hits_;
   sc_core::sc_event wake_;
   SearchUnitStats stats_;
 };

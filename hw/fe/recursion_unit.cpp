@@ -36,34 +36,38 @@ void RecursionUnit::start(const QueryToken& token) {
   a.scatter = node_addrs_.data(), a.scatter_count = static_cast<std::uint32_t>(node_addrs_.size());
   a.bytes = node_addrs_.size() * sizeof(tlm_if::PointEntry);
   done = std::max(done, points.charge(now, a, job_.period));
+  // Query Stack Buffer: the pops as one read, the pushes as one write, of this query's slot.
+  const std::uint64_t stack_base = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
   a = {};
-  a.first_byte = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
-  a.words = stack_ops_, a.bytes = stack_ops_ * sizeof(StackSlotEntry);
+  a.first_byte = stack_base, a.words = stack_pops_, a.bytes = stack_pops_ * sizeof(StackSlotEntry);
   done = std::max(done, stacks.charge(now, a, job_.period));
-  if (job_.mode != tlm_if::SearchMode::Radius) {
+  a.write = true, a.words = stack_pushes_, a.bytes = stack_pushes_ * sizeof(StackSlotEntry);
+  done = std::max(done, stacks.charge(now, a, job_.period));
+  if (job_.mode != tlm_if::SearchMode::Radius) {  // the result slot, read and written back
     a = {};
     a.first_byte = token_.slot * job_.result_slot_bytes;
     a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + 7) / 8);
     a.bytes = job_.result_slot_bytes;
     done = std::max(done, results.charge(now, a, job_.period));
+    a.write = true;
+    done = std::max(done, results.charge(now, a, job_.period));
   }
   stats_.sram_stall_cycles += done - (now + pipeline);
 
-  // Results leave for DRAM: radius hits of this walk, or the final list of a finished query.
+  // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
   if (job_.mode != tlm_if::SearchMode::Radius && finished_) {
     const ResultSlots slots(job_.result_slots, job_.k);
     const std::uint32_t n = slots.count(token_.slot);
     for (std::uint32_t i = 0; i < n; ++i)
       hits_.push_back({token_.query, slots.entries(token_.slot)[i].index, slots.entries(token_.slot)[i].dist2});
   }
-  if (!hits_.empty()) done = std::max(done, dram_.write(done, hits_.data(), hits_.size()));
   done_.notify((done - now) * job_.period);
 }
 
 std::uint64_t RecursionUnit::walk() {
   node_addrs_.clear();
   hits_.clear();
-  stack_ops_ = 0;
+  stack_pops_ = stack_pushes_ = 0;
   finished_ = false;
   QueryCounters& count = job_.counters[token_.query];
   ResultSlots slots(job_.result_slots, job_.k);
@@ -83,7 +87,7 @@ std::uint64_t RecursionUnit::walk() {
   while (token_.sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
     const StackSlotEntry tos = stack[--token_.sp];
-    ++stack_ops_;
+    ++stack_pops_;
     const float bound = radius ? job_.r2 : slots.bound(token_.slot);
     if (tos.plane2 > bound) {
       ++count.pruned;
@@ -120,7 +124,7 @@ std::uint64_t RecursionUnit::walk() {
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
       if (job_.node_nonempty(far_child)) {
         stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
-        ++stack_ops_;
+        ++stack_pushes_;
       }
       if (!job_.node_nonempty(near_child)) break;
       node = near_child;
@@ -139,6 +143,15 @@ std::uint64_t RecursionUnit::walk() {
 void RecursionUnit::on_done() {
   const std::uint64_t now = job_.cycle();
   if (state_ == State::Blocked) stats_.bqb_full_stall_cycles += now - blocked_since_;
+  if (!hits_.empty()) {  // results leave through the write-back stream, which may push back
+    const std::uint64_t accepted = dram_.write(now, hits_.data(), hits_.size());
+    hits_.clear();
+    if (accepted > now) {
+      stats_.sram_stall_cycles += accepted - now;
+      done_.notify((accepted - now) * job_.period);
+      return;
+    }
+  }
   if (finished_) {
     state_ = State::Idle;
     fe_.query_finished(token_, now);

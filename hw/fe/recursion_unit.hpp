@@ -57,7 +57,7 @@ class RecursionUnit : public sc_core::sc_module {
   sc_core::sc_event done_;
   RecursionUnitStats stats_;
   std::vector<std::uint64_t> node_addrs_;  // Point Buffer words read by this walk
-  std::uint32_t stack_ops_ = 0;            // Query Stack Buffer pops and pushes
+  std::uint32_t stack_pops_ = 0, stack_pushes_ = 0;  // Query Stack Buffer accesses
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
 };
 
