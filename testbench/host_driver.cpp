@@ -15,7 +15,7 @@ HostDriver::HostDriver(sc_core::sc_module_name name, const TreeImage& image,
   SC_THREAD(run);
 }
 
-void HostDriver::write(std::uint64_t addr, const void* data, std::size_t len) {
+void HostDriver::write(std::uint64_t addr, const void* data, std::size_t len, const char* what) {
   constexpr std::size_t kChunk = 64 * 1024;  // one bus burst
   const auto* bytes = static_cast<const unsigned char*>(data);
   for (std::size_t done = 0; done < len;) {
@@ -29,8 +29,9 @@ void HostDriver::write(std::uint64_t addr, const void* data, std::size_t len) {
     t.set_streaming_width(static_cast<unsigned int>(n));
     socket->b_transport(t, delay);
     if (t.is_response_error())
-      throw std::runtime_error("host write of " + std::to_string(n) + " bytes at 0x" +
-                               std::to_string(addr + done) + " failed: " + t.get_response_string());
+      throw std::runtime_error(std::string("writing ") + what + " (" + std::to_string(len) +
+                               " bytes) failed at byte " + std::to_string(done + n) + ": " +
+                               t.get_response_string());
     wait(delay);
     done += n;
   }
@@ -55,7 +56,9 @@ void HostDriver::read(std::uint64_t addr, void* data, std::size_t len) {
   }
 }
 
-void HostDriver::write_csr(std::uint32_t offset, std::uint32_t value) { write(kCsrBase + offset, &value, 4); }
+void HostDriver::write_csr(std::uint32_t offset, std::uint32_t value) {
+  write(kCsrBase + offset, &value, 4, "a CSR");
+}
 
 std::uint32_t HostDriver::read_csr(std::uint32_t offset) {
   std::uint32_t v = 0;
@@ -65,11 +68,11 @@ std::uint32_t HostDriver::read_csr(std::uint32_t offset) {
 
 void HostDriver::run() {
   try {
-    write(kPointBufferBase, image_.bytes.data(), image_.bytes.size());
+    write(kPointBufferBase, image_.bytes.data(), image_.bytes.size(), "the tree image into the Point Buffer");
     std::vector<float> packed;
     packed.reserve(queries_.size() * 3);
     for (const Point3& q : queries_) packed.insert(packed.end(), {q.x, q.y, q.z});
-    write(kQueryBufferBase, packed.data(), packed.size() * sizeof(float));
+    write(kQueryBufferBase, packed.data(), packed.size() * sizeof(float), "the queries into the Query Buffer");
     const float r2 = job_.radius * job_.radius;
     std::uint32_t r2_bits;
     std::memcpy(&r2_bits, &r2, 4);
@@ -87,7 +90,6 @@ void HostDriver::run() {
     const std::uint32_t status = read_csr(kStatus);
     if (status & kError) {
       error_ = "the accelerator reported error " + std::to_string(read_csr(kErrorCode));
-      sc_core::sc_stop();
       return;
     }
     cycles_ = read_csr(kCyclesLo) | (std::uint64_t{read_csr(kCyclesHi)} << 32);
@@ -97,7 +99,7 @@ void HostDriver::run() {
   } catch (const std::exception& e) {
     error_ = e.what();
   }
-  sc_core::sc_stop();
+  // No sc_stop(): the run ends when no event is left, so several accelerators can share it.
 }
 
 void HostDriver::collect(std::uint64_t bytes) {

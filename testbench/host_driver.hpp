@@ -40,7 +40,7 @@ class HostDriver : public sc_core::sc_module {
 
  private:
   void run();  // SC_THREAD
-  void write(std::uint64_t addr, const void* data, std::size_t len);
+  void write(std::uint64_t addr, const void* data, std::size_t len, const char* what);
   void read(std::uint64_t addr, void* data, std::size_t len);
   void write_csr(std::uint32_t offset, std::uint32_t value);
   std::uint32_t read_csr(std::uint32_t offset);

@@ -5,11 +5,9 @@
 #include <iostream>
 
 #include "config.hpp"
-#include "host_driver.hpp"
-#include "hw/top.hpp"
+#include "simulation.hpp"
 #include "progress.hpp"
 #include "report.hpp"
-#include "run_report.hpp"
 #include "scoreboard.hpp"
 #include "tlm/tree_image.hpp"
 #include "workload.hpp"
@@ -86,30 +84,26 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   job.k = static_cast<std::uint32_t>(params.effective_k());
   job.radius = params.radius;
   job.max_nn = params.max_nn;
-  hw::TigrisAccelerator accel("tigris", cfg);
-  HostDriver host("host", image, w.queries, static_cast<std::uint32_t>(w.cloud.size()), job);
-  sc_core::sc_signal<bool> irq("irq");
-  accel.irq(irq);
-  host.irq(irq);
-  host.socket.bind(accel.host);
+  SimSetup setup;
+  setup.config = cfg;
+  setup.image = &image;
+  setup.queries = &w.queries;
+  setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
+  setup.job = job;
   ProgressReporter progress("tigris run: queries finished");
-  accel.set_progress([&](std::uint32_t done, std::uint32_t total) { progress(done, total); });
   t0 = std::chrono::steady_clock::now();
-  sc_core::sc_start();
+  const SimOutcome sim = simulate({setup}, [&](std::uint32_t done, std::uint32_t total) { progress(done, total); }).front();
   const double sim_s = seconds_since(t0);
-  if (!host.finished()) {
-    if (!accel.error().empty())
-      throw std::invalid_argument("the accelerator rejected the job: " + accel.error());
-    if (!host.error().empty()) throw std::runtime_error(host.error());
-    std::cerr << "tigris run: DEADLOCK: simulation stopped at " << sc_core::sc_time_stamp()
-              << " with work left:\n" << accel.describe_state();
+  if (!sim.error.empty()) throw std::invalid_argument(sim.error);
+  if (!sim.finished) {
+    std::cerr << "tigris run: DEADLOCK: the simulation ran out of events with work left:\n" << sim.deadlock;
     return 1;
   }
 
-  const Verdict verdict = check_against_golden(golden, host.results(), accel.job().counters);
-  const std::uint64_t cycles = host.cycles();
+  const Verdict verdict = check_against_golden(golden, sim.results, sim.counters);
+  const std::uint64_t cycles = sim.cycles;
   const double seconds = static_cast<double>(cycles) / (cfg.clock_mhz * 1e6);
-  const SearchOutput hw_view = hardware_visits(accel.job().counters);
+  const SearchOutput hw_view = hardware_visits(sim.counters);
 
   nlohmann::json stats;
   stats["command"] = "run";
@@ -121,10 +115,10 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["mismatches"] = {{"results", verdict.result_mismatches}, {"visits", verdict.visit_mismatches},
                          {"first", verdict.first}};
   stats["visits"] = visits_json(hw_view);
-  stats["lower_bound_cycles"] = lower_bound_cycles(accel);
-  stats["units"] = units_json(accel, cycles);
-  stats["buffers"] = buffers_json(accel);
-  stats["energy_pj"] = energy_json(accel);
+  stats["lower_bound_cycles"] = sim.lower_bound_cycles;
+  stats["units"] = sim.units;
+  stats["buffers"] = sim.buffers;
+  stats["energy_pj"] = sim.energy;
   stats["config"] = config_to_json(cfg);
   stats["config"]["search"] = search_config_json(params, tree)["search"];
   stats["tree"] = tree_json(tree);
@@ -132,7 +126,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const std::string stats_path = o.search.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
   if (!o.search.dump_results.empty())
-    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, host.results()); });
+    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, sim.results); });
 
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),

@@ -59,7 +59,12 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
         {"utilization", ratio(static_cast<double>(su.busy_cycles), n_su * c)},
         {"pe_utilization", ratio(static_cast<double>(su.pe_busy_cycles), n_pe * c)},
         {"stall_cycles", {{"issue_search", su.issue_cycles}, {"sram", su.sram_stall_cycles}}},
-        {"bqb_max_occupancy", su.bqb_max_occupancy}}},
+        {"bqb_max_occupancy", su.bqb_max_occupancy},
+        {"queries_per_unit", [&] {
+           std::vector<std::uint64_t> v;
+           for (const auto& u : accel.sus) v.push_back(u->stats().queries);
+           return v;
+         }()}}},
       {"qdn", {{"queries", accel.qdn.stats().queries}, {"port_wait_cycles", accel.qdn.stats().port_wait_cycles}}},
       {"fqq", {{"max_occupancy", accel.fe.fqq_max_occupancy()}, {"queries_in_flight", accel.job().slots}}},
       {"result_writeback", {{"stall_cycles", accel.dram.stall_cycles()}}}};

@@ -74,5 +74,25 @@ grep -q '"leaf_points"' "$tmp/o2/stats.json" && passes=$((passes + 1)) || { echo
 awk -F, 'NR==3 {$3 = ($3 == 0 ? 1 : 0)} {print}' OFS=, "$tmp/s1.csv" >"$tmp/s2.csv"
 expect 2 "schedule row 1" -- "${base[@]}" --schedule "$tmp/s2.csv"
 
+# tigris run: bad configurations are errors naming the key or buffer; two runs are identical.
+expect 2 "be.pes_per_su" -- run --set be.pes_per_su=0
+expect 2 "unknown key" -- run --set fe.recursion_unit=3
+expect 2 "Point Buffer" -- run --set sram.points.bytes=100000
+expect 2 "sram.query_stack.bytes" -- run --set sram.query_stack.bytes=64
+expect 2 "radius must be" -- run --mode radius --radius 0
+expect 2 "exact search only" -- run --approx-thd 1
+expect 2 "$tmp/none.json" -- run --config "$tmp/none.json"
+small=(run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1)
+expect 0 "MATCH" -- "${small[@]}" --out "$tmp/r0"
+expect 0 "MATCH" -- run --mode knn --k 3 --height 12 --out "$tmp/run1" --dump-results "$tmp/run1.csv"
+expect 0 "MATCH" -- run --mode knn --k 3 --height 12 --out "$tmp/run2"
+c1=$(grep -m1 '"cycles"' "$tmp/run1/stats.json"); c2=$(grep -m1 '"cycles"' "$tmp/run2/stats.json")
+if [ -z "$c1" ] || [ "$c1" != "$c2" ] || ! cmp -s <(grep -v '"simulation"\|"golden"' "$tmp/run1/stats.json") <(grep -v '"simulation"\|"golden"' "$tmp/run2/stats.json"); then
+  echo "FAIL: two identical runs differ ($c1 vs $c2)"; failures=$((failures + 1))
+else passes=$((passes + 1)); fi
+# The accelerator's results dump equals the golden model's.
+expect 0 "knn" -- ref --mode knn --k 3 --height 12 --out "$tmp/ref3" --dump-results "$tmp/ref3.csv"
+cmp -s "$tmp/run1.csv" "$tmp/ref3.csv" && passes=$((passes + 1)) || { echo "FAIL: run and ref dumps differ"; failures=$((failures + 1)); }
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

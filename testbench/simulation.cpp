@@ -1,0 +1,50 @@
+#include "simulation.hpp"
+
+#include <memory>
+
+#include "hw/top.hpp"
+#include "run_report.hpp"
+
+namespace tigris {
+
+std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimProgress& progress) {
+  struct Bench {
+    std::unique_ptr<hw::TigrisAccelerator> accel;
+    std::unique_ptr<HostDriver> host;
+    std::unique_ptr<sc_core::sc_signal<bool>> irq;
+  };
+  std::vector<Bench> benches;
+  for (std::size_t i = 0; i < setups.size(); ++i) {
+    const SimSetup& s = setups[i];
+    const std::string tag = setups.size() == 1 ? "" : std::to_string(i);
+    Bench b;
+    b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config);
+    b.host = std::make_unique<HostDriver>(("host" + tag).c_str(), *s.image, *s.queries, s.num_points, s.job);
+    b.irq = std::make_unique<sc_core::sc_signal<bool>>(("irq" + tag).c_str());
+    b.accel->irq(*b.irq);
+    b.host->irq(*b.irq);
+    b.host->socket.bind(b.accel->host);
+    if (progress && setups.size() == 1) b.accel->set_progress(progress);
+    benches.push_back(std::move(b));
+  }
+  sc_core::sc_start();
+  std::vector<SimOutcome> out(setups.size());
+  for (std::size_t i = 0; i < setups.size(); ++i) {
+    const hw::TigrisAccelerator& a = *benches[i].accel;
+    const HostDriver& h = *benches[i].host;
+    SimOutcome& o = out[i];
+    o.finished = h.finished();
+    o.error = !a.error().empty() ? "the accelerator rejected the job: " + a.error() : h.error();
+    if (!o.finished && o.error.empty()) o.deadlock = a.describe_state();
+    o.results = h.results();
+    o.cycles = h.cycles();
+    o.counters = a.job().counters;
+    o.units = units_json(a, o.cycles);
+    o.buffers = buffers_json(a);
+    o.energy = energy_json(a);
+    o.lower_bound_cycles = lower_bound_cycles(a);
+  }
+  return out;
+}
+
+}  // namespace tigris

@@ -1,0 +1,45 @@
+// Elaborates one or more accelerators, each with its own host driver, and simulates them side
+// by side in one SystemC run (SystemC elaborates once per process, so a test compares several
+// configurations this way). The run ends when no event is left; an accelerator whose host has
+// not seen the done interrupt by then is deadlocked, and its stuck state is reported.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "host_driver.hpp"
+#include "hw/config.hpp"
+#include "hw/job.hpp"
+#include "sw_ref/results.hpp"
+#include "tlm/tree_image.hpp"
+
+namespace tigris {
+
+struct SimSetup {
+  hw::AcceleratorConfig config;
+  const tlm_if::TreeImage* image = nullptr;
+  const PointCloud* queries = nullptr;
+  std::uint32_t num_points = 0;
+  HostJob job;
+};
+
+struct SimOutcome {
+  bool finished = false;
+  std::string error;     // the job was rejected or a transaction failed
+  std::string deadlock;  // the stuck state when the simulation ran out of events early
+  Results results;
+  std::uint64_t cycles = 0;
+  std::vector<hw::QueryCounters> counters;
+  nlohmann::json units, buffers, energy;
+  double lower_bound_cycles = 0.0;
+};
+
+using SimProgress = std::function<void(std::uint32_t done, std::uint32_t total)>;
+
+std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimProgress& progress = {});
+
+}  // namespace tigris

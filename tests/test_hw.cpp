@@ -1,0 +1,246 @@
+// The accelerator model against the golden model and against the timing formulas. SystemC
+// elaborates once per process (ctest runs each test case in its own), so each test case
+// simulates all the configurations it compares side by side in one run.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+
+#include "hw/mem/banked_sram.hpp"
+#include "hw/be/pe_array.hpp"
+#include "scoreboard.hpp"
+#include "simulation.hpp"
+#include "sw_ref/search.hpp"
+#include "sw_ref/synthetic.hpp"
+#include "test_util.hpp"
+
+using namespace tigris;
+using namespace tigris::test;
+
+extern "C" int sc_main(int, char**) { return 2; }  // the Catch2 main runs instead
+
+namespace {
+
+const bool kQuietSystemC = [] { return setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1) == 0; }();
+
+struct Case {
+  std::string name;
+  hw::AcceleratorConfig config;
+  SearchParams params;
+};
+
+HostJob host_job(const SearchParams& p) {
+  HostJob j;
+  j.mode = p.mode == Mode::NN ? tlm_if::SearchMode::NN
+           : p.mode == Mode::KNN ? tlm_if::SearchMode::KNN : tlm_if::SearchMode::Radius;
+  j.k = static_cast<std::uint32_t>(p.effective_k());
+  j.radius = p.radius;
+  j.max_nn = p.max_nn;
+  return j;
+}
+
+// Simulates every case on (cloud, queries) in one run; checks each against the golden model.
+std::vector<SimOutcome> run_and_check(const PointCloud& cloud, const PointCloud& queries,
+                                      const std::vector<Case>& cases) {
+  std::vector<KdTree> trees;
+  std::vector<tlm_if::TreeImage> images;
+  trees.reserve(cases.size());
+  images.reserve(cases.size());
+  std::vector<SimSetup> setups;
+  for (const Case& c : cases) {
+    trees.push_back(build_kdtree(cloud, c.config.tree.top_height));
+    images.push_back(tlm_if::encode_tree_image(trees.back()));
+    SimSetup s;
+    s.config = c.config;
+    s.image = &images.back();
+    s.queries = &queries;
+    s.num_points = static_cast<std::uint32_t>(cloud.size());
+    s.job = host_job(c.params);
+    setups.push_back(s);
+  }
+  std::vector<SimOutcome> out = simulate(setups);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    INFO("case " << cases[i].name);
+    REQUIRE(out[i].error.empty());
+    REQUIRE(out[i].deadlock.empty());
+    REQUIRE(out[i].finished);
+    const SearchOutput golden = search(trees[i], queries, cases[i].params);
+    const Verdict v = check_against_golden(golden, out[i].results, out[i].counters);
+    if (!v.match) FAIL(cases[i].name << ": " << v.first.front());
+  }
+  return out;
+}
+
+SearchParams mode(Mode m, int k = 1, float r = 0.0f, std::uint32_t max_nn = 0) {
+  SearchParams p;
+  p.mode = m, p.k = k, p.radius = r, p.max_nn = max_nn;
+  return p;
+}
+
+hw::AcceleratorConfig units(int ru, int su, int pe, int height) {
+  hw::AcceleratorConfig c;
+  c.fe.recursion_units = ru, c.be.search_units = su, c.be.pes_per_su = pe;
+  c.tree.top_height = height;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("accelerator is bit-exact on random clouds across configurations and modes", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 5);
+  const PointCloud queries = make_queries(cloud, 300, 5);
+  std::vector<Case> cases;
+  const std::vector<std::pair<std::string, SearchParams>> modes = {
+      {"nn", mode(Mode::NN)}, {"knn5", mode(Mode::KNN, 5)}, {"r1.0", mode(Mode::Radius, 1, 1.0f)},
+      {"r1.5max3", mode(Mode::Radius, 1, 1.5f, 3)}};
+  for (const auto& [mname, p] : modes) {
+    for (int h : {1, 3, 8, -1}) {
+      cases.push_back({mname + " 1/1/1 h" + std::to_string(h), units(1, 1, 1, h), p});
+      cases.push_back({mname + " 4/3/5 h" + std::to_string(h), units(4, 3, 5, h), p});
+      cases.push_back({mname + " default h" + std::to_string(h), units(64, 32, 32, h), p});
+    }
+    hw::AcceleratorConfig mqmn = units(8, 4, 8, 5);
+    mqmn.be.issue_policy = "mqmn";
+    cases.push_back({mname + " mqmn", mqmn, p});
+    hw::AcceleratorConfig plain = units(8, 4, 8, 5);
+    plain.fe.forwarding = plain.fe.bypassing = false;
+    plain.node_cache.bytes = 0;
+    cases.push_back({mname + " no forwarding, bypassing, cache", plain, p});
+  }
+  run_and_check(cloud, queries, cases);
+}
+
+TEST_CASE("accelerator is bit-exact on awkward clouds: duplicates, all-equal, lattice", "[hw]") {
+  const PointCloud dup = make_cloud(CloudKind::Duplicates, 1500, 9);
+  const PointCloud grid = make_cloud(CloudKind::Grid, 1500, 9);
+  PointCloud both = dup;
+  both.insert(both.end(), grid.begin(), grid.end());
+  both.insert(both.end(), 40, Point3{2.0f, 2.0f, 1.0f});  // a block of identical points
+  const PointCloud queries = make_queries(both, 240, 9);
+  std::vector<Case> cases;
+  for (int h : {0, 2, 6, -1})
+    for (const SearchParams& p : {mode(Mode::NN), mode(Mode::KNN, 8), mode(Mode::Radius, 1, 1.0f)})
+      cases.push_back({"h" + std::to_string(h) + " " + to_string(p.mode), units(6, 4, 4, h), p});
+  run_and_check(both, queries, cases);
+}
+
+TEST_CASE("accelerator is bit-exact on the synthetic LiDAR pair for top heights 1 to full", "[hw][synthetic]") {
+  const SyntheticPair pair = make_synthetic_pair();
+  PointCloud queries;
+  for (std::size_t i = 0; i < pair.frame1.size(); i += 23) queries.push_back(pair.frame1[i]);
+  std::vector<Case> cases;
+  for (int h : {1, 5, 10, 14, -1}) cases.push_back({"nn h" + std::to_string(h), units(64, 32, 32, h), mode(Mode::NN)});
+  cases.push_back({"knn10 h10", units(64, 32, 32, 10), mode(Mode::KNN, 10)});
+  cases.push_back({"r0.30 h10", units(64, 32, 32, 10), mode(Mode::Radius, 1, 0.30f)});
+  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = "mqmn"; return c; }(),
+                   mode(Mode::Radius, 1, 0.75f)});
+  run_and_check(pair.frame0, queries, cases);
+}
+
+TEST_CASE("tiny queues finish without deadlock and stay bit-exact", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 12);
+  const PointCloud queries = make_queries(cloud, 400, 12);
+  std::vector<Case> cases;
+  for (int bqb : {1, 2}) {
+    for (std::uint64_t fqq : {8u, 24u}) {
+      hw::AcceleratorConfig c = units(16, 4, 8, 6);
+      c.be.bqb_entries = bqb;
+      c.fe.fqq_bytes = fqq;  // 1 or 3 entries: that many queries in flight
+      cases.push_back({"bqb " + std::to_string(bqb) + " fqq " + std::to_string(fqq), c, mode(Mode::KNN, 3)});
+    }
+  }
+  hw::AcceleratorConfig stack = units(16, 4, 8, 6);
+  stack.sram.query_stack.bytes = 6 * 8 * 3;  // three queries' stacks
+  cases.push_back({"query stack for 3 queries", stack, mode(Mode::NN)});
+  run_and_check(cloud, queries, cases);
+}
+
+TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypassing 2 per pruned node", "[hw][timing]") {
+  // One query on the canonical tree and one RU: the whole job is one top-tree walk.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 1000, 3);
+  const PointCloud queries = {{0.3f, -0.2f, 0.5f}};
+  std::vector<Case> cases;
+  for (bool fwd : {true, false})
+    for (bool byp : {true, false}) {
+      hw::AcceleratorConfig c = units(1, 1, 1, -1);
+      c.fe.forwarding = fwd, c.fe.bypassing = byp;
+      cases.push_back({std::string(fwd ? "fwd" : "nofwd") + (byp ? " byp" : " nobyp"), c, mode(Mode::KNN, 4)});
+    }
+  const auto out = run_and_check(cloud, queries, cases);
+  const std::uint64_t top = out[0].counters[0].top, pruned = out[0].counters[0].pruned;
+  REQUIRE(top > 10);
+  REQUIRE(pruned > 5);
+  const auto& cost = hw::CostTable{};
+  // With forwarding and bypassing the RU retires one node per cycle and drops a pruned one in two.
+  const auto& ru = out[0].units["recursion_units"];
+  CHECK(ru["busy_cycles"].get<std::uint64_t>() ==
+        cost.ru_fetch_query + top * cost.ru_node + pruned * cost.ru_prune_at_rn + cost.ru_drain);
+  CHECK(out[2].cycles - out[0].cycles == 3 * top);     // forwarding off
+  CHECK(out[1].cycles - out[0].cycles == 2 * pruned);  // bypassing off
+  CHECK(out[3].cycles - out[0].cycles == 3 * top + 2 * pruned);
+}
+
+TEST_CASE("SU timing: a Node Set of N points past B PEs takes N + B - 1 + 3 cycles", "[hw][timing]") {
+  CHECK(hw::PeArray::stream_cycles(100, 32, 3) == 134);
+  CHECK(hw::PeArray::stream_cycles(1, 1, 3) == 4);
+  CHECK(hw::PeArray::stream_cycles(0, 5, 3) == 0);
+  // Brute force (h = 0): every query scans the one leaf set of all N points.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 700, 4);
+  const PointCloud queries = make_queries(cloud, 90, 4);
+  std::vector<Case> cases = {{"8 PEs", units(4, 1, 8, 0), mode(Mode::NN)},
+                             {"1 PE", units(4, 1, 1, 0), mode(Mode::NN)}};
+  const auto out = run_and_check(cloud, queries, cases);
+  for (const SimOutcome& o : out) {
+    const auto& su = o.units["search_units"];
+    const std::uint64_t batches = su["batches"], served = su["queries"];
+    CHECK(served == queries.size());
+    // Each batch streams all 700 points: sum over batches of (N + B - 1 + 3), nothing stalls.
+    CHECK(su["busy_cycles"].get<std::uint64_t>() == batches * (700 - 1 + 3) + served);
+    CHECK(su["stall_cycles"]["sram"].get<std::uint64_t>() == 0);
+  }
+  CHECK(out[1].units["search_units"]["batches"].get<std::uint64_t>() == queries.size());
+  CHECK(out[0].units["search_units"]["batches"].get<std::uint64_t>() < queries.size());
+}
+
+TEST_CASE("QDN sends each leaf visit to Search Unit leaf mod #SU", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 17);
+  const PointCloud queries = make_queries(cloud, 300, 17);
+  const auto out = run_and_check(cloud, queries, {{"3 SUs", units(8, 3, 4, 5), mode(Mode::KNN, 6)}});
+  const SearchOutput golden = search(build_kdtree(cloud, 5), queries, mode(Mode::KNN, 6));
+  std::vector<std::uint64_t> expect(3, 0);
+  for (const ScheduleEntry& e : golden.schedule) ++expect[e.leaf % 3];
+  CHECK(out[0].units["search_units"]["queries_per_unit"].get<std::vector<std::uint64_t>>() == expect);
+}
+
+TEST_CASE("SRAM banks: bursts spread over banks, overlapping accesses queue, ports cap the rate", "[hw][timing]") {
+  hw::SramConfig c{4096, 4, 4, 2, 16};
+  hw::BankedSram sram("sram", c, sc_core::sc_time(2, sc_core::SC_NS));
+  tlm_if::AccessProfile burst;
+  burst.words = 8, burst.bytes = 128;
+  CHECK(sram.charge(10, burst) == 10 + 2 + 2);         // 2 words per bank, then the latency
+  CHECK(sram.charge(10, burst) == 10 + 4 + 2);         // the same banks are busy until 12
+  CHECK(sram.stats().conflict_cycles == 2);
+  const std::uint64_t same_bank[] = {0, 64, 128, 192};  // all in bank 0
+  tlm_if::AccessProfile scatter;
+  scatter.scatter = same_bank, scatter.scatter_count = 4;
+  CHECK(sram.charge(100, scatter) == 100 + 4 + 2);     // serialised on one bank
+  hw::SramConfig narrow{4096, 4, 1, 0, 16};
+  hw::BankedSram port("port", narrow, sc_core::sc_time(2, sc_core::SC_NS));
+  CHECK(port.charge(0, burst) == 8);                    // one port: a word per cycle
+}
+
+TEST_CASE("jobs that do not fit are rejected with the reason", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 500, 2);
+  const PointCloud queries = make_queries(cloud, 20, 2);
+  const KdTree tree = build_kdtree(cloud, 6);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  SimSetup stack;
+  stack.config.sram.query_stack.bytes = 40;  // less than one stack of 6 entries x 8 bytes
+  stack.image = &image, stack.queries = &queries, stack.num_points = 500;
+  SimSetup points = stack;
+  points.config = hw::AcceleratorConfig{};
+  points.config.sram.points.bytes = 4096;
+  const auto out = simulate({stack, points});
+  CHECK_THAT(out[0].error, Catch::Contains("Query Stack Buffer"));
+  CHECK_FALSE(out[0].finished);
+  CHECK_THAT(out[1].error, Catch::Contains("Point Buffer"));
+}
