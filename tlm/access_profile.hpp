@@ -18,6 +18,9 @@ struct AccessProfile : tlm::tlm_extension<AccessProfile> {
   // ... or `scatter_count` single-word accesses at these byte addresses.
   const std::uint64_t* scatter = nullptr;
   std::uint32_t scatter_count = 0;
+  // With scatter: the cycle (after the start) at which an in-order pipeline issues each access;
+  // a busy bank then delays that access and every later one (the pipeline stalls).
+  const std::uint32_t* issue_offset = nullptr;
   std::uint64_t bytes = 0;  // payload bytes moved, for traffic and energy statistics
 
   tlm::tlm_extension_base* clone() const override { return new AccessProfile(*this); }

@@ -33,16 +33,12 @@ void RecursionUnit::start(const QueryToken& token) {
   a.first_byte = std::uint64_t{token_.query} * 12, a.words = 1, a.bytes = 12;
   done = std::max(done, queries.charge(now, a, job_.period));
   a = {};
-  a.scatter = node_addrs_.data(), a.scatter_count = static_cast<std::uint32_t>(node_addrs_.size());
-  a.bytes = node_addrs_.size() * sizeof(tlm_if::PointEntry);
-  done = std::max(done, points.charge(now, a, job_.period));
-  // Query Stack Buffer: the pops as one read, the pushes as one write, of this query's slot.
-  const std::uint64_t stack_base = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
-  a = {};
-  a.first_byte = stack_base, a.words = stack_pops_, a.bytes = stack_pops_ * sizeof(StackSlotEntry);
-  done = std::max(done, stacks.charge(now, a, job_.period));
-  a.write = true, a.words = stack_pushes_, a.bytes = stack_pushes_ * sizeof(StackSlotEntry);
-  done = std::max(done, stacks.charge(now, a, job_.period));
+  done = std::max(done, points.charge(now, node_reads_.profile(sizeof(tlm_if::PointEntry)), job_.period));
+  // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
+  done = std::max(done, stacks.charge(now, stack_pops_.profile(sizeof(StackSlotEntry)), job_.period));
+  tlm_if::AccessProfile pushes = stack_pushes_.profile(sizeof(StackSlotEntry));
+  pushes.write = true;
+  done = std::max(done, stacks.charge(now, pushes, job_.period));
   if (job_.mode != tlm_if::SearchMode::Radius) {  // the result slot, read and written back
     a = {};
     a.first_byte = token_.slot * job_.result_slot_bytes;
@@ -65,13 +61,15 @@ void RecursionUnit::start(const QueryToken& token) {
 }
 
 std::uint64_t RecursionUnit::walk() {
-  node_addrs_.clear();
+  node_reads_.clear();
+  stack_pops_.clear();
+  stack_pushes_.clear();
   hits_.clear();
-  stack_pops_ = stack_pushes_ = 0;
   finished_ = false;
   QueryCounters& count = job_.counters[token_.query];
   ResultSlots slots(job_.result_slots, job_.k);
   StackSlotEntry* stack = job_.stacks + std::uint64_t{token_.slot} * job_.stack_entries;
+  const std::uint64_t stack_base = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
   const bool radius = job_.mode == tlm_if::SearchMode::Radius;
   const bool forwarding = config_.fe.forwarding, bypassing = config_.fe.bypassing;
 
@@ -87,7 +85,7 @@ std::uint64_t RecursionUnit::walk() {
   while (token_.sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
     const StackSlotEntry tos = stack[--token_.sp];
-    ++stack_pops_;
+    stack_pops_.add(stack_base + token_.sp * sizeof(StackSlotEntry), cycles);
     const float bound = radius ? job_.r2 : slots.bound(token_.slot);
     if (tos.plane2 > bound) {
       ++count.pruned;
@@ -102,7 +100,7 @@ std::uint64_t RecursionUnit::walk() {
       // RN: read the node; CD: its distance to the query; PI: insert into the result, push
       // the far child with its plane distance, go on with the near child.
       const tlm_if::PointEntry& e = job_.entries[node];
-      node_addrs_.push_back(std::uint64_t{node} * sizeof(tlm_if::PointEntry));
+      node_reads_.add(std::uint64_t{node} * sizeof(tlm_if::PointEntry), cycles);
       ++count.top;
       ++stats_.nodes;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
@@ -123,8 +121,8 @@ std::uint64_t RecursionUnit::walk() {
       const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
       if (job_.node_nonempty(far_child)) {
+        stack_pushes_.add(stack_base + token_.sp * sizeof(StackSlotEntry), cycles);
         stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
-        ++stack_pushes_;
       }
       if (!job_.node_nonempty(near_child)) break;
       node = near_child;
@@ -132,7 +130,7 @@ std::uint64_t RecursionUnit::walk() {
     if (node >= job_.num_top_nodes && job_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
       token_.leaf = node - job_.num_top_nodes;
-      node_addrs_.push_back(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4);
+      node_reads_.add(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4, cycles);
       return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
     }
   }

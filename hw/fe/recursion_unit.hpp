@@ -56,8 +56,24 @@ class RecursionUnit : public sc_core::sc_module {
   std::uint64_t blocked_since_ = 0;
   sc_core::sc_event done_;
   RecursionUnitStats stats_;
-  std::vector<std::uint64_t> node_addrs_;  // Point Buffer words read by this walk
-  std::uint32_t stack_pops_ = 0, stack_pushes_ = 0;  // Query Stack Buffer accesses
+  // One buffer's accesses of a walk, in pipeline order with the cycle each is issued.
+  struct AccessLog {
+    std::vector<std::uint64_t> addrs;
+    std::vector<std::uint32_t> offsets;
+    void clear() { addrs.clear(), offsets.clear(); }
+    void add(std::uint64_t addr, std::uint64_t cycle) {
+      addrs.push_back(addr);
+      offsets.push_back(static_cast<std::uint32_t>(cycle));
+    }
+    tlm_if::AccessProfile profile(std::uint64_t bytes_each) const {
+      tlm_if::AccessProfile a;
+      a.scatter = addrs.data(), a.issue_offset = offsets.data();
+      a.scatter_count = static_cast<std::uint32_t>(addrs.size());
+      a.bytes = addrs.size() * bytes_each;
+      return a;
+    }
+  };
+  AccessLog node_reads_, stack_pops_, stack_pushes_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
 };
 

@@ -8,7 +8,7 @@ namespace tigris::hw {
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
                        sc_core::sc_time period)
     : sc_module(name), socket("socket"), config_(config), period_(period),
-      data_(config.bytes, 0), bank_free_(config.banks, 0), bank_count_(config.banks, 0) {
+      data_(config.bytes, 0), banks_(config.banks), bank_count_(config.banks, 0) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
   socket.register_transport_dbg(this, &BankedSram::transport_dbg);
@@ -17,6 +17,7 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
+  if (a.scatter && a.issue_offset) return charge_in_order(start, a);
   std::uint64_t n = 0;
   std::fill(bank_count_.begin(), bank_count_.end(), 0u);
   if (a.scatter) {
@@ -32,10 +33,9 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   if (n == 0) return start;
   std::uint64_t finish = start;
   for (std::uint32_t b = 0; b < banks; ++b) {
-    if (bank_count_[b] == 0) continue;
-    const std::uint64_t s = std::max(start, bank_free_[b]);
-    bank_free_[b] = s + bank_count_[b];
-    finish = std::max(finish, bank_free_[b]);
+    std::uint64_t t = start;  // a bank serves its share of the burst one word a cycle
+    for (std::uint32_t i = 0; i < bank_count_[b]; ++i) t = banks_[b].reserve(t) + 1;
+    finish = std::max(finish, t);
   }
   const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
   finish = std::max(finish, start + (n + ports - 1) / ports);
@@ -50,6 +50,22 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     stats_.read_bytes += a.bytes;
   }
   return finish + static_cast<std::uint64_t>(config_.latency_cycles);
+}
+
+std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
+  const std::uint64_t banks = static_cast<std::uint64_t>(config_.banks);
+  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
+  std::uint64_t stall = 0, last = start;
+  for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
+    const std::uint64_t t = start + a.issue_offset[i] + stall;
+    const std::uint64_t s = banks_[(a.scatter[i] / word) % banks].reserve(t);
+    stall += s - t;
+    last = s + 1;
+  }
+  stats_.conflict_cycles += stall;
+  (a.write ? stats_.writes : stats_.reads) += a.scatter_count;
+  (a.write ? stats_.write_bytes : stats_.read_bytes) += a.bytes;
+  return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) : start;
 }
 
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {

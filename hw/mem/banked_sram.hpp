@@ -1,6 +1,6 @@
 // A global-buffer SRAM (Point, Query, Query Stack or Result Buffer): word-interleaved banks,
-// a port limit and a read latency. Each bank keeps its next-free cycle, so overlapping bursts
-// queue behind each other (contention); nothing runs per cycle.
+// a port limit and a read latency. Each bank keeps a calendar of its busy cycles, so accesses
+// to a busy bank wait for its next free cycle (contention); nothing runs per cycle.
 //
 // Reached over TLM-2.0: host READ/WRITE transactions copy data (and are timed as bursts);
 // units use DMI for data and TLM_IGNORE_COMMAND + AccessProfile for timing.
@@ -15,6 +15,7 @@
 #include <tlm_utils/multi_passthrough_target_socket.h>
 
 #include "hw/config.hpp"
+#include "hw/mem/bank_calendar.hpp"
 #include "hw/stats.hpp"
 #include "tlm/access_profile.hpp"
 
@@ -34,6 +35,11 @@ class BankedSram : public sc_core::sc_module {
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
 
  private:
+  std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
+
+ public:
+
+ private:
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   bool get_direct_mem_ptr(int id, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
@@ -41,7 +47,7 @@ class BankedSram : public sc_core::sc_module {
   SramConfig config_;
   sc_core::sc_time period_;
   std::vector<std::uint8_t> data_;
-  std::vector<std::uint64_t> bank_free_;   // next free cycle of each bank
+  std::vector<BankCalendar> banks_;
   std::vector<std::uint32_t> bank_count_;  // scratch: accesses per bank of one request
   BufferStats stats_;
 };
