@@ -186,6 +186,12 @@ void TigrisAccelerator::do_finish() {
   irq.write(true);
 }
 
+void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
+  const std::string scope = name();
+  fe.attach_waves(vcd, scope + ".fe");
+  for (std::size_t i = 0; i < sus.size(); ++i) sus[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i));
+}
+
 std::string TigrisAccelerator::describe_state() const {
   std::ostringstream s;
   s << "queries finished " << fe.finished() << " of " << job_.num_queries << ", admitted "

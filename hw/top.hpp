@@ -40,6 +40,8 @@ class TigrisAccelerator : public sc_core::sc_module {
   bool done() const { return done_; }
   // What every queue and unit holds: the report of a run that stopped before it finished.
   std::string describe_state() const;
+  // Records unit busy flags, queue occupancies and query ids into `vcd` from now on.
+  void attach_waves(VcdWriter& vcd);
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
 
   BankedSram points_sram, queries_sram, stack_sram, results_sram;

@@ -40,6 +40,9 @@ void add_run_options(CLI::App& app, RunOptions& o) {
   app.add_option("--config", o.config_file,
                  "Accelerator configuration, JSON nested by block (see testbench/configs/paper.json)");
   app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
+  app.add_option("--vcd", o.vcd,
+                 "Write waveforms (unit busy flags, queue occupancies, query ids) as VCD, and a "
+                 "GTKWave save file beside it (same name, .gtkw)");
   app.add_flag("--list-config", o.list_config, "Print every configuration key with its default and exit");
 }
 
@@ -90,6 +93,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   setup.queries = &w.queries;
   setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
   setup.job = job;
+  setup.vcd_path = o.vcd;
   ProgressReporter progress("tigris run: queries finished");
   t0 = std::chrono::steady_clock::now();
   const SimOutcome sim = simulate({setup}, [&](std::uint32_t done, std::uint32_t total) { progress(done, total); }).front();
@@ -147,6 +151,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());
+  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s.gtkw)\n", o.vcd.c_str(), o.vcd.substr(0, o.vcd.rfind('.')).c_str());
   if (!verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
                  static_cast<unsigned long long>(verdict.result_mismatches),

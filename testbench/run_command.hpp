@@ -14,6 +14,7 @@ struct RunOptions {
   std::string config_file;
   std::vector<std::string> settings;  // --set key=value
   bool list_config = false;
+  std::string vcd;
 };
 
 void add_run_options(CLI::App& app, RunOptions& o);

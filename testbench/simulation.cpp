@@ -4,6 +4,7 @@
 
 #include "hw/top.hpp"
 #include "run_report.hpp"
+#include "traces/vcd_writer.hpp"
 
 namespace tigris {
 
@@ -12,6 +13,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     std::unique_ptr<hw::TigrisAccelerator> accel;
     std::unique_ptr<HostDriver> host;
     std::unique_ptr<sc_core::sc_signal<bool>> irq;
+    std::unique_ptr<VcdWriter> vcd;
   };
   std::vector<Bench> benches;
   for (std::size_t i = 0; i < setups.size(); ++i) {
@@ -25,6 +27,10 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     b.host->irq(*b.irq);
     b.host->socket.bind(b.accel->host);
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
+    if (!s.vcd_path.empty()) {
+      b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
+      b.accel->attach_waves(*b.vcd);
+    }
     benches.push_back(std::move(b));
   }
   sc_core::sc_start();
@@ -43,6 +49,12 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.buffers = buffers_json(a);
     o.energy = energy_json(a);
     o.lower_bound_cycles = lower_bound_cycles(a);
+    if (benches[i].vcd) {
+      benches[i].vcd->close();
+      const std::string& vcd = setups[i].vcd_path;
+      const std::string gtkw = vcd.substr(0, vcd.rfind('.') == std::string::npos ? vcd.size() : vcd.rfind('.')) + ".gtkw";
+      write_gtkw(gtkw, vcd, *benches[i].vcd);
+    }
   }
   return out;
 }

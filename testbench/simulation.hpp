@@ -25,6 +25,7 @@ struct SimSetup {
   const PointCloud* queries = nullptr;
   std::uint32_t num_points = 0;
   HostJob job;
+  std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
 };
 
 struct SimOutcome {

@@ -94,5 +94,11 @@ else passes=$((passes + 1)); fi
 expect 0 "knn" -- ref --mode knn --k 3 --height 12 --out "$tmp/ref3" --dump-results "$tmp/ref3.csv"
 cmp -s "$tmp/run1.csv" "$tmp/ref3.csv" && passes=$((passes + 1)) || { echo "FAIL: run and ref dumps differ"; failures=$((failures + 1)); }
 
+# Waveforms: a VCD with the unit signals and a GTKWave save file beside it.
+expect 0 "waves" -- "${small[@]}" --out "$tmp/w" --vcd "$tmp/w/run.vcd"
+if grep -q '^\$enddefinitions' "$tmp/w/run.vcd" && grep -q 'busy' "$tmp/w/run.vcd" && grep -q 'tigris.fe.fqq_occupancy' "$tmp/w/run.gtkw"; then
+  passes=$((passes + 1))
+else echo "FAIL: --vcd output"; failures=$((failures + 1)); fi
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

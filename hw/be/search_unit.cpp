@@ -33,6 +33,7 @@ void SearchUnit::reset() {
 
 void SearchUnit::accept(const QueryToken& token) {
   bqb_.push_back(token);
+  bqb_wave_.set(bqb_.size());
   stats_.bqb_max_occupancy = std::max<std::uint64_t>(stats_.bqb_max_occupancy, bqb_.size());
   const std::uint64_t now = job_.cycle();
   wake_.notify((token.ready > now ? token.ready - now : 0) * job_.period);
@@ -70,6 +71,8 @@ void SearchUnit::step() {
     issued = true;
   }
   if (issued) qdn_.space_freed(id_);
+  bqb_wave_.set(bqb_.size());
+  pes_wave_.set(pes_ - free_pes_);
   // Sleep until a batch drains or a queued query arrives.
   std::uint64_t next = std::numeric_limits<std::uint64_t>::max();
   for (const Batch& b : running_) next = std::min(next, b.end);
@@ -85,6 +88,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   const std::uint64_t b = tokens.size();
   const std::uint64_t set_bytes = n * sizeof(tlm_if::PointEntry);
   free_pes_ -= static_cast<std::uint32_t>(b);
+  leaf_wave_.set(leaf);
   ++stats_.batches;
   stats_.queries += b;
   stats_.leaf_points += n * b;

@@ -13,6 +13,7 @@
 #include "hw/config.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
+#include "hw/probe.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -38,6 +39,11 @@ class SearchUnit : public sc_core::sc_module {
   std::size_t bqb_occupancy() const { return bqb_.size(); }
   std::uint32_t busy_pes() const { return pes_ - free_pes_; }
   const SearchUnitStats& stats() const { return stats_; }
+  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+    bqb_wave_.attach(vcd, scope + ".bqb_occupancy", 16);
+    pes_wave_.attach(vcd, scope + ".busy_pes", 16);
+    leaf_wave_.attach(vcd, scope + ".streaming_leaf", 32);
+  }
 
  private:
   struct Batch {
@@ -64,6 +70,7 @@ class SearchUnit : public sc_core::sc_module {
   std::vector<Batch> running_;
   sc_core::sc_event wake_;
   SearchUnitStats stats_;
+  Probe bqb_wave_, pes_wave_, leaf_wave_;
 };
 
 }  // namespace tigris::hw

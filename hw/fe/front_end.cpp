@@ -39,6 +39,7 @@ void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
 void FrontEnd::push(const QueryToken& token) {
   fqq_.push_back(token);
   fqq_max_ = std::max(fqq_max_, fqq_.size());
+  fqq_wave_.set(fqq_.size());
   wake_.notify(sc_core::SC_ZERO_TIME);
 }
 
@@ -54,6 +55,7 @@ void FrontEnd::ru_idle(RecursionUnit& ru) {
 
 void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
   ++finished_;
+  finished_wave_.set(finished_);
   if (progress_ && finished_ % 4096 == 0) progress_(finished_, job_.num_queries);
   free_slots_.push_back(token.slot);
   if (next_query_ < job_.num_queries) {
@@ -78,6 +80,7 @@ void FrontEnd::dispatch() {
     idle_rus_.pop_back();
     const QueryToken t = fqq_.front();
     fqq_.pop_front();
+    fqq_wave_.set(fqq_.size());
     ru->start(t);
   }
 }

@@ -14,6 +14,7 @@
 #include "hw/config.hpp"
 #include "hw/fe/recursion_unit.hpp"
 #include "hw/job.hpp"
+#include "hw/probe.hpp"
 
 namespace tigris::hw {
 
@@ -34,6 +35,11 @@ class FrontEnd : public sc_core::sc_module {
 
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
   std::size_t fqq_occupancy() const { return fqq_.size(); }
+  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+    fqq_wave_.attach(vcd, scope + ".fqq_occupancy", 32);
+    finished_wave_.attach(vcd, scope + ".queries_finished", 32);
+    for (std::size_t i = 0; i < rus.size(); ++i) rus[i]->attach_waves(vcd, scope + ".ru" + std::to_string(i));
+  }
   std::size_t fqq_max_occupancy() const { return fqq_max_; }
   std::uint32_t finished() const { return finished_; }
   std::uint32_t admitted() const { return next_query_; }
@@ -52,6 +58,7 @@ class FrontEnd : public sc_core::sc_module {
   std::function<void(std::uint64_t)> on_all_done_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   sc_core::sc_event wake_;
+  Probe fqq_wave_, finished_wave_;
 };
 
 }  // namespace tigris::hw

@@ -22,6 +22,8 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
 void RecursionUnit::start(const QueryToken& token) {
   token_ = token;
   state_ = State::Walking;
+  busy_wave_.set(1);
+  query_wave_.set(token.query);
   ++stats_.activations;
   const std::uint64_t now = job_.cycle();
   const std::uint64_t pipeline = walk();
@@ -141,6 +143,7 @@ std::uint64_t RecursionUnit::walk() {
 void RecursionUnit::on_done() {
   const std::uint64_t now = job_.cycle();
   if (state_ == State::Blocked) stats_.bqb_full_stall_cycles += now - blocked_since_;
+  stalled_wave_.set(0);
   if (!hits_.empty()) {  // results leave through the write-back stream, which may push back
     const std::uint64_t accepted = dram_.write(now, hits_.data(), hits_.size());
     hits_.clear();
@@ -152,6 +155,7 @@ void RecursionUnit::on_done() {
   }
   if (finished_) {
     state_ = State::Idle;
+    busy_wave_.set(0);
     fe_.query_finished(token_, now);
     fe_.ru_idle(*this);
     return;
@@ -159,9 +163,11 @@ void RecursionUnit::on_done() {
   if (!qdn_.route(token_, now, *this)) {
     blocked_since_ = now;
     state_ = State::Blocked;
+    stalled_wave_.set(1);
     return;  // the QDN calls retry_dispatch() when the BE Query Buffer has room
   }
   state_ = State::Idle;
+  busy_wave_.set(0);
   fe_.ru_idle(*this);
 }
 

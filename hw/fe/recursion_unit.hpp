@@ -12,6 +12,7 @@
 #include "hw/config.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
+#include "hw/probe.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -35,6 +36,11 @@ class RecursionUnit : public sc_core::sc_module {
   const RecursionUnitStats& stats() const { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }
   std::uint32_t current_query() const { return token_.query; }
+  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+    busy_wave_.attach(vcd, scope + ".busy", 1);
+    stalled_wave_.attach(vcd, scope + ".bqb_full_stall", 1);
+    query_wave_.attach(vcd, scope + ".query", 32);
+  }
 
  private:
   enum class State { Idle, Walking, Blocked };
@@ -56,6 +62,7 @@ class RecursionUnit : public sc_core::sc_module {
   std::uint64_t blocked_since_ = 0;
   sc_core::sc_event done_;
   RecursionUnitStats stats_;
+  Probe busy_wave_, stalled_wave_, query_wave_;
   // One buffer's accesses of a walk, in pipeline order with the cycle each is issued.
   struct AccessLog {
     std::vector<std::uint64_t> addrs;

@@ -1,0 +1,44 @@
+// A small Value Change Dump writer for waveforms (GTKWave). Signals are declared up front in
+// dotted scopes ("tigris.fe.ru0.busy"); changes must come in non-decreasing time. Units only
+// record changes when they happen, so tracing adds no process and no event to the simulation.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace tigris {
+
+class VcdWriter {
+ public:
+  // Opens `path`; throws std::runtime_error if it cannot be written.
+  explicit VcdWriter(const std::string& path);
+  ~VcdWriter();
+
+  // Declares a signal (before the first change); returns its handle.
+  int add(const std::string& dotted_name, int width);
+  // Records that signal `id` has `value` from `time_ps` on (repeated values are dropped).
+  void change(int id, std::uint64_t time_ps, std::uint64_t value);
+  void close();
+
+  const std::vector<std::string>& names() const { return names_; }
+  const std::vector<int>& widths() const { return widths_; }
+  std::uint64_t end_time() const { return now_; }
+
+ private:
+  void write_header();
+  std::ofstream out_;
+  std::vector<std::string> names_;
+  std::vector<int> widths_;
+  std::vector<std::uint64_t> last_;
+  std::vector<bool> seen_;
+  bool header_written_ = false;
+  std::uint64_t now_ = 0;
+  bool time_written_ = false;
+};
+
+// A GTKWave save file that opens `vcd_path` with every declared signal, grouped by unit.
+void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd);
+
+}  // namespace tigris
