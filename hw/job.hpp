@@ -57,6 +57,8 @@ struct Job {
   std::uint64_t result_slot_bytes = 0;
 
   std::vector<QueryCounters> counters;
+  // Leaf visits (query, leaf) in the order the Search Units issued them (simulated time).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> schedule;
   sc_core::sc_time period;
 
   Point3 query(std::uint32_t q) const { return {queries[3 * q], queries[3 * q + 1], queries[3 * q + 2]}; }

@@ -147,6 +147,7 @@ std::string TigrisAccelerator::configure_job() {
   j.stacks = reinterpret_cast<StackSlotEntry*>(stack_sram.data());
   j.result_slots = results_sram.data();
   j.counters.assign(j.num_queries, {});
+  j.schedule.clear();
   dram.reset(results_sram.size() - slots * j.result_slot_bytes);
   return {};
 }

@@ -6,6 +6,7 @@
 
 #include "config.hpp"
 #include "simulation.hpp"
+#include "traces/schedule_csv.hpp"
 #include "progress.hpp"
 #include "report.hpp"
 #include "scoreboard.hpp"
@@ -104,7 +105,24 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     return 1;
   }
 
-  const Verdict verdict = check_against_golden(golden, sim.results, sim.counters);
+  Verdict verdict = check_against_golden(golden, sim.results, sim.counters);
+  // The accelerator's own leaf-visit order, replayed through the golden model, must give the
+  // same answers: every visit it made is one the golden traversal expects, in a legal order.
+  Schedule hw_schedule;
+  hw_schedule.reserve(sim.schedule.size());
+  for (const auto& [q, leaf] : sim.schedule) hw_schedule.push_back({q, leaf});
+  try {
+    const SearchOutput replay = search(tree, w.queries, params, &hw_schedule);
+    if (const auto diff = first_difference(golden.results, replay.results)) {
+      verdict.match = false;
+      verdict.first.push_back("replaying the accelerator's schedule: " + *diff);
+    }
+  } catch (const ScheduleError& e) {
+    verdict.match = false;
+    verdict.first.push_back(std::string("the accelerator's schedule does not replay: ") + e.what());
+  }
+  if (!o.search.dump_schedule.empty())
+    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, hw_schedule); });
   const std::uint64_t cycles = sim.cycles;
   const double seconds = static_cast<double>(cycles) / (cfg.clock_mhz * 1e6);
   const SearchOutput hw_view = hardware_visits(sim.counters);

@@ -45,6 +45,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.results = h.results();
     o.cycles = h.cycles();
     o.counters = a.job().counters;
+    o.schedule = a.job().schedule;
     o.units = units_json(a, o.cycles);
     o.buffers = buffers_json(a);
     o.energy = energy_json(a);

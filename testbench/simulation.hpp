@@ -35,6 +35,7 @@ struct SimOutcome {
   Results results;
   std::uint64_t cycles = 0;
   std::vector<hw::QueryCounters> counters;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> schedule;  // (query, leaf) in issue order
   nlohmann::json units, buffers, energy;
   double lower_bound_cycles = 0.0;
 };

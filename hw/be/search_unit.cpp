@@ -117,7 +117,10 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   std::uint64_t end = std::max(compute_end, data_ready + b - 1 + static_cast<std::uint64_t>(depth));
   // Function: every PE scans the Node Set for its query.
   std::vector<tlm_if::ResultRecord> hits;
-  for (const QueryToken& t : tokens) PeArray::scan(job_, t, hits);
+  for (const QueryToken& t : tokens) {
+    job_.schedule.emplace_back(t.query, t.leaf);
+    PeArray::scan(job_, t, hits);
+  }
   stats_.busy_cycles += end - std::max(start, std::min(end, busy_until_));  // cycles with a PE busy
   busy_until_ = std::max(busy_until_, end);
   stats_.sram_stall_cycles += end - compute_end;
