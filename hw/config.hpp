@@ -59,7 +59,7 @@ struct AcceleratorConfig {
   } sram;
 
   struct Dram {
-    double bytes_per_cycle = 32.0;  // result write-back bandwidth (DDR4-3200 x64 at 500 MHz: ~51)
+    double bytes_per_cycle = 51.2;  // result write-back: one DDR4-3200 x64 channel (25.6 GB/s) at 500 MHz
     int latency_cycles = 100;
   } dram;
 
