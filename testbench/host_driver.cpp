@@ -4,9 +4,20 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "sw_ref/search.hpp"
+
 namespace tigris {
 
 using namespace tlm_if;
+
+HostJob host_job(const SearchParams& p) {
+  HostJob j;
+  j.mode = p.mode == Mode::NN ? SearchMode::NN : p.mode == Mode::KNN ? SearchMode::KNN : SearchMode::Radius;
+  j.k = static_cast<std::uint32_t>(p.effective_k());
+  j.radius = p.radius;
+  j.max_nn = p.max_nn;
+  return j;
+}
 
 HostDriver::HostDriver(sc_core::sc_module_name name, const TreeImage& image,
                        const PointCloud& queries, std::uint32_t num_points, const HostJob& job)
@@ -15,45 +26,34 @@ HostDriver::HostDriver(sc_core::sc_module_name name, const TreeImage& image,
   SC_THREAD(run);
 }
 
+void HostDriver::transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data,
+                           std::size_t len, const char* what) {
+  tlm::tlm_generic_payload t;
+  sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
+  t.set_command(cmd);
+  t.set_address(addr);
+  t.set_data_ptr(data);
+  t.set_data_length(static_cast<unsigned int>(len));
+  t.set_streaming_width(static_cast<unsigned int>(len));
+  socket->b_transport(t, delay);
+  if (t.is_response_error())
+    throw std::runtime_error(std::string(what) + " failed: " + t.get_response_string());
+  wait(delay);  // loosely timed: the host syncs after each transaction
+}
+
 void HostDriver::write(std::uint64_t addr, const void* data, std::size_t len, const char* what) {
   constexpr std::size_t kChunk = 64 * 1024;  // one bus burst
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  for (std::size_t done = 0; done < len;) {
-    const std::size_t n = std::min(kChunk, len - done);
-    tlm::tlm_generic_payload t;
-    sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
-    t.set_command(tlm::TLM_WRITE_COMMAND);
-    t.set_address(addr + done);
-    t.set_data_ptr(const_cast<unsigned char*>(bytes + done));
-    t.set_data_length(static_cast<unsigned int>(n));
-    t.set_streaming_width(static_cast<unsigned int>(n));
-    socket->b_transport(t, delay);
-    if (t.is_response_error())
-      throw std::runtime_error(std::string("writing ") + what + " (" + std::to_string(len) +
-                               " bytes) failed at byte " + std::to_string(done + n) + ": " +
-                               t.get_response_string());
-    wait(delay);
-    done += n;
-  }
+  auto* bytes = static_cast<unsigned char*>(const_cast<void*>(data));
+  const std::string label = std::string("writing ") + what + " (" + std::to_string(len) + " bytes)";
+  for (std::size_t done = 0; done < len; done += kChunk)
+    transport(tlm::TLM_WRITE_COMMAND, addr + done, bytes + done, std::min(kChunk, len - done), label.c_str());
 }
 
 void HostDriver::read(std::uint64_t addr, void* data, std::size_t len) {
   constexpr std::size_t kChunk = 1024 * 1024;
   auto* bytes = static_cast<unsigned char*>(data);
-  for (std::size_t done = 0; done < len;) {
-    const std::size_t n = std::min(kChunk, len - done);
-    tlm::tlm_generic_payload t;
-    sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
-    t.set_command(tlm::TLM_READ_COMMAND);
-    t.set_address(addr + done);
-    t.set_data_ptr(bytes + done);
-    t.set_data_length(static_cast<unsigned int>(n));
-    t.set_streaming_width(static_cast<unsigned int>(n));
-    socket->b_transport(t, delay);
-    if (t.is_response_error()) throw std::runtime_error("host read failed: " + t.get_response_string());
-    wait(delay);
-    done += n;
-  }
+  for (std::size_t done = 0; done < len; done += kChunk)
+    transport(tlm::TLM_READ_COMMAND, addr + done, bytes + done, std::min(kChunk, len - done), "host read");
 }
 
 void HostDriver::write_csr(std::uint32_t offset, std::uint32_t value) {

@@ -24,6 +24,10 @@ struct HostJob {
   std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
 };
 
+// The job a golden-model search asks for (the testbench's translation into CSR terms).
+struct SearchParams;
+HostJob host_job(const SearchParams& params);
+
 class HostDriver : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(HostDriver);
@@ -42,6 +46,9 @@ class HostDriver : public sc_core::sc_module {
   void run();  // SC_THREAD
   void write(std::uint64_t addr, const void* data, std::size_t len, const char* what);
   void read(std::uint64_t addr, void* data, std::size_t len);
+  // One bus transaction; throws with `what` on an error response.
+  void transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data, std::size_t len,
+                 const char* what);
   void write_csr(std::uint32_t offset, std::uint32_t value);
   std::uint32_t read_csr(std::uint32_t offset);
   void collect(std::uint64_t bytes);

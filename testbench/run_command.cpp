@@ -82,18 +82,12 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const SearchOutput golden = search(tree, w.queries, params);
   const double golden_s = seconds_since(t0);
 
-  HostJob job;
-  job.mode = params.mode == Mode::NN ? tlm_if::SearchMode::NN
-             : params.mode == Mode::KNN ? tlm_if::SearchMode::KNN : tlm_if::SearchMode::Radius;
-  job.k = static_cast<std::uint32_t>(params.effective_k());
-  job.radius = params.radius;
-  job.max_nn = params.max_nn;
   SimSetup setup;
   setup.config = cfg;
   setup.image = &image;
   setup.queries = &w.queries;
   setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
-  setup.job = job;
+  setup.job = host_job(params);
   setup.vcd_path = o.vcd;
   ProgressReporter progress("tigris run: queries finished");
   t0 = std::chrono::steady_clock::now();

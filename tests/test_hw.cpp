@@ -28,16 +28,6 @@ struct Case {
   SearchParams params;
 };
 
-HostJob host_job(const SearchParams& p) {
-  HostJob j;
-  j.mode = p.mode == Mode::NN ? tlm_if::SearchMode::NN
-           : p.mode == Mode::KNN ? tlm_if::SearchMode::KNN : tlm_if::SearchMode::Radius;
-  j.k = static_cast<std::uint32_t>(p.effective_k());
-  j.radius = p.radius;
-  j.max_nn = p.max_nn;
-  return j;
-}
-
 // Simulates every case on (cloud, queries) in one run; checks each against the golden model.
 std::vector<SimOutcome> run_and_check(const PointCloud& cloud, const PointCloud& queries,
                                       const std::vector<Case>& cases) {

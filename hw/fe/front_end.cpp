@@ -25,15 +25,20 @@ void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
   free_slots_.clear();
   for (std::uint32_t s = job_.slots; s-- > 0;) free_slots_.push_back(s);
   const std::uint64_t now = job_.cycle();
-  while (!free_slots_.empty() && next_query_ < job_.num_queries) {
-    QueryToken t;
-    t.query = next_query_++;
-    t.slot = free_slots_.back();
-    free_slots_.pop_back();
-    t.ready = now;
-    push(t);
+  while (admit(now)) {
   }
   if (job_.num_queries == 0 && on_all_done_) on_all_done_(now);
+}
+
+bool FrontEnd::admit(std::uint64_t cycle) {
+  if (free_slots_.empty() || next_query_ >= job_.num_queries) return false;
+  QueryToken t;
+  t.query = next_query_++;
+  t.slot = free_slots_.back();
+  free_slots_.pop_back();
+  t.ready = cycle;
+  push(t);
+  return true;
 }
 
 void FrontEnd::push(const QueryToken& token) {
@@ -58,14 +63,7 @@ void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
   finished_wave_.set(finished_);
   if (progress_ && finished_ % 4096 == 0) progress_(finished_, job_.num_queries);
   free_slots_.push_back(token.slot);
-  if (next_query_ < job_.num_queries) {
-    QueryToken t;
-    t.query = next_query_++;
-    t.slot = free_slots_.back();
-    free_slots_.pop_back();
-    t.ready = cycle;
-    push(t);
-  }
+  admit(cycle);
   if (finished_ == job_.num_queries && on_all_done_) on_all_done_(cycle);
 }
 

@@ -47,6 +47,7 @@ class FrontEnd : public sc_core::sc_module {
  private:
   void dispatch();  // SC_METHOD: idle RUs take ready queries from the FQQ
   void push(const QueryToken& token);
+  bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
   const AcceleratorConfig& config_;
   Job& job_;
