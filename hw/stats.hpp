@@ -18,6 +18,7 @@ struct RecursionUnitStats {
   std::uint64_t prune_cycles = 0;      // of busy: pruned nodes
   std::uint64_t sram_stall_cycles = 0; // waiting for buffer banks beyond the pipeline time
   std::uint64_t bqb_full_stall_cycles = 0;  // holding a query the BE Query Buffer cannot take
+  std::uint64_t writeback_stall_cycles = 0; // results waiting for the write-back stream
   std::uint64_t nodes = 0, pruned = 0;
 };
 
@@ -27,6 +28,7 @@ struct SearchUnitStats {
   std::uint64_t busy_cycles = 0;        // PE array streaming (fill, stream, drain)
   std::uint64_t issue_cycles = 0;       // associative search + issue
   std::uint64_t sram_stall_cycles = 0;  // streaming slowed by Point/Result Buffer banks
+  std::uint64_t writeback_stall_cycles = 0;  // radius hits waiting for the write-back stream
   std::uint64_t pe_busy_cycles = 0;     // sum over PEs of cycles holding a query
   std::uint64_t leaf_points = 0;        // distance computations on the PEs
   std::uint64_t bqb_max_occupancy = 0;

@@ -11,13 +11,13 @@ namespace tigris::hw {
 using namespace tlm_if;
 
 TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config)
-    : sc_module(name), host("host"), irq("irq"),
+    : sc_module(name), config_(config), host("host"), irq("irq"),
       points_sram("points", config.sram.points, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
       queries_sram("queries", config.sram.queries, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
       stack_sram("query_stack", config.sram.query_stack, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
       results_sram("results", config.sram.results, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
-      dram("dram", config.dram), node_cache(config.node_cache.bytes), qdn(config, job_),
-      fe("fe", config, qdn, dram, job_), config_(config), policy_(make_issue_policy(config)),
+      dram("dram", config_.dram), node_cache(config_.node_cache.bytes), qdn(config_, job_),
+      fe("fe", config_, qdn, dram, job_), policy_(make_issue_policy(config_)),
       to_points_("to_points"), to_queries_("to_queries"), to_dram_("to_dram") {
   job_.period = sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS);
   for (int i = 0; i < config.be.search_units; ++i)
@@ -98,7 +98,8 @@ void TigrisAccelerator::csr_access(tlm::tlm_generic_payload& trans) {
         start_.notify(sc_core::SC_ZERO_TIME);
       }
     } else if (offset == kStatus) {
-      csr_[kStatus / 4] &= value;  // write 0 clears done/error
+      csr_[kStatus / 4] &= value;  // write 0 clears done/error, and the interrupt with it
+      if (!(csr_[kStatus / 4] & (kDone | kError))) irq.write(false);
     } else {
       reg = value;
     }
@@ -121,11 +122,22 @@ std::string TigrisAccelerator::configure_job() {
   j.num_leaves = csr_[kNumLeaves / 4];
   j.leaf_dir_offset = csr_[kLeafDirOffset / 4];
   const std::uint64_t image_end = std::uint64_t{j.num_top_nodes} * sizeof(PointEntry);
-  if (j.top_height > 30 || j.num_top_nodes != (1u << j.top_height) - 1)
+  if (j.top_height < 0 || j.top_height > 30 || j.num_top_nodes != (1u << j.top_height) - 1)
     return "CSR TOP_HEIGHT and NUM_TOP_NODES disagree";
-  if (image_end > points_sram.size() ||
-      (j.num_leaves && std::uint64_t{j.leaf_dir_offset} + 4ull * (j.num_leaves + 1) > points_sram.size()))
-    return "the tree image does not fit the Point Buffer";
+  if (j.num_leaves != 0 && j.num_leaves != j.num_top_nodes + 1)
+    return "CSR NUM_LEAVES must be 0 or 2^TOP_HEIGHT";
+  const std::string fit = "the tree image does not fit the Point Buffer (" +
+                          std::to_string(points_sram.size()) + " bytes, sram.points.bytes)";
+  if (image_end > points_sram.size()) return fit;
+  if (j.num_leaves) {
+    if (j.leaf_dir_offset % 4 != 0) return "CSR LEAF_DIR_OFFSET is not a multiple of 4";
+    if (std::uint64_t{j.leaf_dir_offset} + 4ull * (j.num_leaves + 1) > points_sram.size()) return fit;
+    const auto* dir = reinterpret_cast<const std::uint32_t*>(points_sram.data() + j.leaf_dir_offset);
+    for (std::uint32_t l = 0; l < j.num_leaves; ++l)
+      if (dir[l] > dir[l + 1]) return "the leaf directory is not ascending at leaf " + std::to_string(l);
+    if (dir[0] != 0 || (std::uint64_t{j.num_top_nodes} + dir[j.num_leaves]) * sizeof(PointEntry) > j.leaf_dir_offset)
+      return "the leaf directory points outside the leaf sets";
+  }
   if (std::uint64_t{j.num_queries} * 12 > queries_sram.size())
     return "the queries do not fit the Query Buffer";
   j.entries = reinterpret_cast<const PointEntry*>(points_sram.data());
@@ -166,6 +178,8 @@ void TigrisAccelerator::do_start() {
     return;
   }
   start_cycle_ = job_.cycle();
+  for (BankedSram* b : {&points_sram, &queries_sram, &stack_sram, &results_sram}) b->reset_stats();
+  dram.start(start_cycle_);
   qdn.reset();
   for (auto& su : sus) su->reset();
   node_cache.reset();

@@ -27,6 +27,10 @@
 namespace tigris::hw {
 
 class TigrisAccelerator : public sc_core::sc_module {
+  // Declared first: the units below keep references to them, so they must be built first.
+  AcceleratorConfig config_;
+  Job job_;
+
  public:
   SC_HAS_PROCESS(TigrisAccelerator);
   tlm_utils::simple_target_socket<TigrisAccelerator> host;
@@ -61,9 +65,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   // Returns an empty string when the job fits the buffers, else why it does not.
   std::string configure_job();
 
-  AcceleratorConfig config_;
   std::unique_ptr<IssuePolicy> policy_;
-  Job job_;
   std::uint32_t csr_[0x40 / 4] = {};
   tlm_utils::simple_initiator_socket<TigrisAccelerator> to_points_, to_queries_, to_dram_;
   sc_core::sc_event start_, finish_;

@@ -112,8 +112,9 @@ const std::vector<Key>& registry() {
     for (const auto& b : buffers) {
       const std::string p = std::string("sram.") + b.name;
       const auto m = b.member;
+      // A buffer is one 256 MiB window of the host address map (tlm/address_map.hpp).
       k.push_back({p + ".bytes", [m](AcceleratorConfig& c) -> Ref { return &(c.sram.*m).bytes; },
-                   "bytes", at_least(1), b.doc});
+                   "bytes", in(1, 268435456), b.doc});
       k.push_back({p + ".banks", [m](AcceleratorConfig& c) -> Ref { return &(c.sram.*m).banks; },
                    "banks", in(1, kMaxUnits),
                    "word-interleaved banks, one access per bank per cycle"});

@@ -23,6 +23,7 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
     ru.activations += s.activations, ru.busy_cycles += s.busy_cycles;
     ru.pi_rs_stall_cycles += s.pi_rs_stall_cycles, ru.prune_cycles += s.prune_cycles;
     ru.sram_stall_cycles += s.sram_stall_cycles, ru.bqb_full_stall_cycles += s.bqb_full_stall_cycles;
+    ru.writeback_stall_cycles += s.writeback_stall_cycles;
     ru.nodes += s.nodes, ru.pruned += s.pruned;
   }
   hw::SearchUnitStats su;
@@ -31,6 +32,7 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
     su.batches += s.batches, su.queries += s.queries, su.busy_cycles += s.busy_cycles;
     su.issue_cycles += s.issue_cycles, su.sram_stall_cycles += s.sram_stall_cycles;
     su.pe_busy_cycles += s.pe_busy_cycles, su.leaf_points += s.leaf_points;
+    su.writeback_stall_cycles += s.writeback_stall_cycles;
     su.bqb_max_occupancy = std::max(su.bqb_max_occupancy, s.bqb_max_occupancy);
   }
   const double n_ru = cfg.fe.recursion_units, n_su = cfg.be.search_units;
@@ -46,7 +48,8 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
         {"stall_cycles",
          {{"pi_rs_dependency", ru.pi_rs_stall_cycles},
           {"sram", ru.sram_stall_cycles},
-          {"bqb_full", ru.bqb_full_stall_cycles}}},
+          {"bqb_full", ru.bqb_full_stall_cycles},
+          {"result_writeback", ru.writeback_stall_cycles}}},
         {"prune_cycles", ru.prune_cycles}}},
       {"search_units",
        {{"count", cfg.be.search_units},
@@ -58,7 +61,10 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
         {"busy_cycles", su.busy_cycles},
         {"utilization", ratio(static_cast<double>(su.busy_cycles), n_su * c)},
         {"pe_utilization", ratio(static_cast<double>(su.pe_busy_cycles), n_pe * c)},
-        {"stall_cycles", {{"issue_search", su.issue_cycles}, {"sram", su.sram_stall_cycles}}},
+        {"stall_cycles",
+         {{"issue_search", su.issue_cycles},
+          {"sram", su.sram_stall_cycles},
+          {"result_writeback", su.writeback_stall_cycles}}},
         {"bqb_max_occupancy", su.bqb_max_occupancy},
         {"queries_per_unit", [&] {
            std::vector<std::uint64_t> v;
@@ -67,7 +73,7 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
          }()}}},
       {"qdn", {{"queries", accel.qdn.stats().queries}, {"port_wait_cycles", accel.qdn.stats().port_wait_cycles}}},
       {"fqq", {{"max_occupancy", accel.fe.fqq_max_occupancy()}, {"queries_in_flight", accel.job().slots}}},
-      {"result_writeback", {{"stall_cycles", accel.dram.stall_cycles()}}}};
+      {"result_writeback", {{"bytes", accel.dram.bytes()}, {"stall_cycles", accel.dram.stall_cycles()}}}};
 }
 
 nlohmann::json buffers_json(const hw::TigrisAccelerator& accel) {

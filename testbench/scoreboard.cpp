@@ -22,7 +22,8 @@ Verdict check_against_golden(const SearchOutput& golden, const Results& hw_resul
     const auto diff = first_difference(one_g, one_h);
     const QueryVisits& g = golden.per_query[q];
     const hw::QueryCounters& h = hw_visits[q];
-    const bool visits_ok = g.top == h.top && g.pruned == h.pruned && g.leaf_points == h.leaf_points;
+    const bool visits_ok = g.top == h.top && g.pruned == h.pruned && g.leaf_points == h.leaf_points &&
+                           g.leaf_visits == h.leaf_visits;
     if (diff) ++v.result_mismatches;
     if (!visits_ok) ++v.visit_mismatches;
     if ((diff || !visits_ok) && v.first.size() < report_at_most) {
@@ -30,8 +31,9 @@ Verdict check_against_golden(const SearchOutput& golden, const Results& hw_resul
       s << "query " << q << ":";
       if (diff) s << " results differ (golden vs accelerator: " << diff->substr(diff->find(':') + 2) << ")";
       if (!visits_ok)
-        s << " visits differ (golden top/pruned/leaf points " << g.top << "/" << g.pruned << "/"
-          << g.leaf_points << ", accelerator " << h.top << "/" << h.pruned << "/" << h.leaf_points << ")";
+        s << " visits differ (golden top/pruned/leaf points/leaf visits " << g.top << "/" << g.pruned
+          << "/" << g.leaf_points << "/" << g.leaf_visits << ", accelerator " << h.top << "/"
+          << h.pruned << "/" << h.leaf_points << "/" << h.leaf_visits << ")";
       v.first.push_back(s.str());
     }
   }

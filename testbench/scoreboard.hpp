@@ -1,5 +1,5 @@
 // The golden check: every query's results (index and dist2 bits, canonical order) and visit
-// counts (top, pruned, leaf points) from the accelerator against the golden model.
+// counts (top, pruned, leaf points, leaf visits) from the accelerator against the golden model.
 #pragma once
 
 #include <cstdint>

@@ -224,7 +224,7 @@ TEST_CASE("config: out-of-range values and bad enum values are errors naming the
   CHECK(err(R"({"node_cache": {"bytes": -1}})") ==
         "test.json: 'node_cache.bytes' = -1 is out of range (>= 0)");
   CHECK(err(R"({"sram": {"points": {"bytes": 0}}})") ==
-        "test.json: 'sram.points.bytes' = 0 is out of range (>= 1)");
+        "test.json: 'sram.points.bytes' = 0 is out of range (1..268435456)");
   CHECK(err(R"({"sram": {"queries": {"banks": 0}}})") ==
         "test.json: 'sram.queries.banks' = 0 is out of range (1..4096)");
   CHECK(err(R"({"cost": {"ru_node": 0}})") ==
@@ -433,5 +433,5 @@ TEST_CASE("config: the reference table lists every key of config_to_json", "[con
   }
   CHECK(static_cast<std::size_t>(std::count(ref.begin(), ref.end(), '\n')) == rows + 2);
   CHECK(ref.find("| `fe.recursion_units` | 64 | units | 1..4096 |") != std::string::npos);
-  CHECK(ref.find("| `sram.points.bytes` | 2097152 (2 MiB) | bytes | >= 1 |") != std::string::npos);
+  CHECK(ref.find("| `sram.points.bytes` | 2097152 (2 MiB) | bytes | 1..268435456 |") != std::string::npos);
 }

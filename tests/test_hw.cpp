@@ -26,10 +26,12 @@ struct Case {
   std::string name;
   hw::AcceleratorConfig config;
   SearchParams params;
+  const PointCloud* cloud = nullptr;    // this case's own workload, when not the shared one
+  const PointCloud* queries = nullptr;
 };
 
 // Simulates every case on (cloud, queries) in one run; checks each against the golden model.
-std::vector<SimOutcome> run_and_check(const PointCloud& cloud, const PointCloud& queries,
+std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, const PointCloud& shared_queries,
                                       const std::vector<Case>& cases) {
   std::vector<KdTree> trees;
   std::vector<tlm_if::TreeImage> images;
@@ -37,6 +39,8 @@ std::vector<SimOutcome> run_and_check(const PointCloud& cloud, const PointCloud&
   images.reserve(cases.size());
   std::vector<SimSetup> setups;
   for (const Case& c : cases) {
+    const PointCloud& cloud = c.cloud ? *c.cloud : shared_cloud;
+    const PointCloud& queries = c.queries ? *c.queries : shared_queries;
     trees.push_back(build_kdtree(cloud, c.config.tree.top_height));
     images.push_back(tlm_if::encode_tree_image(trees.back()));
     SimSetup s;
@@ -50,12 +54,19 @@ std::vector<SimOutcome> run_and_check(const PointCloud& cloud, const PointCloud&
   std::vector<SimOutcome> out = simulate(setups);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO("case " << cases[i].name);
+    const PointCloud& queries = cases[i].queries ? *cases[i].queries : shared_queries;
     REQUIRE(out[i].error.empty());
     REQUIRE(out[i].deadlock.empty());
     REQUIRE(out[i].finished);
     const SearchOutput golden = search(trees[i], queries, cases[i].params);
     const Verdict v = check_against_golden(golden, out[i].results, out[i].counters);
     if (!v.match) FAIL(cases[i].name << ": " << v.first.front());
+    // The accelerator's own leaf-visit order replays through the golden model unchanged.
+    Schedule hw_schedule;
+    for (const auto& [q, leaf] : out[i].schedule) hw_schedule.push_back({q, leaf});
+    const SearchOutput replay = search(trees[i], queries, cases[i].params, &hw_schedule);
+    const auto diff = first_difference(golden.results, replay.results);
+    if (diff) FAIL(cases[i].name << ": replaying the accelerator's schedule: " << *diff);
   }
   return out;
 }
@@ -130,18 +141,34 @@ TEST_CASE("tiny queues finish without deadlock and stay bit-exact", "[hw]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 12);
   const PointCloud queries = make_queries(cloud, 400, 12);
   std::vector<Case> cases;
+  hw::AcceleratorConfig full_bqb = units(16, 4, 8, 6);
+  full_bqb.be.bqb_entries = 1;  // many queries in flight, one BE Query Buffer entry per SU
+  cases.push_back({"bqb 1", full_bqb, mode(Mode::KNN, 3)});
   for (int bqb : {1, 2}) {
-    for (std::uint64_t fqq : {8u, 24u}) {
-      hw::AcceleratorConfig c = units(16, 4, 8, 6);
-      c.be.bqb_entries = bqb;
-      c.fe.fqq_bytes = fqq;  // 1 or 3 entries: that many queries in flight
-      cases.push_back({"bqb " + std::to_string(bqb) + " fqq " + std::to_string(fqq), c, mode(Mode::KNN, 3)});
-    }
+    hw::AcceleratorConfig c = units(16, 4, 8, 6);
+    c.be.bqb_entries = bqb;
+    c.fe.fqq_bytes = 8;  // one FQQ entry: one query in flight
+    cases.push_back({"bqb " + std::to_string(bqb) + " fqq 1", c, mode(Mode::KNN, 3)});
   }
   hw::AcceleratorConfig stack = units(16, 4, 8, 6);
   stack.sram.query_stack.bytes = 6 * 8 * 3;  // three queries' stacks
   cases.push_back({"query stack for 3 queries", stack, mode(Mode::NN)});
-  run_and_check(cloud, queries, cases);
+  const auto out = run_and_check(cloud, queries, cases);
+  CHECK(out[0].units["recursion_units"]["stall_cycles"]["bqb_full"].get<std::uint64_t>() > 0);
+  CHECK(out[0].units["search_units"]["bqb_max_occupancy"].get<std::uint64_t>() == 1);
+  CHECK(out[1].units["fqq"]["queries_in_flight"].get<std::uint64_t>() == 1);
+  CHECK(out[3].units["fqq"]["queries_in_flight"].get<std::uint64_t>() == 3);
+}
+
+TEST_CASE("edge cases: one point, k larger than the cloud, radius with no hits", "[hw]") {
+  const PointCloud one = {{1.0f, 2.0f, 3.0f}};
+  const PointCloud queries = {{1.0f, 2.0f, 3.0f}, {-4.0f, 0.5f, 9.0f}, {100.0f, 0.0f, 0.0f}};
+  const PointCloud few = make_cloud(CloudKind::Uniform, 9, 3);
+  run_and_check(one, queries, {{"nn h0", units(2, 2, 2, 0), mode(Mode::NN)},
+                               {"knn5 h1", units(2, 2, 2, 1), mode(Mode::KNN, 5)},
+                               {"radius h1", units(2, 2, 2, 1), mode(Mode::Radius, 1, 0.5f)},
+                               {"knn 20 of 9", units(3, 2, 4, 2), mode(Mode::KNN, 20), &few},
+                               {"radius none", units(3, 2, 4, -1), mode(Mode::Radius, 1, 1e-3f), &few}});
 }
 
 TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypassing 2 per pruned node", "[hw][timing]") {
@@ -163,7 +190,8 @@ TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypas
   // With forwarding and bypassing the RU retires one node per cycle and drops a pruned one in two.
   const auto& ru = out[0].units["recursion_units"];
   CHECK(ru["busy_cycles"].get<std::uint64_t>() ==
-        cost.ru_fetch_query + top * cost.ru_node + pruned * cost.ru_prune_at_rn + cost.ru_drain);
+        cost.ru_fetch_query + top * cost.ru_node + pruned * cost.ru_prune_at_rn + cost.ru_drain +
+            cost.result_writeback);
   CHECK(out[2].cycles - out[0].cycles == 3 * top);     // forwarding off
   CHECK(out[1].cycles - out[0].cycles == 2 * pruned);  // bypassing off
   CHECK(out[3].cycles - out[0].cycles == 3 * top + 2 * pruned);
@@ -176,11 +204,16 @@ TEST_CASE("SU timing: a Node Set of N points past B PEs takes N + B - 1 + 3 cycl
   // Brute force (h = 0): every query scans the one leaf set of all N points.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 700, 4);
   const PointCloud queries = make_queries(cloud, 90, 4);
-  std::vector<Case> cases = {{"8 PEs", units(4, 1, 8, 0), mode(Mode::NN)},
-                             {"1 PE", units(4, 1, 1, 0), mode(Mode::NN)}};
+  // One query: the job's cycles grow one for one with N (the stream is the critical path).
+  const PointCloud small(cloud.begin(), cloud.begin() + 300);
+  const PointCloud one_query = {{0.1f, 0.2f, 0.3f}};
+  const std::vector<Case> cases = {{"8 PEs", units(4, 1, 8, 0), mode(Mode::NN)},
+                                   {"1 PE", units(4, 1, 1, 0), mode(Mode::NN)},
+                                   {"1 query, 300 points", units(1, 1, 4, 0), mode(Mode::NN), &small, &one_query},
+                                   {"1 query, 700 points", units(1, 1, 4, 0), mode(Mode::NN), nullptr, &one_query}};
   const auto out = run_and_check(cloud, queries, cases);
-  for (const SimOutcome& o : out) {
-    const auto& su = o.units["search_units"];
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& su = out[i].units["search_units"];
     const std::uint64_t batches = su["batches"], served = su["queries"];
     CHECK(served == queries.size());
     // Each batch streams all 700 points: sum over batches of (N + B - 1 + 3), nothing stalls.
@@ -189,6 +222,7 @@ TEST_CASE("SU timing: a Node Set of N points past B PEs takes N + B - 1 + 3 cycl
   }
   CHECK(out[1].units["search_units"]["batches"].get<std::uint64_t>() == queries.size());
   CHECK(out[0].units["search_units"]["batches"].get<std::uint64_t>() < queries.size());
+  CHECK(out[3].cycles - out[2].cycles == 700 - 300);
 }
 
 TEST_CASE("QDN sends each leaf visit to Search Unit leaf mod #SU", "[hw]") {
@@ -233,4 +267,5 @@ TEST_CASE("jobs that do not fit are rejected with the reason", "[hw]") {
   CHECK_THAT(out[0].error, Catch::Contains("Query Stack Buffer"));
   CHECK_FALSE(out[0].finished);
   CHECK_THAT(out[1].error, Catch::Contains("Point Buffer"));
+  CHECK_FALSE(out[1].finished);
 }

@@ -47,7 +47,14 @@ void SearchUnit::step() {
       ++i;
       continue;
     }
-    const std::uint64_t back = retire(running_[i]) + static_cast<std::uint64_t>(config_.cost.be_to_fe);
+    // Results leave first; a full write-back stream holds the batch (and its PEs) back.
+    const std::uint64_t accepted = retire(running_[i]);
+    if (accepted > now) {
+      running_[i].end = accepted;
+      ++i;
+      continue;
+    }
+    const std::uint64_t back = now + static_cast<std::uint64_t>(config_.cost.be_to_fe);
     for (const QueryToken& t : running_[i].tokens) fe_.reinsert(t, back);
     free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
     running_[i] = std::move(running_.back());
@@ -102,15 +109,9 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
     a.bytes = set_bytes;
     data_ready = points.charge(now, a, job_.period);
   }
-  // Result Buffer: NN/kNN slots are read into the PEs and written back once.
-  const bool radius = job_.mode == tlm_if::SearchMode::Radius;
-  if (!radius) {
-    tlm_if::AccessProfile a;
-    a.first_byte = tokens.front().slot * job_.result_slot_bytes;
-    a.words = static_cast<std::uint32_t>(b * ((job_.result_slot_bytes + 7) / 8));
-    a.bytes = b * job_.result_slot_bytes;
-    data_ready = std::max(data_ready, results.charge(now, a, job_.period));
-  }
+  // Result Buffer: each query's NN/kNN slot is read into its PE (written back at retire).
+  if (job_.mode != tlm_if::SearchMode::Radius)
+    data_ready = std::max(data_ready, results.charge(now, slot_access(tokens, false), job_.period));
   const int depth = config_.cost.pe_pipeline_depth;
   const std::uint64_t compute_end = start + PeArray::stream_cycles(n, b, depth);
   // The stream cannot run ahead of its data: the last point enters the array once it arrived.
@@ -121,28 +122,40 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
     job_.schedule.emplace_back(t.query, t.leaf);
     PeArray::scan(job_, t, hits);
   }
-  stats_.busy_cycles += end - std::max(start, std::min(end, busy_until_));  // cycles with a PE busy
-  busy_until_ = std::max(busy_until_, end);
+  // Busy: streaming as the formula says (cycles with a PE busy, batches of MQMN overlap);
+  // stall: the stream waiting for its data beyond that.
+  stats_.busy_cycles += compute_end - std::max(start, std::min(compute_end, busy_until_));
+  busy_until_ = std::max(busy_until_, compute_end);
   stats_.sram_stall_cycles += end - compute_end;
-  stats_.pe_busy_cycles += b * (end - start);
-  running_.push_back({std::move(tokens), std::move(hits), end});
+  stats_.pe_busy_cycles += b * (compute_end - start);
+  running_.push_back({std::move(tokens), std::move(hits), end, false});
+}
+
+tlm_if::AccessProfile SearchUnit::slot_access(const std::vector<QueryToken>& tokens, bool write) {
+  slot_words_.clear();
+  const std::uint64_t words = (job_.result_slot_bytes + 7) / 8;
+  for (const QueryToken& t : tokens)
+    for (std::uint64_t w = 0; w < words; ++w) slot_words_.push_back(t.slot * job_.result_slot_bytes + 8 * w);
+  tlm_if::AccessProfile a;
+  a.write = write;
+  a.scatter = slot_words_.data();
+  a.scatter_count = static_cast<std::uint32_t>(slot_words_.size());
+  a.bytes = tokens.size() * job_.result_slot_bytes;
+  return a;
 }
 
 std::uint64_t SearchUnit::retire(Batch& batch) {
   // The PEs' insert stage writes NN/kNN slots back (posted) or streams the radius hits out.
   const std::uint64_t now = job_.cycle();
+  if (batch.written) return now;
+  batch.written = true;
   if (job_.mode != tlm_if::SearchMode::Radius) {
-    tlm_if::AccessProfile a;
-    a.write = true;
-    a.first_byte = batch.tokens.front().slot * job_.result_slot_bytes;
-    a.words = static_cast<std::uint32_t>(batch.tokens.size() * ((job_.result_slot_bytes + 7) / 8));
-    a.bytes = batch.tokens.size() * job_.result_slot_bytes;
-    results.charge(now, a, job_.period);
+    results.charge(now, slot_access(batch.tokens, true), job_.period);  // posted
     return now;
   }
   if (batch.hits.empty()) return now;
   const std::uint64_t accepted = dram_.write(now, batch.hits.data(), batch.hits.size());
-  stats_.sram_stall_cycles += accepted - now;
+  stats_.writeback_stall_cycles += accepted - now;
   return accepted;
 }
 

@@ -50,10 +50,14 @@ class SearchUnit : public sc_core::sc_module {
     std::vector<QueryToken> tokens;
     std::vector<tlm_if::ResultRecord> hits;  // radius hits, streamed out at the end
     std::uint64_t end = 0;
+    bool written = false;  // results handed to the Result Buffer / write-back stream
   };
   void step();  // SC_METHOD: retire finished batches, issue new ones
   void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
+  // The Result Buffer words of the batch's NN/kNN slots, as one scattered access.
+  tlm_if::AccessProfile slot_access(const std::vector<QueryToken>& tokens, bool write);
+  std::vector<std::uint64_t> slot_words_;
 
   std::uint32_t id_;
   const AcceleratorConfig& config_;

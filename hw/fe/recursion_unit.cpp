@@ -35,7 +35,9 @@ void RecursionUnit::start(const QueryToken& token) {
   a.first_byte = std::uint64_t{token_.query} * 12, a.words = 1, a.bytes = 12;
   done = std::max(done, queries.charge(now, a, job_.period));
   a = {};
-  done = std::max(done, points.charge(now, node_reads_.profile(sizeof(tlm_if::PointEntry)), job_.period));
+  tlm_if::AccessProfile reads = node_reads_.profile(sizeof(tlm_if::PointEntry));
+  if (!finished_) reads.bytes -= sizeof(tlm_if::PointEntry) - 4;  // the last read: a 4-byte directory entry
+  done = std::max(done, points.charge(now, reads, job_.period));
   // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
   done = std::max(done, stacks.charge(now, stack_pops_.profile(sizeof(StackSlotEntry)), job_.period));
   tlm_if::AccessProfile pushes = stack_pushes_.profile(sizeof(StackSlotEntry));
@@ -47,8 +49,8 @@ void RecursionUnit::start(const QueryToken& token) {
     a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + 7) / 8);
     a.bytes = job_.result_slot_bytes;
     done = std::max(done, results.charge(now, a, job_.period));
-    a.write = true;
-    done = std::max(done, results.charge(now, a, job_.period));
+    a.write = true;  // PI's last insert writes the slot back at the end of the walk (posted)
+    results.charge(now + pipeline, a, job_.period);
   }
   stats_.sram_stall_cycles += done - (now + pipeline);
 
@@ -132,12 +134,12 @@ std::uint64_t RecursionUnit::walk() {
     if (node >= job_.num_top_nodes && job_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
       token_.leaf = node - job_.num_top_nodes;
-      node_reads_.add(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4, cycles);
+      node_reads_.add(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4, cycles);  // its size
       return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
     }
   }
-  finished_ = true;
-  return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
+  finished_ = true;  // the stack is empty: the query's results leave the RU
+  return cycles + static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
 }
 
 void RecursionUnit::on_done() {
@@ -148,7 +150,7 @@ void RecursionUnit::on_done() {
     const std::uint64_t accepted = dram_.write(now, hits_.data(), hits_.size());
     hits_.clear();
     if (accepted > now) {
-      stats_.sram_stall_cycles += accepted - now;
+      stats_.writeback_stall_cycles += accepted - now;
       done_.notify((accepted - now) * job_.period);
       return;
     }

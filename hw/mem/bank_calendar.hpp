@@ -1,28 +1,32 @@
-// Which cycles one SRAM bank is busy in, over a sliding window. Work items reserve their
-// accesses when they start, some of them cycles ahead (a walk's later nodes, a stream's later
-// words), so a single next-free time would make an access that comes later in simulation but
-// earlier in cycles wait behind them. The calendar finds the first free cycle at or after the
-// one asked for instead. Reservations more than the window ahead of older ones are not expected.
+// Which cycles one SRAM bank is busy in. Work items reserve their accesses when they start,
+// some of them cycles ahead (a walk's later nodes, a stream's later words), so a single
+// next-free time would make an access that comes later in simulation but earlier in cycles
+// wait behind them. The calendar finds the first free cycle at or after the one asked for.
+// It is a ring of 64-cycle blocks that doubles whenever a booking would overwrite a block
+// that is still ahead of the current cycle.
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace tigris::hw {
 
 class BankCalendar {
  public:
-  explicit BankCalendar(std::size_t blocks = 256) : blocks_(blocks) {}  // 256 x 64 cycles
+  explicit BankCalendar(std::size_t blocks = 64) : blocks_(blocks) {}
 
-  void clear() { blocks_.assign(blocks_.size(), Block{}); }
-
-  // Marks the first free cycle at or after `cycle` busy and returns it.
-  std::uint64_t reserve(std::uint64_t cycle) {
+  // Marks the first free cycle at or after `cycle` busy and returns it; `now` is the current
+  // cycle (blocks wholly before it are free to reuse).
+  std::uint64_t reserve(std::uint64_t cycle, std::uint64_t now) {
     for (;;) {
-      Block& b = blocks_[(cycle / 64) % blocks_.size()];
       const std::uint64_t id = cycle / 64;
+      Block& b = blocks_[id % blocks_.size()];
       if (b.id != id) {
-        if (b.id > id) return cycle;  // far in the past: the window moved on; nothing to book
+        if (b.busy != 0 && b.id + 1 > now / 64) {  // still live: make room and try again
+          grow();
+          continue;
+        }
         b.id = id;
         b.busy = 0;
       }
@@ -41,6 +45,12 @@ class BankCalendar {
     std::uint64_t id = 0;    // cycle / 64 of the cycles this block describes
     std::uint64_t busy = 0;  // bit i: cycle id * 64 + i is taken
   };
+  void grow() {
+    std::vector<Block> old = std::move(blocks_);
+    blocks_.assign(old.size() * 2, Block{});
+    for (const Block& b : old)
+      if (b.busy != 0) blocks_[b.id % blocks_.size()] = b;
+  }
   std::vector<Block> blocks_;
 };
 

@@ -15,6 +15,7 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
 }
 
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
+  const std::uint64_t now = std::min(start, current_cycle());
   const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   if (a.scatter && a.issue_offset) return charge_in_order(start, a);
@@ -34,7 +35,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   std::uint64_t finish = start;
   for (std::uint32_t b = 0; b < banks; ++b) {
     std::uint64_t t = start;  // a bank serves its share of the burst one word a cycle
-    for (std::uint32_t i = 0; i < bank_count_[b]; ++i) t = banks_[b].reserve(t) + 1;
+    for (std::uint32_t i = 0; i < bank_count_[b]; ++i) t = banks_[b].reserve(t, now) + 1;
     finish = std::max(finish, t);
   }
   const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
@@ -53,12 +54,13 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 }
 
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
+  const std::uint64_t now = std::min(start, current_cycle());
   const std::uint64_t banks = static_cast<std::uint64_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   std::uint64_t stall = 0, last = start;
   for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
     const std::uint64_t t = start + a.issue_offset[i] + stall;
-    const std::uint64_t s = banks_[(a.scatter[i] / word) % banks].reserve(t);
+    const std::uint64_t s = banks_[(a.scatter[i] / word) % banks].reserve(t, now);
     stall += s - t;
     last = s + 1;
   }
@@ -66,6 +68,10 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   (a.write ? stats_.writes : stats_.reads) += a.scatter_count;
   (a.write ? stats_.write_bytes : stats_.read_bytes) += a.bytes;
   return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) : start;
+}
+
+std::uint64_t BankedSram::current_cycle() const {
+  return static_cast<std::uint64_t>(sc_core::sc_time_stamp() / period_);
 }
 
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {

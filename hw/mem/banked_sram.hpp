@@ -30,12 +30,14 @@ class BankedSram : public sc_core::sc_module {
   std::uint8_t* data() { return data_.data(); }
   std::uint64_t size() const { return data_.size(); }
   const BufferStats& stats() const { return stats_; }
+  void reset_stats() { stats_ = {}; }  // at START: the host's loads are not the job's traffic
 
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
+  std::uint64_t current_cycle() const;
 
  public:
 

@@ -36,8 +36,8 @@ std::uint64_t ResultDram::write(std::uint64_t now, const tlm_if::ResultRecord* r
 }
 
 std::uint64_t ResultDram::drained_cycle() const {
-  return static_cast<std::uint64_t>(std::ceil(drain_free_)) +
-         static_cast<std::uint64_t>(config_.latency_cycles);
+  const auto latency = region_.empty() ? 0 : static_cast<std::uint64_t>(config_.latency_cycles);
+  return static_cast<std::uint64_t>(std::ceil(drain_free_)) + latency;
 }
 
 void ResultDram::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {

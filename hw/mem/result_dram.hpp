@@ -22,6 +22,7 @@ class ResultDram : public sc_core::sc_module {
   ResultDram(sc_core::sc_module_name name, const AcceleratorConfig::Dram& config);
 
   void reset(std::uint64_t stream_buffer_bytes);
+  void start(std::uint64_t cycle) { drain_free_ = static_cast<double>(cycle); }
   // Appends records at cycle `now`; returns the cycle they are accepted (backpressure).
   std::uint64_t write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n);
   // The cycle the last accepted byte reaches DRAM.
