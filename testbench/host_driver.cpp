@@ -86,7 +86,7 @@ void HostDriver::run() {
     write_csr(kNumLeaves, image_.num_leaves);
     write_csr(kLeafDirOffset, image_.leaf_dir_offset);
     write_csr(kCtrl, 1);
-    wait(irq.posedge_event());
+    while (!irq.read()) wait(irq.value_changed_event());  // level: a fast error may beat us here
     const std::uint32_t status = read_csr(kStatus);
     if (status & kError) {
       error_ = "the accelerator reported error " + std::to_string(read_csr(kErrorCode));
