@@ -50,12 +50,16 @@ struct AcceleratorConfig {
   } node_cache;
 
   struct Sram {
+    // Banks are sized to the requesters, so that the paper's one node per cycle per RU can be
+    // fed (the paper gives capacities, not banking): the Point Buffer serves 64 RU node reads and
+    // 32 SU Node Set streams a cycle (128 banks); the Query Stack and Result Buffers one access a
+    // cycle per RU (64 banks); the Query Buffer one read per RU activation (8 banks).
     // Points: 16-byte entries (x, y, z, index): the (dist2, index) order needs the index next
     // to each point, so 2 MiB holds the paper's ~130k points (its 1.5 MB assumed 12 bytes).
-    SramConfig points{2097152, 32, 32, 2, 16};
-    SramConfig queries{1572864, 8, 8, 2, 16};       // 1.5 MB of 12-byte queries (16-byte slots)
-    SramConfig query_stack{1258291, 16, 16, 2, 8};  // 1.2 MB; `top height` 8-byte entries a query
-    SramConfig results{3145728, 16, 16, 2, 8};      // 3 MB, double-buffered to DRAM
+    SramConfig points{2097152, 128, 128, 2, 16};
+    SramConfig queries{1572864, 8, 8, 2, 12};        // 1.5 MB of 12-byte queries
+    SramConfig query_stack{1258291, 64, 64, 2, 8};   // 1.2 MB; `top height` 8-byte entries a query
+    SramConfig results{3145728, 64, 64, 2, 8};       // 3 MB, double-buffered to DRAM
   } sram;
 
   struct Dram {

@@ -14,14 +14,14 @@ namespace tigris::hw {
 
 class BankCalendar {
  public:
-  explicit BankCalendar(std::size_t blocks = 64) : blocks_(blocks) {}
+  BankCalendar() : blocks_(64) {}  // a power of two, doubled as needed
 
   // Marks the first free cycle at or after `cycle` busy and returns it; `now` is the current
   // cycle (blocks wholly before it are free to reuse).
   std::uint64_t reserve(std::uint64_t cycle, std::uint64_t now) {
     for (;;) {
       const std::uint64_t id = cycle / 64;
-      Block& b = blocks_[id % blocks_.size()];
+      Block& b = blocks_[id & (blocks_.size() - 1)];
       if (b.id != id) {
         if (b.busy != 0 && b.id + 1 > now / 64) {  // still live: make room and try again
           grow();
@@ -49,7 +49,7 @@ class BankCalendar {
     std::vector<Block> old = std::move(blocks_);
     blocks_.assign(old.size() * 2, Block{});
     for (const Block& b : old)
-      if (b.busy != 0) blocks_[b.id % blocks_.size()] = b;
+      if (b.busy != 0) blocks_[b.id & (blocks_.size() - 1)] = b;
   }
   std::vector<Block> blocks_;
 };

@@ -8,7 +8,7 @@ namespace tigris::hw {
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
                        sc_core::sc_time period)
     : sc_module(name), socket("socket"), config_(config), period_(period),
-      data_(config.bytes, 0), banks_(config.banks), bank_count_(config.banks, 0) {
+      data_(config.bytes, 0), banks_(config.banks) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
   socket.register_transport_dbg(this, &BankedSram::transport_dbg);
@@ -19,25 +19,24 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   if (a.scatter && a.issue_offset) return charge_in_order(start, a);
-  std::uint64_t n = 0;
-  std::fill(bank_count_.begin(), bank_count_.end(), 0u);
+  // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
+  std::uint64_t n = 0, finish = start;
   if (a.scatter) {
-    for (std::uint32_t i = 0; i < a.scatter_count; ++i) ++bank_count_[(a.scatter[i] / word) % banks];
     n = a.scatter_count;
+    for (std::uint32_t i = 0; i < a.scatter_count; ++i)
+      finish = std::max(finish, banks_[(a.scatter[i] / word) % banks].reserve(start, now) + 1);
   } else {
-    n = a.words;
-    const std::uint32_t first = static_cast<std::uint32_t>((a.first_byte / word) % banks);
-    const std::uint64_t full = n / banks, rem = n % banks;
-    for (std::uint32_t b = 0; b < banks; ++b)
-      bank_count_[b] = static_cast<std::uint32_t>(full + (((b + banks - first) % banks) < rem ? 1 : 0));
+    n = a.words;  // word i of the burst is in bank (first + i) mod banks
+    const std::uint64_t touched = std::min<std::uint64_t>(n, banks);
+    std::uint64_t b = (a.first_byte / word) % banks;
+    for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == banks ? 0 : b + 1) {
+      BankCalendar& bank = banks_[b];
+      std::uint64_t t = start;
+      for (std::uint64_t w = i; w < n; w += banks) t = bank.reserve(t, now) + 1;
+      finish = std::max(finish, t);
+    }
   }
   if (n == 0) return start;
-  std::uint64_t finish = start;
-  for (std::uint32_t b = 0; b < banks; ++b) {
-    std::uint64_t t = start;  // a bank serves its share of the burst one word a cycle
-    for (std::uint32_t i = 0; i < bank_count_[b]; ++i) t = banks_[b].reserve(t, now) + 1;
-    finish = std::max(finish, t);
-  }
   const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
   finish = std::max(finish, start + (n + ports - 1) / ports);
   const std::uint64_t lanes = std::min<std::uint64_t>(banks, ports);

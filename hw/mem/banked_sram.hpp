@@ -50,7 +50,6 @@ class BankedSram : public sc_core::sc_module {
   sc_core::sc_time period_;
   std::vector<std::uint8_t> data_;
   std::vector<BankCalendar> banks_;
-  std::vector<std::uint32_t> bank_count_;  // scratch: accesses per bank of one request
   BufferStats stats_;
 };
 
