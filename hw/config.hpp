@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include <systemc>
+
 #include "cost_table.hpp"
 
 namespace tigris::hw {
@@ -70,7 +72,7 @@ struct AcceleratorConfig {
   CostTable cost;
   EnergyTable energy;
 
-  double cycle_ns() const { return 1000.0 / clock_mhz; }
+  sc_core::sc_time period() const { return sc_core::sc_time(1000.0 / clock_mhz, sc_core::SC_NS); }
 };
 
 }  // namespace tigris::hw

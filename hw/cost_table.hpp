@@ -18,8 +18,11 @@ struct CostTable {
   // Search Unit.
   int pe_pipeline_depth = 3;    // read, distance, insert (paper Fig. 9)
   int issue_cycle = 1;          // issue logic per batch beyond the associative search
-  int result_writeback = 1;     // a finished query's results leave the PE
+  int result_writeback = 1;     // a finished query's results leave the RU (after its last walk)
   int be_to_fe = 1;             // a scanned query re-enters the FQQ
+  // Host interface (outside the job's cycles: loading before START, reading after done).
+  int host_csr_access = 1;            // one CSR read or write
+  int host_link_bytes_per_cycle = 32; // host reads of the result region in DRAM
 };
 
 // Energy per access/operation in picojoules (16 nm estimates; configurable).

@@ -12,14 +12,14 @@ using namespace tlm_if;
 
 TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config)
     : sc_module(name), config_(config), host("host"), irq("irq"),
-      points_sram("points", config.sram.points, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
-      queries_sram("queries", config.sram.queries, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
-      stack_sram("query_stack", config.sram.query_stack, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
-      results_sram("results", config.sram.results, sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS)),
-      dram("dram", config_.dram), node_cache(config_.node_cache.bytes), qdn(config_, job_),
+      points_sram("points", config.sram.points, config.period()),
+      queries_sram("queries", config.sram.queries, config.period()),
+      stack_sram("query_stack", config.sram.query_stack, config.period()),
+      results_sram("results", config.sram.results, config.period()),
+      dram("dram", config_), node_cache(config_.node_cache.bytes), qdn(config_, job_),
       fe("fe", config_, qdn, dram, job_), policy_(make_issue_policy(config_)),
       to_points_("to_points"), to_queries_("to_queries"), to_dram_("to_dram") {
-  job_.period = sc_core::sc_time(1000.0 / config.clock_mhz, sc_core::SC_NS);
+  job_.period = config.period();
   for (int i = 0; i < config.be.search_units; ++i)
     sus.push_back(std::make_unique<SearchUnit>(("su" + std::to_string(i)).c_str(),
                                                static_cast<std::uint32_t>(i), config_, *policy_,
@@ -56,7 +56,7 @@ void TigrisAccelerator::host_b_transport(tlm::tlm_generic_payload& trans, sc_cor
   trans.set_address(addr - window);
   if (window == kCsrBase) {
     csr_access(trans);
-    delay += job_.period;
+    delay += config_.cost.host_csr_access * job_.period;
   } else if (window == kPointBufferBase) {
     to_points_->b_transport(trans, delay);
   } else if (window == kQueryBufferBase) {

@@ -6,8 +6,9 @@
 
 namespace tigris::hw {
 
-ResultDram::ResultDram(sc_core::sc_module_name name, const AcceleratorConfig::Dram& config)
-    : sc_module(name), socket("socket"), config_(config) {
+ResultDram::ResultDram(sc_core::sc_module_name name, const AcceleratorConfig& config)
+    : sc_module(name), socket("socket"), config_(config.dram),
+      host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), period_(config.period()) {
   socket.register_b_transport(this, &ResultDram::b_transport);
 }
 
@@ -51,7 +52,7 @@ void ResultDram::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& 
     return;
   }
   std::memcpy(trans.get_data_ptr(), region_.data() + addr, len);
-  delay += sc_core::sc_time(static_cast<double>(len) / 16.0, sc_core::SC_NS);  // host link ~16 B/ns
+  delay += std::ceil(static_cast<double>(len) / host_bytes_per_cycle_) * period_;
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 

@@ -19,7 +19,7 @@ class ResultDram : public sc_core::sc_module {
  public:
   tlm_utils::simple_target_socket<ResultDram> socket;  // host reads of the result region
 
-  ResultDram(sc_core::sc_module_name name, const AcceleratorConfig::Dram& config);
+  ResultDram(sc_core::sc_module_name name, const AcceleratorConfig& config);
 
   void reset(std::uint64_t stream_buffer_bytes);
   void start(std::uint64_t cycle) { drain_free_ = static_cast<double>(cycle); }
@@ -34,6 +34,8 @@ class ResultDram : public sc_core::sc_module {
   void b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
 
   AcceleratorConfig::Dram config_;
+  double host_bytes_per_cycle_;
+  sc_core::sc_time period_;
   std::vector<std::uint8_t> region_;
   double drain_free_ = 0.0;  // cycle at which the write-back channel is idle again
   std::uint64_t buffer_bytes_ = 0;
