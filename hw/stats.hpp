@@ -30,7 +30,6 @@ struct SearchUnitStats {
   std::uint64_t sram_stall_cycles = 0;  // streaming slowed by Point/Result Buffer banks
   std::uint64_t writeback_stall_cycles = 0;  // radius hits waiting for the write-back stream
   std::uint64_t pe_busy_cycles = 0;     // sum over PEs of cycles holding a query
-  std::uint64_t leaf_points = 0;        // distance computations on the PEs
   std::uint64_t bqb_max_occupancy = 0;
 };
 

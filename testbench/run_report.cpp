@@ -31,7 +31,7 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
     const auto& s = u->stats();
     su.batches += s.batches, su.queries += s.queries, su.busy_cycles += s.busy_cycles;
     su.issue_cycles += s.issue_cycles, su.sram_stall_cycles += s.sram_stall_cycles;
-    su.pe_busy_cycles += s.pe_busy_cycles, su.leaf_points += s.leaf_points;
+    su.pe_busy_cycles += s.pe_busy_cycles;
     su.writeback_stall_cycles += s.writeback_stall_cycles;
     su.bqb_max_occupancy = std::max(su.bqb_max_occupancy, s.bqb_max_occupancy);
   }

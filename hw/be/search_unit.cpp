@@ -98,7 +98,6 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   leaf_wave_.set(leaf);
   ++stats_.batches;
   stats_.queries += b;
-  stats_.leaf_points += n * b;
 
   // Node Set: from the Node Cache on a hit, else one burst from the Point Buffer.
   std::uint64_t data_ready = start;

@@ -30,7 +30,6 @@ class RecursionUnit : public sc_core::sc_module {
                 FrontEnd& fe, DistributionNetwork& qdn, ResultDram& dram, Job& job);
 
   int id() const { return id_; }
-  bool idle() const { return state_ == State::Idle; }
   void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
   void retry_dispatch();                // the BE Query Buffer it waits for has room again
   const RecursionUnitStats& stats() const { return stats_; }
