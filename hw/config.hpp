@@ -8,8 +8,14 @@
 #include <systemc>
 
 #include "cost_table.hpp"
+#include "energy_table.hpp"
+#include "sw_ref/kdtree.hpp"
 
 namespace tigris::hw {
+
+// The Search Unit issue logic (be.issue_policy).
+enum class IssuePolicyKind { Mqsn, Mqmn };
+inline const char* to_string(IssuePolicyKind k) { return k == IssuePolicyKind::Mqsn ? "mqsn" : "mqmn"; }
 
 struct SramConfig {
   std::uint64_t bytes = 0;
@@ -24,7 +30,7 @@ struct AcceleratorConfig {
 
   struct Tree {
     int top_height = 10;                // -1: full height (canonical tree, Acc-KD)
-    std::string split_axis = "widest";  // widest | round-robin
+    SplitRule split_axis = SplitRule::WidestExtent;  // widest | round-robin
   } tree;
 
   struct FrontEnd {
@@ -39,7 +45,7 @@ struct AcceleratorConfig {
     int search_units = 32;
     int pes_per_su = 32;
     int bqb_entries = 128;              // BE Query Buffer per SU
-    std::string issue_policy = "mqsn";  // mqsn | mqmn
+    IssuePolicyKind issue_policy = IssuePolicyKind::Mqsn;
     int issue_search_width = 32;        // BQB entries the associative search checks per cycle
   } be;
 
@@ -63,6 +69,10 @@ struct AcceleratorConfig {
     SramConfig query_stack{1258291, 64, 64, 2, 8};   // 1.2 MB; `top height` 8-byte entries a query
     SramConfig results{3145728, 64, 64, 2, 8};       // 3 MB, double-buffered to DRAM
   } sram;
+
+  struct ResultBuffer {
+    double slot_fraction = 0.5;  // share of sram.results.bytes holding NN/kNN query slots
+  } result_buffer;
 
   struct Dram {
     double bytes_per_cycle = 51.2;  // result write-back: one DDR4-3200 x64 channel (25.6 GB/s) at 500 MHz

@@ -17,21 +17,13 @@ struct CostTable {
   int qdn_port_interval = 1;    // one query per cycle per SU port
   // Search Unit.
   int pe_pipeline_depth = 3;    // read, distance, insert (paper Fig. 9)
+  int node_cache_hit = 0;       // a Node Set streamed from the Node Cache: cycles before its first word
   int issue_cycle = 1;          // issue logic per batch beyond the associative search
   int result_writeback = 1;     // a finished query's results leave the RU (after its last walk)
   int be_to_fe = 1;             // a scanned query re-enters the FQQ
   // Host interface (outside the job's cycles: loading before START, reading after done).
   int host_csr_access = 1;            // one CSR read or write
   int host_link_bytes_per_cycle = 32; // host reads of the result region in DRAM
-};
-
-// Energy per access/operation in picojoules (16 nm estimates; configurable).
-struct EnergyTable {
-  double distance_pj = 3.0;     // one float32 dist2 (3 sub, 3 mul, 2 add)
-  double sram_read_pj_per_byte = 0.6;
-  double sram_write_pj_per_byte = 0.7;
-  double node_cache_pj_per_byte = 0.15;
-  double dram_pj_per_byte = 20.0;
 };
 
 }  // namespace tigris::hw

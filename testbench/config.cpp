@@ -28,7 +28,29 @@ using hw::SramConfig;
 using nlohmann::json;
 
 // A key's field; its type is the key's type (std::uint64_t fields are byte counts).
-using Ref = std::variant<int*, bool*, double*, std::uint64_t*, std::string*>;
+using Ref = std::variant<int*, bool*, double*, std::uint64_t*, hw::IssuePolicyKind*, SplitRule*>;
+
+// Enumerated keys: every value with its name.
+template <class E>
+const std::vector<std::pair<std::string, E>>& enum_names();
+template <>
+const std::vector<std::pair<std::string, hw::IssuePolicyKind>>& enum_names() {
+  static const std::vector<std::pair<std::string, hw::IssuePolicyKind>> v = {
+      {"mqsn", hw::IssuePolicyKind::Mqsn}, {"mqmn", hw::IssuePolicyKind::Mqmn}};
+  return v;
+}
+template <>
+const std::vector<std::pair<std::string, SplitRule>>& enum_names() {
+  static const std::vector<std::pair<std::string, SplitRule>> v = {
+      {"widest", SplitRule::WidestExtent}, {"round-robin", SplitRule::RoundRobin}};
+  return v;
+}
+template <class E>
+std::string enum_name(E e) {
+  for (const auto& [name, value] : enum_names<E>())
+    if (value == e) return name;
+  return "?";
+}
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -129,6 +151,9 @@ const std::vector<Key>& registry() {
                    in(1, 4096), "bank interleaving granule (one entry)"});
     }
     const std::vector<Key> rest = {
+        {"result_buffer.slot_fraction", AT(result_buffer.slot_fraction), "-", above(0, 1),
+         "share of the Result Buffer (sram.results.bytes) holding NN/kNN query slots; the rest "
+         "double-buffers the result stream to DRAM"},
         {"dram.bytes_per_cycle", AT(dram.bytes_per_cycle), "bytes/cycle", above(0, 1e6),
          "DRAM bandwidth for the result write-back"},
         {"dram.latency_cycles", AT(dram.latency_cycles), "cycles", in(0, kMaxCycles),
@@ -151,6 +176,8 @@ const std::vector<Key>& registry() {
          "QDN: interval between two queries on one SU port"},
         {"cost.pe_pipeline_depth", AT(cost.pe_pipeline_depth), "cycles", in(0, kMaxCycles),
          "PE pipeline: read, distance, insert"},
+        {"cost.node_cache_hit", AT(cost.node_cache_hit), "cycles", in(0, kMaxCycles),
+         "SU: a Node Set streamed from the Node Cache, cycles before its first word"},
         {"cost.issue_cycle", AT(cost.issue_cycle), "cycles", in(0, kMaxCycles),
          "SU issue logic per batch beyond the associative search"},
         {"cost.result_writeback", AT(cost.result_writeback), "cycles", in(0, kMaxCycles),
@@ -162,7 +189,9 @@ const std::vector<Key>& registry() {
         {"cost.host_link_bytes_per_cycle", AT(cost.host_link_bytes_per_cycle), "bytes/cycle",
          in(1, kMaxCycles), "host: reading the result region from DRAM"},
         {"energy.distance_pj", AT(energy.distance_pj), "pJ", at_least(0),
-         "one float32 squared distance (3 sub, 3 mul, 2 add)"},
+         "PE: one float32 squared distance (3 sub, 3 mul, 2 add)"},
+        {"energy.ru_node_pj", AT(energy.ru_node_pj), "pJ", at_least(0),
+         "RU: one top-tree node through CD (its squared distance) and PI"},
         {"energy.sram_read_pj_per_byte", AT(energy.sram_read_pj_per_byte), "pJ/byte", at_least(0),
          "global buffer SRAM read"},
         {"energy.sram_write_pj_per_byte", AT(energy.sram_write_pj_per_byte), "pJ/byte", at_least(0),
@@ -281,11 +310,12 @@ T convert(const Key& k, const json& v, const std::string& source) {
   if constexpr (std::is_same_v<T, bool>) {
     if (!v.is_boolean()) fail("must be true or false, got " + shown(v));
     return v.get<bool>();
-  } else if constexpr (std::is_same_v<T, std::string>) {
-    const auto& c = k.allowed.choices;
-    if (!v.is_string() || std::find(c.begin(), c.end(), v.get<std::string>()) == c.end())
-      fail("must be one of " + describe(k.allowed, false) + ", got " + shown(v));
-    return v.get<std::string>();
+  } else if constexpr (std::is_enum_v<T>) {
+    if (v.is_string())
+      for (const auto& [name, value] : enum_names<T>())
+        if (v.get<std::string>() == name) return value;
+    fail("must be one of " + describe(k.allowed, false) + ", got " + shown(v));
+    return T{};
   } else if constexpr (std::is_same_v<T, double>) {
     if (!v.is_number()) fail("must be a number, got " + shown(v));
     const double x = v.get<double>();
@@ -322,7 +352,14 @@ void assign(const Key& k, AcceleratorConfig& cfg, const json& v, const std::stri
 
 json value_of(const Key& k, const AcceleratorConfig& cfg) {
   AcceleratorConfig copy = cfg;  // field() needs a mutable config; only reads here
-  return std::visit([](auto* p) { return json(*p); }, k.field(copy));
+  return std::visit(
+      [](auto* p) -> json {
+        if constexpr (std::is_enum_v<std::remove_pointer_t<decltype(p)>>)
+          return enum_name(*p);
+        else
+          return *p;
+      },
+      k.field(copy));
 }
 
 // A --set value as the JSON value a file would hold, per the key's type.
@@ -343,7 +380,7 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
           for (const char* f : {"false", "0", "off"})
             if (text == f) return false;
           return fail("true/false/1/0/on/off");
-        } else if constexpr (std::is_same_v<T, std::string>) {
+        } else if constexpr (std::is_enum_v<T>) {
           return text;
         } else if constexpr (std::is_same_v<T, double>) {
           char* end = nullptr;

@@ -62,11 +62,11 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
   for (const std::string& s : o.settings) apply_setting(cfg, s);
   if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
-  if (app.count("--split-axis")) cfg.tree.split_axis = o.search.split_axis;
+  if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   validate_config(cfg);
 
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
-  const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, parse_split_rule(cfg.tree.split_axis));
+  const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   if (image.bytes.size() > cfg.sram.points.bytes)
     throw std::invalid_argument("the tree image of " + std::to_string(w.cloud.size()) + " points needs " +
@@ -148,7 +148,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
   std::printf("  config  %d RU, %d SU x %d PE (%s), top height %d of %d, %.0f MHz\n",
-              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
+              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
               tree.top_height, tree.full_height, cfg.clock_mhz);
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
               static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,

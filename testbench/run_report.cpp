@@ -54,7 +54,7 @@ nlohmann::json units_json(const hw::TigrisAccelerator& accel, std::uint64_t cycl
       {"search_units",
        {{"count", cfg.be.search_units},
         {"pes_per_su", cfg.be.pes_per_su},
-        {"issue_policy", cfg.be.issue_policy},
+        {"issue_policy", hw::to_string(cfg.be.issue_policy)},
         {"batches", su.batches},
         {"queries", su.queries},
         {"queries_per_batch", ratio(static_cast<double>(su.queries), static_cast<double>(su.batches))},

@@ -100,7 +100,7 @@ TEST_CASE("accelerator is bit-exact on random clouds across configurations and m
       cases.push_back({mname + " default h" + std::to_string(h), units(64, 32, 32, h), p});
     }
     hw::AcceleratorConfig mqmn = units(8, 4, 8, 5);
-    mqmn.be.issue_policy = "mqmn";
+    mqmn.be.issue_policy = hw::IssuePolicyKind::Mqmn;
     cases.push_back({mname + " mqmn", mqmn, p});
     hw::AcceleratorConfig plain = units(8, 4, 8, 5);
     plain.fe.forwarding = plain.fe.bypassing = false;
@@ -132,7 +132,7 @@ TEST_CASE("accelerator is bit-exact on the synthetic LiDAR pair for top heights 
   for (int h : {1, 5, 10, 14, -1}) cases.push_back({"nn h" + std::to_string(h), units(64, 32, 32, h), mode(Mode::NN)});
   cases.push_back({"knn10 h10", units(64, 32, 32, 10), mode(Mode::KNN, 10)});
   cases.push_back({"r0.30 h10", units(64, 32, 32, 10), mode(Mode::Radius, 1, 0.30f)});
-  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = "mqmn"; return c; }(),
+  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = hw::IssuePolicyKind::Mqmn; return c; }(),
                    mode(Mode::Radius, 1, 0.75f)});
   run_and_check(pair.frame0, queries, cases);
 }

@@ -174,7 +174,7 @@ TEST_CASE("pinned: forwarding and bypassing off", "[hw][pinned]") {
 
 TEST_CASE("pinned: MQMN issue", "[hw][pinned]") {
   hw::AcceleratorConfig c;
-  c.be.issue_policy = "mqmn";
+  c.be.issue_policy = hw::IssuePolicyKind::Mqmn;
   check_pinned("mqmn", c);
 }
 

@@ -46,9 +46,9 @@ class MqmnPolicy final : public IssuePolicy {
 }  // namespace
 
 std::unique_ptr<IssuePolicy> make_issue_policy(const AcceleratorConfig& config) {
-  if (config.be.issue_policy == "mqsn") return std::make_unique<MqsnPolicy>(config.be.issue_search_width);
-  if (config.be.issue_policy == "mqmn") return std::make_unique<MqmnPolicy>();
-  throw std::invalid_argument("be.issue_policy must be mqsn or mqmn, got '" + config.be.issue_policy + "'");
+  if (config.be.issue_policy == IssuePolicyKind::Mqsn) return std::make_unique<MqsnPolicy>(config.be.issue_search_width);
+  if (config.be.issue_policy == IssuePolicyKind::Mqmn) return std::make_unique<MqmnPolicy>();
+  throw std::invalid_argument("be.issue_policy: unknown issue policy");
 }
 
 }  // namespace tigris::hw
