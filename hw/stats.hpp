@@ -1,45 +1,76 @@
-// Counters every unit keeps; the testbench turns them into the stats JSON (DESIGN.md sec. 8).
+// Statistics as a tree (after DRAMSys): every unit owns a StatGroup, declares its counters at
+// the field (`Counter busy{stats, "busy_cycles"}`) and registers the group with its parent's.
+// The root is walked into JSON; reset() at START clears the whole tree, so a second job on the
+// same accelerator starts from zero. Sums over units of one kind are made in one place, sum().
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace tigris::hw {
 
-struct BufferStats {
-  std::uint64_t reads = 0, writes = 0;            // word accesses
-  std::uint64_t read_bytes = 0, write_bytes = 0;  // payload bytes
-  std::uint64_t conflict_cycles = 0;              // cycles lost to busy banks or ports
+class Counter;
+
+class StatGroup {
+ public:
+  // `kind` names what the group describes ("recursion_unit", "buffer", ...), so sums over
+  // every unit of a kind need not know where the units sit in the tree.
+  explicit StatGroup(std::string name, std::string kind = {});
+  StatGroup(const StatGroup&) = delete;
+  StatGroup& operator=(const StatGroup&) = delete;
+
+  void add(StatGroup& child) { children_.push_back(&child); }
+  const std::string& name() const { return name_; }
+  const std::string& kind() const { return kind_; }
+  const std::vector<StatGroup*>& children() const { return children_; }
+
+  void reset();  // this group and every group below it
+  // This group's counters (a dotted name nests: "stall_cycles.sram") and, by name, its children.
+  nlohmann::json to_json() const;
+  // This group's counters only.
+  nlohmann::json counters_json() const;
+  // Every group of `kind` at or below this one, in tree order.
+  std::vector<const StatGroup*> find(const std::string& kind) const;
+  // The counters of `groups` merged name by name (summed, or the maximum for maxima).
+  static nlohmann::json sum(const std::vector<const StatGroup*>& groups);
+
+ private:
+  friend class Counter;
+  std::string name_, kind_;
+  std::vector<Counter*> counters_;
+  std::vector<StatGroup*> children_;
 };
 
-struct RecursionUnitStats {
-  std::uint64_t activations = 0;       // queries taken from the FQQ
-  std::uint64_t busy_cycles = 0;       // pipeline cycles (FQ, nodes, stalls inside the walk)
-  std::uint64_t pi_rs_stall_cycles = 0;  // of busy: PI->RS dependency (no forwarding)
-  std::uint64_t prune_cycles = 0;      // of busy: pruned nodes
-  std::uint64_t sram_stall_cycles = 0; // waiting for buffer banks beyond the pipeline time
-  std::uint64_t bqb_full_stall_cycles = 0;  // holding a query the BE Query Buffer cannot take
-  std::uint64_t writeback_stall_cycles = 0; // results waiting for the write-back stream
-  std::uint64_t nodes = 0, pruned = 0;
-};
+class Counter {
+ public:
+  enum class Merge { Sum, Max };  // how sum() combines the counter across units
+  Counter(StatGroup& group, std::string name, Merge merge = Merge::Sum)
+      : name_(std::move(name)), merge_(merge) {
+    group.counters_.push_back(this);
+  }
+  Counter(const Counter&) = delete;
+  Counter& operator=(const Counter&) = delete;
 
-struct SearchUnitStats {
-  std::uint64_t batches = 0;            // Node Set streams through the PE array
-  std::uint64_t queries = 0;            // query-leaf visits served
-  std::uint64_t busy_cycles = 0;        // PE array streaming (fill, stream, drain)
-  std::uint64_t issue_cycles = 0;       // associative search + issue
-  std::uint64_t sram_stall_cycles = 0;  // streaming slowed by Point/Result Buffer banks
-  std::uint64_t writeback_stall_cycles = 0;  // radius hits waiting for the write-back stream
-  std::uint64_t pe_busy_cycles = 0;     // sum over PEs of cycles holding a query
-  std::uint64_t bqb_max_occupancy = 0;
-};
+  Counter& operator+=(std::uint64_t v) {
+    value_ += v;
+    return *this;
+  }
+  Counter& operator++() { return *this += 1; }
+  void max(std::uint64_t v) { value_ = v > value_ ? v : value_; }
+  void set(std::uint64_t v) { value_ = v; }
+  std::uint64_t value() const { return value_; }
+  operator std::uint64_t() const { return value_; }
+  const std::string& name() const { return name_; }
+  Merge merge() const { return merge_; }
+  void reset() { value_ = 0; }
 
-struct NodeCacheStats {
-  std::uint64_t hits = 0, misses = 0, read_bytes = 0, fill_bytes = 0;
-};
-
-struct QdnStats {
-  std::uint64_t queries = 0;
-  std::uint64_t port_wait_cycles = 0;  // a query waited for its SU port
+ private:
+  std::string name_;
+  Merge merge_;
+  std::uint64_t value_ = 0;
 };
 
 }  // namespace tigris::hw

@@ -11,35 +11,40 @@ namespace tigris::hw {
 using namespace tlm_if;
 
 TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config)
-    : sc_module(name), config_(config), host("host"), irq("irq"),
-      points_sram("points", config.sram.points, config.period()),
-      queries_sram("queries", config.sram.queries, config.period()),
-      stack_sram("query_stack", config.sram.query_stack, config.period()),
-      results_sram("results", config.sram.results, config.period()),
-      dram("dram", config_), node_cache(config_.node_cache.bytes), qdn(config_, job_),
-      fe("fe", config_, qdn, dram, job_), policy_(make_issue_policy(config_)),
-      to_points_("to_points"), to_queries_("to_queries"), to_dram_("to_dram") {
-  job_.period = config.period();
-  for (int i = 0; i < config.be.search_units; ++i)
-    sus.push_back(std::make_unique<SearchUnit>(("su" + std::to_string(i)).c_str(),
-                                               static_cast<std::uint32_t>(i), config_, *policy_,
-                                               fe, qdn, node_cache, dram, job_));
+    : sc_module(name), config_(config), meter_(config_.energy), host("host"), irq("irq"),
+      clock_{config_.period()},
+      points_("points", config_.sram.points, clock_, meter_),
+      queries_("queries", config_.sram.queries, clock_, meter_),
+      query_stack_("query_stack", config_.sram.query_stack, clock_, meter_),
+      result_buffer_("result_buffer", config_, meter_), node_cache_("node_cache", config_, meter_),
+      qdn_("qdn", config_), fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_),
+      policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
+      to_dram_("to_dram") {
+  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_};
   std::vector<SearchUnit*> units;
-  for (auto& su : sus) {
-    su->points.socket.bind(points_sram.socket);
-    su->results.socket.bind(results_sram.socket);
-    units.push_back(su.get());
+  for (int i = 0; i < config_.be.search_units; ++i) {
+    sus_.push_back(std::make_unique<SearchUnit>(("su" + std::to_string(i)).c_str(),
+                                                static_cast<std::uint32_t>(i), config_, job_, links));
+    SearchUnit& su = *sus_.back();
+    su.points.socket.bind(points_.socket);
+    su.results.socket.bind(result_buffer_.sram.socket);
+    be_stats_.add(su.stats());
+    units.push_back(&su);
   }
-  qdn.connect(units);
-  for (auto& ru : fe.rus) {
-    ru->points.socket.bind(points_sram.socket);
-    ru->queries.socket.bind(queries_sram.socket);
-    ru->stacks.socket.bind(stack_sram.socket);
-    ru->results.socket.bind(results_sram.socket);
+  qdn_.connect(units);
+  for (auto& ru : fe_.rus) {
+    ru->points.socket.bind(points_.socket);
+    ru->queries.socket.bind(queries_.socket);
+    ru->stacks.socket.bind(query_stack_.socket);
+    ru->results.socket.bind(result_buffer_.sram.socket);
   }
-  to_points_.bind(points_sram.socket);
-  to_queries_.bind(queries_sram.socket);
-  to_dram_.bind(dram.socket);
+  for (StatGroup* g : {&fe_.stats(), &qdn_.stats(), &be_stats_, &points_.stats(), &queries_.stats(),
+                       &query_stack_.stats(), &result_buffer_.sram.stats(), &node_cache_.stats(),
+                       &result_buffer_.writeback.stats(), &meter_.stats()})
+    stats_.add(*g);
+  to_points_.socket.bind(points_.socket);
+  to_queries_.socket.bind(queries_.socket);
+  to_dram_.bind(result_buffer_.writeback.socket);
   host.register_b_transport(this, &TigrisAccelerator::host_b_transport);
   host.register_transport_dbg(this, &TigrisAccelerator::host_transport_dbg);
   SC_METHOD(do_start);
@@ -56,11 +61,11 @@ void TigrisAccelerator::host_b_transport(tlm::tlm_generic_payload& trans, sc_cor
   trans.set_address(addr - window);
   if (window == kCsrBase) {
     csr_access(trans);
-    delay += config_.cost.host_csr_access * job_.period;
+    delay += config_.cost.host_csr_access * clock_.period;
   } else if (window == kPointBufferBase) {
-    to_points_->b_transport(trans, delay);
+    to_points_.socket->b_transport(trans, delay);
   } else if (window == kQueryBufferBase) {
-    to_queries_->b_transport(trans, delay);
+    to_queries_.socket->b_transport(trans, delay);
   } else if (window == kResultDramBase) {
     to_dram_->b_transport(trans, delay);
   } else {
@@ -74,8 +79,8 @@ unsigned int TigrisAccelerator::host_transport_dbg(tlm::tlm_generic_payload& tra
   const std::uint64_t window = addr & ~(kWindowSize - 1);
   trans.set_address(addr - window);
   unsigned int n = 0;
-  if (window == kPointBufferBase) n = to_points_->transport_dbg(trans);
-  if (window == kQueryBufferBase) n = to_queries_->transport_dbg(trans);
+  if (window == kPointBufferBase) n = to_points_.socket->transport_dbg(trans);
+  if (window == kQueryBufferBase) n = to_queries_.socket->transport_dbg(trans);
   trans.set_address(addr);
   return n;
 }
@@ -108,7 +113,7 @@ void TigrisAccelerator::csr_access(tlm::tlm_generic_payload& trans) {
 }
 
 std::string TigrisAccelerator::configure_job() {
-  Job& j = job_;
+  JobDescriptor j;
   const std::uint32_t mode = csr_[kMode / 4];
   if (mode > 2) return "CSR MODE holds " + std::to_string(mode) + ", not a search mode";
   j.mode = static_cast<SearchMode>(mode);
@@ -121,46 +126,31 @@ std::string TigrisAccelerator::configure_job() {
   j.num_top_nodes = csr_[kNumTopNodes / 4];
   j.num_leaves = csr_[kNumLeaves / 4];
   j.leaf_dir_offset = csr_[kLeafDirOffset / 4];
-  const std::uint64_t image_end = std::uint64_t{j.num_top_nodes} * sizeof(PointEntry);
   if (j.top_height < 0 || j.top_height > 30 || j.num_top_nodes != (1u << j.top_height) - 1)
     return "CSR TOP_HEIGHT and NUM_TOP_NODES disagree";
   if (j.num_leaves != 0 && j.num_leaves != j.num_top_nodes + 1)
     return "CSR NUM_LEAVES must be 0 or 2^TOP_HEIGHT";
-  const std::string fit = "the tree image does not fit the Point Buffer (" +
-                          std::to_string(points_sram.size()) + " bytes, sram.points.bytes)";
-  if (image_end > points_sram.size()) return fit;
+  if (j.num_leaves && j.leaf_dir_offset % sizeof(LeafDirEntry) != 0)
+    return "CSR LEAF_DIR_OFFSET is not a multiple of 4";
+  const std::uint64_t image_bytes =
+      j.num_leaves ? std::uint64_t{j.leaf_dir_offset} + sizeof(LeafDirEntry) * (std::uint64_t{j.num_leaves} + 1)
+                   : std::uint64_t{j.num_top_nodes} * sizeof(PointEntry);
+  j.result_slot_bytes = j.radius() ? 0 : ResultSlots::slot_bytes(j.k);
+  const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k);
+  if (!fit.empty()) return fit;
   if (j.num_leaves) {
-    if (j.leaf_dir_offset % 4 != 0) return "CSR LEAF_DIR_OFFSET is not a multiple of 4";
-    if (std::uint64_t{j.leaf_dir_offset} + 4ull * (j.num_leaves + 1) > points_sram.size()) return fit;
-    const auto* dir = reinterpret_cast<const std::uint32_t*>(points_sram.data() + j.leaf_dir_offset);
+    const auto* dir = reinterpret_cast<const LeafDirEntry*>(to_points_.data() + j.leaf_dir_offset);
     for (std::uint32_t l = 0; l < j.num_leaves; ++l)
       if (dir[l] > dir[l + 1]) return "the leaf directory is not ascending at leaf " + std::to_string(l);
     if (dir[0] != 0 || (std::uint64_t{j.num_top_nodes} + dir[j.num_leaves]) * sizeof(PointEntry) > j.leaf_dir_offset)
       return "the leaf directory points outside the leaf sets";
   }
-  if (std::uint64_t{j.num_queries} * 12 > queries_sram.size())
-    return "the queries do not fit the Query Buffer";
-  j.entries = reinterpret_cast<const PointEntry*>(points_sram.data());
-  j.leaf_dir = reinterpret_cast<const std::uint32_t*>(points_sram.data() + j.leaf_dir_offset);
-  j.queries = reinterpret_cast<const float*>(queries_sram.data());
   j.stack_entries = static_cast<std::uint32_t>(std::max(j.top_height, 1));
-  const std::uint64_t stack_slots = stack_sram.size() / (j.stack_entries * sizeof(StackSlotEntry));
+  const std::uint64_t stack_slots = config_.sram.query_stack.bytes / (j.stack_entries * sizeof(StackEntry));
   const std::uint64_t fqq_entries = config_.fe.fqq_bytes / static_cast<std::uint64_t>(config_.fe.fqq_entry_bytes);
-  j.result_slot_bytes = j.mode == SearchMode::Radius ? 0 : ResultSlots::slot_bytes(j.k);
-  // At most half the Result Buffer holds query slots; the rest is the write-back stream.
-  const std::uint64_t result_slots = j.result_slot_bytes ? results_sram.size() / 2 / j.result_slot_bytes : ~0ull;
-  const std::uint64_t slots = std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}});
-  if (slots == 0 && j.num_queries > 0) {
-    if (stack_slots == 0) return "the Query Stack Buffer cannot hold one query's stack of top height " + std::to_string(j.top_height);
-    if (fqq_entries == 0) return "the FE Query Queue cannot hold one query";
-    return "the Result Buffer cannot hold one query's " + std::to_string(j.k) + " results";
-  }
-  j.slots = static_cast<std::uint32_t>(slots);
-  j.stacks = reinterpret_cast<StackSlotEntry*>(stack_sram.data());
-  j.result_slots = results_sram.data();
-  j.counters.assign(j.num_queries, {});
-  j.schedule.clear();
-  dram.reset(results_sram.size() - slots * j.result_slot_bytes);
+  const std::uint64_t result_slots = ResultBuffer::slot_capacity(config_, j.result_slot_bytes);
+  j.slots = static_cast<std::uint32_t>(std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}}));
+  job_ = j;
   return {};
 }
 
@@ -177,17 +167,18 @@ void TigrisAccelerator::do_start() {
     fail(1);
     return;
   }
-  start_cycle_ = job_.cycle();
-  for (BankedSram* b : {&points_sram, &queries_sram, &stack_sram, &results_sram}) b->reset_stats();
-  dram.start(start_cycle_);
-  qdn.reset();
-  for (auto& su : sus) su->reset();
-  node_cache.reset();
-  fe.start([this](std::uint64_t cycle) {
-    done_cycle_ = std::max(cycle, dram.drained_cycle());
-    finish_.notify((done_cycle_ - job_.cycle()) * job_.period);
+  start_cycle_ = clock_.now();
+  stats_.reset();  // the host's loads are not the job's traffic
+  result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes);
+  qdn_.start();
+  for (auto& su : sus_) su->start();
+  node_cache_.start();
+  observers_.job_started(job_.num_queries);
+  fe_.start([this](std::uint64_t cycle) {
+    done_cycle_ = std::max(cycle, result_buffer_.writeback.drained_cycle());
+    finish_.notify(clock_.until(done_cycle_));
   });
-  if (progress_) fe.set_progress(progress_);
+  if (progress_) fe_.set_progress(progress_);
 }
 
 void TigrisAccelerator::do_finish() {
@@ -195,28 +186,29 @@ void TigrisAccelerator::do_finish() {
   const std::uint64_t cycles = job_cycles();
   csr_[kCyclesLo / 4] = static_cast<std::uint32_t>(cycles);
   csr_[kCyclesHi / 4] = static_cast<std::uint32_t>(cycles >> 32);
-  csr_[kResultBytesLo / 4] = static_cast<std::uint32_t>(dram.bytes());
-  csr_[kResultBytesHi / 4] = static_cast<std::uint32_t>(dram.bytes() >> 32);
+  const std::uint64_t bytes = result_buffer_.writeback.bytes();
+  csr_[kResultBytesLo / 4] = static_cast<std::uint32_t>(bytes);
+  csr_[kResultBytesHi / 4] = static_cast<std::uint32_t>(bytes >> 32);
   csr_[kStatus / 4] = kDone;
   irq.write(true);
 }
 
 void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
   const std::string scope = name();
-  fe.attach_waves(vcd, scope + ".fe");
-  for (std::size_t i = 0; i < sus.size(); ++i) sus[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i));
+  fe_.attach_waves(vcd, scope + ".fe");
+  for (std::size_t i = 0; i < sus_.size(); ++i) sus_[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i));
 }
 
 std::string TigrisAccelerator::describe_state() const {
   std::ostringstream s;
-  s << "queries finished " << fe.finished() << " of " << job_.num_queries << ", admitted "
-    << fe.admitted() << "; FQQ holds " << fe.fqq_occupancy() << "\n";
-  for (const auto& ru : fe.rus)
+  s << "queries finished " << fe_.finished() << " of " << job_.num_queries << ", admitted "
+    << fe_.admitted() << "; FQQ holds " << fe_.fqq_occupancy() << "\n";
+  for (const auto& ru : fe_.rus)
     if (ru->busy_flag()) s << "  RU " << ru->id() << " holds query " << ru->current_query() << "\n";
-  for (std::size_t i = 0; i < sus.size(); ++i)
-    if (sus[i]->bqb_occupancy() || sus[i]->busy_pes())
-      s << "  SU " << i << ": BE Query Buffer " << sus[i]->bqb_occupancy() << ", busy PEs "
-        << sus[i]->busy_pes() << "\n";
+  for (std::size_t i = 0; i < sus_.size(); ++i)
+    if (sus_[i]->bqb_occupancy() || sus_[i]->busy_pes())
+      s << "  SU " << i << ": BE Query Buffer " << sus_[i]->bqb_occupancy() << ", busy PEs "
+        << sus_[i]->busy_pes() << "\n";
   if (!error_.empty()) s << "  error: " << error_ << "\n";
   return s.str();
 }

@@ -1,6 +1,7 @@
 // The Tigris accelerator: front-end, Query Distribution Network, back-end, global buffers,
-// Node Cache and the result write-back, behind one host-facing TLM-2.0 target socket (CSRs and
-// windows onto the buffers, tlm/address_map.hpp) and a done interrupt.
+// Node Cache and the Result Buffer with its write-back, behind one host-facing TLM-2.0 target
+// socket (CSRs and windows onto the buffers, tlm/address_map.hpp) and a done interrupt.
+// Statistics are a tree under stats(); observers see every walk and leaf visit.
 #pragma once
 
 #include <cstdint>
@@ -11,49 +12,56 @@
 
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
 
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
 #include "hw/fe/front_end.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/banked_sram.hpp"
-#include "hw/mem/result_dram.hpp"
+#include "hw/mem/buffer_port.hpp"
+#include "hw/mem/result_buffer.hpp"
+#include "hw/observer.hpp"
 #include "hw/qdn/distribution_network.hpp"
+#include "hw/stats.hpp"
 
 namespace tigris::hw {
 
 class TigrisAccelerator : public sc_core::sc_module {
   // Declared first: the units below keep references to them, so they must be built first.
   AcceleratorConfig config_;
-  Job job_;
+  JobDescriptor job_;
+  EnergyMeter meter_;
+  ObserverList observers_;
+  StatGroup stats_{"tigris"};
+  StatGroup be_stats_{"be"};
 
  public:
   SC_HAS_PROCESS(TigrisAccelerator);
   tlm_utils::simple_target_socket<TigrisAccelerator> host;
   sc_core::sc_out<bool> irq;
 
-  explicit TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config);
+  TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config);
 
   const AcceleratorConfig& config() const { return config_; }
-  const Job& job() const { return job_; }
+  const JobDescriptor& job() const { return job_; }  // the last job started
   std::uint64_t job_cycles() const { return done_cycle_ - start_cycle_; }
   bool done() const { return done_; }
+  const std::string& error() const { return error_; }  // why the last START was rejected
+
+  // The statistics tree (reset at every START): fe (ru*), qdn, be (su*), the buffers,
+  // node_cache, result_writeback and the energy meter's counts.
+  const StatGroup& stats() const { return stats_; }
+  nlohmann::json energy_pj() const { return meter_.energy_pj(); }
+  void attach_observer(JobObserver& observer) { observers_.attach(observer); }
   // What every queue and unit holds: the report of a run that stopped before it finished.
   std::string describe_state() const;
   // Records unit busy flags, queue occupancies and query ids into `vcd` from now on.
   void attach_waves(VcdWriter& vcd);
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
-
-  BankedSram points_sram, queries_sram, stack_sram, results_sram;
-  ResultDram dram;
-  NodeCache node_cache;
-  DistributionNetwork qdn;
-  FrontEnd fe;
-  std::vector<std::unique_ptr<SearchUnit>> sus;
 
  private:
   void host_b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
@@ -62,20 +70,26 @@ class TigrisAccelerator : public sc_core::sc_module {
   void do_start();   // SC_METHOD on start_
   void do_finish();  // SC_METHOD on finish_
   void fail(std::uint32_t code);
-  // Returns an empty string when the job fits the buffers, else why it does not.
+  // Decodes the CSRs into job_; returns an empty string when the job fits, else why not.
   std::string configure_job();
 
+  Clock clock_;
+  BankedSram points_, queries_, query_stack_;
+  ResultBuffer result_buffer_;
+  NodeCache node_cache_;
+  DistributionNetwork qdn_;
+  FrontEnd fe_;
   std::unique_ptr<IssuePolicy> policy_;
+  std::vector<std::unique_ptr<SearchUnit>> sus_;
+  BufferPort to_points_, to_queries_;  // the host's way in, and the leaf-directory check's DMI
+  tlm_utils::simple_initiator_socket<TigrisAccelerator> to_dram_;
+
   std::uint32_t csr_[0x40 / 4] = {};
-  tlm_utils::simple_initiator_socket<TigrisAccelerator> to_points_, to_queries_, to_dram_;
   sc_core::sc_event start_, finish_;
   std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
   bool done_ = false;
   std::string error_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
-
- public:
-  const std::string& error() const { return error_; }
 };
 
 }  // namespace tigris::hw

@@ -11,6 +11,7 @@
 #include "cloud.hpp"
 #include "kdtree.hpp"
 #include "results.hpp"
+#include "traces/schedule.hpp"
 
 namespace tigris {
 
@@ -60,14 +61,6 @@ struct LeaderTotals {
   std::uint64_t followers = 0;           // leaf visits served from a leader's list
   std::uint64_t leader_buffer_full = 0;  // exact scans that found the Leader Buffer full
 };
-
-// One leaf visit decision: query `query` scans leaf `leaf` (non-empty leaves only).
-struct ScheduleEntry {
-  std::uint32_t query = 0;
-  std::uint32_t leaf = 0;
-  bool operator==(const ScheduleEntry& o) const { return query == o.query && leaf == o.leaf; }
-};
-using Schedule = std::vector<ScheduleEntry>;
 
 struct SearchOutput {
   Results results;

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "config.hpp"
+#include "hw/job.hpp"
 #include "simulation.hpp"
 #include "traces/schedule_csv.hpp"
 #include "progress.hpp"
@@ -19,19 +20,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// The accelerator's visit counters in the golden model's shape, for the same JSON and checks.
-SearchOutput hardware_visits(const std::vector<hw::QueryCounters>& counters) {
-  SearchOutput out;
-  out.per_query.reserve(counters.size());
-  for (const hw::QueryCounters& c : counters) {
-    QueryVisits v;
-    v.top = c.top, v.pruned = c.pruned, v.leaf_points = c.leaf_points, v.leaf_visits = c.leaf_visits;
-    out.per_query.push_back(v);
-    out.visits.add(v);
-  }
-  return out;
 }
 
 }  // namespace
@@ -68,14 +56,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
   const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  if (image.bytes.size() > cfg.sram.points.bytes)
-    throw std::invalid_argument("the tree image of " + std::to_string(w.cloud.size()) + " points needs " +
-                                std::to_string(image.bytes.size()) + " bytes, the Point Buffer holds " +
-                                std::to_string(cfg.sram.points.bytes) + " (sram.points.bytes)");
-  if (w.queries.size() * 12 > cfg.sram.queries.bytes)
-    throw std::invalid_argument(std::to_string(w.queries.size()) + " queries need " +
-                                std::to_string(w.queries.size() * 12) + " bytes, the Query Buffer holds " +
-                                std::to_string(cfg.sram.queries.bytes) + " (sram.queries.bytes)");
+  const HostJob job = host_job(params);
+  const std::string fit = hw::job_fit_error(cfg, image.bytes.size(), w.queries.size(), tree.top_height, job.mode, job.k);
+  if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
 
   // Golden model first: its results and visit counts are what the accelerator must reproduce.
   auto t0 = std::chrono::steady_clock::now();
@@ -87,7 +70,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   setup.image = &image;
   setup.queries = &w.queries;
   setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
-  setup.job = host_job(params);
+  setup.job = job;
   setup.vcd_path = o.vcd;
   ProgressReporter progress("tigris run: queries finished");
   t0 = std::chrono::steady_clock::now();
@@ -99,27 +82,12 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     return 1;
   }
 
-  Verdict verdict = check_against_golden(golden, sim.results, sim.counters);
-  // The accelerator's own leaf-visit order, replayed through the golden model, must give the
-  // same answers: every visit it made is one the golden traversal expects, in a legal order.
-  Schedule hw_schedule;
-  hw_schedule.reserve(sim.schedule.size());
-  for (const auto& [q, leaf] : sim.schedule) hw_schedule.push_back({q, leaf});
-  try {
-    const SearchOutput replay = search(tree, w.queries, params, &hw_schedule);
-    if (const auto diff = first_difference(golden.results, replay.results)) {
-      verdict.match = false;
-      verdict.first.push_back("replaying the accelerator's schedule: " + *diff);
-    }
-  } catch (const ScheduleError& e) {
-    verdict.match = false;
-    verdict.first.push_back(std::string("the accelerator's schedule does not replay: ") + e.what());
-  }
+  const Verdict verdict = check_against_golden(tree, w.queries, params, golden, sim.results, sim.visits);
   if (!o.search.dump_schedule.empty())
-    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, hw_schedule); });
+    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, sim.visits.schedule); });
   const std::uint64_t cycles = sim.cycles;
   const double seconds = static_cast<double>(cycles) / (cfg.clock_mhz * 1e6);
-  const SearchOutput hw_view = hardware_visits(sim.counters);
+  const SearchOutput& hw_view = sim.visits;
 
   nlohmann::json stats;
   stats["command"] = "run";

@@ -1,15 +1,30 @@
-// The golden check: every query's results (index and dist2 bits, canonical order) and visit
-// counts (top, pruned, leaf points, leaf visits) from the accelerator against the golden model.
+// The golden check, written once: the scoreboard observes the accelerator (per-query visit
+// counts and the leaf-visit schedule in simulated-time order) and compares every query's
+// results (index and dist2 bits, canonical order) and visit counts (top, pruned, leaf points,
+// leaf visits) with the golden model, then replays the accelerator's schedule through sw_ref.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "hw/job.hpp"
+#include "hw/observer.hpp"
 #include "sw_ref/search.hpp"
 
 namespace tigris {
+
+// Records what the accelerator reports, in the golden model's shape.
+class VisitRecorder final : public hw::JobObserver {
+ public:
+  void job_started(std::uint32_t num_queries) override;
+  void walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) override;
+  void leaf_scanned(std::uint32_t query, std::uint32_t leaf, std::uint32_t points) override;
+  // Per-query counts, their totals and the schedule (results left empty).
+  const SearchOutput& visits() const { return out_; }
+
+ private:
+  SearchOutput out_;
+};
 
 struct Verdict {
   bool match = true;
@@ -17,8 +32,11 @@ struct Verdict {
   std::vector<std::string> first;  // descriptions of the first mismatching queries
 };
 
-Verdict check_against_golden(const SearchOutput& golden, const Results& hw_results,
-                             const std::vector<hw::QueryCounters>& hw_visits,
-                             std::size_t report_at_most = 5);
+// Compares the accelerator's results and recorded visits with `golden` (the golden model's
+// search of `queries` in `tree` with `params`), then replays the recorded schedule through the
+// golden model: every visit must be one its traversal expects and the results must not change.
+Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                             const SearchOutput& golden, const Results& hw_results,
+                             const SearchOutput& hw_visits, std::size_t report_at_most = 5);
 
 }  // namespace tigris

@@ -4,6 +4,7 @@
 
 #include "hw/top.hpp"
 #include "run_report.hpp"
+#include "scoreboard.hpp"
 #include "traces/vcd_writer.hpp"
 
 namespace tigris {
@@ -14,6 +15,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     std::unique_ptr<HostDriver> host;
     std::unique_ptr<sc_core::sc_signal<bool>> irq;
     std::unique_ptr<VcdWriter> vcd;
+    std::unique_ptr<VisitRecorder> recorder;
   };
   std::vector<Bench> benches;
   for (std::size_t i = 0; i < setups.size(); ++i) {
@@ -26,6 +28,8 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     b.accel->irq(*b.irq);
     b.host->irq(*b.irq);
     b.host->socket.bind(b.accel->host);
+    b.recorder = std::make_unique<VisitRecorder>();
+    b.accel->attach_observer(*b.recorder);
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
@@ -44,12 +48,12 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     if (!o.finished && o.error.empty()) o.deadlock = a.describe_state();
     o.results = h.results();
     o.cycles = h.cycles();
-    o.counters = a.job().counters;
-    o.schedule = a.job().schedule;
-    o.units = units_json(a, o.cycles);
-    o.buffers = buffers_json(a);
-    o.energy = energy_json(a);
-    o.lower_bound_cycles = lower_bound_cycles(a);
+    o.visits = benches[i].recorder->visits();
+    nlohmann::json stats = run_stats_json(a, o.cycles);
+    o.units = std::move(stats["units"]);
+    o.buffers = std::move(stats["buffers"]);
+    o.energy = std::move(stats["energy_pj"]);
+    o.lower_bound_cycles = lower_bound_cycles(a.config(), o.visits.visits);
     if (benches[i].vcd) {
       benches[i].vcd->close();
       const std::string& vcd = setups[i].vcd_path;

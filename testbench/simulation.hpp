@@ -13,8 +13,8 @@
 
 #include "host_driver.hpp"
 #include "hw/config.hpp"
-#include "hw/job.hpp"
 #include "sw_ref/results.hpp"
+#include "sw_ref/search.hpp"
 #include "tlm/tree_image.hpp"
 
 namespace tigris {
@@ -34,9 +34,8 @@ struct SimOutcome {
   std::string deadlock;  // the stuck state when the simulation ran out of events early
   Results results;
   std::uint64_t cycles = 0;
-  std::vector<hw::QueryCounters> counters;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> schedule;  // (query, leaf) in issue order
-  nlohmann::json units, buffers, energy;
+  SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
+  nlohmann::json units, buffers, energy;  // the stats JSON's `units`, `buffers`, `energy_pj`
   double lower_bound_cycles = 0.0;
 };
 

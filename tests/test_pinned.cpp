@@ -129,15 +129,9 @@ void check_pinned(const std::string& name, const hw::AcceleratorConfig& config) 
     REQUIRE(out[i].error.empty());
     REQUIRE(out[i].finished);
     const SearchOutput golden = search(runs[i].tree, w.queries, runs[i].params);
-    const Verdict v = check_against_golden(golden, out[i].results, out[i].counters);
+    const Verdict v = check_against_golden(runs[i].tree, w.queries, runs[i].params, golden, out[i].results, out[i].visits);
     if (!v.match) FAIL(v.first.front());
-    SearchOutput hw;
-    for (const hw::QueryCounters& c : out[i].counters) {
-      QueryVisits q;
-      q.top = c.top, q.pruned = c.pruned, q.leaf_points = c.leaf_points, q.leaf_visits = c.leaf_visits;
-      hw.visits.add(q);
-    }
-    const auto f = figures(out[i], hw);
+    const auto f = figures(out[i], out[i].visits);
     now[runs[i].label] = f;
     if (record) continue;
     REQUIRE(recorded.contains(runs[i].label));

@@ -11,7 +11,7 @@ namespace tigris::tlm_if {
 constexpr std::uint64_t kCsrBase = 0x0000'0000;
 constexpr std::uint64_t kCsrSize = 0x1000;
 constexpr std::uint64_t kPointBufferBase = 0x1000'0000;   // tree image (tree_image.hpp)
-constexpr std::uint64_t kQueryBufferBase = 0x2000'0000;   // queries, 12 bytes each (x, y, z)
+constexpr std::uint64_t kQueryBufferBase = 0x2000'0000;   // queries (QueryRecord)
 constexpr std::uint64_t kWindowSize = 0x1000'0000;        // buffer windows: 256 MiB each
 constexpr std::uint64_t kResultDramBase = 0x1'0000'0000;  // result stream written back to DRAM
 constexpr std::uint64_t kResultDramSize = 0xF'0000'0000;  // up to 60 GiB of records
@@ -39,6 +39,12 @@ enum Csr : std::uint32_t {
 enum class SearchMode : std::uint32_t { NN = 0, KNN = 1, Radius = 2 };
 
 enum StatusBits : std::uint32_t { kBusy = 1, kDone = 2, kError = 4 };
+
+// One query in the Query Buffer: 12 bytes (x, y, z as float32).
+struct QueryRecord {
+  float x, y, z;
+};
+static_assert(sizeof(QueryRecord) == 12, "query records are packed");
 
 // One record of the result stream: 12 bytes, little-endian.
 struct ResultRecord {

@@ -21,6 +21,7 @@ struct PointEntry {
 };
 static_assert(sizeof(PointEntry) == 16, "point entries are 16 bytes");
 
+using LeafDirEntry = std::uint32_t;  // one leaf directory entry (an entry offset)
 constexpr std::uint32_t kEmptyTag = 0xFFFFFFFFu;
 constexpr std::uint32_t kIndexMask = 0x3FFFFFFFu;
 constexpr int kAxisShift = 30;

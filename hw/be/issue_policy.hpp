@@ -1,11 +1,11 @@
 // The Search Unit's query issue logic (paper section 5.3), behind one small interface so the
-// policies are interchangeable: MQSN (all PEs scan one Node Set; an associative search of the
-// BE Query Buffer finds queries of the head's leaf) and MQMN (any query to any PE).
+// policies are interchangeable, one file each: MQSN (mqsn_policy.cpp: all PEs scan one Node
+// Set, found by an associative search of the BE Query Buffer) and MQMN (mqmn_policy.cpp: any
+// query to any free PE, each streaming its own Node Set).
 #pragma once
 
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "hw/config.hpp"
@@ -14,18 +14,18 @@
 namespace tigris::hw {
 
 struct IssueDecision {
-  std::vector<std::size_t> picks;  // positions in the BE Query Buffer, ascending
-  std::uint64_t search_cycles = 0; // associative search before the batch can start
+  // The batches to start now: each a list of BE Query Buffer positions (ascending) whose
+  // queries stream one Node Set past their PEs together. No position is in two batches.
+  std::vector<std::vector<std::size_t>> batches;
+  std::uint64_t search_cycles = 0;  // the associative search before the batches can start
 };
 
 class IssuePolicy {
  public:
   virtual ~IssuePolicy() = default;
-  // True when the whole PE array streams one Node Set (MQSN): issue waits for a free array.
-  virtual bool shared_stream() const = 0;
-  // Chooses queries among the buffer's entries that have arrived by `now`.
+  // Chooses among the buffer's entries that have arrived by `now`, given `free_pes` of `pes`.
   virtual IssueDecision pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes,
-                             std::uint64_t now) const = 0;
+                             std::uint32_t pes, std::uint64_t now) const = 0;
 };
 
 std::unique_ptr<IssuePolicy> make_issue_policy(const AcceleratorConfig& config);

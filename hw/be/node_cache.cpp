@@ -2,26 +2,38 @@
 
 namespace tigris::hw {
 
+NodeCache::NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
+    : sc_module(name), capacity_(config.node_cache.bytes), policy_(make_lru_replacement()),
+      energy_(meter.line("node_cache.bytes", EnergyMeter::Component::NodeCache,
+                         meter.table().node_cache_pj_per_byte)) {}
+
+void NodeCache::start() {
+  sets_.clear();
+  policy_->reset();
+  used_ = 0;
+}
+
 bool NodeCache::lookup(std::uint32_t leaf, std::uint64_t bytes) {
   if (!enabled()) return false;
-  const auto it = where_.find(leaf);
-  if (it != where_.end()) {
-    lru_.splice(lru_.begin(), lru_, it->second);
-    ++stats_.hits;
-    stats_.read_bytes += bytes;
+  if (sets_.count(leaf)) {
+    policy_->hit(leaf);
+    ++hits_;
+    read_bytes_ += bytes;
+    energy_ += bytes;
     return true;
   }
-  ++stats_.misses;
+  ++misses_;
   if (bytes > capacity_) return false;
   while (used_ + bytes > capacity_) {
-    used_ -= lru_.back().second;
-    where_.erase(lru_.back().first);
-    lru_.pop_back();
+    const std::uint32_t victim = policy_->evict();
+    used_ -= sets_.at(victim);
+    sets_.erase(victim);
   }
-  lru_.emplace_front(leaf, bytes);
-  where_[leaf] = lru_.begin();
+  sets_[leaf] = bytes;
+  policy_->inserted(leaf);
   used_ += bytes;
-  stats_.fill_bytes += bytes;
+  fill_bytes_ += bytes;
+  energy_ += bytes;
   return false;
 }
 

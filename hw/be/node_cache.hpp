@@ -1,35 +1,39 @@
 // Node Cache (paper section 5.3): entries hold whole Node Sets, read as FIFOs; a lookup is by
-// leaf id, replacement is least recently used. A Node Set larger than the cache bypasses it.
+// leaf id, the replacement policy chooses victims (replacement_policy.hpp). A Node Set larger
+// than the cache bypasses it. One cache serves every Search Unit.
 #pragma once
 
 #include <cstdint>
-#include <list>
+#include <memory>
 #include <unordered_map>
 
+#include <systemc>
+
+#include "hw/be/replacement_policy.hpp"
+#include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
 
-class NodeCache {
+class NodeCache : public sc_core::sc_module {
  public:
-  explicit NodeCache(std::uint64_t bytes) : capacity_(bytes) {}
+  NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter);
 
-  void reset() {
-    lru_.clear();
-    where_.clear();
-    used_ = 0;
-    stats_ = {};
-  }
+  void start();  // a job starts cold
   bool enabled() const { return capacity_ > 0; }
-  // True on a hit; on a miss the Node Set is filled (evicting the least recently used).
+  // True on a hit; on a miss the Node Set is filled (evicting as the policy says).
   bool lookup(std::uint32_t leaf, std::uint64_t bytes);
-  const NodeCacheStats& stats() const { return stats_; }
+  StatGroup& stats() { return stats_; }
 
  private:
   std::uint64_t capacity_, used_ = 0;
-  std::list<std::pair<std::uint32_t, std::uint64_t>> lru_;  // most recent first
-  std::unordered_map<std::uint32_t, std::list<std::pair<std::uint32_t, std::uint64_t>>::iterator> where_;
-  NodeCacheStats stats_;
+  std::unordered_map<std::uint32_t, std::uint64_t> sets_;  // leaf -> Node Set bytes
+  std::unique_ptr<ReplacementPolicy> policy_;
+  StatGroup stats_{"node_cache", "node_cache"};
+  Counter hits_{stats_, "hits"}, misses_{stats_, "misses"};
+  Counter read_bytes_{stats_, "read_bytes"}, fill_bytes_{stats_, "fill_bytes"};
+  Counter& energy_;
 };
 
 }  // namespace tigris::hw

@@ -10,9 +10,13 @@
 
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/node_cache.hpp"
+#include "hw/be/pe_array.hpp"
+#include "hw/clock.hpp"
 #include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
+#include "hw/observer.hpp"
 #include "hw/probe.hpp"
 #include "hw/stats.hpp"
 
@@ -20,25 +24,34 @@ namespace tigris::hw {
 
 class FrontEnd;
 class DistributionNetwork;
-class ResultDram;
+class ResultBuffer;
 
 class SearchUnit : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(SearchUnit);
   BufferPort points, results;
 
+  // What a Search Unit works with: the blocks it hands queries and results to.
+  struct Links {
+    const IssuePolicy& policy;
+    FrontEnd& fe;
+    DistributionNetwork& qdn;
+    NodeCache& cache;
+    ResultBuffer& result_buffer;
+    EnergyMeter& meter;
+    JobObserver& observer;
+  };
   SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
-             const IssuePolicy& policy, FrontEnd& fe, DistributionNetwork& qdn, NodeCache& cache,
-             ResultDram& dram, Job& job);
+             const JobDescriptor& job, Links links);
 
+  void start();  // a job starts: empty buffers, all PEs free, views onto the new job's data
   bool has_room() const { return bqb_.size() < capacity_; }
   std::size_t room() const { return capacity_ - bqb_.size(); }
   void accept(const QueryToken& token);  // from the QDN; the caller checked has_room()
-  void reset();
 
   std::size_t bqb_occupancy() const { return bqb_.size(); }
   std::uint32_t busy_pes() const { return pes_ - free_pes_; }
-  const SearchUnitStats& stats() const { return stats_; }
+  StatGroup& stats() { return stats_; }
   void attach_waves(VcdWriter& vcd, const std::string& scope) {
     bqb_wave_.attach(vcd, scope + ".bqb_occupancy", 16);
     pes_wave_.attach(vcd, scope + ".busy_pes", 16);
@@ -57,23 +70,31 @@ class SearchUnit : public sc_core::sc_module {
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
   // The Result Buffer words of the batch's NN/kNN slots, as one scattered access.
   tlm_if::AccessProfile slot_access(const std::vector<QueryToken>& tokens, bool write);
-  std::vector<std::uint64_t> slot_words_;
 
   std::uint32_t id_;
   const AcceleratorConfig& config_;
-  const IssuePolicy& policy_;
-  FrontEnd& fe_;
-  DistributionNetwork& qdn_;
-  NodeCache& cache_;
-  ResultDram& dram_;
-  Job& job_;
+  const JobDescriptor& job_;
+  Links links_;
+  Clock clock_;
   std::size_t capacity_;
   std::uint32_t pes_, free_pes_;
   std::uint64_t busy_until_ = 0;
   std::vector<QueryToken> bqb_;
   std::vector<Batch> running_;
+  PeArray pe_array_;
+  TreeView tree_;
+  std::vector<std::uint64_t> slot_words_;
   sc_core::sc_event wake_;
-  SearchUnitStats stats_;
+  StatGroup stats_;
+  Counter batches_{stats_, "batches"};              // Node Set streams through the PE array
+  Counter queries_{stats_, "queries"};              // query-leaf visits served
+  Counter busy_cycles_{stats_, "busy_cycles"};      // PE array streaming (fill, stream, drain)
+  Counter issue_stall_{stats_, "stall_cycles.issue_search"};  // associative search + issue
+  Counter sram_stall_{stats_, "stall_cycles.sram"};  // streaming slowed by buffer banks
+  Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // hits wait for the stream
+  Counter pe_busy_cycles_{stats_, "pe_busy_cycles"};  // sum over PEs of cycles holding a query
+  Counter bqb_max_{stats_, "bqb_max_occupancy", Counter::Merge::Max};
+  Counter& distance_energy_;
   Probe bqb_wave_, pes_wave_, leaf_wave_;
 };
 

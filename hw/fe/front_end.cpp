@@ -5,11 +5,14 @@
 namespace tigris::hw {
 
 FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                   DistributionNetwork& qdn, ResultDram& dram, Job& job)
-    : sc_module(name), config_(config), job_(job) {
-  for (int i = 0; i < config.fe.recursion_units; ++i)
-    rus.push_back(std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config,
-                                                  *this, qdn, dram, job));
+                   const JobDescriptor& job, DistributionNetwork& qdn, ResultBuffer& result_buffer,
+                   EnergyMeter& meter, JobObserver& observer)
+    : sc_module(name), job_(job), clock_{config.period()} {
+  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer};
+  for (int i = 0; i < config.fe.recursion_units; ++i) {
+    rus.push_back(std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config, job, links));
+    stats_.add(rus.back()->stats());
+  }
   SC_METHOD(dispatch);
   sensitive << wake_;
   dont_initialize();
@@ -18,13 +21,16 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
 void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
   on_all_done_ = std::move(on_all_done);
   fqq_.clear();
-  fqq_max_ = 0;
   next_query_ = finished_ = 0;
+  in_flight_.set(job_.slots);
   idle_rus_.clear();
-  for (auto it = rus.rbegin(); it != rus.rend(); ++it) idle_rus_.push_back(it->get());
+  for (auto it = rus.rbegin(); it != rus.rend(); ++it) {
+    (*it)->start_job();
+    idle_rus_.push_back(it->get());
+  }
   free_slots_.clear();
   for (std::uint32_t s = job_.slots; s-- > 0;) free_slots_.push_back(s);
-  const std::uint64_t now = job_.cycle();
+  const std::uint64_t now = clock_.now();
   while (admit(now)) {
   }
   if (job_.num_queries == 0 && on_all_done_) on_all_done_(now);
@@ -43,7 +49,7 @@ bool FrontEnd::admit(std::uint64_t cycle) {
 
 void FrontEnd::push(const QueryToken& token) {
   fqq_.push_back(token);
-  fqq_max_ = std::max(fqq_max_, fqq_.size());
+  fqq_max_.max(fqq_.size());
   fqq_wave_.set(fqq_.size());
   wake_.notify(sc_core::SC_ZERO_TIME);
 }
@@ -68,10 +74,10 @@ void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
 }
 
 void FrontEnd::dispatch() {
-  const std::uint64_t now = job_.cycle();
+  const std::uint64_t now = clock_.now();
   while (!idle_rus_.empty() && !fqq_.empty()) {
     if (fqq_.front().ready > now) {
-      wake_.notify((fqq_.front().ready - now) * job_.period);
+      wake_.notify(clock_.until(fqq_.front().ready));
       return;
     }
     RecursionUnit* ru = idle_rus_.back();

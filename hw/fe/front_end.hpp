@@ -11,10 +11,12 @@
 
 #include <systemc>
 
+#include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/fe/recursion_unit.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
+#include "hw/stats.hpp"
 
 namespace tigris::hw {
 
@@ -23,11 +25,14 @@ class FrontEnd : public sc_core::sc_module {
   SC_HAS_PROCESS(FrontEnd);
   std::vector<std::unique_ptr<RecursionUnit>> rus;
 
-  FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, DistributionNetwork& qdn,
-           ResultDram& dram, Job& job);
+  // Builds the Recursion Units; `ru_links.fe` is this front-end.
+  FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
+           DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter,
+           JobObserver& observer);
 
   // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
   void start(std::function<void(std::uint64_t)> on_all_done);
+  StatGroup& stats() { return stats_; }
 
   void reinsert(QueryToken token, std::uint64_t ready_cycle);  // from a Search Unit
   void ru_idle(RecursionUnit& ru);
@@ -40,7 +45,6 @@ class FrontEnd : public sc_core::sc_module {
     finished_wave_.attach(vcd, scope + ".queries_finished", 32);
     for (std::size_t i = 0; i < rus.size(); ++i) rus[i]->attach_waves(vcd, scope + ".ru" + std::to_string(i));
   }
-  std::size_t fqq_max_occupancy() const { return fqq_max_; }
   std::uint32_t finished() const { return finished_; }
   std::uint32_t admitted() const { return next_query_; }
 
@@ -49,16 +53,18 @@ class FrontEnd : public sc_core::sc_module {
   void push(const QueryToken& token);
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
-  const AcceleratorConfig& config_;
-  Job& job_;
+  const JobDescriptor& job_;
+  Clock clock_;
   std::deque<QueryToken> fqq_;
-  std::size_t fqq_max_ = 0;
   std::vector<RecursionUnit*> idle_rus_;
   std::vector<std::uint32_t> free_slots_;
   std::uint32_t next_query_ = 0, finished_ = 0;
   std::function<void(std::uint64_t)> on_all_done_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   sc_core::sc_event wake_;
+  StatGroup stats_{"fe", "front_end"};
+  Counter fqq_max_{stats_, "fqq.max_occupancy", Counter::Merge::Max};
+  Counter in_flight_{stats_, "fqq.queries_in_flight", Counter::Merge::Max};  // slots of the job
   Probe fqq_wave_, finished_wave_;
 };
 

@@ -3,20 +3,28 @@
 #include <algorithm>
 
 #include "hw/fe/front_end.hpp"
-#include "hw/mem/result_dram.hpp"
-#include "hw/mem/result_slots.hpp"
+#include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 
 namespace tigris::hw {
 
 RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
-                             FrontEnd& fe, DistributionNetwork& qdn, ResultDram& dram, Job& job)
+                             const JobDescriptor& job, Links links)
     : sc_module(name), points("points"), queries("queries"), stacks("stacks"),
-      results("results"), id_(id), config_(config), cost_(config.cost), fe_(fe), qdn_(qdn),
-      dram_(dram), job_(job) {
+      results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
+      clock_{config.period()}, stats_(basename(), "recursion_unit"),
+      node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)) {
   SC_METHOD(on_done);
   sensitive << done_;
   dont_initialize();
+}
+
+void RecursionUnit::start_job() {
+  state_ = State::Idle;
+  tree_ = TreeView(points.data(), job_);
+  slots_ = ResultSlots(results.data(), job_.k);
+  query_records_ = reinterpret_cast<const tlm_if::QueryRecord*>(queries.data());
+  stacks_ = reinterpret_cast<StackEntry*>(stacks.data());
 }
 
 void RecursionUnit::start(const QueryToken& token) {
@@ -24,44 +32,44 @@ void RecursionUnit::start(const QueryToken& token) {
   state_ = State::Walking;
   busy_wave_.set(1);
   query_wave_.set(token.query);
-  ++stats_.activations;
-  const std::uint64_t now = job_.cycle();
+  ++activations_;
+  const std::uint64_t now = clock_.now();
   const std::uint64_t pipeline = walk();
-  stats_.busy_cycles += pipeline;
+  busy_cycles_ += pipeline;
 
   // One transaction per buffer for the whole activation.
   tlm_if::AccessProfile a;
   std::uint64_t done = now + pipeline;
-  a.first_byte = std::uint64_t{token_.query} * 12, a.words = 1, a.bytes = 12;
-  done = std::max(done, queries.charge(now, a, job_.period));
-  a = {};
+  a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord), a.words = 1;
+  a.bytes = sizeof(tlm_if::QueryRecord);
+  done = std::max(done, queries.charge(now, a, clock_.period));
   tlm_if::AccessProfile reads = node_reads_.profile(sizeof(tlm_if::PointEntry));
-  if (!finished_) reads.bytes -= sizeof(tlm_if::PointEntry) - 4;  // the last read: a 4-byte directory entry
-  done = std::max(done, points.charge(now, reads, job_.period));
+  if (!finished_) reads.bytes -= sizeof(tlm_if::PointEntry) - sizeof(tlm_if::LeafDirEntry);  // the last: a directory entry
+  done = std::max(done, points.charge(now, reads, clock_.period));
   // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
-  done = std::max(done, stacks.charge(now, stack_pops_.profile(sizeof(StackSlotEntry)), job_.period));
-  tlm_if::AccessProfile pushes = stack_pushes_.profile(sizeof(StackSlotEntry));
+  done = std::max(done, stacks.charge(now, stack_pops_.profile(sizeof(StackEntry)), clock_.period));
+  tlm_if::AccessProfile pushes = stack_pushes_.profile(sizeof(StackEntry));
   pushes.write = true;
-  done = std::max(done, stacks.charge(now, pushes, job_.period));
-  if (job_.mode != tlm_if::SearchMode::Radius) {  // the result slot, read and written back
+  done = std::max(done, stacks.charge(now, pushes, clock_.period));
+  if (!job_.radius()) {  // the result slot, read and written back
+    const std::uint64_t word = static_cast<std::uint64_t>(config_.sram.results.word_bytes);
     a = {};
     a.first_byte = token_.slot * job_.result_slot_bytes;
-    a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + 7) / 8);
+    a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + word - 1) / word);
     a.bytes = job_.result_slot_bytes;
-    done = std::max(done, results.charge(now, a, job_.period));
+    done = std::max(done, results.charge(now, a, clock_.period));
     a.write = true;  // PI's last insert writes the slot back at the end of the walk (posted)
-    results.charge(now + pipeline, a, job_.period);
+    results.charge(now + pipeline, a, clock_.period);
   }
-  stats_.sram_stall_cycles += done - (now + pipeline);
+  sram_stall_ += done - (now + pipeline);
 
   // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
-  if (job_.mode != tlm_if::SearchMode::Radius && finished_) {
-    const ResultSlots slots(job_.result_slots, job_.k);
-    const std::uint32_t n = slots.count(token_.slot);
-    for (std::uint32_t i = 0; i < n; ++i)
-      hits_.push_back({token_.query, slots.entries(token_.slot)[i].index, slots.entries(token_.slot)[i].dist2});
+  if (!job_.radius() && finished_) {
+    const Neighbor* e = slots_.entries(token_.slot);
+    for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
+      hits_.push_back({token_.query, e[i].index, e[i].dist2});
   }
-  done_.notify((done - now) * job_.period);
+  done_.notify(clock_.until(done));
 }
 
 std::uint64_t RecursionUnit::walk() {
@@ -70,99 +78,102 @@ std::uint64_t RecursionUnit::walk() {
   stack_pushes_.clear();
   hits_.clear();
   finished_ = false;
-  QueryCounters& count = job_.counters[token_.query];
-  ResultSlots slots(job_.result_slots, job_.k);
-  StackSlotEntry* stack = job_.stacks + std::uint64_t{token_.slot} * job_.stack_entries;
-  const std::uint64_t stack_base = std::uint64_t{token_.slot} * job_.stack_entries * sizeof(StackSlotEntry);
-  const bool radius = job_.mode == tlm_if::SearchMode::Radius;
+  std::uint32_t top = 0, pruned = 0;
+  StackEntry* stack = stacks_ + std::uint64_t{token_.slot} * job_.stack_entries;
+  const std::uint64_t stack_base = job_.stack_base(token_.slot);
   const bool forwarding = config_.fe.forwarding, bypassing = config_.fe.bypassing;
 
   // FQ: fetch the query point and its stack address.
   std::uint64_t cycles = static_cast<std::uint64_t>(cost_.ru_fetch_query);
-  const Point3 q = job_.query(token_.query);
+  const tlm_if::QueryRecord& r = query_records_[token_.query];
+  token_.point = Point3{r.x, r.y, r.z};
+  const Point3 q = token_.point;
   if (!token_.started) {
     token_.started = true;
     token_.sp = 0;
-    if (!radius) slots.clear(token_.slot);
-    if (job_.node_nonempty(0)) stack[token_.sp++] = {0, 0.0f};
+    if (!job_.radius()) slots_.clear(token_.slot);
+    if (tree_.node_nonempty(0)) stack[token_.sp++] = {0, 0.0f};
   }
   while (token_.sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
-    const StackSlotEntry tos = stack[--token_.sp];
-    stack_pops_.add(stack_base + token_.sp * sizeof(StackSlotEntry), cycles);
-    const float bound = radius ? job_.r2 : slots.bound(token_.slot);
+    const StackEntry tos = stack[--token_.sp];
+    stack_pops_.add(stack_base + token_.sp * sizeof(StackEntry), cycles);
+    const float bound = job_.radius() ? job_.r2 : slots_.bound(token_.slot);
     if (tos.plane2 > bound) {
-      ++count.pruned;
-      ++stats_.pruned;
+      ++pruned;
       const int c = bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass;
       cycles += static_cast<std::uint64_t>(c);
-      stats_.prune_cycles += static_cast<std::uint64_t>(c);
+      prune_cycles_ += static_cast<std::uint64_t>(c);
       continue;
     }
     std::uint32_t node = tos.node;
-    while (node < job_.num_top_nodes) {
+    while (node < tree_.num_top_nodes()) {
       // RN: read the node; CD: its distance to the query; PI: insert into the result, push
       // the far child with its plane distance, go on with the near child.
-      const tlm_if::PointEntry& e = job_.entries[node];
-      node_reads_.add(std::uint64_t{node} * sizeof(tlm_if::PointEntry), cycles);
-      ++count.top;
-      ++stats_.nodes;
+      const tlm_if::PointEntry& e = tree_.node(node);
+      node_reads_.add(tree_.node_address(node), cycles);
+      ++top;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
       if (!forwarding) {
         cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
-        stats_.pi_rs_stall_cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
+        pi_rs_stall_ += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
       }
       const Point3 p{e.x, e.y, e.z};
       const std::uint32_t index = e.tag & tlm_if::kIndexMask;
       const float d = dist2(q, p);
-      if (radius) {
+      if (job_.radius()) {
         if (d <= job_.r2) hits_.push_back({token_.query, index, d});
       } else {
-        slots.insert(token_.slot, index, d);
+        slots_.insert(token_.slot, {index, d});
       }
       const int axis = static_cast<int>(e.tag >> tlm_if::kAxisShift);
       const bool left = q[axis] < p[axis];
       const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
-      if (job_.node_nonempty(far_child)) {
-        stack_pushes_.add(stack_base + token_.sp * sizeof(StackSlotEntry), cycles);
+      if (tree_.node_nonempty(far_child)) {
+        stack_pushes_.add(stack_base + token_.sp * sizeof(StackEntry), cycles);
         stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
       }
-      if (!job_.node_nonempty(near_child)) break;
+      if (!tree_.node_nonempty(near_child)) break;
       node = near_child;
     }
-    if (node >= job_.num_top_nodes && job_.node_nonempty(node)) {
+    if (node >= tree_.num_top_nodes() && tree_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
-      token_.leaf = node - job_.num_top_nodes;
-      node_reads_.add(job_.leaf_dir_offset + std::uint64_t{token_.leaf} * 4, cycles);  // its size
-      return cycles + static_cast<std::uint64_t>(cost_.ru_drain);
+      token_.leaf = node - tree_.num_top_nodes();
+      node_reads_.add(tree_.dir_address(token_.leaf), cycles);  // its size
+      cycles += static_cast<std::uint64_t>(cost_.ru_drain);
+      node_energy_ += top;
+      links_.observer.walked(token_.query, top, pruned);
+      return cycles;
     }
   }
   finished_ = true;  // the stack is empty: the query's results leave the RU
+  node_energy_ += top;
+  links_.observer.walked(token_.query, top, pruned);
   return cycles + static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
 }
 
 void RecursionUnit::on_done() {
-  const std::uint64_t now = job_.cycle();
-  if (state_ == State::Blocked) stats_.bqb_full_stall_cycles += now - blocked_since_;
+  const std::uint64_t now = clock_.now();
+  if (state_ == State::Blocked) bqb_full_stall_ += now - blocked_since_;
   stalled_wave_.set(0);
   if (!hits_.empty()) {  // results leave through the write-back stream, which may push back
-    const std::uint64_t accepted = dram_.write(now, hits_.data(), hits_.size());
+    const std::uint64_t accepted = links_.result_buffer.stream(now, hits_.data(), hits_.size());
     hits_.clear();
     if (accepted > now) {
-      stats_.writeback_stall_cycles += accepted - now;
-      done_.notify((accepted - now) * job_.period);
+      writeback_stall_ += accepted - now;
+      done_.notify(clock_.until(accepted));
       return;
     }
   }
   if (finished_) {
     state_ = State::Idle;
     busy_wave_.set(0);
-    fe_.query_finished(token_, now);
-    fe_.ru_idle(*this);
+    links_.fe.query_finished(token_, now);
+    links_.fe.ru_idle(*this);
     return;
   }
-  if (!qdn_.route(token_, now, *this)) {
+  if (!links_.qdn.route(token_, now, *this)) {
     blocked_since_ = now;
     state_ = State::Blocked;
     stalled_wave_.set(1);
@@ -170,7 +181,7 @@ void RecursionUnit::on_done() {
   }
   state_ = State::Idle;
   busy_wave_.set(0);
-  fe_.ru_idle(*this);
+  links_.fe.ru_idle(*this);
 }
 
 void RecursionUnit::retry_dispatch() { done_.notify(sc_core::SC_ZERO_TIME); }

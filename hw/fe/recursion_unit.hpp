@@ -9,30 +9,44 @@
 
 #include <systemc>
 
+#include "hw/clock.hpp"
 #include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
+#include "hw/mem/result_slots.hpp"
+#include "hw/observer.hpp"
 #include "hw/probe.hpp"
 #include "hw/stats.hpp"
+#include "hw/tree_view.hpp"
 
 namespace tigris::hw {
 
 class FrontEnd;
 class DistributionNetwork;
-class ResultDram;
+class ResultBuffer;
 
 class RecursionUnit : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(RecursionUnit);
   BufferPort points, queries, stacks, results;
 
+  // What a Recursion Unit works with: the blocks it hands queries and results to.
+  struct Links {
+    FrontEnd& fe;
+    DistributionNetwork& qdn;
+    ResultBuffer& result_buffer;
+    EnergyMeter& meter;
+    JobObserver& observer;
+  };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
-                FrontEnd& fe, DistributionNetwork& qdn, ResultDram& dram, Job& job);
+                const JobDescriptor& job, Links links);
 
   int id() const { return id_; }
+  void start_job();                     // views onto the new job's data through the ports
   void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
   void retry_dispatch();                // the BE Query Buffer it waits for has room again
-  const RecursionUnitStats& stats() const { return stats_; }
+  StatGroup& stats() { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }
   std::uint32_t current_query() const { return token_.query; }
   void attach_waves(VcdWriter& vcd, const std::string& scope) {
@@ -50,17 +64,28 @@ class RecursionUnit : public sc_core::sc_module {
   int id_;
   const AcceleratorConfig& config_;
   const CostTable& cost_;
-  FrontEnd& fe_;
-  DistributionNetwork& qdn_;
-  ResultDram& dram_;
-  Job& job_;
+  const JobDescriptor& job_;
+  Links links_;
+  Clock clock_;
+  TreeView tree_;
+  ResultSlots slots_;
+  const tlm_if::QueryRecord* query_records_ = nullptr;
+  StackEntry* stacks_ = nullptr;
 
   State state_ = State::Idle;
   QueryToken token_;
   bool finished_ = false;
   std::uint64_t blocked_since_ = 0;
   sc_core::sc_event done_;
-  RecursionUnitStats stats_;
+  StatGroup stats_;
+  Counter activations_{stats_, "activations"};  // queries taken from the FQQ
+  Counter busy_cycles_{stats_, "busy_cycles"};  // pipeline cycles (FQ, nodes, stalls in the walk)
+  Counter pi_rs_stall_{stats_, "stall_cycles.pi_rs_dependency"};  // of busy: no forwarding
+  Counter sram_stall_{stats_, "stall_cycles.sram"};  // waiting for buffer banks beyond the pipeline
+  Counter bqb_full_stall_{stats_, "stall_cycles.bqb_full"};  // holding a query the BQB cannot take
+  Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // results wait for the stream
+  Counter prune_cycles_{stats_, "prune_cycles"};  // of busy: pruned nodes
+  Counter& node_energy_;
   Probe busy_wave_, stalled_wave_, query_wave_;
   // One buffer's accesses of a walk, in pipeline order with the cycle each is issued.
   struct AccessLog {

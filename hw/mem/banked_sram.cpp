@@ -5,17 +5,21 @@
 
 namespace tigris::hw {
 
-BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config,
-                       sc_core::sc_time period)
-    : sc_module(name), socket("socket"), config_(config), period_(period),
-      data_(config.bytes, 0), banks_(config.banks) {
+BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
+                       EnergyMeter& meter)
+    : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
+      banks_(config.banks), stats_(basename(), "buffer"),
+      read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
+                              EnergyMeter::Component::SramRead, meter.table().sram_read_pj_per_byte)),
+      write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
+                               EnergyMeter::Component::SramWrite, meter.table().sram_write_pj_per_byte)) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
   socket.register_transport_dbg(this, &BankedSram::transport_dbg);
 }
 
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
-  const std::uint64_t now = std::min(start, current_cycle());
+  const std::uint64_t now = std::min(start, clock_.now());
   const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   if (a.scatter && a.issue_offset) return charge_in_order(start, a);
@@ -41,19 +45,13 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   finish = std::max(finish, start + (n + ports - 1) / ports);
   const std::uint64_t lanes = std::min<std::uint64_t>(banks, ports);
   const std::uint64_t ideal = start + (n + lanes - 1) / lanes;
-  stats_.conflict_cycles += finish - ideal;
-  if (a.write) {
-    stats_.writes += n;
-    stats_.write_bytes += a.bytes;
-  } else {
-    stats_.reads += n;
-    stats_.read_bytes += a.bytes;
-  }
+  conflict_cycles_ += finish - ideal;
+  count(a.write, n, a.bytes);
   return finish + static_cast<std::uint64_t>(config_.latency_cycles);
 }
 
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
-  const std::uint64_t now = std::min(start, current_cycle());
+  const std::uint64_t now = std::min(start, clock_.now());
   const std::uint64_t banks = static_cast<std::uint64_t>(config_.banks);
   const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   std::uint64_t stall = 0, last = start;
@@ -63,22 +61,23 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
     stall += s - t;
     last = s + 1;
   }
-  stats_.conflict_cycles += stall;
-  (a.write ? stats_.writes : stats_.reads) += a.scatter_count;
-  (a.write ? stats_.write_bytes : stats_.read_bytes) += a.bytes;
+  conflict_cycles_ += stall;
+  count(a.write, a.scatter_count, a.bytes);
   return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) : start;
 }
 
-std::uint64_t BankedSram::current_cycle() const {
-  return static_cast<std::uint64_t>(sc_core::sc_time_stamp() / period_);
+void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
+  (write ? writes_ : reads_) += words;
+  (write ? write_bytes_ : read_bytes_) += bytes;
+  (write ? write_energy_ : read_energy_) += bytes;
 }
 
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
-  const std::uint64_t start = static_cast<std::uint64_t>((sc_core::sc_time_stamp() + delay) / period_);
+  const std::uint64_t start = static_cast<std::uint64_t>((sc_core::sc_time_stamp() + delay) / clock_.period);
   if (trans.get_command() == tlm::TLM_IGNORE_COMMAND) {
     tlm_if::AccessProfile* a = nullptr;
     trans.get_extension(a);
-    if (a) delay = (charge(start, *a)) * period_ - sc_core::sc_time_stamp();
+    if (a) delay = (charge(start, *a)) * clock_.period - sc_core::sc_time_stamp();
     trans.set_response_status(tlm::TLM_OK_RESPONSE);
     return;
   }
@@ -102,7 +101,7 @@ void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_t
   burst.first_byte = addr;
   burst.words = static_cast<std::uint32_t>((len + config_.word_bytes - 1) / config_.word_bytes);
   burst.bytes = len;
-  delay = charge(start, burst) * period_ - sc_core::sc_time_stamp();
+  delay = charge(start, burst) * clock_.period - sc_core::sc_time_stamp();
   trans.set_dmi_allowed(true);
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }
@@ -112,8 +111,8 @@ bool BankedSram::get_direct_mem_ptr(int, tlm::tlm_generic_payload&, tlm::tlm_dmi
   dmi.set_dmi_ptr(data_.data());
   dmi.set_start_address(0);
   dmi.set_end_address(data_.empty() ? 0 : data_.size() - 1);
-  dmi.set_read_latency(config_.latency_cycles * period_);
-  dmi.set_write_latency(period_);
+  dmi.set_read_latency(config_.latency_cycles * clock_.period);
+  dmi.set_write_latency(clock_.period);
   return true;
 }
 

@@ -14,7 +14,9 @@
 #include <tlm>
 #include <tlm_utils/multi_passthrough_target_socket.h>
 
+#include "hw/clock.hpp"
 #include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
 #include "hw/mem/bank_calendar.hpp"
 #include "hw/stats.hpp"
 #include "tlm/access_profile.hpp"
@@ -25,28 +27,34 @@ class BankedSram : public sc_core::sc_module {
  public:
   tlm_utils::multi_passthrough_target_socket<BankedSram> socket;
 
-  BankedSram(sc_core::sc_module_name name, const SramConfig& config, sc_core::sc_time period);
+  // Its accesses are charged to `meter` at the energy table's SRAM prices.
+  BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter);
 
-  std::uint8_t* data() { return data_.data(); }
   std::uint64_t size() const { return data_.size(); }
-  const BufferStats& stats() const { return stats_; }
-  void reset_stats() { stats_ = {}; }  // at START: the host's loads are not the job's traffic
+  // reads/writes (bank words), read_bytes/write_bytes (payload), conflict_cycles (lost to busy
+  // banks or ports); reset at START with the whole tree, so the host's loads are not counted.
+  StatGroup& stats() { return stats_; }
 
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
-  std::uint64_t current_cycle() const;
+  void count(bool write, std::uint64_t words, std::uint64_t bytes);
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   bool get_direct_mem_ptr(int id, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
 
   SramConfig config_;
-  sc_core::sc_time period_;
+  Clock clock_;
   std::vector<std::uint8_t> data_;
   std::vector<BankCalendar> banks_;
-  BufferStats stats_;
+  StatGroup stats_;
+  Counter reads_{stats_, "reads"}, writes_{stats_, "writes"};
+  Counter read_bytes_{stats_, "read_bytes"}, write_bytes_{stats_, "write_bytes"};
+  Counter conflict_cycles_{stats_, "conflict_cycles"};
+  Counter& read_energy_;
+  Counter& write_energy_;
 };
 
 }  // namespace tigris::hw

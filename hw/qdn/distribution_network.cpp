@@ -7,18 +7,17 @@
 
 namespace tigris::hw {
 
-DistributionNetwork::DistributionNetwork(const AcceleratorConfig& config, Job& job)
-    : cost_(config.cost), job_(job) {}
+DistributionNetwork::DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config)
+    : sc_module(name), cost_(config.cost) {}
 
 void DistributionNetwork::connect(std::vector<SearchUnit*> units) {
   units_ = std::move(units);
-  reset();
+  start();
 }
 
-void DistributionNetwork::reset() {
+void DistributionNetwork::start() {
   port_free_.assign(units_.size(), 0);
   waiting_.assign(units_.size(), {});
-  stats_ = {};
 }
 
 bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, RecursionUnit& from) {
@@ -29,9 +28,8 @@ bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, Recu
   }
   const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency);
   const std::uint64_t arrival = std::max(earliest, port_free_[su]);
-  stats_.port_wait_cycles += arrival - earliest;
+  port_wait_ += arrival - earliest;
   port_free_[su] = arrival + static_cast<std::uint64_t>(cost_.qdn_port_interval);
-  ++stats_.queries;
   QueryToken t = token;
   t.ready = arrival;
   units_[su]->accept(t);

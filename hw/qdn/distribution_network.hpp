@@ -7,6 +7,8 @@
 #include <deque>
 #include <vector>
 
+#include <systemc>
+
 #include "hw/config.hpp"
 #include "hw/job.hpp"
 #include "hw/stats.hpp"
@@ -16,26 +18,26 @@ namespace tigris::hw {
 class RecursionUnit;
 class SearchUnit;
 
-class DistributionNetwork {
+class DistributionNetwork : public sc_core::sc_module {
  public:
-  DistributionNetwork(const AcceleratorConfig& config, Job& job);
+  DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config);
 
   void connect(std::vector<SearchUnit*> units);
-  void reset();
+  void start();  // a job starts: ports free, nobody waiting
   std::uint32_t target(std::uint32_t leaf) const { return leaf % static_cast<std::uint32_t>(units_.size()); }
   // Sends `token` at cycle `now`; false when the target's BE Query Buffer is full (`from`
   // is then woken through retry_dispatch() when it has room).
   bool route(const QueryToken& token, std::uint64_t now, RecursionUnit& from);
   void space_freed(std::uint32_t su);  // a Search Unit issued queries out of its buffer
-  const QdnStats& stats() const { return stats_; }
+  StatGroup& stats() { return stats_; }
 
  private:
   const CostTable& cost_;
-  Job& job_;
   std::vector<SearchUnit*> units_;
   std::vector<std::uint64_t> port_free_;
   std::vector<std::deque<RecursionUnit*>> waiting_;
-  QdnStats stats_;
+  StatGroup stats_{"qdn", "qdn"};
+  Counter port_wait_{stats_, "port_wait_cycles"};  // queries waited for their SU port
 };
 
 }  // namespace tigris::hw

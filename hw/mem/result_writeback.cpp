@@ -1,4 +1,4 @@
-#include "result_dram.hpp"
+#include "result_writeback.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,42 +6,46 @@
 
 namespace tigris::hw {
 
-ResultDram::ResultDram(sc_core::sc_module_name name, const AcceleratorConfig& config)
+ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                                 EnergyMeter& meter)
     : sc_module(name), socket("socket"), config_(config.dram),
-      host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), period_(config.period()) {
-  socket.register_b_transport(this, &ResultDram::b_transport);
+      host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), clock_{config.period()},
+      dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)) {
+  socket.register_b_transport(this, &ResultWriteback::b_transport);
 }
 
-void ResultDram::reset(std::uint64_t stream_buffer_bytes) {
+void ResultWriteback::start(std::uint64_t cycle, std::uint64_t stream_buffer_bytes) {
   region_.clear();
+  origin_ = cycle;
   drain_free_ = 0.0;
   buffer_bytes_ = std::max<std::uint64_t>(stream_buffer_bytes, sizeof(tlm_if::ResultRecord));
-  stall_cycles_ = 0;
 }
 
-std::uint64_t ResultDram::write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n) {
-  const double bytes = static_cast<double>(n * sizeof(tlm_if::ResultRecord));
+std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n) {
+  const std::uint64_t bytes_n = n * sizeof(tlm_if::ResultRecord);
+  const double bytes = static_cast<double>(bytes_n);
   const double bw = config_.bytes_per_cycle;
   // Backlog still in the stream buffer at `accept`: (drain_free_ - accept) * bw bytes.
-  double accept = static_cast<double>(now);
+  double accept = static_cast<double>(now - origin_);
   const double room_needed = bytes - static_cast<double>(buffer_bytes_);
   if (drain_free_ > accept && (drain_free_ - accept) * bw > -room_needed)
     accept = std::max(accept, drain_free_ + room_needed / bw);
   const auto accept_cycle = static_cast<std::uint64_t>(std::ceil(accept));
-  stall_cycles_ += accept_cycle - now;
   drain_free_ = std::max(drain_free_, static_cast<double>(accept_cycle)) + bytes / bw;
   const std::size_t old = region_.size();
-  region_.resize(old + n * sizeof(tlm_if::ResultRecord));
-  std::memcpy(region_.data() + old, records, n * sizeof(tlm_if::ResultRecord));
-  return accept_cycle;
+  region_.resize(old + bytes_n);
+  std::memcpy(region_.data() + old, records, bytes_n);
+  bytes_ += bytes_n;
+  dram_energy_ += bytes_n;
+  return origin_ + accept_cycle;
 }
 
-std::uint64_t ResultDram::drained_cycle() const {
+std::uint64_t ResultWriteback::drained_cycle() const {
   const auto latency = region_.empty() ? 0 : static_cast<std::uint64_t>(config_.latency_cycles);
-  return static_cast<std::uint64_t>(std::ceil(drain_free_)) + latency;
+  return origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + latency;
 }
 
-void ResultDram::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
+void ResultWriteback::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
   const std::uint64_t addr = trans.get_address(), len = trans.get_data_length();
   if (trans.get_command() != tlm::TLM_READ_COMMAND) {
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
@@ -52,7 +56,7 @@ void ResultDram::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& 
     return;
   }
   std::memcpy(trans.get_data_ptr(), region_.data() + addr, len);
-  delay += std::ceil(static_cast<double>(len) / host_bytes_per_cycle_) * period_;
+  delay += std::ceil(static_cast<double>(len) / host_bytes_per_cycle_) * clock_.period;
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 

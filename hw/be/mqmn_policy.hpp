@@ -1,0 +1,15 @@
+// MQMN (multi-query, multi Node Set): every arrived query goes to a free PE at once, each PE
+// streaming its own query's Node Set; no associative search.
+#pragma once
+
+#include "hw/be/issue_policy.hpp"
+
+namespace tigris::hw {
+
+class MqmnPolicy final : public IssuePolicy {
+ public:
+  IssueDecision pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
+                     std::uint64_t now) const override;
+};
+
+}  // namespace tigris::hw

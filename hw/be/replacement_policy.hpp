@@ -1,0 +1,20 @@
+// Which Node Set the Node Cache evicts: one small interface, one file per policy (LRU now).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+namespace tigris::hw {
+
+class ReplacementPolicy {
+ public:
+  virtual ~ReplacementPolicy() = default;
+  virtual void reset() = 0;
+  virtual void inserted(std::uint32_t leaf) = 0;  // a Node Set was filled
+  virtual void hit(std::uint32_t leaf) = 0;       // a cached Node Set was read
+  virtual std::uint32_t evict() = 0;              // chooses and forgets a victim (cache not empty)
+};
+
+std::unique_ptr<ReplacementPolicy> make_lru_replacement();
+
+}  // namespace tigris::hw

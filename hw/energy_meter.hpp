@@ -1,0 +1,44 @@
+// The energy meter (DESIGN.md section 14): units feed it operation and byte counts as they
+// happen, each on a line priced from the energy table (hw/energy_table.hpp); energy is count x
+// price per line, summed by component. Counting rather than adding picojoules keeps the totals
+// exact and independent of the order events happen in.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "hw/energy_table.hpp"
+#include "hw/stats.hpp"
+
+namespace tigris::hw {
+
+class EnergyMeter {
+ public:
+  // The components of `energy_pj` in the stats.
+  enum class Component { Pe, Ru, SramRead, SramWrite, NodeCache, Dram };
+
+  explicit EnergyMeter(const EnergyTable& table) : table_(table), stats_("energy") {}
+
+  const EnergyTable& table() const { return table_; }
+  StatGroup& stats() { return stats_; }
+  // The line `name` of `component` at `pj` per count (created by its first user, shared by the
+  // rest: every PE feeds "pe.distance"); its counter is in the meter's stats group.
+  Counter& line(const std::string& name, Component component, double pj);
+  // {pe, ru, sram_read, sram_write, node_cache, dram, total} in picojoules.
+  nlohmann::json energy_pj() const;
+
+ private:
+  struct Line {
+    Component component;
+    double pj;
+    Counter count;
+  };
+  const EnergyTable& table_;
+  StatGroup stats_;
+  std::vector<std::unique_ptr<Line>> lines_;
+};
+
+}  // namespace tigris::hw

@@ -1,0 +1,43 @@
+// The Result Buffer (paper section 5.2): one SRAM split between the NN/kNN query slots (the
+// `result_buffer.slot_fraction` share; layout in result_slots.hpp) and the double-buffered
+// stream area that the write-back drains to DRAM. Radius search keeps no slots: every hit is
+// streamed, so the whole buffer is stream area.
+#pragma once
+
+#include <cstdint>
+
+#include <systemc>
+
+#include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
+#include "hw/mem/banked_sram.hpp"
+#include "hw/mem/result_writeback.hpp"
+
+namespace tigris::hw {
+
+class ResultBuffer : public sc_core::sc_module {
+ public:
+  BankedSram sram;            // slots and stream area, bank by bank
+  ResultWriteback writeback;  // the stream to DRAM (a host window)
+
+  ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
+      : sc_module(name), sram("results", config.sram.results, Clock{config.period()}, meter),
+        writeback("writeback", config, meter) {}
+
+  // How many query slots of `slot_bytes` the slot share holds (0 bytes: no slots needed).
+  static std::uint64_t slot_capacity(const AcceleratorConfig& config, std::uint64_t slot_bytes) {
+    if (slot_bytes == 0) return ~std::uint64_t{0};
+    const double share = static_cast<double>(config.sram.results.bytes) * config.result_buffer.slot_fraction;
+    return static_cast<std::uint64_t>(share) / slot_bytes;
+  }
+  // A job starts at `cycle` with `slots` query slots of `slot_bytes`; the rest is stream area.
+  void start(std::uint64_t cycle, std::uint64_t slots, std::uint64_t slot_bytes) {
+    writeback.start(cycle, sram.size() - slots * slot_bytes);
+  }
+  // Streams records out at cycle `now`; returns the cycle they are accepted.
+  std::uint64_t stream(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n) {
+    return writeback.write(now, records, n);
+  }
+};
+
+}  // namespace tigris::hw

@@ -1,0 +1,53 @@
+// The result write-back stream: finished results leave the Result Buffer's double-buffered
+// stream area for DRAM at a fixed bandwidth; writers are held back only when both halves are
+// full. The DRAM region it fills is a window on the host socket, where the host driver reads
+// the records after done. Time is kept relative to the job's START, so a job run again on the
+// same accelerator rounds exactly as the first time.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_target_socket.h>
+
+#include "hw/clock.hpp"
+#include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
+#include "hw/stats.hpp"
+#include "tlm/address_map.hpp"
+
+namespace tigris::hw {
+
+class ResultWriteback : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_target_socket<ResultWriteback> socket;  // host reads of the DRAM region
+
+  ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter);
+
+  // A job starts at `cycle` with `stream_buffer_bytes` of Result Buffer for the stream.
+  void start(std::uint64_t cycle, std::uint64_t stream_buffer_bytes);
+  // Appends records at cycle `now`; returns the cycle they are accepted (backpressure).
+  std::uint64_t write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n);
+  // The cycle the last accepted byte reaches DRAM.
+  std::uint64_t drained_cycle() const;
+  std::uint64_t bytes() const { return region_.size(); }
+  StatGroup& stats() { return stats_; }
+
+ private:
+  void b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
+
+  AcceleratorConfig::Dram config_;
+  double host_bytes_per_cycle_;
+  Clock clock_;
+  std::vector<std::uint8_t> region_;
+  std::uint64_t origin_ = 0;  // the job's START cycle
+  double drain_free_ = 0.0;   // cycles after START at which the channel is idle again
+  std::uint64_t buffer_bytes_ = 0;
+  StatGroup stats_{"result_writeback"};
+  Counter bytes_{stats_, "bytes"};
+  Counter& dram_energy_;
+};
+
+}  // namespace tigris::hw

@@ -1,0 +1,57 @@
+#include "stats.hpp"
+
+#include <algorithm>
+
+namespace tigris::hw {
+
+namespace {
+
+nlohmann::json::json_pointer pointer(const std::string& dotted) {
+  std::string p = "/" + dotted;
+  std::replace(p.begin(), p.end(), '.', '/');
+  return nlohmann::json::json_pointer(p);
+}
+
+}  // namespace
+
+StatGroup::StatGroup(std::string name, std::string kind) : name_(std::move(name)), kind_(std::move(kind)) {}
+
+void StatGroup::reset() {
+  for (Counter* c : counters_) c->reset();
+  for (StatGroup* g : children_) g->reset();
+}
+
+nlohmann::json StatGroup::counters_json() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const Counter* c : counters_) j[pointer(c->name())] = c->value();
+  return j;
+}
+
+nlohmann::json StatGroup::to_json() const {
+  nlohmann::json j = counters_json();
+  for (const StatGroup* g : children_) j[g->name()] = g->to_json();
+  return j;
+}
+
+std::vector<const StatGroup*> StatGroup::find(const std::string& kind) const {
+  std::vector<const StatGroup*> out;
+  if (kind_ == kind) out.push_back(this);
+  for (const StatGroup* g : children_) {
+    const auto below = g->find(kind);
+    out.insert(out.end(), below.begin(), below.end());
+  }
+  return out;
+}
+
+nlohmann::json StatGroup::sum(const std::vector<const StatGroup*>& groups) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const StatGroup* g : groups)
+    for (const Counter* c : g->counters_) {
+      const auto p = pointer(c->name());
+      const std::uint64_t old = j.contains(p) ? j[p].get<std::uint64_t>() : 0;
+      j[p] = c->merge() == Counter::Merge::Max ? std::max(old, c->value()) : old + c->value();
+    }
+  return j;
+}
+
+}  // namespace tigris::hw
