@@ -1,25 +1,24 @@
 // bench_search: single-threaded timing of the golden model's KD-tree (sw_ref) against nanoflann
 // and FLANN, and the two-stage tree's redundancy (paper section 4.1) and visit distributions.
 //
-// Prints Markdown tables to stdout, progress to stderr. See bench/README.md for what each table
-// means. Usage: bench_search [--kitti DIR] [--runs N] [--quick]
+// Prints Markdown tables to stdout; Google Benchmark's report goes to stderr as progress. See
+// bench/README.md for what each table means. Usage: bench_search [--kitti DIR] [--runs N] [--quick]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <benchmark/benchmark.h>
 #include <flann/flann.hpp>
 #include <nanoflann.hpp>
 
@@ -40,7 +39,6 @@ namespace {
 
 using tigris::Mode;
 using tigris::PointCloud;
-using Clock = std::chrono::steady_clock;
 
 constexpr int kLeafMaxSize = 10;     // nanoflann / FLANN bucket size
 constexpr int kTwoStageHeight = 10;  // the paper's top height
@@ -51,69 +49,38 @@ constexpr int kKnnK = 10;
 struct Options {
   std::string kitti_dir = TIGRIS_BENCH_KITTI_DIR;
   int runs = 5;
-  bool runs_given = false;
   bool quick = false;
 };
 
-[[noreturn]] void usage(int code) {
-  std::fprintf(code == 0 ? stdout : stderr,
-               "usage: bench_search [--kitti DIR] [--runs N] [--quick]\n"
-               "  --kitti DIR  KITTI directory with 000000.bin (tree) and 000001.bin (queries)\n"
-               "               (default: %s; the workload is skipped if absent)\n"
-               "  --runs N     timed runs; tables report medians (default 5; --quick: 1)\n"
-               "  --quick      smoke run: every 16th query only\n",
-               TIGRIS_BENCH_KITTI_DIR);
-  std::exit(code);
-}
-
-Options parse_options(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "bench_search: %s needs a value\n", a.c_str());
-        usage(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--kitti") {
-      o.kitti_dir = value();
-    } else if (a == "--runs") {
-      const std::string v = value();
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (end == v.c_str() || *end != '\0' || n < 1 || n > 1000) {
-        std::fprintf(stderr, "bench_search: --runs needs an integer in 1..1000, got '%s'\n", v.c_str());
-        usage(2);
-      }
-      o.runs = static_cast<int>(n);
-      o.runs_given = true;
-    } else if (a == "--quick") {
-      o.quick = true;
-    } else if (a == "--help" || a == "-h") {
-      usage(0);
-    } else {
-      std::fprintf(stderr, "bench_search: unknown argument '%s'\n", a.c_str());
-      usage(2);
-    }
+// Parses argv into `o`; returns -1 to go on, or the exit code (0 after --help, 2 on a bad flag).
+int parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"bench_search: times the golden model's KD-tree searches (sw_ref) against nanoflann "
+               "and FLANN on one thread, and prints the two-stage tree's redundancy and visit "
+               "distributions. Markdown tables go to stdout, progress to stderr."};
+  app.add_option("--kitti", o.kitti_dir,
+                 "KITTI directory holding 000000.bin (tree) and 000001.bin (queries); the KITTI "
+                 "workload is skipped if either file is missing")
+      ->type_name("DIR")
+      ->capture_default_str();
+  CLI::Option* runs =
+      app.add_option("--runs", o.runs,
+                     "timed repetitions of every build and search; the tables report medians "
+                     "(default 5, or 1 with --quick)")
+          ->type_name("N")
+          ->check(CLI::TypeValidator<int>(""))  // "abc" gets a parse error, not a range one
+          ->check(CLI::Range(1, 1000));
+  app.add_flag("--quick", o.quick,
+               "smoke run: search every 16th query only (every 64th for radius 0.75)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // exit() prints the help or the error
   }
-  if (o.quick && !o.runs_given) o.runs = 1;
-  return o;
+  if (o.quick && runs->count() == 0) o.runs = 1;
+  return -1;
 }
 
 // ---- small helpers -------------------------------------------------------------------------------
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 std::string fmt(const char* f, double x) {
   char buf[64];
@@ -215,28 +182,49 @@ tigris::SearchParams sw_params(const Row& row) {
   return p;
 }
 
-// Builds implementation `impl` into `trees`, returns seconds.
-double build(Impl impl, const Workload& w, std::vector<float>& cloud_flat, Trees& t) {
-  const auto t0 = Clock::now();
+// Runs `work` under Google Benchmark's timer, once per iteration of `state`; without a state (the
+// untimed answer pass) runs it once.
+template <class Work>
+void timed(benchmark::State* state, Work&& work) {
+  if (!state) return work();
+  for (auto _ : *state) {
+    work();
+    benchmark::ClobberMemory();  // the outputs are never read: keep the stores
+  }
+}
+
+// Builds implementation `impl` into `t`, timed by `state` if given. The old tree is freed first,
+// outside the timer, so build times cover construction only.
+void build(Impl impl, const Workload& w, std::vector<float>& cloud_flat, Trees& t,
+           benchmark::State* state) {
   switch (impl) {
-    case kCanonical: t.canonical = tigris::build_kdtree(w.cloud, -1); break;
-    case kTwoStage: t.two_stage = tigris::build_kdtree(w.cloud, kTwoStageHeight); break;
-    case kNanoflann:
+    case kCanonical:
+      t.canonical = {};
+      timed(state, [&] { t.canonical = tigris::build_kdtree(w.cloud, -1); });
+      break;
+    case kTwoStage:
+      t.two_stage = {};
+      timed(state, [&] { t.two_stage = tigris::build_kdtree(w.cloud, kTwoStageHeight); });
+      break;
+    case kNanoflann: {
       t.nano.reset();
-      t.nano_cloud = std::make_unique<NanoCloud>(NanoCloud{&cloud_flat});
-      t.nano = std::make_unique<NanoTree>(3, *t.nano_cloud,
-                                          nanoflann::KDTreeSingleIndexAdaptorParams(kLeafMaxSize));
-      break;  // the constructor builds the index
+      if (!t.nano_cloud) t.nano_cloud = std::make_unique<NanoCloud>(NanoCloud{&cloud_flat});
+      const nanoflann::KDTreeSingleIndexAdaptorParams params(kLeafMaxSize);
+      // The constructor builds the index.
+      timed(state, [&] { t.nano = std::make_unique<NanoTree>(3, *t.nano_cloud, params); });
+      break;
+    }
     case kFlann: {
       t.flann.reset();
       flann::Matrix<float> data(cloud_flat.data(), cloud_flat.size() / 3, 3);
-      t.flann = std::make_unique<FlannIndex>(data, flann::KDTreeSingleIndexParams(kLeafMaxSize));
-      t.flann->buildIndex();
+      timed(state, [&] {
+        t.flann = std::make_unique<FlannIndex>(data, flann::KDTreeSingleIndexParams(kLeafMaxSize));
+        t.flann->buildIndex();
+      });
       break;
     }
     default: break;
   }
-  return seconds_since(t0);
 }
 
 // sw_ref answer in the common comparison form.
@@ -264,54 +252,52 @@ RowAnswer answer_from_results(const Row& row, const tigris::Results& r) {
   return a;
 }
 
-// Runs one row on one implementation; returns seconds. Fills `answer` (and, for sw_ref, `out`)
-// when asked to keep them.
-double run_search(Impl impl, const Trees& t, const Row& row, QuerySet& qs, RowAnswer* answer,
-                  tigris::SearchOutput* out) {
+// Runs one row on one implementation, timed by `state` if given. Without a state (the answer
+// pass) it fills `answer` and, for sw_ref, `out`. The baselines write into buffers allocated
+// before the timer starts (sw_ref builds its result arrays inside search()).
+void run_search(Impl impl, const Trees& t, const Row& row, QuerySet& qs, benchmark::State* state,
+                RowAnswer* answer = nullptr, tigris::SearchOutput* out = nullptr) {
   const std::size_t nq = qs.points.size();
   const std::size_t k = row.mode == Mode::KNN ? static_cast<std::size_t>(row.k) : 1;
   const float r2 = tigris::square(row.radius);  // nanoflann / FLANN take the squared radius
-  double secs = 0.0;
 
   if (impl == kCanonical || impl == kTwoStage) {
     const tigris::KdTree& tree = impl == kCanonical ? t.canonical : t.two_stage;
     const tigris::SearchParams p = sw_params(row);
-    const auto t0 = Clock::now();
-    tigris::SearchOutput o = tigris::search(tree, qs.points, p);
-    secs = seconds_since(t0);
+    tigris::SearchOutput o;  // freed after the loop, outside the timer
+    timed(state, [&] { o = tigris::search(tree, qs.points, p); });
     if (answer) *answer = answer_from_results(row, o.results);
     if (out) *out = std::move(o);
-    return secs;
+    return;
   }
 
-  // Baselines write into preallocated buffers (sw_ref builds its result arrays inside search()).
   if (impl == kNanoflann) {
     const NanoTree& tree = *t.nano;
     if (row.mode == Mode::Radius) {
       std::vector<std::uint32_t> counts(nq);
-      std::vector<std::uint64_t> hashes(nq);
-      std::vector<std::pair<std::uint32_t, float>> matches;
+      std::vector<std::uint64_t> hashes(answer ? nq : 0);
+      std::vector<std::pair<std::uint32_t, float>> matches;  // reused: nanoflann clears it
       const nanoflann::SearchParams sp(32, 0.0f, true);
-      const auto t0 = Clock::now();
-      for (std::size_t q = 0; q < nq; ++q) {
-        counts[q] = static_cast<std::uint32_t>(tree.radiusSearch(&qs.flat[3 * q], r2, matches, sp));
-        if (answer) {  // outside the search proper but inside the timed loop: cheap
-          std::uint64_t h = 0;
-          for (const auto& m : matches) h += mix(m.first);
-          hashes[q] = h;
+      timed(state, [&] {
+        for (std::size_t q = 0; q < nq; ++q) {
+          counts[q] = static_cast<std::uint32_t>(tree.radiusSearch(&qs.flat[3 * q], r2, matches, sp));
+          if (answer) {  // the untimed answer pass only: the match list is gone afterwards
+            std::uint64_t h = 0;
+            for (const auto& m : matches) h += mix(m.first);
+            hashes[q] = h;
+          }
         }
-      }
-      secs = seconds_since(t0);
+      });
       if (answer) answer->count = std::move(counts), answer->set_hash = std::move(hashes);
     } else {
       std::vector<std::uint32_t> idx(nq * k, tigris::kNoPoint);
       std::vector<float> d2(nq * k);
-      const auto t0 = Clock::now();
-      for (std::size_t q = 0; q < nq; ++q) tree.knnSearch(&qs.flat[3 * q], k, &idx[q * k], &d2[q * k]);
-      secs = seconds_since(t0);
+      timed(state, [&] {
+        for (std::size_t q = 0; q < nq; ++q) tree.knnSearch(&qs.flat[3 * q], k, &idx[q * k], &d2[q * k]);
+      });
       if (answer) answer->first_index = std::move(idx);
     }
-    return secs;
+    return;
   }
 
   // FLANN: exact (unlimited checks, eps 0), sorted, one core; all queries in one call.
@@ -320,11 +306,9 @@ double run_search(Impl impl, const Trees& t, const Row& row, QuerySet& qs, RowAn
   sp.cores = 1;
   flann::Matrix<float> qm(qs.flat.data(), nq, 3);
   if (row.mode == Mode::Radius) {
-    std::vector<std::vector<std::size_t>> idx;
+    std::vector<std::vector<std::size_t>> idx;  // FLANN sizes these itself, inside the timer
     std::vector<std::vector<float>> d2;
-    const auto t0 = Clock::now();
-    index.radiusSearch(qm, idx, d2, r2, sp);
-    secs = seconds_since(t0);
+    timed(state, [&] { index.radiusSearch(qm, idx, d2, r2, sp); });
     if (answer) {
       answer->count.resize(nq);
       answer->set_hash.resize(nq);
@@ -340,15 +324,12 @@ double run_search(Impl impl, const Trees& t, const Row& row, QuerySet& qs, RowAn
     std::vector<float> d2(nq * k);
     flann::Matrix<std::size_t> im(idx.data(), nq, k);
     flann::Matrix<float> dm(d2.data(), nq, k);
-    const auto t0 = Clock::now();
-    index.knnSearch(qm, im, dm, k, sp);
-    secs = seconds_since(t0);
+    timed(state, [&] { index.knnSearch(qm, im, dm, k, sp); });
     if (answer) {
       answer->first_index.resize(nq * k);
       for (std::size_t i = 0; i < nq * k; ++i) answer->first_index[i] = static_cast<std::uint32_t>(idx[i]);
     }
   }
-  return secs;
 }
 
 // ---- agreement of a baseline with sw_ref ------------------------------------------------------------
@@ -432,88 +413,161 @@ double mean_nodes(const tigris::VisitTotals& t, std::size_t nq) {
   return nq ? static_cast<double>(t.top + t.leaf_points) / static_cast<double>(nq) : 0.0;
 }
 
-void bench_workload(const Workload& w, const Options& opt) {
-  const int base_stride = opt.quick ? 16 : 1;
+// ---- one workload ---------------------------------------------------------------------------------
+
+// A workload's searches: the rows, their query subsets (by stride) and the trees.
+struct Bench {
+  const Workload& w;
+  std::vector<Row> rows;
+  std::map<int, QuerySet> query_sets;
+  std::vector<float> cloud_flat;  // the tree points in the layout the baselines read
+  Trees trees;
+
+  QuerySet& queries(std::size_t r) { return query_sets.at(rows[r].stride); }
+};
+
+void init_bench(Bench& b, bool quick) {
+  const int base_stride = quick ? 16 : 1;
   // Radius 0.75 m is ~10x the work of 0.30 m on LiDAR clouds (dense ground near the sensor):
   // it searches every 4th query to keep the default run within a few minutes.
-  const std::vector<Row> rows = {
+  b.rows = {
       {"NN", Mode::NN, 1, 0.0f, base_stride},
       {"kNN k=10", Mode::KNN, kKnnK, 0.0f, base_stride},
       {"radius r=0.30", Mode::Radius, 1, 0.30f, base_stride},
       {"radius r=0.75", Mode::Radius, 1, 0.75f, 4 * base_stride},
   };
-
-  std::map<int, QuerySet> query_sets;  // by stride
-  for (const Row& r : rows) {
-    QuerySet& qs = query_sets[r.stride];
+  for (const Row& r : b.rows) {
+    QuerySet& qs = b.query_sets[r.stride];
     if (!qs.points.empty()) continue;
     qs.stride = r.stride;
-    for (std::size_t i = 0; i < w.queries.size(); i += static_cast<std::size_t>(r.stride))
-      qs.points.push_back(w.queries[i]);
+    for (std::size_t i = 0; i < b.w.queries.size(); i += static_cast<std::size_t>(r.stride))
+      qs.points.push_back(b.w.queries[i]);
     qs.flat = flatten(qs.points);
   }
-  std::vector<float> cloud_flat = flatten(w.cloud);
-  const std::size_t n = w.cloud.size();
+  b.cloud_flat = flatten(b.w.cloud);
+}
 
-  std::printf("## Workload: %s\n\n", w.name.c_str());
-  std::printf("%s. Tree: %zu points; queries: %zu. Medians of %d run%s, one thread.\n\n",
-              w.source.c_str(), n, w.queries.size(), opt.runs, opt.runs == 1 ? "" : "s");
+// What the untimed pass keeps: every implementation's answers, and sw_ref's visit counts for the
+// redundancy and distribution tables (visit counts are deterministic).
+struct Answers {
+  std::vector<std::vector<RowAnswer>> rows;              // [impl][row]
+  std::vector<tigris::SearchOutput> canonical, two_stage;  // [row]
+};
 
-  // Timed runs. Each run rebuilds all four trees, then runs every row on every implementation;
-  // interleaving the runs spreads machine noise over all cells.
-  std::vector<double> build_s[kNumImpls];
-  std::vector<std::vector<std::vector<double>>> times(kNumImpls,
-                                                      std::vector<std::vector<double>>(rows.size()));
-  std::vector<std::vector<RowAnswer>> answers(kNumImpls, std::vector<RowAnswer>(rows.size()));
-  // sw_ref outputs of the first run: visit counts for the redundancy and distribution tables.
-  std::vector<tigris::SearchOutput> canon_out(rows.size()), two_out(rows.size());
-
-  Trees trees;
-  for (int run = 0; run < opt.runs; ++run) {
-    std::fprintf(stderr, "[%s] run %d/%d: building", w.name.c_str(), run + 1, opt.runs);
-    for (int i = 0; i < kNumImpls; ++i)
-      build_s[i].push_back(build(static_cast<Impl>(i), w, cloud_flat, trees));
-    std::fprintf(stderr, ", searching");
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      QuerySet& qs = query_sets.at(rows[r].stride);
-      for (int i = 0; i < kNumImpls; ++i) {
-        const bool keep = run == 0;
-        tigris::SearchOutput* out = nullptr;
-        if (keep && i == kCanonical) out = &canon_out[r];
-        if (keep && i == kTwoStage) out = &two_out[r];
-        times[i][r].push_back(
-            run_search(static_cast<Impl>(i), trees, rows[r], qs, keep ? &answers[i][r] : nullptr, out));
-        // Only keep per-query visits where the tables need them (memory).
-        if (out && r != 0 && r != 2) out->per_query = {};
-        if (out) out->results = {};
-      }
-      std::fprintf(stderr, " %s", rows[r].name.c_str());
+// Builds every tree and runs every search once, untimed: the answers for the agreement check,
+// which keeps that bookkeeping out of the timed loops, and a warm-up for them.
+Answers answer_pass(Bench& b) {
+  std::fprintf(stderr, "[%s] untimed pass: building trees, checking answers\n", b.w.name.c_str());
+  const std::size_t nr = b.rows.size();
+  Answers a{std::vector<std::vector<RowAnswer>>(kNumImpls, std::vector<RowAnswer>(nr)),
+            std::vector<tigris::SearchOutput>(nr), std::vector<tigris::SearchOutput>(nr)};
+  for (int i = 0; i < kNumImpls; ++i) build(static_cast<Impl>(i), b.w, b.cloud_flat, b.trees, nullptr);
+  for (std::size_t r = 0; r < nr; ++r) {
+    for (int i = 0; i < kNumImpls; ++i) {
+      tigris::SearchOutput* out = i == kCanonical  ? &a.canonical[r]
+                                  : i == kTwoStage ? &a.two_stage[r]
+                                                   : nullptr;
+      run_search(static_cast<Impl>(i), b.trees, b.rows[r], b.queries(r), nullptr, &a.rows[i][r], out);
+      if (!out) continue;
+      // Memory: keep only the visit counts, and per-query visits only where a table uses them.
+      out->results = {};
+      if (r != 0 && r != 2) out->per_query = {};
     }
-    std::fprintf(stderr, "\n");
   }
+  return a;
+}
 
-  // 1. Build time.
-  std::printf("### Build time (median of %d)\n\n", opt.runs);
+// Google Benchmark reporter: keeps each benchmark's median real time per iteration (the "median"
+// aggregate; with --runs 1 there are no aggregates and the single run is reported instead), and
+// prints the usual console report to stderr as progress.
+class MedianCollector : public benchmark::ConsoleReporter {
+ public:
+  MedianCollector() : ConsoleReporter(OO_None) {
+    SetOutputStream(&std::cerr);
+    SetErrorStream(&std::cerr);
+  }
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
+      const double per_unit = benchmark::GetTimeUnitMultiplier(run.time_unit);
+      seconds_[run.run_name.function_name] = run.error_occurred ? NAN : run.GetAdjustedRealTime() / per_unit;
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+  double seconds(const std::string& name) const { return seconds_.at(name); }
+
+ private:
+  std::map<std::string, double> seconds_;
+};
+
+// Median seconds of the timed builds and searches.
+struct Timings {
+  double build[kNumImpls] = {};
+  std::vector<double> search[kNumImpls];  // [impl][row]
+};
+
+std::string bench_name(const Bench& b, const std::string& what, int impl) {
+  return b.w.name + "/" + what + "/" + kImplNames[impl];
+}
+
+// Registers every build and every (row, implementation) search as a Google Benchmark with one
+// iteration per repetition and `runs` repetitions, and runs them. Random interleaving (set in
+// main) shuffles the repetitions of all benchmarks, so machine noise is spread over all cells.
+Timings time_all(Bench& b, int runs) {
+  auto add = [runs](const std::string& name, auto fn) {
+    benchmark::RegisterBenchmark(name.c_str(), fn)
+        ->Iterations(1)
+        ->Repetitions(runs)
+        ->ReportAggregatesOnly(true)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
+  };
+  for (int i = 0; i < kNumImpls; ++i)
+    add(bench_name(b, "build", i),
+        [&b, i](benchmark::State& s) { build(static_cast<Impl>(i), b.w, b.cloud_flat, b.trees, &s); });
+  for (std::size_t r = 0; r < b.rows.size(); ++r)
+    for (int i = 0; i < kNumImpls; ++i)
+      add(bench_name(b, b.rows[r].name, i), [&b, r, i](benchmark::State& s) {
+        run_search(static_cast<Impl>(i), b.trees, b.rows[r], b.queries(r), &s);
+      });
+
+  MedianCollector collector;
+  benchmark::RunSpecifiedBenchmarks(&collector);
+  benchmark::ClearRegisteredBenchmarks();
+
+  Timings t;
+  for (int i = 0; i < kNumImpls; ++i) {
+    t.build[i] = collector.seconds(bench_name(b, "build", i));
+    for (const Row& row : b.rows) t.search[i].push_back(collector.seconds(bench_name(b, row.name, i)));
+  }
+  return t;
+}
+
+// ---- tables ---------------------------------------------------------------------------------------
+
+void print_build_table(const Timings& t, int runs) {
+  std::printf("### Build time (median of %d)\n\n", runs);
   std::printf("| implementation | build (ms) |\n|---|---:|\n");
   for (int i = 0; i < kNumImpls; ++i)
-    std::printf("| %s | %s |\n", kImplNames[i], fmt("%.1f", 1e3 * median(build_s[i])).c_str());
+    std::printf("| %s | %s |\n", kImplNames[i], fmt("%.1f", 1e3 * t.build[i]).c_str());
   std::printf("\n");
+}
 
-  // 2. Queries per second.
-  std::printf("### Queries per second (median of %d)\n\n", opt.runs);
+void print_qps_table(Bench& b, const Timings& t, int runs) {
+  std::printf("### Queries per second (median of %d)\n\n", runs);
   std::printf("| search | queries | sw_ref canonical | sw_ref 2-stage h=10 | nanoflann | FLANN | "
               "canonical / nanoflann time |\n|---|---:|---:|---:|---:|---:|---:|\n");
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const std::size_t nq = query_sets.at(rows[r].stride).points.size();
-    std::string label = rows[r].name;
-    if (rows[r].stride > 1) label += " (every " + std::to_string(rows[r].stride) + "th query)";
+  for (std::size_t r = 0; r < b.rows.size(); ++r) {
+    const std::size_t nq = b.queries(r).points.size();
+    std::string label = b.rows[r].name;
+    if (b.rows[r].stride > 1) label += " (every " + std::to_string(b.rows[r].stride) + "th query)";
     std::printf("| %s | %zu |", label.c_str(), nq);
     for (int i = 0; i < kNumImpls; ++i)
-      std::printf(" %s |", grouped(static_cast<double>(nq) / median(times[i][r])).c_str());
-    std::printf(" %s |\n", fmt("%.2fx", median(times[kCanonical][r]) / median(times[kNanoflann][r])).c_str());
+      std::printf(" %s |", grouped(static_cast<double>(nq) / t.search[i][r]).c_str());
+    std::printf(" %s |\n", fmt("%.2fx", t.search[kCanonical][r] / t.search[kNanoflann][r]).c_str());
   }
-  const double nn_ratio = median(times[kCanonical][0]) / median(times[kNanoflann][0]);
-  if (w.name == "KITTI")
+  const double nn_ratio = t.search[kCanonical][0] / t.search[kNanoflann][0];
+  if (b.w.name == "KITTI")
     std::printf("\nNN: sw_ref canonical takes %.2fx nanoflann's time; the project target (within 2x "
                 "on KITTI) is %s.\n\n",
                 nn_ratio, nn_ratio <= 2.0 ? "met" : "NOT met");
@@ -521,8 +575,10 @@ void bench_workload(const Workload& w, const Options& opt) {
     std::printf("\nNN: sw_ref canonical takes %.2fx nanoflann's time (for reference; the 2x project "
                 "target is defined on KITTI).\n\n",
                 nn_ratio);
+}
 
-  // Sanity: the baselines against sw_ref canonical; the two-stage tree must match it exactly.
+// Sanity: the baselines against sw_ref canonical; the two-stage tree must match it exactly.
+void print_agreement(Bench& b, const Answers& a) {
   std::printf("### Agreement with sw_ref canonical\n\n");
   std::printf("NN/kNN: queries whose neighbour index list differs; of those, whose dist2 list "
               "(recomputed with sw_ref's dist2) also differs. Equal dist2 means a tie broken "
@@ -533,23 +589,26 @@ void bench_workload(const Workload& w, const Options& opt) {
               "(nanoflann and FLANN use a strict <). Examples are printed to stderr.\n\n");
   std::printf("| search | queries | implementation | differs | of which dist2 (NN/kNN) or count "
               "(radius) differs | unexplained |\n|---|---:|---|---:|---:|---:|\n");
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const QuerySet& qs = query_sets.at(rows[r].stride);
+  for (std::size_t r = 0; r < b.rows.size(); ++r) {
+    const QuerySet& qs = b.queries(r);
     for (int i : {kTwoStage, kNanoflann, kFlann}) {
-      const Agreement a = compare(rows[r], w, qs, answers[kCanonical][r], answers[i][r], kImplNames[i]);
-      std::printf("| %s | %zu | %s | %zu | %zu | %zu |\n", rows[r].name.c_str(), qs.points.size(),
-                  kImplNames[i], a.differs, a.dist_differs, a.unexplained);
+      const Agreement ag = compare(b.rows[r], b.w, qs, a.rows[kCanonical][r], a.rows[i][r], kImplNames[i]);
+      std::printf("| %s | %zu | %s | %zu | %zu | %zu |\n", b.rows[r].name.c_str(), qs.points.size(),
+                  kImplNames[i], ag.differs, ag.dist_differs, ag.unexplained);
     }
   }
   std::printf("\n");
-  answers.clear();
+}
 
-  // 3. Redundancy of the two-stage tree (paper section 4.1).
+// Redundancy of the two-stage tree (paper section 4.1) over a sweep of leaf-set sizes.
+void print_redundancy(Bench& b, const Answers& a) {
+  const std::vector<Row>& rows = b.rows;
+  const int full = b.trees.canonical.full_height;
   std::printf("### Two-stage redundancy (paper section 4.1)\n\n");
   std::printf("Nodes visited per query: two-stage = top visits + leaf-set points scanned; canonical "
               "= top visits of the full-height tree (%d levels). h = round(log2(n / leaf-set "
               "size)); mean leaf-set size = points in leaf sets / 2^h.",
-              trees.canonical.full_height);
+              full);
   if (rows[3].stride > 1)
     std::printf(" Radius 0.75 uses every %dth query, as in the timing table.", rows[3].stride);
   std::printf("\n\n| leaf-set size | h | mean leaf-set size |");
@@ -560,63 +619,87 @@ void bench_workload(const Workload& w, const Options& opt) {
   std::printf("\n|---:|---:|---:|");
   for (std::size_t r : red_rows) (void)r, std::printf("---:|---:|---:|");
   std::printf("\n");
+  const std::size_t n = b.w.cloud.size();
   for (int size : {8, 16, 32, 64, 128, 256}) {
-    const int full = trees.canonical.full_height;
     int h = static_cast<int>(std::lround(std::log2(static_cast<double>(n) / size)));
     h = std::clamp(h, 0, full);
-    std::fprintf(stderr, "[%s] redundancy: leaf-set size %d (h=%d)\n", w.name.c_str(), size, h);
+    std::fprintf(stderr, "[%s] redundancy: leaf-set size %d (h=%d)\n", b.w.name.c_str(), size, h);
     tigris::KdTree built;
-    if (h != kTwoStageHeight) built = tigris::build_kdtree(w.cloud, h);
-    const tigris::KdTree& t = h == kTwoStageHeight ? trees.two_stage : built;
+    if (h != kTwoStageHeight) built = tigris::build_kdtree(b.w.cloud, h);
+    const tigris::KdTree& t = h == kTwoStageHeight ? b.trees.two_stage : built;
     const double mean_leaf = static_cast<double>(t.leaf_index.size()) / static_cast<double>(t.num_leaves());
     std::printf("| %d | %d | %s |", size, h, fmt("%.1f", mean_leaf).c_str());
     for (std::size_t r : red_rows) {
-      const QuerySet& qs = query_sets.at(rows[r].stride);
+      const QuerySet& qs = b.queries(r);
       const std::size_t nq = qs.points.size();
-      tigris::VisitTotals two;
-      if (h == kTwoStageHeight) {
-        two = two_out[r].visits;
-      } else {
-        two = tigris::search(t, qs.points, sw_params(rows[r])).visits;
-      }
-      const double a = mean_nodes(two, nq), b = mean_nodes(canon_out[r].visits, nq);
-      std::printf(" %s | %s | %s |", fmt("%.1f", a).c_str(), fmt("%.1f", b).c_str(),
-                  fmt("%.2fx", a / b).c_str());
+      const tigris::VisitTotals two = h == kTwoStageHeight
+                                          ? a.two_stage[r].visits
+                                          : tigris::search(t, qs.points, sw_params(rows[r])).visits;
+      const double x = mean_nodes(two, nq), y = mean_nodes(a.canonical[r].visits, nq);
+      std::printf(" %s | %s | %s |", fmt("%.1f", x).c_str(), fmt("%.1f", y).c_str(),
+                  fmt("%.2fx", x / y).c_str());
     }
     std::printf("\n");
   }
   std::printf("\n");
+}
 
-  // 4. Distribution of nodes visited per query.
+// Distribution of nodes visited per query, for NN and radius 0.30.
+void print_visits(const Bench& b, const Answers& a) {
   std::printf("### Nodes visited per query (top + leaf-set points)\n\n");
   std::printf("| search | tree | mean | p50 | p99 | max |\n|---|---|---:|---:|---:|---:|\n");
   for (std::size_t r : {std::size_t{0}, std::size_t{2}}) {
     for (int i : {kCanonical, kTwoStage}) {
-      const tigris::SearchOutput& o = i == kCanonical ? canon_out[r] : two_out[r];
+      const tigris::SearchOutput& o = i == kCanonical ? a.canonical[r] : a.two_stage[r];
       std::vector<std::uint64_t> v;
       v.reserve(o.per_query.size());
       for (const tigris::QueryVisits& q : o.per_query) v.push_back(nodes_visited(q));
       const tigris::Distribution d = tigris::distribution(std::move(v));
-      std::printf("| %s | %s | %s | %llu | %llu | %llu |\n", rows[r].name.c_str(),
+      std::printf("| %s | %s | %s | %llu | %llu | %llu |\n", b.rows[r].name.c_str(),
                   i == kCanonical ? "canonical" : "2-stage h=10", fmt("%.1f", d.mean).c_str(),
                   static_cast<unsigned long long>(d.p50), static_cast<unsigned long long>(d.p99),
                   static_cast<unsigned long long>(d.max));
     }
   }
   std::printf("\n");
+}
+
+void bench_workload(const Workload& w, const Options& opt) {
+  Bench b{w, {}, {}, {}, {}};
+  init_bench(b, opt.quick);
+  Answers answers = answer_pass(b);
+  const Timings t = time_all(b, opt.runs);
+
+  std::printf("## Workload: %s\n\n", w.name.c_str());
+  std::printf("%s. Tree: %zu points; queries: %zu. Medians of %d run%s, one thread.\n\n",
+              w.source.c_str(), w.cloud.size(), w.queries.size(), opt.runs, opt.runs == 1 ? "" : "s");
+  print_build_table(t, opt.runs);
+  print_qps_table(b, t, opt.runs);
+  print_agreement(b, answers);
+  for (auto& per_impl : answers.rows) per_impl = {};  // memory: the agreement check is done
+  print_redundancy(b, answers);
+  print_visits(b, answers);
   std::fflush(stdout);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options opt = parse_options(argc, argv);
-  const auto t0 = Clock::now();
+  Options opt;
+  if (const int code = parse_options(argc, argv, opt); code >= 0) return code;
+  // Google Benchmark never sees our argv: it gets only the flag for randomly interleaved repetitions.
+  char arg0[] = "bench_search", arg1[] = "--benchmark_enable_random_interleaving=true";
+  char* bench_argv[] = {arg0, arg1, nullptr};
+  int bench_argc = 2;
+  benchmark::Initialize(&bench_argc, bench_argv);
+
+  const auto t0 = std::chrono::steady_clock::now();
   std::printf("# bench_search: sw_ref vs nanoflann %d.%d.%d vs FLANN %s\n\n", (NANOFLANN_VERSION >> 8) & 0xF,
               (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF, FLANN_VERSION_);
   std::printf("Single-threaded. nanoflann and FLANN: leaf max size %d, L2 (squared) distances, exact "
               "(FLANN: unlimited checks, eps 0, sorted). sw_ref: `search()` with "
-              "record_schedule=false; two-stage top height %d.%s\n\n",
+              "record_schedule=false; two-stage top height %d. Timed with Google Benchmark: one "
+              "pass over the queries per repetition, repetitions interleaved at random.%s\n\n",
               kLeafMaxSize, kTwoStageHeight, opt.quick ? " **--quick: every 16th query only.**" : "");
   try {
     {
@@ -642,7 +725,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_search: %s\n", e.what());
     return 1;
   }
-  const double total = seconds_since(t0);
+  benchmark::Shutdown();
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("Total wall time: %.1f s.\n", total);
   std::fprintf(stderr, "done in %.1f s\n", total);
   return 0;

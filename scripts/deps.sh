@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages the build needs, if any is missing (needs root or sudo).
 set -euo pipefail
 packages=(cmake g++ make pkg-config libsystemc-dev libeigen3-dev libpcl-dev catch2
-          nlohmann-json3-dev libcli11-dev libnanoflann-dev libflann-dev liblz4-dev)
+          nlohmann-json3-dev libcli11-dev libnanoflann-dev libflann-dev liblz4-dev
+          libbenchmark-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
