@@ -53,7 +53,12 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
   SC_METHOD(do_finish);
   sensitive << finish_;
   dont_initialize();
+  SC_METHOD(drive_irq);
+  sensitive << irq_changed_;
+  dont_initialize();
 }
+
+void TigrisAccelerator::drive_irq() { irq.write((csr_[kStatus / 4] & (kDone | kError)) != 0); }
 
 void TigrisAccelerator::host_b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
   const std::uint64_t addr = trans.get_address();
@@ -104,7 +109,7 @@ void TigrisAccelerator::csr_access(tlm::tlm_generic_payload& trans) {
       }
     } else if (offset == kStatus) {
       csr_[kStatus / 4] &= value;  // write 0 clears done/error, and the interrupt with it
-      if (!(csr_[kStatus / 4] & (kDone | kError))) irq.write(false);
+      irq_changed_.notify(sc_core::SC_ZERO_TIME);
     } else {
       reg = value;
     }
@@ -157,7 +162,7 @@ std::string TigrisAccelerator::configure_job() {
 void TigrisAccelerator::fail(std::uint32_t code) {
   csr_[kErrorCode / 4] = code;
   csr_[kStatus / 4] = kDone | kError;
-  irq.write(true);
+  irq_changed_.notify(sc_core::SC_ZERO_TIME);
 }
 
 void TigrisAccelerator::do_start() {
@@ -169,6 +174,7 @@ void TigrisAccelerator::do_start() {
   }
   start_cycle_ = clock_.now();
   stats_.reset();  // the host's loads are not the job's traffic
+  for (BankedSram* b : {&points_, &queries_, &query_stack_, &result_buffer_.sram}) b->start();
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes);
   qdn_.start();
   for (auto& su : sus_) su->start();
@@ -190,7 +196,7 @@ void TigrisAccelerator::do_finish() {
   csr_[kResultBytesLo / 4] = static_cast<std::uint32_t>(bytes);
   csr_[kResultBytesHi / 4] = static_cast<std::uint32_t>(bytes >> 32);
   csr_[kStatus / 4] = kDone;
-  irq.write(true);
+  irq_changed_.notify(sc_core::SC_ZERO_TIME);
 }
 
 void TigrisAccelerator::attach_waves(VcdWriter& vcd) {

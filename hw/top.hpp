@@ -69,6 +69,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   void csr_access(tlm::tlm_generic_payload& trans);
   void do_start();   // SC_METHOD on start_
   void do_finish();  // SC_METHOD on finish_
+  void drive_irq();  // SC_METHOD: the one writer of irq, level = STATUS done or error
   void fail(std::uint32_t code);
   // Decodes the CSRs into job_; returns an empty string when the job fits, else why not.
   std::string configure_job();
@@ -85,7 +86,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   tlm_utils::simple_initiator_socket<TigrisAccelerator> to_dram_;
 
   std::uint32_t csr_[0x40 / 4] = {};
-  sc_core::sc_event start_, finish_;
+  sc_core::sc_event start_, finish_, irq_changed_;
   std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
   bool done_ = false;
   std::string error_;

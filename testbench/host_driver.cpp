@@ -68,38 +68,47 @@ std::uint32_t HostDriver::read_csr(std::uint32_t offset) {
 
 void HostDriver::run() {
   try {
-    write(kPointBufferBase, image_.bytes.data(), image_.bytes.size(), "the tree image into the Point Buffer");
-    std::vector<float> packed;
-    packed.reserve(queries_.size() * 3);
-    for (const Point3& q : queries_) packed.insert(packed.end(), {q.x, q.y, q.z});
-    write(kQueryBufferBase, packed.data(), packed.size() * sizeof(float), "the queries into the Query Buffer");
-    const float r2 = job_.radius * job_.radius;
-    std::uint32_t r2_bits;
-    std::memcpy(&r2_bits, &r2, 4);
-    write_csr(kMode, static_cast<std::uint32_t>(job_.mode));
-    write_csr(kK, job_.k);
-    write_csr(kRadius2Bits, r2_bits);
-    write_csr(kNumPoints, num_points_);
-    write_csr(kNumQueries, static_cast<std::uint32_t>(queries_.size()));
-    write_csr(kTopHeight, static_cast<std::uint32_t>(image_.top_height));
-    write_csr(kNumTopNodes, image_.num_top_nodes);
-    write_csr(kNumLeaves, image_.num_leaves);
-    write_csr(kLeafDirOffset, image_.leaf_dir_offset);
-    write_csr(kCtrl, 1);
-    while (!irq.read()) wait(irq.value_changed_event());  // level: a fast error may beat us here
-    const std::uint32_t status = read_csr(kStatus);
-    if (status & kError) {
-      error_ = "the accelerator reported error " + std::to_string(read_csr(kErrorCode));
-      return;
+    for (int r = 0; r < job_.runs; ++r) {
+      run_once();
+      if (!error_.empty()) return;
+      if (on_run_done_) on_run_done_(r);
+      write_csr(kStatus, 0);  // clear done and the interrupt for the next run
     }
-    cycles_ = read_csr(kCyclesLo) | (std::uint64_t{read_csr(kCyclesHi)} << 32);
-    const std::uint64_t bytes = read_csr(kResultBytesLo) | (std::uint64_t{read_csr(kResultBytesHi)} << 32);
-    collect(bytes);
     finished_ = true;
   } catch (const std::exception& e) {
     error_ = e.what();
   }
   // No sc_stop(): the run ends when no event is left, so several accelerators can share it.
+}
+
+void HostDriver::run_once() {
+  write(kPointBufferBase, image_.bytes.data(), image_.bytes.size(), "the tree image into the Point Buffer");
+  std::vector<QueryRecord> packed;
+  packed.reserve(queries_.size());
+  for (const Point3& q : queries_) packed.push_back({q.x, q.y, q.z});
+  write(kQueryBufferBase, packed.data(), packed.size() * sizeof(QueryRecord), "the queries into the Query Buffer");
+  const float r2 = job_.radius * job_.radius;
+  std::uint32_t r2_bits;
+  std::memcpy(&r2_bits, &r2, 4);
+  write_csr(kMode, static_cast<std::uint32_t>(job_.mode));
+  write_csr(kK, job_.k);
+  write_csr(kRadius2Bits, r2_bits);
+  write_csr(kNumPoints, num_points_);
+  write_csr(kNumQueries, static_cast<std::uint32_t>(queries_.size()));
+  write_csr(kTopHeight, static_cast<std::uint32_t>(image_.top_height));
+  write_csr(kNumTopNodes, image_.num_top_nodes);
+  write_csr(kNumLeaves, image_.num_leaves);
+  write_csr(kLeafDirOffset, image_.leaf_dir_offset);
+  write_csr(kCtrl, 1);
+  while (!irq.read()) wait(irq.value_changed_event());  // level: a fast error may beat us here
+  const std::uint32_t status = read_csr(kStatus);
+  if (status & kError) {
+    error_ = "the accelerator reported error " + std::to_string(read_csr(kErrorCode));
+    return;
+  }
+  cycles_ = read_csr(kCyclesLo) | (std::uint64_t{read_csr(kCyclesHi)} << 32);
+  const std::uint64_t bytes = read_csr(kResultBytesLo) | (std::uint64_t{read_csr(kResultBytesHi)} << 32);
+  collect(bytes);
 }
 
 void HostDriver::collect(std::uint64_t bytes) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <systemc>
@@ -22,6 +23,7 @@ struct HostJob {
   std::uint32_t k = 1;
   float radius = 0.0f;
   std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
+  int runs = 1;              // the job is loaded and run this many times on one accelerator
 };
 
 // The job a golden-model search asks for (the testbench's translation into CSR terms).
@@ -37,13 +39,16 @@ class HostDriver : public sc_core::sc_module {
   HostDriver(sc_core::sc_module_name name, const tlm_if::TreeImage& image,
              const PointCloud& queries, std::uint32_t num_points, const HostJob& job);
 
+  // Called after each run of the job, once its results are read (before the next run starts).
+  void on_run_done(std::function<void(int run)> f) { on_run_done_ = std::move(f); }
   bool finished() const { return finished_; }
   const std::string& error() const { return error_; }  // empty when the job completed
   const Results& results() const { return results_; }
   std::uint64_t cycles() const { return cycles_; }
 
  private:
-  void run();  // SC_THREAD
+  void run();  // SC_THREAD: the job's runs, one after another
+  void run_once();
   void write(std::uint64_t addr, const void* data, std::size_t len, const char* what);
   void read(std::uint64_t addr, void* data, std::size_t len);
   // One bus transaction; throws with `what` on an error response.
@@ -61,6 +66,7 @@ class HostDriver : public sc_core::sc_module {
   std::string error_;
   Results results_;
   std::uint64_t cycles_ = 0;
+  std::function<void(int)> on_run_done_;
 };
 
 }  // namespace tigris

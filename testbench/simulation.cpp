@@ -18,6 +18,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     std::unique_ptr<VisitRecorder> recorder;
   };
   std::vector<Bench> benches;
+  std::vector<SimOutcome> out(setups.size());
   for (std::size_t i = 0; i < setups.size(); ++i) {
     const SimSetup& s = setups[i];
     const std::string tag = setups.size() == 1 ? "" : std::to_string(i);
@@ -30,6 +31,14 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     b.host->socket.bind(b.accel->host);
     b.recorder = std::make_unique<VisitRecorder>();
     b.accel->attach_observer(*b.recorder);
+    if (s.job.runs > 1) {
+      const hw::TigrisAccelerator* a = b.accel.get();
+      const HostDriver* h = b.host.get();
+      const VisitRecorder* rec = b.recorder.get();
+      b.host->on_run_done([a, h, rec, o = &out[i]](int) {
+        o->runs.push_back({h->cycles(), h->results(), rec->visits(), run_stats_json(*a, h->cycles())});
+      });
+    }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
@@ -38,7 +47,6 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     benches.push_back(std::move(b));
   }
   sc_core::sc_start();
-  std::vector<SimOutcome> out(setups.size());
   for (std::size_t i = 0; i < setups.size(); ++i) {
     const hw::TigrisAccelerator& a = *benches[i].accel;
     const HostDriver& h = *benches[i].host;

@@ -28,6 +28,14 @@ struct SimSetup {
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
 };
 
+// What one run of a job left: its cycles, results, recorded visits and stats JSON.
+struct RunRecord {
+  std::uint64_t cycles = 0;
+  Results results;
+  SearchOutput visits;
+  nlohmann::json stats;  // units, buffers, energy_pj
+};
+
 struct SimOutcome {
   bool finished = false;
   std::string error;     // the job was rejected or a transaction failed
@@ -37,6 +45,7 @@ struct SimOutcome {
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
   nlohmann::json units, buffers, energy;  // the stats JSON's `units`, `buffers`, `energy_pj`
   double lower_bound_cycles = 0.0;
+  std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };
 
 using SimProgress = std::function<void(std::uint32_t done, std::uint32_t total)>;

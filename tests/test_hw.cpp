@@ -53,7 +53,7 @@ std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, const Poin
   }
   std::vector<SimOutcome> out = simulate(setups);
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    INFO("case " << cases[i].name);
+    INFO("case " << cases[i].name << ": " << out[i].error << out[i].deadlock);
     const PointCloud& queries = cases[i].queries ? *cases[i].queries : shared_queries;
     REQUIRE(out[i].error.empty());
     REQUIRE(out[i].deadlock.empty());
@@ -267,4 +267,59 @@ TEST_CASE("jobs that do not fit are rejected with the reason", "[hw]") {
   CHECK_FALSE(out[0].finished);
   CHECK_THAT(out[1].error, Catch::Contains("Point Buffer"));
   CHECK_FALSE(out[1].finished);
+}
+
+namespace {
+
+// One accelerator alone in the simulation (accelerators side by side share SystemC's event
+// queue, whose same-time order then couples them): the job run three times.
+void check_repeatable(const SearchParams& params) {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2500, 21);
+  const PointCloud queries = make_queries(cloud, 300, 21);
+  const KdTree tree = build_kdtree(cloud, 6);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  SimSetup s;
+  s.config = units(8, 4, 4, 6);
+  s.config.sram.results.bytes = 4096;   // a small stream area ...
+  s.config.dram.bytes_per_cycle = 0.7;  // ... drained slowly, in fractional cycles: backpressure
+  s.image = &image, s.queries = &queries, s.num_points = 2500;
+  s.job = host_job(params);
+  s.job.runs = 3;
+  const SimOutcome out = simulate({s}).front();
+  INFO(out.error << out.deadlock);
+  REQUIRE(out.finished);
+  REQUIRE(out.runs.size() == 3);
+  const SearchOutput golden = search(tree, queries, params);
+  for (const RunRecord& r : out.runs) {
+    CHECK(check_against_golden(tree, queries, params, golden, r.results, r.visits).match);
+    CHECK(r.cycles == out.runs[0].cycles);
+    CHECK(r.stats == out.runs[0].stats);  // every counter reset at START, no state left behind
+    CHECK(r.visits.schedule == out.runs[0].visits.schedule);
+  }
+  CHECK(out.runs[0].stats["units"]["result_writeback"]["stall_cycles"].get<std::uint64_t>() > 0);
+}
+
+}  // namespace
+
+TEST_CASE("a kNN job run three times on one accelerator: identical cycles, results, visits, stats", "[hw]") {
+  check_repeatable(mode(Mode::KNN, 4));
+}
+
+TEST_CASE("a radius job run three times on one accelerator: identical cycles, results, visits, stats", "[hw]") {
+  check_repeatable(mode(Mode::Radius, 1, 1.2f));
+}
+
+TEST_CASE("Result Buffer words follow sram.results.word_bytes", "[hw][timing]") {
+  // kNN k=1 slots are 16 bytes: two 8-byte words or one 16-byte word per slot access.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 1500, 8);
+  const PointCloud queries = make_queries(cloud, 120, 8);
+  hw::AcceleratorConfig wide = units(4, 2, 4, 5);
+  wide.sram.results.word_bytes = 16;
+  const auto out = run_and_check(cloud, queries, {{"8-byte words", units(4, 2, 4, 5), mode(Mode::KNN, 1)},
+                                                  {"16-byte words", wide, mode(Mode::KNN, 1)}});
+  const auto& narrow_r = out[0].buffers["results"];
+  const auto& wide_r = out[1].buffers["results"];
+  CHECK(narrow_r["reads"].get<std::uint64_t>() == 2 * wide_r["reads"].get<std::uint64_t>());
+  CHECK(narrow_r["writes"].get<std::uint64_t>() == 2 * wide_r["writes"].get<std::uint64_t>());
+  CHECK(narrow_r["read_bytes"] == wide_r["read_bytes"]);
 }

@@ -35,6 +35,8 @@ class BankedSram : public sc_core::sc_module {
   // banks or ports); reset at START with the whole tree, so the host's loads are not counted.
   StatGroup& stats() { return stats_; }
 
+  // A job starts: the banks forget their bookings (all in the past: the host's loads).
+  void start() { banks_.assign(banks_.size(), BankCalendar{}); }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
 
