@@ -431,3 +431,21 @@ TEST_CASE("config: the reference table lists every key of config_to_json", "[con
   CHECK(ref.find("| `fe.recursion_units` | 64 | units | 1..4096 |") != std::string::npos);
   CHECK(ref.find("| `sram.points.bytes` | 2097152 (2 MiB) | bytes | 1..268435456 |") != std::string::npos);
 }
+
+TEST_CASE("config: every key has a unit and a doc, and the reference lists every key",
+          "[config]") {
+  AcceleratorConfig cfg;
+  std::vector<std::string> visited;
+  cfg.visit([&](const std::string& name, auto&, const tigris::hw::Spec& spec) {
+    INFO(name);
+    CHECK_FALSE(spec.unit.empty());
+    CHECK_FALSE(spec.doc.empty());
+    visited.push_back(name);
+  });
+  CHECK(visited == tigris::config_keys());
+  const std::string ref = tigris::config_reference();
+  for (const auto& key : tigris::config_keys()) {
+    INFO(key);
+    CHECK(ref.find("\n| `" + key + "` | ") != std::string::npos);
+  }
+}
