@@ -1,5 +1,6 @@
 // Every parameter of the accelerator model (DESIGN.md section 6), with the paper's defaults.
-// The JSON configuration (testbench/config.*) maps dotted keys onto these fields one to one.
+// Each block's visit() declares its keys' JSON names, units, allowed values and meaning
+// (hw/config_spec.hpp); the JSON configuration (testbench/config.*) is built from them.
 #pragma once
 
 #include <cstdint>
@@ -7,9 +8,11 @@
 
 #include <systemc>
 
+#include "config_spec.hpp"
 #include "cost_table.hpp"
 #include "energy_table.hpp"
 #include "sw_ref/kdtree.hpp"
+#include "tlm/address_map.hpp"
 
 namespace tigris::hw {
 
@@ -19,42 +22,113 @@ inline const char* to_string(IssuePolicyKind k) { return k == IssuePolicyKind::M
 
 struct SramConfig {
   std::uint64_t bytes = 0;
-  int banks = 32;             // word-interleaved banks, one access per bank per cycle
-  int ports = 32;             // accesses the buffer accepts per cycle, all banks together
-  int latency_cycles = 2;     // read latency of one access
-  int word_bytes = 16;        // bank interleaving granule (one point entry)
+  int banks = 32;
+  int ports = 32;
+  int latency_cycles = 2;
+  int word_bytes = 16;
+
+  // `buffer` documents the bytes key: which buffer this is.
+  template <class V>
+  void visit(V&& v, const std::string& buffer) {
+    // A buffer is one window of the host address map.
+    v("bytes", bytes, {"bytes", in(1, static_cast<double>(tlm_if::kWindowSize)), buffer});
+    v("banks", banks,
+      {"banks", in(1, kMaxUnits), "word-interleaved banks, one access per bank per cycle"});
+    v("ports", ports,
+      {"accesses/cycle", in(1, kMaxUnits), "accesses accepted per cycle, all banks together"});
+    v("latency_cycles", latency_cycles,
+      {"cycles", in(0, kMaxCycles), "read latency of one access"});
+    v("word_bytes", word_bytes, {"bytes", in(1, 4096), "bank interleaving granule (one entry)"});
+  }
 };
 
 struct AcceleratorConfig {
   double clock_mhz = 500.0;
 
   struct Tree {
-    int top_height = 10;                // -1: full height (canonical tree, Acc-KD)
-    SplitRule split_axis = SplitRule::WidestExtent;  // widest | round-robin
+    int top_height = 10;
+    SplitRule split_axis = SplitRule::WidestExtent;
+
+    template <class V>
+    void visit(V&& v) {
+      v("top_height", top_height,
+        {"levels", named(in(-1, 30), "full", -1),
+         "height of the top tree the RUs walk; below it lie the leaf sets the SUs scan (-1 or "
+         "\"full\": the canonical tree, Acc-KD)"});
+      v("split_axis", split_axis,
+        {"-", one_of({SplitRule::WidestExtent, SplitRule::RoundRobin}),
+         "axis a node splits: widest extent, or x, y, z in turn"});
+    }
   } tree;
 
   struct FrontEnd {
     int recursion_units = 64;
     bool forwarding = true;
     bool bypassing = true;
-    std::uint64_t fqq_bytes = 1572864;  // FE Query Queue: 1.5 MB
-    int fqq_entry_bytes = 8;            // query id + flags
+    std::uint64_t fqq_bytes = 1572864;  // 1.5 MB
+    int fqq_entry_bytes = 8;
+
+    template <class V>
+    void visit(V&& v) {
+      v("recursion_units", recursion_units,
+        {"units", in(1, kMaxUnits), "Recursion Units (RUs) in the front end"});
+      v("forwarding", forwarding,
+        {"-", boolean(),
+         "PI->RS forwarding: removes the PI->RS stall (cost.ru_pi_rs_stall) per visited node"});
+      v("bypassing", bypassing,
+        {"-", boolean(), "a pruned node leaves the RU pipeline at RN instead of going down to PI"});
+      v("fqq_bytes", fqq_bytes,
+        {"bytes", at_least(1),
+         "FE Query Queue: new queries and queries re-inserted by the BE; backpressure when full"});
+      v("fqq_entry_bytes", fqq_entry_bytes,
+        {"bytes", in(1, 4096), "one FQQ entry (query id + flags)"});
+    }
   } fe;
 
   struct BackEnd {
     int search_units = 32;
     int pes_per_su = 32;
-    int bqb_entries = 128;              // BE Query Buffer per SU
+    int bqb_entries = 128;
     IssuePolicyKind issue_policy = IssuePolicyKind::Mqsn;
-    int issue_search_width = 32;        // BQB entries the associative search checks per cycle
+    int issue_search_width = 32;
+
+    template <class V>
+    void visit(V&& v) {
+      v("search_units", search_units,
+        {"units", in(1, kMaxUnits), "Search Units (SUs) in the back end"});
+      v("pes_per_su", pes_per_su,
+        {"PEs", in(1, kMaxUnits), "PEs per SU: a 1-D query-stationary systolic array"});
+      v("bqb_entries", bqb_entries,
+        {"entries", in(1, kMaxEntries), "BE Query Buffer entries per SU"});
+      v("issue_policy", issue_policy,
+        {"-", one_of({IssuePolicyKind::Mqsn, IssuePolicyKind::Mqmn}),
+         "issue logic: mqsn (the head's leaf only, associative search) or mqmn (any query "
+         "to any PE)"});
+      v("issue_search_width", issue_search_width,
+        {"entries", in(1, kMaxEntries),
+         "BQB entries the MQSN associative search checks per cycle"});
+    }
   } be;
 
   struct Leader {
     int capacity_per_leaf = 16;
+
+    template <class V>
+    void visit(V&& v) {
+      v("capacity_per_leaf", capacity_per_leaf,
+        {"leaders", in(0, kMaxUnits),
+         "leaders the Leader Buffer keeps per leaf (approximate search)"});
+    }
   } leader;
 
   struct NodeCache {
-    std::uint64_t bytes = 131072;  // 128 KB; 0 turns the cache off
+    std::uint64_t bytes = 131072;  // 128 KB
+
+    template <class V>
+    void visit(V&& v) {
+      v("bytes", bytes,
+        {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
+    }
   } node_cache;
 
   struct Sram {
@@ -65,22 +139,63 @@ struct AcceleratorConfig {
     // Points: 16-byte entries (x, y, z, index): the (dist2, index) order needs the index next
     // to each point, so 2 MiB holds the paper's ~130k points (its 1.5 MB assumed 12 bytes).
     SramConfig points{2097152, 128, 128, 2, 16};
-    SramConfig queries{1572864, 8, 8, 2, 12};        // 1.5 MB of 12-byte queries
-    SramConfig query_stack{1258291, 64, 64, 2, 8};   // 1.2 MB; `top height` 8-byte entries a query
-    SramConfig results{3145728, 64, 64, 2, 8};       // 3 MB, double-buffered to DRAM
+    SramConfig queries{1572864, 8, 8, 2, 12};       // 1.5 MB
+    SramConfig query_stack{1258291, 64, 64, 2, 8};  // 1.2 MB
+    SramConfig results{3145728, 64, 64, 2, 8};      // 3 MB
+
+    template <class V>
+    void visit(V&& v) {
+      points.visit(in_block(v, "points"),
+          "Point Buffer: the tree's points, 16-byte entries (x, y, z, index)");
+      queries.visit(in_block(v, "queries"), "Query Buffer: the queries");
+      query_stack.visit(in_block(v, "query_stack"),
+          "Query Stack Buffer: top-height entries per query in flight");
+      results.visit(in_block(v, "results"), "Result Buffer, double-buffered to DRAM");
+    }
   } sram;
 
   struct ResultBuffer {
-    double slot_fraction = 0.5;  // share of sram.results.bytes holding NN/kNN query slots
+    double slot_fraction = 0.5;
+
+    template <class V>
+    void visit(V&& v) {
+      v("slot_fraction", slot_fraction,
+        {"-", above(0, 1),
+         "share of the Result Buffer (sram.results.bytes) holding NN/kNN query slots; the rest "
+         "double-buffers the result stream to DRAM"});
+    }
   } result_buffer;
 
   struct Dram {
-    double bytes_per_cycle = 51.2;  // result write-back: one DDR4-3200 x64 channel (25.6 GB/s) at 500 MHz
+    double bytes_per_cycle = 51.2;  // one DDR4-3200 x64 channel (25.6 GB/s) at 500 MHz
     int latency_cycles = 100;
+
+    template <class V>
+    void visit(V&& v) {
+      v("bytes_per_cycle", bytes_per_cycle,
+        {"bytes/cycle", above(0, 1e6), "DRAM bandwidth for the result write-back"});
+      v("latency_cycles", latency_cycles, {"cycles", in(0, kMaxCycles), "DRAM access latency"});
+    }
   } dram;
 
   CostTable cost;
   EnergyTable energy;
+
+  // Every key, in the order the reference and the dump list them.
+  template <class V>
+  void visit(V&& v) {
+    v("clock_mhz", clock_mhz, {"MHz", above(0, 1e5), "accelerator clock"});
+    tree.visit(in_block(v, "tree"));
+    fe.visit(in_block(v, "fe"));
+    be.visit(in_block(v, "be"));
+    leader.visit(in_block(v, "leader"));
+    node_cache.visit(in_block(v, "node_cache"));
+    sram.visit(in_block(v, "sram"));
+    result_buffer.visit(in_block(v, "result_buffer"));
+    dram.visit(in_block(v, "dram"));
+    cost.visit(in_block(v, "cost"));
+    energy.visit(in_block(v, "energy"));
+  }
 
   sc_core::sc_time period() const { return sc_core::sc_time(1000.0 / clock_mhz, sc_core::SC_NS); }
 };

@@ -24,7 +24,8 @@ std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_b
     return "the Query Stack Buffer cannot hold one query's stack of top height " +
            std::to_string(top_height) + " (" + n(stack_bytes) + " bytes, sram.query_stack.bytes)";
   if (config.fe.fqq_bytes < static_cast<std::uint64_t>(config.fe.fqq_entry_bytes))
-    return "the FE Query Queue cannot hold one query (fe.fqq_bytes)";
+    return "the FE Query Queue cannot hold one query: fe.fqq_bytes = " + n(config.fe.fqq_bytes) +
+           " holds no entry of fe.fqq_entry_bytes = " + std::to_string(config.fe.fqq_entry_bytes);
   if (mode != tlm_if::SearchMode::Radius &&
       ResultBuffer::slot_capacity(config, ResultSlots::slot_bytes(k)) == 0)
     return "the Result Buffer cannot hold one query's " + n(k) +

@@ -1,7 +1,9 @@
 // Configuration as data (DESIGN.md section 10): JSON files nested by block and `--set a.b=v`
-// onto hw::AcceleratorConfig, all driven by one registry table in config.cpp (one row per dotted
-// key: field, unit, allowed values, doc). Every error is a std::invalid_argument whose message
-// names its source (the file path or the --set text) and the dotted key.
+// onto hw::AcceleratorConfig. Each key (field, unit, allowed values, doc) is declared once, at
+// its field in hw/config.hpp; config_keys.cpp builds the key table from it, config_json.cpp
+// applies and dumps JSON (a --set becomes a one-key file), config_reference.cpp renders the
+// table. Every error is a std::invalid_argument whose message names its source (the file path
+// or the --set text) and the dotted key.
 //
 // File format: a JSON object nested by block, e.g.
 //   {"fe": {"recursion_units": 32}, "sram": {"points": {"bytes": 2097152}}}
@@ -43,7 +45,7 @@ nlohmann::json config_to_json(const hw::AcceleratorConfig& cfg);
 // `tigris run --list-config` and the README).
 std::string config_reference();
 
-// Every dotted key, in registry order.
+// Every dotted key, in declaration order (hw::AcceleratorConfig::visit).
 std::vector<std::string> config_keys();
 
 // Per-key ranges plus cross-field rules (FQQ and SRAMs hold at least one entry, the Query Stack

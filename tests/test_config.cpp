@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "config.hpp"
+#include "hw/job.hpp"
 
 using nlohmann::json;
 using tigris::hw::AcceleratorConfig;
@@ -401,14 +402,21 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
           c.cost.issue_cycle = -1;
         }).find("'cost.issue_cycle' = -1 is out of range") != std::string::npos);
   // Cross-field rules.
-  CHECK(err([](auto& c) { c.fe.fqq_bytes = 4; }) ==
-        "invalid configuration: 'fe.fqq_bytes' = 4 holds no entry of fe.fqq_entry_bytes = 8");
   CHECK(err([](auto& c) { c.sram.points.bytes = 8; }) ==
         "invalid configuration: 'sram.points.bytes' holds no word of sram.points.word_bytes");
-  CHECK(err([](auto& c) { c.tree.top_height = 30, c.sram.query_stack.bytes = 100; }) ==
-        "invalid configuration: 'sram.query_stack.bytes' = 100 holds no query's stack: "
-        "tree.top_height (30) x "
-        "sram.query_stack.word_bytes (8) bytes, at least one word");
+  // Whether a job fits is hw::job_fit_error's question (the tree decides the stack height).
+  AcceleratorConfig small_fqq, small_stack;
+  small_fqq.fe.fqq_bytes = 4;
+  small_stack.sram.query_stack.bytes = 100;
+  CHECK_NOTHROW(tigris::validate_config(small_fqq));
+  CHECK(tigris::hw::job_fit_error(small_fqq, 1024, 10, 10, tigris::tlm_if::SearchMode::NN, 1) ==
+        "the FE Query Queue cannot hold one query: fe.fqq_bytes = 4 holds no entry of "
+        "fe.fqq_entry_bytes = 8");
+  CHECK(tigris::hw::job_fit_error(small_stack, 1024, 10, 30, tigris::tlm_if::SearchMode::NN, 1) ==
+        "the Query Stack Buffer cannot hold one query's stack of top height 30 (240 bytes, "
+        "sram.query_stack.bytes)");
+  CHECK(tigris::hw::job_fit_error(small_stack, 1024, 10, 12, tigris::tlm_if::SearchMode::NN, 1).empty());
+  CHECK(tigris::hw::job_fit_error(small_stack, 1024, 0, 30, tigris::tlm_if::SearchMode::NN, 1).empty());
   // Edges that are fine: cache off, no leaders, full height with a small stack (the tree decides).
   AcceleratorConfig ok;
   ok.node_cache.bytes = 0;
@@ -430,4 +438,22 @@ TEST_CASE("config: the reference table lists every key of config_to_json", "[con
   CHECK(static_cast<std::size_t>(std::count(ref.begin(), ref.end(), '\n')) == rows + 2);
   CHECK(ref.find("| `fe.recursion_units` | 64 | units | 1..4096 |") != std::string::npos);
   CHECK(ref.find("| `sram.points.bytes` | 2097152 (2 MiB) | bytes | 1..268435456 |") != std::string::npos);
+}
+
+TEST_CASE("config: every key has a unit and a doc, and the reference lists every key",
+          "[config]") {
+  AcceleratorConfig cfg;
+  std::vector<std::string> visited;
+  cfg.visit([&](const std::string& name, auto&, const tigris::hw::Spec& spec) {
+    INFO(name);
+    CHECK_FALSE(spec.unit.empty());
+    CHECK_FALSE(spec.doc.empty());
+    visited.push_back(name);
+  });
+  CHECK(visited == tigris::config_keys());
+  const std::string ref = tigris::config_reference();
+  for (const auto& key : tigris::config_keys()) {
+    INFO(key);
+    CHECK(ref.find("\n| `" + key + "` | ") != std::string::npos);
+  }
 }
