@@ -161,8 +161,8 @@ struct AcceleratorConfig {
     void visit(V&& v) {
       v("slot_fraction", slot_fraction,
         {"-", above(0, 1),
-         "share of the Result Buffer (sram.results.bytes) holding NN/kNN query slots; the rest "
-         "double-buffers the result stream to DRAM"});
+         "share of the Result Buffer (sram.results.bytes) that may hold NN/kNN query slots (one "
+         "per query in flight); what the slots leave double-buffers the result stream to DRAM"});
     }
   } result_buffer;
 

@@ -26,7 +26,7 @@ struct JobDescriptor {
   tlm_if::SearchMode mode = tlm_if::SearchMode::NN;
   std::uint32_t k = 1;
   float r2 = 0.0f;
-  std::uint32_t num_points = 0, num_queries = 0;
+  std::uint32_t num_queries = 0;
   int top_height = 0;
   std::uint32_t num_top_nodes = 0;  // first leaf node id
   std::uint32_t num_leaves = 0;     // 0: no leaf sets
@@ -36,6 +36,7 @@ struct JobDescriptor {
   std::uint64_t result_slot_bytes = 0;  // NN/kNN: one query's Result Buffer slot; radius: 0
 
   bool radius() const { return mode == tlm_if::SearchMode::Radius; }
+  std::uint64_t result_slot_address(std::uint32_t slot) const { return slot * result_slot_bytes; }
   std::uint64_t stack_base(std::uint32_t slot) const {
     return std::uint64_t{slot} * stack_entries * sizeof(StackEntry);
   }

@@ -27,12 +27,6 @@ nlohmann::json StatGroup::counters_json() const {
   return j;
 }
 
-nlohmann::json StatGroup::to_json() const {
-  nlohmann::json j = counters_json();
-  for (const StatGroup* g : children_) j[g->name()] = g->to_json();
-  return j;
-}
-
 std::vector<const StatGroup*> StatGroup::find(const std::string& kind) const {
   std::vector<const StatGroup*> out;
   if (kind_ == kind) out.push_back(this);

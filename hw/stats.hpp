@@ -28,9 +28,7 @@ class StatGroup {
   const std::vector<StatGroup*>& children() const { return children_; }
 
   void reset();  // this group and every group below it
-  // This group's counters (a dotted name nests: "stall_cycles.sram") and, by name, its children.
-  nlohmann::json to_json() const;
-  // This group's counters only.
+  // This group's counters; a dotted name nests ("stall_cycles.sram").
   nlohmann::json counters_json() const;
   // Every group of `kind` at or below this one, in tree order.
   std::vector<const StatGroup*> find(const std::string& kind) const;

@@ -27,7 +27,7 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
                                                 static_cast<std::uint32_t>(i), config_, job_, links));
     SearchUnit& su = *sus_.back();
     su.points.socket.bind(points_.socket);
-    su.results.socket.bind(result_buffer_.sram.socket);
+    su.results.socket.bind(result_buffer_.socket());
     be_stats_.add(su.stats());
     units.push_back(&su);
   }
@@ -36,15 +36,15 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
     ru->points.socket.bind(points_.socket);
     ru->queries.socket.bind(queries_.socket);
     ru->stacks.socket.bind(query_stack_.socket);
-    ru->results.socket.bind(result_buffer_.sram.socket);
+    ru->results.socket.bind(result_buffer_.socket());
   }
   for (StatGroup* g : {&fe_.stats(), &qdn_.stats(), &be_stats_, &points_.stats(), &queries_.stats(),
-                       &query_stack_.stats(), &result_buffer_.sram.stats(), &node_cache_.stats(),
-                       &result_buffer_.writeback.stats(), &meter_.stats()})
+                       &query_stack_.stats(), &result_buffer_.sram_stats(), &node_cache_.stats(),
+                       &result_buffer_.dram_stats(), &meter_.stats()})
     stats_.add(*g);
   to_points_.socket.bind(points_.socket);
   to_queries_.socket.bind(queries_.socket);
-  to_dram_.bind(result_buffer_.writeback.socket);
+  to_dram_.bind(result_buffer_.dram_socket());
   host.register_b_transport(this, &TigrisAccelerator::host_b_transport);
   host.register_transport_dbg(this, &TigrisAccelerator::host_transport_dbg);
   SC_METHOD(do_start);
@@ -125,7 +125,6 @@ std::string TigrisAccelerator::configure_job() {
   j.k = j.mode == SearchMode::NN ? 1 : csr_[kK / 4];
   if (j.mode == SearchMode::KNN && j.k == 0) return "k must be >= 1";
   std::memcpy(&j.r2, &csr_[kRadius2Bits / 4], 4);
-  j.num_points = csr_[kNumPoints / 4];
   j.num_queries = csr_[kNumQueries / 4];
   j.top_height = static_cast<int>(csr_[kTopHeight / 4]);
   j.num_top_nodes = csr_[kNumTopNodes / 4];
@@ -167,21 +166,21 @@ void TigrisAccelerator::fail(std::uint32_t code) {
 
 void TigrisAccelerator::do_start() {
   done_ = false;
+  stats_.reset();  // a new job counts from zero; the host's loads are not its traffic
   error_ = configure_job();
   if (!error_.empty()) {
     fail(1);
     return;
   }
   start_cycle_ = clock_.now();
-  stats_.reset();  // the host's loads are not the job's traffic
-  for (BankedSram* b : {&points_, &queries_, &query_stack_, &result_buffer_.sram}) b->start();
+  for (BankedSram* b : {&points_, &queries_, &query_stack_}) b->start();
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes);
   qdn_.start();
   for (auto& su : sus_) su->start();
   node_cache_.start();
   observers_.job_started(job_.num_queries);
   fe_.start([this](std::uint64_t cycle) {
-    done_cycle_ = std::max(cycle, result_buffer_.writeback.drained_cycle());
+    done_cycle_ = std::max(cycle, result_buffer_.drained_cycle());
     finish_.notify(clock_.until(done_cycle_));
   });
   if (progress_) fe_.set_progress(progress_);
@@ -192,7 +191,7 @@ void TigrisAccelerator::do_finish() {
   const std::uint64_t cycles = job_cycles();
   csr_[kCyclesLo / 4] = static_cast<std::uint32_t>(cycles);
   csr_[kCyclesHi / 4] = static_cast<std::uint32_t>(cycles >> 32);
-  const std::uint64_t bytes = result_buffer_.writeback.bytes();
+  const std::uint64_t bytes = result_buffer_.streamed_bytes();
   csr_[kResultBytesLo / 4] = static_cast<std::uint32_t>(bytes);
   csr_[kResultBytesHi / 4] = static_cast<std::uint32_t>(bytes >> 32);
   csr_[kStatus / 4] = kDone;

@@ -44,20 +44,17 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   su["utilization"] = ratio(static_cast<double>(at(su, "/busy_cycles")), cfg.be.search_units * c);
   su["pe_utilization"] = ratio(static_cast<double>(at(su, "/pe_busy_cycles")),
                                static_cast<double>(cfg.be.search_units) * cfg.be.pes_per_su * c);
-  json writeback = child(root, "result_writeback").counters_json();
-  writeback["stall_cycles"] = at(ru, "/stall_cycles/result_writeback") + at(su, "/stall_cycles/result_writeback");
 
   json buffers = json::object();
   for (const hw::StatGroup* b : root.find("buffer")) buffers[b->name()] = b->counters_json();
   buffers["node_cache"] = child(root, "node_cache").counters_json();
-  buffers["dram"] = {{"write_bytes", writeback["bytes"]}};
+  buffers["dram"] = child(root, "dram").counters_json();
 
   return {{"units",
            {{"recursion_units", ru},
             {"search_units", su},
             {"qdn", child(root, "qdn").counters_json()},
-            {"fqq", child(root, "fe").counters_json()["fqq"]},
-            {"result_writeback", writeback}}},
+            {"fqq", child(root, "fe").counters_json()["fqq"]}}},
           {"buffers", buffers},
           {"energy_pj", accel.energy_pj()}};
 }

@@ -105,7 +105,7 @@ std::map<std::string, std::uint64_t> figures(const SimOutcome& o, const VisitTot
   f["qdn.port_wait_cycles"] = o.units["qdn"]["port_wait_cycles"];
   f["fqq.max_occupancy"] = o.units["fqq"]["max_occupancy"];
   f["fqq.queries_in_flight"] = o.units["fqq"]["queries_in_flight"];
-  f["writeback.bytes"] = o.units["result_writeback"]["bytes"];
+  f["writeback.bytes"] = o.buffers["dram"]["write_bytes"];
   return f;
 }
 

@@ -5,7 +5,8 @@
 #include <iosfwd>
 #include <string>
 
-#include "sw_ref/search.hpp"
+#include "sw_ref/cloud.hpp"  // InputError
+#include "traces/schedule.hpp"
 
 namespace tigris {
 

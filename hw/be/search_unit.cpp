@@ -105,7 +105,6 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   if (!links_.cache.lookup(leaf, set_bytes)) {
     tlm_if::AccessProfile a;
     a.first_byte = tree_.leaf_address(leaf);
-    a.words = static_cast<std::uint32_t>(n);
     a.bytes = set_bytes;
     data_ready = points.charge(now, a, clock_.period);
   }
@@ -131,15 +130,13 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
 }
 
 tlm_if::AccessProfile SearchUnit::slot_access(const std::vector<QueryToken>& tokens, bool write) {
-  slot_words_.clear();
-  const std::uint64_t word = static_cast<std::uint64_t>(config_.sram.results.word_bytes);
-  const std::uint64_t words = (job_.result_slot_bytes + word - 1) / word;
-  for (const QueryToken& t : tokens)
-    for (std::uint64_t w = 0; w < words; ++w) slot_words_.push_back(t.slot * job_.result_slot_bytes + word * w);
+  slot_addrs_.clear();
+  for (const QueryToken& t : tokens) slot_addrs_.push_back(job_.result_slot_address(t.slot));
   tlm_if::AccessProfile a;
   a.write = write;
-  a.scatter = slot_words_.data();
-  a.scatter_count = static_cast<std::uint32_t>(slot_words_.size());
+  a.scatter = slot_addrs_.data();
+  a.scatter_size = static_cast<std::uint32_t>(job_.result_slot_bytes);
+  a.scatter_count = static_cast<std::uint32_t>(slot_addrs_.size());
   a.bytes = tokens.size() * job_.result_slot_bytes;
   return a;
 }

@@ -68,7 +68,7 @@ class SearchUnit : public sc_core::sc_module {
   void step();  // SC_METHOD: retire finished batches, issue new ones
   void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
-  // The Result Buffer words of the batch's NN/kNN slots, as one scattered access.
+  // The batch's NN/kNN slots in the Result Buffer, as one scattered access.
   tlm_if::AccessProfile slot_access(const std::vector<QueryToken>& tokens, bool write);
 
   std::uint32_t id_;
@@ -83,7 +83,7 @@ class SearchUnit : public sc_core::sc_module {
   std::vector<Batch> running_;
   PeArray pe_array_;
   TreeView tree_;
-  std::vector<std::uint64_t> slot_words_;
+  std::vector<std::uint64_t> slot_addrs_;
   sc_core::sc_event wake_;
   StatGroup stats_;
   Counter batches_{stats_, "batches"};              // Node Set streams through the PE array

@@ -40,22 +40,18 @@ void RecursionUnit::start(const QueryToken& token) {
   // One transaction per buffer for the whole activation.
   tlm_if::AccessProfile a;
   std::uint64_t done = now + pipeline;
-  a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord), a.words = 1;
+  a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord);
   a.bytes = sizeof(tlm_if::QueryRecord);
   done = std::max(done, queries.charge(now, a, clock_.period));
-  tlm_if::AccessProfile reads = node_reads_.profile(sizeof(tlm_if::PointEntry));
-  if (!finished_) reads.bytes -= sizeof(tlm_if::PointEntry) - sizeof(tlm_if::LeafDirEntry);  // the last: a directory entry
-  done = std::max(done, points.charge(now, reads, clock_.period));
+  done = std::max(done, points.charge(now, node_reads_.profile(), clock_.period));
   // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
-  done = std::max(done, stacks.charge(now, stack_pops_.profile(sizeof(StackEntry)), clock_.period));
-  tlm_if::AccessProfile pushes = stack_pushes_.profile(sizeof(StackEntry));
+  done = std::max(done, stacks.charge(now, stack_pops_.profile(), clock_.period));
+  tlm_if::AccessProfile pushes = stack_pushes_.profile();
   pushes.write = true;
   done = std::max(done, stacks.charge(now, pushes, clock_.period));
   if (!job_.radius()) {  // the result slot, read and written back
-    const std::uint64_t word = static_cast<std::uint64_t>(config_.sram.results.word_bytes);
     a = {};
-    a.first_byte = token_.slot * job_.result_slot_bytes;
-    a.words = static_cast<std::uint32_t>((job_.result_slot_bytes + word - 1) / word);
+    a.first_byte = job_.result_slot_address(token_.slot);
     a.bytes = job_.result_slot_bytes;
     done = std::max(done, results.charge(now, a, clock_.period));
     a.write = true;  // PI's last insert writes the slot back at the end of the walk (posted)
@@ -97,7 +93,7 @@ std::uint64_t RecursionUnit::walk() {
   while (token_.sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
     const StackEntry tos = stack[--token_.sp];
-    stack_pops_.add(stack_base + token_.sp * sizeof(StackEntry), cycles);
+    stack_pops_.add(stack_base + token_.sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
     const float bound = job_.radius() ? job_.r2 : slots_.bound(token_.slot);
     if (tos.plane2 > bound) {
       ++pruned;
@@ -111,7 +107,7 @@ std::uint64_t RecursionUnit::walk() {
       // RN: read the node; CD: its distance to the query; PI: insert into the result, push
       // the far child with its plane distance, go on with the near child.
       const tlm_if::PointEntry& e = tree_.node(node);
-      node_reads_.add(tree_.node_address(node), cycles);
+      node_reads_.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
       ++top;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
       if (!forwarding) {
@@ -131,7 +127,7 @@ std::uint64_t RecursionUnit::walk() {
       const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
       if (tree_.node_nonempty(far_child)) {
-        stack_pushes_.add(stack_base + token_.sp * sizeof(StackEntry), cycles);
+        stack_pushes_.add(stack_base + token_.sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
         stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
       }
       if (!tree_.node_nonempty(near_child)) break;
@@ -140,7 +136,7 @@ std::uint64_t RecursionUnit::walk() {
     if (node >= tree_.num_top_nodes() && tree_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
       token_.leaf = node - tree_.num_top_nodes();
-      node_reads_.add(tree_.dir_address(token_.leaf), cycles);  // its size
+      node_reads_.add(tree_.dir_address(token_.leaf), sizeof(tlm_if::LeafDirEntry), cycles);  // its size
       cycles += static_cast<std::uint64_t>(cost_.ru_drain);
       node_energy_ += top;
       links_.observer.walked(token_.query, top, pruned);

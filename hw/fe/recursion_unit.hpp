@@ -87,20 +87,23 @@ class RecursionUnit : public sc_core::sc_module {
   Counter prune_cycles_{stats_, "prune_cycles"};  // of busy: pruned nodes
   Counter& node_energy_;
   Probe busy_wave_, stalled_wave_, query_wave_;
-  // One buffer's accesses of a walk, in pipeline order with the cycle each is issued.
+  // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
   struct AccessLog {
     std::vector<std::uint64_t> addrs;
-    std::vector<std::uint32_t> offsets;
-    void clear() { addrs.clear(), offsets.clear(); }
-    void add(std::uint64_t addr, std::uint64_t cycle) {
+    std::vector<std::uint32_t> sizes, offsets;
+    std::uint64_t bytes = 0;
+    void clear() { addrs.clear(), sizes.clear(), offsets.clear(), bytes = 0; }
+    void add(std::uint64_t addr, std::uint32_t size, std::uint64_t cycle) {
       addrs.push_back(addr);
+      sizes.push_back(size);
       offsets.push_back(static_cast<std::uint32_t>(cycle));
+      bytes += size;
     }
-    tlm_if::AccessProfile profile(std::uint64_t bytes_each) const {
+    tlm_if::AccessProfile profile() const {
       tlm_if::AccessProfile a;
-      a.scatter = addrs.data(), a.issue_offset = offsets.data();
+      a.scatter = addrs.data(), a.scatter_bytes = sizes.data(), a.issue_offset = offsets.data();
       a.scatter_count = static_cast<std::uint32_t>(addrs.size());
-      a.bytes = addrs.size() * bytes_each;
+      a.bytes = bytes;
       return a;
     }
   };

@@ -26,11 +26,14 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
   if (a.scatter) {
-    n = a.scatter_count;
-    for (std::uint32_t i = 0; i < a.scatter_count; ++i)
-      finish = std::max(finish, banks_[(a.scatter[i] / word) % banks].reserve(start, now) + 1);
+    for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
+      const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
+      for (std::uint64_t w = first; w < first + words; ++w)
+        finish = std::max(finish, banks_[w % banks].reserve(start, now) + 1);
+      n += words;
+    }
   } else {
-    n = a.words;  // word i of the burst is in bank (first + i) mod banks
+    n = words_of(a.first_byte, a.bytes).second;  // word i of the burst is in bank (first + i) mod banks
     const std::uint64_t touched = std::min<std::uint64_t>(n, banks);
     std::uint64_t b = (a.first_byte / word) % banks;
     for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == banks ? 0 : b + 1) {
@@ -53,17 +56,26 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
   const std::uint64_t banks = static_cast<std::uint64_t>(config_.banks);
-  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
-  std::uint64_t stall = 0, last = start;
+  std::uint64_t stall = 0, last = start, n = 0;
   for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
+    // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + a.issue_offset[i] + stall;
-    const std::uint64_t s = banks_[(a.scatter[i] / word) % banks].reserve(t, now);
-    stall += s - t;
-    last = s + 1;
+    const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
+    std::uint64_t served = t;
+    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, banks_[w % banks].reserve(t, now));
+    stall += served - t;
+    last = served + 1;
+    n += words;
   }
   conflict_cycles_ += stall;
-  count(a.write, a.scatter_count, a.bytes);
+  count(a.write, n, a.bytes);
   return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) : start;
+}
+
+std::pair<std::uint64_t, std::uint64_t> BankedSram::words_of(std::uint64_t first_byte, std::uint64_t bytes) const {
+  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
+  if (bytes == 0) return {first_byte / word, 0};
+  return {first_byte / word, (first_byte + bytes - 1) / word - first_byte / word + 1};
 }
 
 void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
@@ -99,7 +111,6 @@ void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_t
   tlm_if::AccessProfile burst;
   burst.write = write;
   burst.first_byte = addr;
-  burst.words = static_cast<std::uint32_t>((len + config_.word_bytes - 1) / config_.word_bytes);
   burst.bytes = len;
   delay = charge(start, burst) * clock_.period - sc_core::sc_time_stamp();
   trans.set_dmi_allowed(true);

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <systemc>
@@ -43,6 +44,8 @@ class BankedSram : public sc_core::sc_module {
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
+  // The words an access of `bytes` at `first_byte` touches: (first word, how many).
+  std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const;
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   bool get_direct_mem_ptr(int id, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);

@@ -17,12 +17,15 @@ namespace tigris::hw {
 
 class ResultBuffer : public sc_core::sc_module {
  public:
-  BankedSram sram;            // slots and stream area, bank by bank
-  ResultWriteback writeback;  // the stream to DRAM (a host window)
-
   ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
-      : sc_module(name), sram("results", config.sram.results, Clock{config.period()}, meter),
-        writeback("writeback", config, meter) {}
+      : sc_module(name), sram_("results", config.sram.results, Clock{config.period()}, meter),
+        writeback_("writeback", config, meter) {}
+
+  // The units' way to the slots (DMI data, timed accesses), and the host's to the DRAM region.
+  tlm_utils::multi_passthrough_target_socket<BankedSram>& socket() { return sram_.socket; }
+  tlm_utils::simple_target_socket<ResultWriteback>& dram_socket() { return writeback_.socket; }
+  StatGroup& sram_stats() { return sram_.stats(); }
+  StatGroup& dram_stats() { return writeback_.stats(); }
 
   // How many query slots of `slot_bytes` the slot share holds (0 bytes: no slots needed).
   static std::uint64_t slot_capacity(const AcceleratorConfig& config, std::uint64_t slot_bytes) {
@@ -32,12 +35,19 @@ class ResultBuffer : public sc_core::sc_module {
   }
   // A job starts at `cycle` with `slots` query slots of `slot_bytes`; the rest is stream area.
   void start(std::uint64_t cycle, std::uint64_t slots, std::uint64_t slot_bytes) {
-    writeback.start(cycle, sram.size() - slots * slot_bytes);
+    sram_.start();
+    writeback_.start(cycle, sram_.size() - slots * slot_bytes);
   }
   // Streams records out at cycle `now`; returns the cycle they are accepted.
   std::uint64_t stream(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n) {
-    return writeback.write(now, records, n);
+    return writeback_.write(now, records, n);
   }
+  std::uint64_t drained_cycle() const { return writeback_.drained_cycle(); }  // last byte in DRAM
+  std::uint64_t streamed_bytes() const { return writeback_.bytes(); }
+
+ private:
+  BankedSram sram_;            // slots and stream area, bank by bank
+  ResultWriteback writeback_;  // the stream to DRAM (a host window)
 };
 
 }  // namespace tigris::hw

@@ -13,7 +13,7 @@ namespace tigris::hw {
 
 class ResultSlots {
  public:
-  static constexpr std::uint64_t kHeaderBytes = 8;  // the count, padded to a neighbour's size
+  static constexpr std::uint64_t kHeaderBytes = sizeof(Neighbor);  // the count, padded to a neighbour
   static std::uint64_t slot_bytes(std::uint32_t k) { return kHeaderBytes + sizeof(Neighbor) * std::uint64_t{k}; }
 
   ResultSlots() = default;

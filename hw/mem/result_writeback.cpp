@@ -35,7 +35,8 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
   const std::size_t old = region_.size();
   region_.resize(old + bytes_n);
   std::memcpy(region_.data() + old, records, bytes_n);
-  bytes_ += bytes_n;
+  writes_ += n;
+  write_bytes_ += bytes_n;
   dram_energy_ += bytes_n;
   return origin_ + accept_cycle;
 }
@@ -56,6 +57,8 @@ void ResultWriteback::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_t
     return;
   }
   std::memcpy(trans.get_data_ptr(), region_.data() + addr, len);
+  ++reads_;
+  read_bytes_ += len;
   delay += std::ceil(static_cast<double>(len) / host_bytes_per_cycle_) * clock_.period;
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }

@@ -45,8 +45,9 @@ class ResultWriteback : public sc_core::sc_module {
   std::uint64_t origin_ = 0;  // the job's START cycle
   double drain_free_ = 0.0;   // cycles after START at which the channel is idle again
   std::uint64_t buffer_bytes_ = 0;
-  StatGroup stats_{"result_writeback"};
-  Counter bytes_{stats_, "bytes"};
+  StatGroup stats_{"dram", "dram"};
+  Counter writes_{stats_, "writes"}, write_bytes_{stats_, "write_bytes"};  // result records
+  Counter reads_{stats_, "reads"}, read_bytes_{stats_, "read_bytes"};      // the host's reads
   Counter& dram_energy_;
 };
 
