@@ -10,12 +10,13 @@ Counter& EnergyMeter::line(const std::string& name, Component component, double 
 }
 
 nlohmann::json EnergyMeter::energy_pj() const {
-  static const char* const names[] = {"pe", "ru", "sram_read", "sram_write", "node_cache", "dram"};
-  double by[6] = {};
+  static const char* const names[] = {"pe", "ru", "sram_read", "sram_write", "node_cache", "leader_buffer", "dram"};
+  constexpr int kComponents = sizeof(names) / sizeof(names[0]);
+  double by[kComponents] = {};
   for (const auto& l : lines_) by[static_cast<int>(l->component)] += static_cast<double>(l->count.value()) * l->pj;
   nlohmann::json j = nlohmann::json::object();
   double total = 0;
-  for (int c = 0; c < 6; ++c) {
+  for (int c = 0; c < kComponents; ++c) {
     j[names[c]] = by[c];
     total += by[c];
   }

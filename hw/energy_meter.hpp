@@ -18,7 +18,7 @@ namespace tigris::hw {
 class EnergyMeter {
  public:
   // The components of `energy_pj` in the stats.
-  enum class Component { Pe, Ru, SramRead, SramWrite, NodeCache, Dram };
+  enum class Component { Pe, Ru, SramRead, SramWrite, NodeCache, LeaderBuffer, Dram };
 
   explicit EnergyMeter(const EnergyTable& table) : table_(table), stats_("energy") {}
 
@@ -27,7 +27,7 @@ class EnergyMeter {
   // The line `name` of `component` at `pj` per count (created by its first user, shared by the
   // rest: every PE feeds "pe.distance"); its counter is in the meter's stats group.
   Counter& line(const std::string& name, Component component, double pj);
-  // {pe, ru, sram_read, sram_write, node_cache, dram, total} in picojoules.
+  // {pe, ru, sram_read, sram_write, node_cache, leader_buffer, dram, total} in picojoules.
   nlohmann::json energy_pj() const;
 
  private:

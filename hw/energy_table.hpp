@@ -13,6 +13,8 @@ struct EnergyTable {
   double sram_write_pj_per_byte = 0.7;
   double node_cache_pj_per_byte = 0.15;
   double dram_pj_per_byte = 20.0;
+  double leader_check_pj = 3.0;
+  double leader_buffer_pj_per_byte = 0.1;
 
   template <class V>
   void visit(V&& v) {
@@ -26,6 +28,10 @@ struct EnergyTable {
     pj("sram_write_pj_per_byte", sram_write_pj_per_byte, "pJ/byte", "global buffer SRAM write");
     pj("node_cache_pj_per_byte", node_cache_pj_per_byte, "pJ/byte", "Node Cache access");
     pj("dram_pj_per_byte", dram_pj_per_byte, "pJ/byte", "DRAM access");
+    pj("leader_check_pj", leader_check_pj, "pJ",
+       "Leader Check: one query-to-leader squared distance on a PE");
+    pj("leader_buffer_pj_per_byte", leader_buffer_pj_per_byte, "pJ/byte",
+       "Leader Buffer read or write (a small register file per SU)");
   }
 };
 
