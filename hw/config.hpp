@@ -156,6 +156,7 @@ struct AcceleratorConfig {
 
   struct ResultBuffer {
     double slot_fraction = 0.5;
+    double leader_fraction = 0.25;
 
     template <class V>
     void visit(V&& v) {
@@ -163,6 +164,11 @@ struct AcceleratorConfig {
         {"-", above(0, 1),
          "share of the Result Buffer (sram.results.bytes) that may hold NN/kNN query slots (one "
          "per query in flight); what the slots leave double-buffers the result stream to DRAM"});
+      v("leader_fraction", leader_fraction,
+        {"-", above(0, 1),
+         "approximate search: share of the Result Buffer holding the leaders' local result "
+         "lists, split evenly among the SUs; a list that finds its SU's share full is kept in "
+         "DRAM (read and written over the write-back channel)"});
     }
   } result_buffer;
 

@@ -80,7 +80,10 @@ expect 2 "unknown key" -- run --set fe.recursion_unit=3
 expect 2 "Point Buffer" -- run --set sram.points.bytes=100000
 expect 2 "sram.query_stack.bytes" -- run --set sram.query_stack.bytes=64
 expect 2 "radius must be" -- run --mode radius --radius 0
-expect 2 "exact search only" -- run --approx-thd 1
+expect 2 "leader capacity must be" -- run --approx-thd 1 --leader-capacity -1
+expect 2 "need --approx-thd" -- run --leader-width 3
+expect 0 "followers" -- run --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
+expect 0 "approximate" -- ref --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"
 expect 2 "$tmp/none.json" -- run --config "$tmp/none.json"
 small=(run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1)
 expect 0 "MATCH" -- "${small[@]}" --out "$tmp/r0"

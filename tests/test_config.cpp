@@ -117,7 +117,9 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
     else if (v.is_number_integer())
       v = key == "tree.top_height" ? 12 : v.get<int>() + i;
     else if (v.is_number_float())
-      v = key == "result_buffer.slot_fraction" ? 0.25 : v.get<double>() * 2 + 0.25 * i;
+      v = key == "result_buffer.slot_fraction" ? 0.25
+          : key == "result_buffer.leader_fraction" ? 0.125
+                                                   : v.get<double>() * 2 + 0.25 * i;
     else if (v == "widest")
       v = "round-robin";
     else if (v == "mqsn")
