@@ -20,6 +20,10 @@ namespace tigris::hw {
 enum class IssuePolicyKind { Mqsn, Mqmn };
 inline const char* to_string(IssuePolicyKind k) { return k == IssuePolicyKind::Mqsn ? "mqsn" : "mqmn"; }
 
+// The Node Cache replacement policy (node_cache.policy).
+enum class ReplacementPolicyKind { Lru, Fifo };
+inline const char* to_string(ReplacementPolicyKind k) { return k == ReplacementPolicyKind::Lru ? "lru" : "fifo"; }
+
 struct SramConfig {
   std::uint64_t bytes = 0;
   int banks = 32;
@@ -123,11 +127,16 @@ struct AcceleratorConfig {
 
   struct NodeCache {
     std::uint64_t bytes = 131072;  // 128 KB
+    ReplacementPolicyKind policy = ReplacementPolicyKind::Lru;
 
     template <class V>
     void visit(V&& v) {
       v("bytes", bytes,
         {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
+      v("policy", policy,
+        {"-", one_of({ReplacementPolicyKind::Lru, ReplacementPolicyKind::Fifo}),
+         "Node Set to evict: lru (least recently read or filled) or fifo (oldest filled; hits "
+         "do not count)"});
     }
   } node_cache;
 

@@ -125,8 +125,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
-  std::printf("  config  %d RU, %d SU x %d PE (%s), top height %d of %d, %.0f MHz\n",
+  std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
+              hw::to_string(cfg.node_cache.policy),
               tree.top_height, tree.full_height, cfg.clock_mhz);
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
               static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,

@@ -3,7 +3,8 @@
 namespace tigris::hw {
 
 NodeCache::NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
-    : sc_module(name), capacity_(config.node_cache.bytes), policy_(make_lru_replacement()),
+    : sc_module(name), capacity_(config.node_cache.bytes),
+      policy_(make_replacement_policy(config.node_cache.policy)),
       energy_(meter.line("node_cache.bytes", EnergyMeter::Component::NodeCache,
                          meter.table().node_cache_pj_per_byte)) {}
 
@@ -28,6 +29,7 @@ bool NodeCache::lookup(std::uint32_t leaf, std::uint64_t bytes) {
     const std::uint32_t victim = policy_->evict();
     used_ -= sets_.at(victim);
     sets_.erase(victim);
+    ++evictions_;
   }
   sets_[leaf] = bytes;
   policy_->inserted(leaf);
