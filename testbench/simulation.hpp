@@ -44,6 +44,7 @@ struct SimOutcome {
   std::uint64_t cycles = 0;
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
   nlohmann::json units, buffers, energy;  // the stats JSON's `units`, `buffers`, `energy_pj`
+  nlohmann::json latency;                 // `latency_cycles`: per query and per BQB wait
   double lower_bound_cycles = 0.0;
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };

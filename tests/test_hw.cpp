@@ -403,3 +403,23 @@ TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each po
   }
   CHECK(hits[0] != hits[1]);
 }
+
+TEST_CASE("latency: one per query, within the job's cycles; BQB waits one per leaf visit", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 61);
+  const PointCloud queries = make_queries(cloud, 200, 61);
+  const PointCloud one_query = {{0.5f, 0.25f, 0.0f}};
+  const auto out = run_and_check(cloud, queries,
+                                 {{"many", units(4, 2, 4, 5), mode(Mode::KNN, 4)},
+                                  {"one", units(1, 1, 1, 5), mode(Mode::NN), nullptr, &one_query}});
+  for (const SimOutcome& o : out) {
+    const auto& q = o.latency["query"];
+    CHECK(q["count"].get<std::size_t>() == o.visits.per_query.size());
+    CHECK(q["max"].get<std::uint64_t>() <= o.cycles);
+    CHECK(q["p50"].get<std::uint64_t>() <= q["p99"].get<std::uint64_t>());
+    CHECK(q["mean"].get<double>() > 0);
+    CHECK(o.latency["bqb_wait"]["count"].get<std::uint64_t>() == o.visits.visits.leaf_visits);
+  }
+  // Alone, the query never waits for a PE, and the job ends when its results reach DRAM.
+  CHECK(out[1].latency["bqb_wait"]["max"].get<std::uint64_t>() == 0);
+  CHECK(out[0].latency["bqb_wait"]["max"].get<std::uint64_t>() > 0);
+}

@@ -54,6 +54,7 @@ class FrontEnd : public sc_core::sc_module {
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
   const JobDescriptor& job_;
+  JobObserver& observer_;
   Clock clock_;
   std::deque<QueryToken> fqq_;
   std::vector<RecursionUnit*> idle_rus_;
