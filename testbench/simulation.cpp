@@ -44,6 +44,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
       });
     }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
+    if (s.test_hook) s.test_hook(*b.accel);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
       b.accel->attach_waves(*b.vcd);

@@ -13,6 +13,7 @@
 
 #include "host_driver.hpp"
 #include "hw/config.hpp"
+#include "hw/top.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
 #include "tlm/tree_image.hpp"
@@ -26,6 +27,7 @@ struct SimSetup {
   std::uint32_t num_points = 0;
   HostJob job;
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
+  std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.

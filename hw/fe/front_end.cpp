@@ -56,6 +56,7 @@ void FrontEnd::push(const QueryToken& token) {
 }
 
 void FrontEnd::reinsert(QueryToken token, std::uint64_t ready_cycle) {
+  if (drop_reinserted_) return;
   token.ready = ready_cycle;
   push(token);
 }
