@@ -213,8 +213,16 @@ void TigrisAccelerator::do_finish() {
 
 void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
   const std::string scope = name();
-  fe_.attach_waves(vcd, scope + ".fe");
-  for (std::size_t i = 0; i < sus_.size(); ++i) sus_[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i));
+  // Declared first, so a viewer lists them first: the whole machine at a glance.
+  const std::string all = scope + ".all.";
+  waves_.rus_busy.attach(vcd, all + "rus_busy", 16);
+  waves_.busy_pes.attach(vcd, all + "busy_pes", 32);
+  waves_.bqb_occupancy.attach(vcd, all + "bqb_occupancy", 32);
+  waves_.writeback_backlog.attach(vcd, all + "writeback_backlog_bytes", 32);
+  waves_.queries_finished.attach(vcd, all + "queries_finished", 32);
+  result_buffer_.attach_waves(waves_.writeback_backlog);
+  fe_.attach_waves(vcd, scope + ".fe", waves_);
+  for (std::size_t i = 0; i < sus_.size(); ++i) sus_[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i), waves_);
 }
 
 std::string TigrisAccelerator::describe_state() const {

@@ -49,6 +49,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   const AcceleratorConfig& config() const { return config_; }
   const JobDescriptor& job() const { return job_; }  // the last job started
   std::uint64_t job_cycles() const { return done_cycle_ - start_cycle_; }
+  std::uint64_t start_cycle() const { return start_cycle_; }  // of the last job started
   bool done() const { return done_; }
   const std::string& error() const { return error_; }  // why the last START was rejected
 
@@ -92,6 +93,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   bool done_ = false;
   std::string error_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
+  AggregateProbes waves_;
 };
 
 }  // namespace tigris::hw

@@ -72,7 +72,9 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
       benches[i].vcd->close();
       const std::string& vcd = setups[i].vcd_path;
       const std::string gtkw = vcd.substr(0, vcd.rfind('.') == std::string::npos ? vcd.size() : vcd.rfind('.')) + ".gtkw";
-      write_gtkw(gtkw, vcd, *benches[i].vcd);
+      const std::uint64_t start_ps = static_cast<std::uint64_t>(
+          a.start_cycle() * a.config().period() / sc_core::sc_time(1, sc_core::SC_PS));
+      write_gtkw(gtkw, vcd, *benches[i].vcd, start_ps);
     }
   }
   return out;

@@ -101,30 +101,43 @@ void VcdWriter::close() {
   out_.close();
 }
 
-void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd) {
+void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
+                std::uint64_t start_ps) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot open for writing");
   f << "[*] GTKWave save file for a Tigris TLM run: open with  gtkwave " << path << "\n";
-  f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] 0\n[sst_expanded] 1\n";
-  // Zoom to the whole run: GTKWave's zoom z shows 2^-z time units per pixel, about 1000 pixels.
+  f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
+  // Zoom to the job's span. Measured with GTKWave 3.3.118 (Debian 12) under Xvfb: zoom -z
+  // shows about 2^z x 3.2 time units across the wave pane of this window size, so the
+  // smallest z with 2^z x 3 >= span shows the whole job (1.07 to 2.1 times its span).
+  const std::uint64_t span = vcd.end_time() > start_ps ? vcd.end_time() - start_ps : 1;
   int zoom = 0;
-  while ((std::uint64_t{1} << zoom) * 1000 < vcd.end_time() && zoom < 62) ++zoom;
-  f << "*-" << zoom << ".000000 0\n";
-  // Group signals by their unit (the name without its last part), in declaration order.
+  while ((std::uint64_t{1} << zoom) * 3 < span && zoom < 62) ++zoom;
+  f << "*-" << zoom << ".000000 " << start_ps << "\n";  // the primary marker at START
+  // Groups by unit (the name without its last part), in declaration order: open for the
+  // first, collapsed (GTKWave's closed-group flags) for the rest.
   std::string group;
+  bool first = true;
+  const auto close = [&] {
+    if (!group.empty()) f << (first ? "@1000200\n-" : "@1401200\n-") << group << "\n";
+  };
   for (std::size_t i = 0; i < vcd.names().size(); ++i) {
     const std::string& n = vcd.names()[i];
     const std::string unit = n.substr(0, n.rfind('.'));
     if (unit != group) {
-      if (!group.empty()) f << "@1000200\n-" << group << "\n";
+      close();
+      if (!group.empty()) first = false;
       group = unit;
-      f << "@800200\n-" << group << "\n";
+      f << (first ? "@800200\n-" : "@c00200\n-") << group << "\n";
     }
-    f << (vcd.widths()[i] == 1 ? "@28\n" : "@24\n") << n;
+    // The aggregates as step plots (analog step | decimal | right-justified, then two rows
+    // of analog stretch for height); unit signals as bits or decimal numbers.
+    f << (first && vcd.widths()[i] > 1 ? "@8024\n" : vcd.widths()[i] == 1 ? "@28\n" : "@24\n") << n;
     if (vcd.widths()[i] > 1) f << "[" << vcd.widths()[i] - 1 << ":0]";
     f << "\n";
+    if (first && vcd.widths()[i] > 1) f << "@20000\n-\n@20000\n-\n";
   }
-  if (!group.empty()) f << "@1000200\n-" << group << "\n";
+  close();
 }
 
 }  // namespace tigris

@@ -38,7 +38,10 @@ class VcdWriter {
   bool time_written_ = false;
 };
 
-// A GTKWave save file that opens `vcd_path` with every declared signal, grouped by unit.
-void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd);
+// A GTKWave save file that opens `vcd_path` on the span from `start_ps` (the job's START, also
+// the marker) to the last change, with every declared signal grouped by unit: the first group
+// (the aggregate traces) open, the per-unit groups collapsed below it.
+void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
+                std::uint64_t start_ps = 0);
 
 }  // namespace tigris

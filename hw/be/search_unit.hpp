@@ -54,7 +54,9 @@ class SearchUnit : public sc_core::sc_module {
   std::size_t bqb_occupancy() const { return bqb_.size(); }
   std::uint32_t busy_pes() const { return pes_ - free_pes_; }
   StatGroup& stats() { return stats_; }
-  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+  void attach_waves(VcdWriter& vcd, const std::string& scope, AggregateProbes& all) {
+    bqb_wave_.feed(all.bqb_occupancy);
+    pes_wave_.feed(all.busy_pes);
     bqb_wave_.attach(vcd, scope + ".bqb_occupancy", 16);
     pes_wave_.attach(vcd, scope + ".busy_pes", 16);
     leaf_wave_.attach(vcd, scope + ".streaming_leaf", 32);

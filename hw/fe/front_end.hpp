@@ -40,10 +40,11 @@ class FrontEnd : public sc_core::sc_module {
 
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
   std::size_t fqq_occupancy() const { return fqq_.size(); }
-  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+  void attach_waves(VcdWriter& vcd, const std::string& scope, AggregateProbes& all) {
     fqq_wave_.attach(vcd, scope + ".fqq_occupancy", 32);
+    finished_wave_.feed(all.queries_finished);
     finished_wave_.attach(vcd, scope + ".queries_finished", 32);
-    for (std::size_t i = 0; i < rus.size(); ++i) rus[i]->attach_waves(vcd, scope + ".ru" + std::to_string(i));
+    for (std::size_t i = 0; i < rus.size(); ++i) rus[i]->attach_waves(vcd, scope + ".ru" + std::to_string(i), all);
   }
   std::uint32_t finished() const { return finished_; }
   std::uint32_t admitted() const { return next_query_; }

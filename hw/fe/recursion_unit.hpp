@@ -52,7 +52,8 @@ class RecursionUnit : public sc_core::sc_module {
   // Blocked: its query waits for room in the BE Query Buffer of the SU serving `blocked_leaf()`.
   bool blocked() const { return state_ == State::Blocked; }
   std::uint32_t blocked_leaf() const { return token_.leaf; }
-  void attach_waves(VcdWriter& vcd, const std::string& scope) {
+  void attach_waves(VcdWriter& vcd, const std::string& scope, AggregateProbes& all) {
+    busy_wave_.feed(all.rus_busy);
     busy_wave_.attach(vcd, scope + ".busy", 1);
     stalled_wave_.attach(vcd, scope + ".bqb_full_stall", 1);
     query_wave_.attach(vcd, scope + ".query", 32);

@@ -55,6 +55,7 @@ class ResultBuffer : public sc_core::sc_module {
     return writeback_.write(now, records, n);
   }
   std::uint64_t drained_cycle() const { return writeback_.drained_cycle(); }  // last byte in DRAM
+  void attach_waves(Probe& backlog) { writeback_.attach_waves(backlog); }
   std::uint64_t streamed_bytes() const { return writeback_.bytes(); }
 
  private:

@@ -33,6 +33,7 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
     accept = std::max(accept, drain_free_ + room_needed / bw);
   const auto accept_cycle = static_cast<std::uint64_t>(std::ceil(accept));
   drain_free_ = std::max(drain_free_, static_cast<double>(accept_cycle)) + bytes / bw;
+  if (backlog_wave_) backlog_wave_->set(static_cast<std::uint64_t>((drain_free_ - static_cast<double>(accept_cycle)) * bw));
   const std::size_t old = region_.size();
   region_.resize(old + bytes_n);
   std::memcpy(region_.data() + old, records, bytes_n);

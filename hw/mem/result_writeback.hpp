@@ -15,6 +15,7 @@
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
+#include "hw/probe.hpp"
 #include "hw/stats.hpp"
 #include "tlm/address_map.hpp"
 
@@ -37,6 +38,8 @@ class ResultWriteback : public sc_core::sc_module {
   std::uint64_t drained_cycle() const;
   std::uint64_t bytes() const { return region_.size(); }
   StatGroup& stats() { return stats_; }
+  // The bytes waiting in the stream buffer, traced at every write.
+  void attach_waves(Probe& backlog) { backlog_wave_ = &backlog; }
 
  private:
   void b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
@@ -54,6 +57,7 @@ class ResultWriteback : public sc_core::sc_module {
   Counter list_writes_{stats_, "leader_list.write_bytes"}, list_reads_{stats_, "leader_list.read_bytes"};
   Counter& dram_energy_;
   Counter& dram_read_energy_;
+  Probe* backlog_wave_ = nullptr;
 };
 
 }  // namespace tigris::hw
