@@ -3,8 +3,11 @@
 // it. The units keep no per-query state of their own for this.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "hw/job.hpp"
 
 namespace tigris::hw {
 
@@ -35,6 +38,20 @@ class JobObserver {
   virtual void query_admitted(std::uint32_t /*query*/, std::uint64_t /*cycle*/) {}
   virtual void query_finished(std::uint32_t /*query*/, std::uint64_t /*cycle*/) {}
   virtual void bqb_waited(std::uint32_t /*query*/, std::uint64_t /*cycles*/) {}
+
+  // When work happens (absolute cycles), for timelines:
+  // an RU walk of `query` (an activation, up to its CL stage);
+  virtual void ru_walk(std::uint32_t /*ru*/, std::uint32_t /*query*/, std::uint64_t /*begin*/, std::uint64_t /*end*/) {}
+  // an RU holding `query` while the target BE Query Buffer is full;
+  virtual void ru_blocked(std::uint32_t /*ru*/, std::uint32_t /*query*/, std::uint64_t /*begin*/, std::uint64_t /*end*/) {}
+  // `query` sent over the QDN port of SU `su` at `send`, in its BE Query Buffer at `arrive`;
+  virtual void qdn_hop(std::uint32_t /*su*/, std::uint32_t /*query*/, std::uint64_t /*send*/, std::uint64_t /*arrive*/) {}
+  // a Search Unit batch at `leaf`: `n` queries (each token's `ready` is its BQB arrival),
+  // issued at `issue`, streaming `stream` entries until `end`;
+  virtual void su_batch(std::uint32_t /*su*/, std::uint32_t /*leaf*/, const QueryToken* /*tokens*/, std::size_t /*n*/,
+                        std::uint64_t /*issue*/, std::uint64_t /*end*/, std::uint64_t /*stream*/) {}
+  // `records` result records of `query` accepted by the write-back at `accept`, in DRAM by `drained`.
+  virtual void writeback(std::uint32_t /*query*/, std::size_t /*records*/, std::uint64_t /*accept*/, std::uint64_t /*drained*/) {}
 };
 
 // Forwards every report to the attached observers.
@@ -58,6 +75,22 @@ class ObserverList final : public JobObserver {
   }
   void bqb_waited(std::uint32_t q, std::uint64_t cycles) override {
     for (JobObserver* o : list_) o->bqb_waited(q, cycles);
+  }
+  void ru_walk(std::uint32_t ru, std::uint32_t q, std::uint64_t b, std::uint64_t e) override {
+    for (JobObserver* o : list_) o->ru_walk(ru, q, b, e);
+  }
+  void ru_blocked(std::uint32_t ru, std::uint32_t q, std::uint64_t b, std::uint64_t e) override {
+    for (JobObserver* o : list_) o->ru_blocked(ru, q, b, e);
+  }
+  void qdn_hop(std::uint32_t su, std::uint32_t q, std::uint64_t send, std::uint64_t arrive) override {
+    for (JobObserver* o : list_) o->qdn_hop(su, q, send, arrive);
+  }
+  void su_batch(std::uint32_t su, std::uint32_t leaf, const QueryToken* t, std::size_t n, std::uint64_t issue,
+                std::uint64_t end, std::uint64_t stream) override {
+    for (JobObserver* o : list_) o->su_batch(su, leaf, t, n, issue, end, stream);
+  }
+  void writeback(std::uint32_t q, std::size_t records, std::uint64_t accept, std::uint64_t drained) override {
+    for (JobObserver* o : list_) o->writeback(q, records, accept, drained);
   }
 
  private:

@@ -16,8 +16,8 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
       points_("points", config_.sram.points, clock_, meter_),
       queries_("queries", config_.sram.queries, clock_, meter_),
       query_stack_("query_stack", config_.sram.query_stack, clock_, meter_),
-      result_buffer_("result_buffer", config_, meter_), node_cache_("node_cache", config_, meter_),
-      qdn_("qdn", config_), fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_),
+      result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
+      qdn_("qdn", config_, observers_), fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_),
       policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
   const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_};

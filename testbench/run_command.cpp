@@ -7,6 +7,7 @@
 #include "config.hpp"
 #include "hw/job.hpp"
 #include "simulation.hpp"
+#include "timeline.hpp"
 #include "traces/schedule_csv.hpp"
 #include "progress.hpp"
 #include "report.hpp"
@@ -32,6 +33,13 @@ void add_run_options(CLI::App& app, RunOptions& o) {
   app.add_option("--vcd", o.vcd,
                  "Write waveforms (unit busy flags, queue occupancies, query ids) as VCD, and a "
                  "GTKWave save file beside it (same name, .gtkw)");
+  app.add_option("--timeline", o.timeline,
+                 "Write the run as a Chrome trace-event JSON (open in ui.perfetto.dev or "
+                 "chrome://tracing): a track per RU, QDN port, SU and the write-back, a slice per "
+                 "walk, hop, BQB wait and batch, flow arrows per query");
+  app.add_option("--timeline-queries", o.timeline_queries,
+                 "About how many queries the timeline shows (every n-th query; 0: all)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--list-config", o.list_config, "Print every configuration key with its default and exit");
 }
 
@@ -76,6 +84,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
   setup.job = job;
   setup.vcd_path = o.vcd;
+  const std::uint32_t shown = o.timeline_queries == 0 ? static_cast<std::uint32_t>(w.queries.size()) : o.timeline_queries;
+  TimelineRecorder timeline(1000.0 / cfg.clock_mhz, shown);
+  if (!o.timeline.empty()) setup.observers.push_back(&timeline);
   ProgressReporter progress("tigris run: queries finished");
   t0 = std::chrono::steady_clock::now();
   const SimOutcome sim = simulate({setup}, [&](std::uint32_t done, std::uint32_t total) { progress(done, total); }).front();
@@ -120,6 +131,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["wall_seconds"] = {{"golden", golden_s}, {"simulation", sim_s}};
   const std::string stats_path = o.search.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
+  if (!o.timeline.empty())
+    write_file(o.timeline, [&](std::ostream& f) { f << timeline.trace().dump() << '\n'; });
   if (!o.search.dump_results.empty())
     write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, sim.results); });
 
@@ -165,6 +178,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   }
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());
+  if (!o.timeline.empty())
+    std::printf("  timeline %s (every %u-th query; open in ui.perfetto.dev)\n", o.timeline.c_str(), timeline.stride());
   if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s.gtkw)\n", o.vcd.c_str(), o.vcd.substr(0, o.vcd.rfind('.')).c_str());
   if (!verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",

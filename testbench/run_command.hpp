@@ -2,6 +2,7 @@
 // model; exit 0 only when all match.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,8 @@ struct RunOptions {
   std::vector<std::string> settings;  // --set key=value
   bool list_config = false;
   std::string vcd;
+  std::string timeline;                 // Chrome trace-event JSON
+  std::uint32_t timeline_queries = 2000;  // about this many queries appear in it
 };
 
 void add_run_options(CLI::App& app, RunOptions& o);

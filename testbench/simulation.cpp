@@ -45,6 +45,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
     if (s.test_hook) s.test_hook(*b.accel);
+    for (hw::JobObserver* o : s.observers) b.accel->attach_observer(*o);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
       b.accel->attach_waves(*b.vcd);

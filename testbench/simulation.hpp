@@ -27,7 +27,8 @@ struct SimSetup {
   std::uint32_t num_points = 0;
   HostJob job;
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
-  std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
+  std::function<void(hw::TigrisAccelerator&)> test_hook;
+  std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)  // tests: faults injected before the run
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.

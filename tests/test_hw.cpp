@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
+#include <set>
 #include <set>
 
 #include "hw/be/replacement_policy.hpp"
@@ -16,6 +18,7 @@
 #include "sw_ref/synthetic.hpp"
 #include "hw_cases.hpp"
 #include "test_util.hpp"
+#include "timeline.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -443,4 +446,93 @@ TEST_CASE("a stuck machine is reported with its state, not hung or half-judged",
   INFO(o.deadlock);
   CHECK_THAT(o.deadlock, Catch::Contains("queries finished 0 of 100"));
   CHECK_THAT(o.deadlock, Catch::Contains("held by no queue or unit (lost)"));
+}
+
+namespace {
+
+// Runs one setup with a timeline attached; returns the trace.
+nlohmann::json timeline_of(const PointCloud& cloud, const PointCloud& queries, int height,
+                           hw::AcceleratorConfig config, std::uint32_t shown) {
+  const KdTree tree = build_kdtree(cloud, height);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  config.tree.top_height = height;
+  TimelineRecorder timeline(1000.0 / config.clock_mhz, shown);
+  SimSetup s;
+  s.config = config;
+  s.image = &image;
+  s.queries = &queries;
+  s.num_points = static_cast<std::uint32_t>(cloud.size());
+  s.job = host_job(mode(Mode::NN));
+  s.observers.push_back(&timeline);
+  const SimOutcome o = simulate({s}).front();
+  REQUIRE(o.finished);
+  return nlohmann::json::parse(timeline.trace().dump());  // through text, as a viewer reads it
+}
+
+}  // namespace
+
+TEST_CASE("timeline: trace-event JSON, sampled queries, slices ordered per track, flows paired", "[hw][timeline]") {
+  {
+    const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 63);
+    const PointCloud queries = make_queries(cloud, 400, 63);
+    hw::AcceleratorConfig c = units(8, 4, 8, 0);
+    c.be.issue_policy = hw::IssuePolicyKind::Mqmn;  // overlapping batches need lanes
+    const auto t = timeline_of(cloud, queries, 5, c, 100);
+    REQUIRE(t.contains("traceEvents"));
+    std::map<std::pair<int, std::uint64_t>, std::vector<std::pair<double, double>>> tracks;
+    std::map<std::uint64_t, int> flows;
+    std::set<std::uint64_t> queries_seen;
+    for (const auto& e : t["traceEvents"]) {
+      const std::string ph = e.at("ph");
+      REQUIRE(e.contains("pid"));
+      if (ph == "X") {
+        REQUIRE(e.at("dur").get<double>() >= 0);
+        const double ts = e["ts"].get<double>(), dur = e["dur"].get<double>();
+        tracks[{e["pid"].get<int>(), e["tid"].get<std::uint64_t>()}].push_back({ts, ts + dur});
+        if (e["args"].contains("query")) queries_seen.insert(e["args"]["query"].get<std::uint64_t>());
+      } else if (ph == "s" || ph == "f") {
+        flows[e.at("id").get<std::uint64_t>()] += ph == "s" ? 1 : 10;
+      } else {
+        REQUIRE((ph == "M" || ph == "b" || ph == "e"));
+      }
+    }
+    // Sampling: every 4th of 400 queries.
+    CHECK(queries_seen.size() == 100);
+    for (std::uint64_t q : queries_seen) CHECK(q % 4 == 0);
+    // On every track slices come in order and never overlap (nested or disjoint).
+    for (auto& [track, slices] : tracks) {
+      std::sort(slices.begin(), slices.end());
+      for (std::size_t i = 1; i < slices.size(); ++i) CHECK(slices[i].first >= slices[i - 1].second - 1e-9);
+    }
+    for (const auto& [id, n] : flows) CHECK(n == 11);  // one start and one finish each
+    CHECK(flows.size() > 100);
+  }
+}
+
+TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as the cost table says", "[hw][timeline]") {
+  {
+    const PointCloud cloud = make_cloud(CloudKind::Uniform, 200, 64);
+    const PointCloud one = {{0.5f, 0.5f, 0.5f}};
+    const auto t = timeline_of(cloud, one, 0, units(1, 1, 1, 0), 10);
+    std::vector<nlohmann::json> x;
+    std::size_t flow_starts = 0;
+    for (const auto& e : t["traceEvents"]) {
+      if (e["ph"] == "X") x.push_back(e);
+      flow_starts += e["ph"] == "s";
+    }
+    std::sort(x.begin(), x.end(), [](const nlohmann::json& a, const nlohmann::json& b) { return a["ts"].get<double>() < b["ts"].get<double>(); });
+    REQUIRE(x.size() == 5);  // walk, QDN hop, batch, final walk, write-back
+    CHECK(x[0]["name"] == "walk q0");
+    CHECK(x[1]["pid"] == 2);
+    CHECK(x[2]["name"] == "leaf 0");
+    CHECK(x[3]["name"] == "walk q0");
+    CHECK(x[4]["pid"] == 4);
+    CHECK(flow_starts == 4);  // walk -> hop -> batch -> walk -> write-back
+    const double ns = 2.0;  // 500 MHz
+    // QDN: cost.qdn_latency 1 cycle; batch: associative search 1 + issue 1, then 200 + 1 - 1 + 3.
+    CHECK(x[1]["dur"].get<double>() * 1000 == Approx(1 * ns));
+    CHECK(x[2]["dur"].get<double>() * 1000 == Approx((2 + 203) * ns));
+    CHECK(x[2]["args"]["stream_entries"] == 200);
+    CHECK(x[1]["ts"].get<double>() == Approx(x[0]["ts"].get<double>() + x[0]["dur"].get<double>()));
+  }
 }

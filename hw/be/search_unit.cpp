@@ -147,6 +147,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   busy_until_ = std::max(busy_until_, compute_end);
   sram_stall_ += end - compute_end;
   pe_busy_cycles_ += b * (compute_end - start);
+  links_.observer.su_batch(id_, leaf, tokens.data(), tokens.size(), now, end, stream);
   running_.push_back({std::move(tokens), std::move(hits_), end, false});
   hits_.clear();
 }

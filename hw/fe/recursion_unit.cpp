@@ -58,6 +58,7 @@ void RecursionUnit::start(const QueryToken& token) {
     results.charge(now + pipeline, a, clock_.period);
   }
   sram_stall_ += done - (now + pipeline);
+  links_.observer.ru_walk(static_cast<std::uint32_t>(id_), token_.query, now, done);
 
   // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
   if (!job_.radius() && finished_) {
@@ -151,7 +152,10 @@ std::uint64_t RecursionUnit::walk() {
 
 void RecursionUnit::on_done() {
   const std::uint64_t now = clock_.now();
-  if (state_ == State::Blocked) bqb_full_stall_ += now - blocked_since_;
+  if (state_ == State::Blocked) {
+    bqb_full_stall_ += now - blocked_since_;
+    links_.observer.ru_blocked(static_cast<std::uint32_t>(id_), token_.query, blocked_since_, now);
+  }
   stalled_wave_.set(0);
   if (!hits_.empty()) {  // results leave through the write-back stream, which may push back
     const std::uint64_t accepted = links_.result_buffer.stream(now, hits_.data(), hits_.size());

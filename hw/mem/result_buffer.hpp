@@ -18,9 +18,10 @@ namespace tigris::hw {
 
 class ResultBuffer : public sc_core::sc_module {
  public:
-  ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
+  ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter,
+               JobObserver& observer)
       : sc_module(name), sram_("results", config.sram.results, Clock{config.period()}, meter),
-        writeback_("writeback", config, meter) {}
+        writeback_("writeback", config, meter, observer) {}
 
   // The units' way to the slots (DMI data, timed accesses), and the host's to the DRAM region.
   tlm_utils::multi_passthrough_target_socket<BankedSram>& socket() { return sram_.socket; }

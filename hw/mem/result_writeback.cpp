@@ -7,11 +7,12 @@
 namespace tigris::hw {
 
 ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                                 EnergyMeter& meter)
+                                 EnergyMeter& meter, JobObserver& observer)
     : sc_module(name), socket("socket"), config_(config.dram),
       host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), clock_{config.period()},
       dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
-      dram_read_energy_(meter.line("dram.read_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)) {
+      dram_read_energy_(meter.line("dram.read_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
+      observer_(observer) {
   socket.register_b_transport(this, &ResultWriteback::b_transport);
 }
 
@@ -40,6 +41,9 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
   writes_ += n;
   write_bytes_ += bytes_n;
   dram_energy_ += bytes_n;
+  if (n > 0)
+    observer_.writeback(records[0].query, n, origin_ + accept_cycle,
+                        origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + static_cast<std::uint64_t>(config_.latency_cycles));
   return origin_ + accept_cycle;
 }
 

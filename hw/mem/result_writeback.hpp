@@ -15,6 +15,7 @@
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
+#include "hw/observer.hpp"
 #include "hw/probe.hpp"
 #include "hw/stats.hpp"
 #include "tlm/address_map.hpp"
@@ -25,7 +26,8 @@ class ResultWriteback : public sc_core::sc_module {
  public:
   tlm_utils::simple_target_socket<ResultWriteback> socket;  // host reads of the DRAM region
 
-  ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter);
+  ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter,
+                  JobObserver& observer);
 
   // A job starts at `cycle` with `stream_buffer_bytes` of Result Buffer for the stream.
   void start(std::uint64_t cycle, std::uint64_t stream_buffer_bytes);
@@ -58,6 +60,7 @@ class ResultWriteback : public sc_core::sc_module {
   Counter& dram_energy_;
   Counter& dram_read_energy_;
   Probe* backlog_wave_ = nullptr;
+  JobObserver& observer_;
 };
 
 }  // namespace tigris::hw

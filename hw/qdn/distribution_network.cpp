@@ -7,8 +7,9 @@
 
 namespace tigris::hw {
 
-DistributionNetwork::DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config)
-    : sc_module(name), cost_(config.cost) {}
+DistributionNetwork::DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                                         JobObserver& observer)
+    : sc_module(name), cost_(config.cost), observer_(observer) {}
 
 void DistributionNetwork::connect(std::vector<SearchUnit*> units) {
   units_ = std::move(units);
@@ -32,6 +33,7 @@ bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, Recu
   port_free_[su] = arrival + static_cast<std::uint64_t>(cost_.qdn_port_interval);
   QueryToken t = token;
   t.ready = arrival;
+  observer_.qdn_hop(su, token.query, now, arrival);
   units_[su]->accept(t);
   return true;
 }

@@ -10,6 +10,7 @@
 #include <systemc>
 
 #include "hw/config.hpp"
+#include "hw/observer.hpp"
 #include "hw/job.hpp"
 #include "hw/stats.hpp"
 
@@ -20,7 +21,7 @@ class SearchUnit;
 
 class DistributionNetwork : public sc_core::sc_module {
  public:
-  DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config);
+  DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config, JobObserver& observer);
 
   void connect(std::vector<SearchUnit*> units);
   void start();  // a job starts: ports free, nobody waiting
@@ -33,6 +34,7 @@ class DistributionNetwork : public sc_core::sc_module {
 
  private:
   const CostTable& cost_;
+  JobObserver& observer_;
   std::vector<SearchUnit*> units_;
   std::vector<std::uint64_t> port_free_;
   std::vector<std::deque<RecursionUnit*>> waiting_;

@@ -1,0 +1,65 @@
+// `tigris run --timeline FILE` (DESIGN.md section 18): the run as a Chrome trace-event JSON that
+// Perfetto (ui.perfetto.dev) and chrome://tracing open. One process per block: the front-end
+// with a track per RU (a slice per walk, per BQB-full hold), the QDN with a track per SU port
+// (a slice per hop), the back-end with tracks per SU lane (a slice per batch: leaf, queries,
+// stream length; overlapping MQMN batches take further lanes) and the BQB waits as async slices
+// per SU, and the write-back (a slice per accepted chunk until it is in DRAM). Flow arrows
+// follow each query from hop to hop. Only sampled queries appear (every `stride`-th, so that
+// about `max_queries` do): a batch shows when one of its queries is sampled.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "hw/observer.hpp"
+
+namespace tigris {
+
+class TimelineRecorder final : public hw::JobObserver {
+ public:
+  // `period_ns`: one cycle in nanoseconds (trace timestamps are in microseconds).
+  TimelineRecorder(double period_ns, std::uint32_t max_queries) : period_ns_(period_ns), max_queries_(max_queries) {}
+
+  void job_started(std::uint32_t num_queries) override;
+  void ru_walk(std::uint32_t ru, std::uint32_t query, std::uint64_t begin, std::uint64_t end) override;
+  void ru_blocked(std::uint32_t ru, std::uint32_t query, std::uint64_t begin, std::uint64_t end) override;
+  void qdn_hop(std::uint32_t su, std::uint32_t query, std::uint64_t send, std::uint64_t arrive) override;
+  void su_batch(std::uint32_t su, std::uint32_t leaf, const hw::QueryToken* tokens, std::size_t n,
+                std::uint64_t issue, std::uint64_t end, std::uint64_t stream) override;
+  void writeback(std::uint32_t query, std::size_t records, std::uint64_t accept, std::uint64_t drained) override;
+
+  // The trace: {"traceEvents": [...], "displayTimeUnit": "ns", "otherData": {...}}.
+  nlohmann::json trace() const;
+  std::uint32_t stride() const { return stride_; }
+
+ private:
+  enum Pid { kFrontEnd = 1, kQdn = 2, kBackEnd = 3, kWriteback = 4 };
+  bool sampled(std::uint32_t query) const { return query % stride_ == 0; }
+  double us(std::uint64_t cycle) const { return static_cast<double>(cycle) * period_ns_ / 1000.0; }
+  void slice(int pid, std::uint64_t tid, const std::string& name, std::uint64_t begin, std::uint64_t end,
+             nlohmann::json args);
+  // A flow arrow from the query's previous slice to the one starting at `begin` on (pid, tid).
+  void hop(std::uint32_t query, int pid, std::uint64_t tid, std::uint64_t begin);
+  void name_track(int pid, std::uint64_t tid, const std::string& name);
+
+  double period_ns_;
+  std::uint32_t max_queries_;
+  std::uint32_t stride_ = 1;
+  nlohmann::json events_ = nlohmann::json::array();
+  struct Last {  // where a query's last slice ended, for its next flow arrow
+    int pid = 0;
+    std::uint64_t tid = 0, end = 0;
+    bool any = false;
+  };
+  std::vector<Last> last_;
+  std::vector<std::vector<std::uint64_t>> lanes_;  // per SU: each lane's busy-until cycle
+  std::vector<std::uint64_t> writeback_lanes_;
+  std::vector<std::vector<std::uint64_t>> qdn_lanes_;
+  std::vector<bool> named_;                        // tracks named so far (by a packed key)
+  std::uint64_t flow_id_ = 0;
+};
+
+}  // namespace tigris
