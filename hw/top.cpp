@@ -10,22 +10,29 @@ namespace tigris::hw {
 
 using namespace tlm_if;
 
-TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config)
+TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                                     bool reverse_construction)
     : sc_module(name), config_(config), meter_(config_.energy), host("host"), irq("irq"),
-      clock_{config_.period()},
+      clock_{config_.period()}, scheduler_("scheduler", clock_),
       points_("points", config_.sram.points, clock_, meter_),
       queries_("queries", config_.sram.queries, clock_, meter_),
       query_stack_("query_stack", config_.sram.query_stack, clock_, meter_),
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
-      qdn_("qdn", config_, observers_), fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_),
+      qdn_("qdn", config_, observers_),
+      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, reverse_construction),
       policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
-  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_};
+  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_};
+  const int n = config_.be.search_units;
+  sus_.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const int i = reverse_construction ? n - 1 - k : k;
+    sus_[static_cast<std::size_t>(i)] = std::make_unique<SearchUnit>(
+        ("su" + std::to_string(i)).c_str(), static_cast<std::uint32_t>(i), config_, job_, links);
+  }
   std::vector<SearchUnit*> units;
-  for (int i = 0; i < config_.be.search_units; ++i) {
-    sus_.push_back(std::make_unique<SearchUnit>(("su" + std::to_string(i)).c_str(),
-                                                static_cast<std::uint32_t>(i), config_, job_, links));
-    SearchUnit& su = *sus_.back();
+  for (auto& su_ptr : sus_) {
+    SearchUnit& su = *su_ptr;
     su.points.socket.bind(points_.socket);
     su.results.socket.bind(result_buffer_.socket());
     be_stats_.add(su.stats());
@@ -186,6 +193,7 @@ void TigrisAccelerator::do_start() {
     return;
   }
   start_cycle_ = clock_.now();
+  scheduler_.reset();
   for (BankedSram* b : {&points_, &queries_, &query_stack_}) b->start();
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();

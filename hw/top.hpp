@@ -26,6 +26,7 @@
 #include "hw/mem/result_buffer.hpp"
 #include "hw/observer.hpp"
 #include "hw/qdn/distribution_network.hpp"
+#include "hw/scheduler.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -44,7 +45,9 @@ class TigrisAccelerator : public sc_core::sc_module {
   tlm_utils::simple_target_socket<TigrisAccelerator> host;
   sc_core::sc_out<bool> irq;
 
-  TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config);
+  // `reverse_construction` builds the RUs and SUs in reverse id order: the figures must not
+  // depend on it (a test checks), since same-cycle work runs in unit order (hw/scheduler.hpp).
+  TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, bool reverse_construction = false);
 
   const AcceleratorConfig& config() const { return config_; }
   const JobDescriptor& job() const { return job_; }  // the last job started
@@ -77,6 +80,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   std::string configure_job();
 
   Clock clock_;
+  Scheduler scheduler_;
   BankedSram points_, queries_, query_stack_;
   ResultBuffer result_buffer_;
   NodeCache node_cache_;

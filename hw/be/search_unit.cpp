@@ -11,7 +11,7 @@ namespace tigris::hw {
 
 SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
                        const AcceleratorConfig& config, const JobDescriptor& job, Links links)
-    : sc_module(name), points("points"), results("results"), id_(id), config_(config), job_(job),
+    : sc_module(name), Scheduler::Client(Scheduler::kSearchUnit, id), points("points"), results("results"), id_(id), config_(config), job_(job),
       links_(links), clock_{config.period()},
       capacity_(static_cast<std::size_t>(config.be.bqb_entries)),
       pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_),
@@ -19,9 +19,7 @@ SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
       distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)),
       leader_check_(stats_, links.meter) {
   stats_.add(leader_buffer_.stats());
-  SC_METHOD(step);
-  sensitive << wake_;
-  dont_initialize();
+  links.scheduler.add(*this);
 }
 
 void SearchUnit::start() {
@@ -39,7 +37,7 @@ void SearchUnit::accept(const QueryToken& token) {
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
   const std::uint64_t now = clock_.now();
-  wake_.notify(clock_.until(std::max(token.ready, now)));
+  links_.scheduler.at(*this, std::max(token.ready, now));
 }
 
 void SearchUnit::step() {
@@ -89,7 +87,7 @@ void SearchUnit::step() {
   for (const Batch& b : running_) next = std::min(next, b.end);
   for (const QueryToken& t : bqb_)
     if (t.ready > now) next = std::min(next, t.ready);
-  if (next != std::numeric_limits<std::uint64_t>::max()) wake_.notify(clock_.until(next));
+  if (next != std::numeric_limits<std::uint64_t>::max()) links_.scheduler.at(*this, next);
 }
 
 void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup) {

@@ -20,6 +20,7 @@
 #include "hw/mem/buffer_port.hpp"
 #include "hw/observer.hpp"
 #include "hw/probe.hpp"
+#include "hw/scheduler.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -28,9 +29,8 @@ class FrontEnd;
 class DistributionNetwork;
 class ResultBuffer;
 
-class SearchUnit : public sc_core::sc_module {
+class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
  public:
-  SC_HAS_PROCESS(SearchUnit);
   BufferPort points, results;
 
   // What a Search Unit works with: the blocks it hands queries and results to.
@@ -42,6 +42,7 @@ class SearchUnit : public sc_core::sc_module {
     ResultBuffer& result_buffer;
     EnergyMeter& meter;
     JobObserver& observer;
+    Scheduler& scheduler;
   };
   SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
              const JobDescriptor& job, Links links);
@@ -69,7 +70,8 @@ class SearchUnit : public sc_core::sc_module {
     std::uint64_t end = 0;
     bool written = false;  // results handed to the Result Buffer / write-back stream
   };
-  void step();  // SC_METHOD: retire finished batches, issue new ones
+  void wake() override { step(); }
+  void step();  // retire finished batches, issue new ones
   void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
   // How a batch is served: its exact scans, the leaders it followed and the ones it appended.
   struct Plan {
@@ -100,7 +102,6 @@ class SearchUnit : public sc_core::sc_module {
   std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;
-  sc_core::sc_event wake_;
   StatGroup stats_;
   Counter batches_{stats_, "batches"};              // Node Set streams through the PE array
   Counter queries_{stats_, "queries"};              // query-leaf visits served

@@ -6,16 +6,20 @@ namespace tigris::hw {
 
 FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
                    const JobDescriptor& job, DistributionNetwork& qdn, ResultBuffer& result_buffer,
-                   EnergyMeter& meter, JobObserver& observer)
-    : sc_module(name), job_(job), observer_(observer), clock_{config.period()} {
-  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer};
-  for (int i = 0; i < config.fe.recursion_units; ++i) {
-    rus.push_back(std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config, job, links));
-    stats_.add(rus.back()->stats());
+                   EnergyMeter& meter, JobObserver& observer, Scheduler& scheduler,
+                   bool reverse_construction)
+    : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job), observer_(observer),
+      clock_{config.period()}, scheduler_(scheduler) {
+  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler};
+  const int n = config.fe.recursion_units;
+  rus.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const int i = reverse_construction ? n - 1 - k : k;
+    rus[static_cast<std::size_t>(i)] =
+        std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config, job, links);
   }
-  SC_METHOD(dispatch);
-  sensitive << wake_;
-  dont_initialize();
+  for (auto& ru : rus) stats_.add(ru->stats());
+  scheduler_.add(*this);
 }
 
 void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
@@ -52,7 +56,7 @@ void FrontEnd::push(const QueryToken& token) {
   fqq_.push_back(token);
   fqq_max_.max(fqq_.size());
   fqq_wave_.set(fqq_.size());
-  wake_.notify(sc_core::SC_ZERO_TIME);
+  scheduler_.now(*this);
 }
 
 void FrontEnd::reinsert(QueryToken token, std::uint64_t ready_cycle) {
@@ -63,7 +67,7 @@ void FrontEnd::reinsert(QueryToken token, std::uint64_t ready_cycle) {
 
 void FrontEnd::ru_idle(RecursionUnit& ru) {
   idle_rus_.push_back(&ru);
-  wake_.notify(sc_core::SC_ZERO_TIME);
+  scheduler_.now(*this);
 }
 
 void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
@@ -80,7 +84,7 @@ void FrontEnd::dispatch() {
   const std::uint64_t now = clock_.now();
   while (!idle_rus_.empty() && !fqq_.empty()) {
     if (fqq_.front().ready > now) {
-      wake_.notify(clock_.until(fqq_.front().ready));
+      scheduler_.at(*this, fqq_.front().ready);
       return;
     }
     RecursionUnit* ru = idle_rus_.back();

@@ -16,19 +16,20 @@
 #include "hw/fe/recursion_unit.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
+#include "hw/scheduler.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
 
-class FrontEnd : public sc_core::sc_module {
+class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
  public:
-  SC_HAS_PROCESS(FrontEnd);
   std::vector<std::unique_ptr<RecursionUnit>> rus;
 
-  // Builds the Recursion Units; `ru_links.fe` is this front-end.
+  // Builds the Recursion Units (in reverse id order when `reverse_construction`: a test that
+  // the figures do not depend on it); their links point at this front-end.
   FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
            DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter,
-           JobObserver& observer);
+           JobObserver& observer, Scheduler& scheduler, bool reverse_construction = false);
 
   // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
   void start(std::function<void(std::uint64_t)> on_all_done);
@@ -53,7 +54,8 @@ class FrontEnd : public sc_core::sc_module {
   void drop_reinserted_for_test(bool drop) { drop_reinserted_ = drop; }
 
  private:
-  void dispatch();  // SC_METHOD: idle RUs take ready queries from the FQQ
+  void wake() override { dispatch(); }
+  void dispatch();  // idle RUs take ready queries from the FQQ
   void push(const QueryToken& token);
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
@@ -67,7 +69,7 @@ class FrontEnd : public sc_core::sc_module {
   bool drop_reinserted_ = false;
   std::function<void(std::uint64_t)> on_all_done_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
-  sc_core::sc_event wake_;
+  Scheduler& scheduler_;
   StatGroup stats_{"fe", "front_end"};
   Counter fqq_max_{stats_, "fqq.max_occupancy", Counter::Merge::Max};
   Counter in_flight_{stats_, "fqq.queries_in_flight", Counter::Merge::Max};  // slots of the job

@@ -10,13 +10,11 @@ namespace tigris::hw {
 
 RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                              const JobDescriptor& job, Links links)
-    : sc_module(name), points("points"), queries("queries"), stacks("stacks"),
-      results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
+    : sc_module(name), Scheduler::Client(Scheduler::kRecursionUnit, static_cast<std::uint32_t>(id)),
+      points("points"), queries("queries"), stacks("stacks"), results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
       clock_{config.period()}, stats_(basename(), "recursion_unit"),
       node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)) {
-  SC_METHOD(on_done);
-  sensitive << done_;
-  dont_initialize();
+  links.scheduler.add(*this);
 }
 
 void RecursionUnit::start_job() {
@@ -66,7 +64,7 @@ void RecursionUnit::start(const QueryToken& token) {
     for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
       hits_.push_back({token_.query, e[i].index, e[i].dist2});
   }
-  done_.notify(clock_.until(done));
+  links_.scheduler.at(*this, done);
 }
 
 std::uint64_t RecursionUnit::walk() {
@@ -162,7 +160,7 @@ void RecursionUnit::on_done() {
     hits_.clear();
     if (accepted > now) {
       writeback_stall_ += accepted - now;
-      done_.notify(clock_.until(accepted));
+      links_.scheduler.at(*this, accepted);
       return;
     }
   }
@@ -184,6 +182,6 @@ void RecursionUnit::on_done() {
   links_.fe.ru_idle(*this);
 }
 
-void RecursionUnit::retry_dispatch() { done_.notify(sc_core::SC_ZERO_TIME); }
+void RecursionUnit::retry_dispatch() { links_.scheduler.now(*this); }
 
 }  // namespace tigris::hw

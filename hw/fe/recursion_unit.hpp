@@ -17,6 +17,7 @@
 #include "hw/mem/result_slots.hpp"
 #include "hw/observer.hpp"
 #include "hw/probe.hpp"
+#include "hw/scheduler.hpp"
 #include "hw/stats.hpp"
 #include "hw/tree_view.hpp"
 
@@ -26,9 +27,8 @@ class FrontEnd;
 class DistributionNetwork;
 class ResultBuffer;
 
-class RecursionUnit : public sc_core::sc_module {
+class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
  public:
-  SC_HAS_PROCESS(RecursionUnit);
   BufferPort points, queries, stacks, results;
 
   // What a Recursion Unit works with: the blocks it hands queries and results to.
@@ -38,6 +38,7 @@ class RecursionUnit : public sc_core::sc_module {
     ResultBuffer& result_buffer;
     EnergyMeter& meter;
     JobObserver& observer;
+    Scheduler& scheduler;
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                 const JobDescriptor& job, Links links);
@@ -80,7 +81,7 @@ class RecursionUnit : public sc_core::sc_module {
   QueryToken token_;
   bool finished_ = false;
   std::uint64_t blocked_since_ = 0;
-  sc_core::sc_event done_;
+  void wake() override { on_done(); }
   StatGroup stats_;
   Counter activations_{stats_, "activations"};  // queries taken from the FQQ
   Counter busy_cycles_{stats_, "busy_cycles"};  // pipeline cycles (FQ, nodes, stalls in the walk)
