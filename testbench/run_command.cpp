@@ -10,6 +10,7 @@
 #include "traces/schedule_csv.hpp"
 #include "progress.hpp"
 #include "report.hpp"
+#include "run_report.hpp"
 #include "scoreboard.hpp"
 #include "tlm/tree_image.hpp"
 #include "workload.hpp"
@@ -103,6 +104,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["units"] = sim.units;
   stats["buffers"] = sim.buffers;
   stats["energy_pj"] = sim.energy;
+  stats["power_w"] = sim.power_w;
+  stats["area_mm2"] = sim.area;
   stats["config"] = config_to_json(cfg);
   stats["config"]["search"] = search_config_json(params, tree)["search"];
   stats["tree"] = tree_json(tree);
@@ -129,6 +132,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               static_cast<unsigned long long>(hw_view.visits.top),
               static_cast<unsigned long long>(hw_view.visits.pruned),
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
+  std::fputs(energy_area_summary(stats).c_str(), stdout);
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());
   if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s.gtkw)\n", o.vcd.c_str(), o.vcd.substr(0, o.vcd.rfind('.')).c_str());

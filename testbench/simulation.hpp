@@ -33,7 +33,7 @@ struct RunRecord {
   std::uint64_t cycles = 0;
   Results results;
   SearchOutput visits;
-  nlohmann::json stats;  // units, buffers, energy_pj
+  nlohmann::json stats;  // units, buffers, energy_pj, power_w, area_mm2
 };
 
 struct SimOutcome {
@@ -43,7 +43,8 @@ struct SimOutcome {
   Results results;
   std::uint64_t cycles = 0;
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
-  nlohmann::json units, buffers, energy;  // the stats JSON's `units`, `buffers`, `energy_pj`
+  // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
+  nlohmann::json units, buffers, energy, power_w, area;
   double lower_bound_cycles = 0.0;
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };
