@@ -399,8 +399,8 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
           c.energy.sram_ref_pj_per_byte = -1;
         }).find("'energy.sram_ref_pj_per_byte'") != std::string::npos);
   CHECK(err([](auto& c) {
-          c.energy.sram_size_exponent = 1.5;
-        }).find("'energy.sram_size_exponent' = 1.5 is out of range") != std::string::npos);
+          c.energy.sram_size_exponent = -0.5;
+        }).find("'energy.sram_size_exponent' = -0.5 is out of range") != std::string::npos);
   CHECK(err([](auto& c) { c.area.pe_mm2 = -0.1; }).find("'area.pe_mm2' = -0.1 is out of range") !=
         std::string::npos);
   CHECK(err([](auto& c) {
