@@ -1,5 +1,7 @@
 #include "area_model.hpp"
 
+#include "hw/be/leader_buffer.hpp"
+
 namespace tigris::hw {
 
 namespace {
@@ -14,7 +16,7 @@ double sum(const std::vector<Area::Block>& blocks) {
 
 std::uint64_t leader_buffer_bytes(const AcceleratorConfig& c) {
   if (c.tree.top_height < 0) return 0;
-  return (std::uint64_t{1} << c.tree.top_height) * static_cast<std::uint64_t>(c.leader.capacity_per_leaf) * kLeaderBytes;
+  return (std::uint64_t{1} << c.tree.top_height) * static_cast<std::uint64_t>(c.leader.capacity_per_leaf) * LeaderBuffer::kLeaderBytes;
 }
 
 double Area::sram_mm2() const { return sum(sram); }

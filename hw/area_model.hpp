@@ -16,12 +16,10 @@
 
 namespace tigris::hw {
 
-// One leader: its query's x, y, z as float32 (the search reads its results from the Result
-// Buffer).
-constexpr std::uint64_t kLeaderBytes = 12;
-
-// The Leader Buffer holds leader.capacity_per_leaf leaders for each of the 2^tree.top_height
-// leaves; a canonical tree ("full", about one leaf per point) gets none.
+// The Leader Buffer holds leader.capacity_per_leaf leaders (LeaderBuffer::kLeaderBytes each: the
+// point) for each of the 2^tree.top_height leaves, split among the SUs by leaf; a canonical
+// tree ("full", about one leaf per point) gets none. The leaders' result lists live in the
+// Result Buffer, whose area already counts them.
 std::uint64_t leader_buffer_bytes(const AcceleratorConfig& config);
 // Banks of the SRAMs the SUs share (Node Cache, Leader Buffer): one per SU.
 inline int per_su_banks(const AcceleratorConfig& config) { return config.be.search_units; }

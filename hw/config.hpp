@@ -21,6 +21,10 @@ namespace tigris::hw {
 enum class IssuePolicyKind { Mqsn, Mqmn };
 inline const char* to_string(IssuePolicyKind k) { return k == IssuePolicyKind::Mqsn ? "mqsn" : "mqmn"; }
 
+// The Node Cache replacement policy (node_cache.policy).
+enum class ReplacementPolicyKind { Lru, Fifo };
+inline const char* to_string(ReplacementPolicyKind k) { return k == ReplacementPolicyKind::Lru ? "lru" : "fifo"; }
+
 struct SramConfig {
   std::uint64_t bytes = 0;
   int banks = 32;
@@ -127,11 +131,16 @@ struct AcceleratorConfig {
 
   struct NodeCache {
     std::uint64_t bytes = 131072;  // 128 KB
+    ReplacementPolicyKind policy = ReplacementPolicyKind::Lru;
 
     template <class V>
     void visit(V&& v) {
       v("bytes", bytes,
         {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
+      v("policy", policy,
+        {"-", one_of({ReplacementPolicyKind::Lru, ReplacementPolicyKind::Fifo}),
+         "Node Set to evict: lru (least recently read or filled) or fifo (oldest filled; hits "
+         "do not count)"});
     }
   } node_cache;
 
@@ -160,6 +169,7 @@ struct AcceleratorConfig {
 
   struct ResultBuffer {
     double slot_fraction = 0.5;
+    double leader_fraction = 0.25;
 
     template <class V>
     void visit(V&& v) {
@@ -167,6 +177,11 @@ struct AcceleratorConfig {
         {"-", above(0, 1),
          "share of the Result Buffer (sram.results.bytes) that may hold NN/kNN query slots (one "
          "per query in flight); what the slots leave double-buffers the result stream to DRAM"});
+      v("leader_fraction", leader_fraction,
+        {"-", above(0, 1),
+         "approximate search: share of the Result Buffer holding the leaders' local result "
+         "lists, split evenly among the SUs; a list that finds its SU's share full is kept in "
+         "DRAM (read and written over the write-back channel)"});
     }
   } result_buffer;
 

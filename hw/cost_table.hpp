@@ -21,6 +21,7 @@ struct CostTable {
   // Search Unit.
   int pe_pipeline_depth = 3;  // paper Fig. 9
   int node_cache_hit = 0;
+  int leader_check = 1;
   int issue_cycle = 1;
   int result_writeback = 1;
   int be_to_fe = 1;
@@ -49,6 +50,9 @@ struct CostTable {
     cycles("pe_pipeline_depth", pe_pipeline_depth, "PE pipeline: read, distance, insert");
     cycles("node_cache_hit", node_cache_hit,
            "SU: a Node Set streamed from the Node Cache, cycles before its first word");
+    cycles("leader_check", leader_check,
+           "SU Leader Check: picking the closest leader and comparing with thd^2, after the "
+           "leaf's leaders streamed past the batch's PEs (one per cycle, like Node Set points)");
     cycles("issue_cycle", issue_cycle, "SU issue logic per batch beyond the associative search");
     cycles("result_writeback", result_writeback,
            "a finished query's results leave the RU (after its last walk)");

@@ -8,14 +8,28 @@
 
 namespace tigris::hw {
 
+// How a query was served at one leaf visit (DESIGN.md sections 5 and 13).
+struct LeafVisit {
+  enum class Kind {
+    Exact,             // exact search: the Node Set
+    Leader,            // approximate: no leader close enough; scanned the Node Set, joined
+    LeaderBufferFull,  // approximate: as Leader, but the leaf's Leader Buffer was full
+    Follower,          // approximate: scanned its closest leader's local result list
+  };
+  Kind kind = Kind::Exact;
+  std::uint32_t leaf_points = 0;      // Node Set entries compared
+  std::uint32_t follower_points = 0;  // leader-list entries compared
+  std::uint32_t leader_checks = 0;    // distances to the leaf's leaders
+};
+
 class JobObserver {
  public:
   virtual ~JobObserver() = default;
   virtual void job_started(std::uint32_t /*num_queries*/) {}
   // A Recursion Unit activation of `query`: `top` nodes compared, `pruned` subtrees skipped.
   virtual void walked(std::uint32_t /*query*/, std::uint32_t /*top*/, std::uint32_t /*pruned*/) {}
-  // A leaf-visit decision, in simulated-time order: `query` scans `points` entries of `leaf`.
-  virtual void leaf_scanned(std::uint32_t /*query*/, std::uint32_t /*leaf*/, std::uint32_t /*points*/) {}
+  // A leaf-visit decision, in simulated-time order: how `query` is served at `leaf`.
+  virtual void leaf_scanned(std::uint32_t /*query*/, std::uint32_t /*leaf*/, const LeafVisit& /*visit*/) {}
 };
 
 // Forwards every report to the attached observers.
@@ -28,8 +42,8 @@ class ObserverList final : public JobObserver {
   void walked(std::uint32_t q, std::uint32_t top, std::uint32_t pruned) override {
     for (JobObserver* o : list_) o->walked(q, top, pruned);
   }
-  void leaf_scanned(std::uint32_t q, std::uint32_t leaf, std::uint32_t points) override {
-    for (JobObserver* o : list_) o->leaf_scanned(q, leaf, points);
+  void leaf_scanned(std::uint32_t q, std::uint32_t leaf, const LeafVisit& visit) override {
+    for (JobObserver* o : list_) o->leaf_scanned(q, leaf, visit);
   }
 
  private:

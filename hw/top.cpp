@@ -140,6 +140,15 @@ std::string TigrisAccelerator::configure_job() {
       j.num_leaves ? std::uint64_t{j.leaf_dir_offset} + sizeof(LeafDirEntry) * (std::uint64_t{j.num_leaves} + 1)
                    : std::uint64_t{j.num_top_nodes} * sizeof(PointEntry);
   j.result_slot_bytes = j.radius() ? 0 : ResultSlots::slot_bytes(j.k);
+  if (csr_[kApprox / 4] > 1) return "CSR APPROX holds " + std::to_string(csr_[kApprox / 4]) + ", not 0 or 1";
+  j.approximate = csr_[kApprox / 4] == 1;
+  if (j.approximate) {
+    std::memcpy(&j.thd2, &csr_[kApproxThd2Bits / 4], 4);
+    if (!(j.thd2 >= 0.0f)) return "CSR APPROX_THD2 is not a number >= 0";
+    j.leader_width = j.radius() ? 0 : csr_[kLeaderWidth / 4];
+    if (!j.radius() && j.leader_width == 0) return "CSR LEADER_WIDTH must be >= 1 for NN/kNN";
+    j.leader_capacity = static_cast<std::uint32_t>(config_.leader.capacity_per_leaf);
+  }
   const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k);
   if (!fit.empty()) return fit;
   if (j.num_leaves) {
@@ -154,6 +163,10 @@ std::string TigrisAccelerator::configure_job() {
   const std::uint64_t fqq_entries = config_.fe.fqq_bytes / static_cast<std::uint64_t>(config_.fe.fqq_entry_bytes);
   const std::uint64_t result_slots = ResultBuffer::slot_capacity(config_, j.result_slot_bytes);
   j.slots = static_cast<std::uint32_t>(std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}}));
+  if (j.approximate) {
+    j.leader_area_base = j.slots * j.result_slot_bytes;
+    j.leader_area_bytes = ResultBuffer::leader_area_bytes(config_);
+  }
   job_ = j;
   return {};
 }
@@ -174,7 +187,7 @@ void TigrisAccelerator::do_start() {
   }
   start_cycle_ = clock_.now();
   for (BankedSram* b : {&points_, &queries_, &query_stack_}) b->start();
-  result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes);
+  result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();
   for (auto& su : sus_) su->start();
   node_cache_.start();

@@ -86,7 +86,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   BufferPort to_points_, to_queries_;  // the host's way in, and the leaf-directory check's DMI
   tlm_utils::simple_initiator_socket<TigrisAccelerator> to_dram_;
 
-  std::uint32_t csr_[0x40 / 4] = {};
+  std::uint32_t csr_[tlm_if::kCsrCount] = {};
   sc_core::sc_event start_, finish_, irq_changed_;
   std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
   bool done_ = false;

@@ -311,6 +311,60 @@ void run(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
 
 }  // namespace
 
+struct Searcher::Impl {
+  virtual ~Impl() = default;
+  virtual void search(const Point3& q, std::vector<Neighbor>& out) = 0;
+  SearchOutput totals;  // visits and leaders summed over calls (no results, no schedule)
+  std::uint64_t queries = 0;
+};
+
+namespace {
+
+template <class Collector>
+struct SearcherImpl final : Searcher::Impl {
+  SearchParams params;  // owned: the engine keeps a reference
+  Engine<Collector> engine;
+  std::vector<StackEntry> stack;
+  Walker<Collector> walker;
+  QueryVisits visits;
+  Results one;
+
+  SearcherImpl(const KdTree& tree, const SearchParams& p)
+      : params(p), engine(tree, params, totals), stack(engine.stack_capacity()),
+        walker{{}, stack.data(), 0, &visits, Collector(params)} {}
+
+  void search(const Point3& q, std::vector<Neighbor>& out) override {
+    walker.q = q;
+    visits = {};
+    engine.start(walker);
+    for (std::uint32_t leaf; (leaf = engine.advance(walker)) != kDone;) engine.visit_leaf(walker, leaf);
+    one = Results{};
+    walker.result.emit(one);
+    out.assign(one.begin(0), one.end(0));
+    totals.visits.add(visits);
+    ++queries;
+  }
+};
+
+}  // namespace
+
+Searcher::Searcher(const KdTree& tree, const SearchParams& params) {
+  validate(params);
+  SearchParams p = params;
+  p.record_schedule = false;
+  switch (p.mode) {
+    case Mode::NN: impl_ = std::make_unique<SearcherImpl<NnCollector>>(tree, p); break;
+    case Mode::KNN: impl_ = std::make_unique<SearcherImpl<KnnCollector>>(tree, p); break;
+    case Mode::Radius: impl_ = std::make_unique<SearcherImpl<RadiusCollector>>(tree, p); break;
+  }
+}
+
+Searcher::~Searcher() = default;
+void Searcher::search(const Point3& q, std::vector<Neighbor>& out) { impl_->search(q, out); }
+const VisitTotals& Searcher::visits() const { return impl_->totals.visits; }
+const LeaderTotals& Searcher::leaders() const { return impl_->totals.leaders; }
+std::uint64_t Searcher::queries() const { return impl_->queries; }
+
 SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
                     const Schedule* replay, const Progress& progress) {
   validate(params);

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,5 +85,27 @@ class ScheduleError : public std::runtime_error {
 using Progress = std::function<void(std::size_t done, std::size_t total)>;
 SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
                     const Schedule* replay = nullptr, const Progress& progress = {});
+
+// One query at a time, in the caller's order, on one tree with fixed parameters: what a search
+// library plug-in needs (sw_ref/registration). Approximate search keeps its leader state across
+// calls, so a sequence of calls returns exactly what search() returns for the same queries in
+// the same order.
+class Searcher {
+ public:
+  Searcher(const KdTree& tree, const SearchParams& params);  // keeps a reference to `tree`
+  ~Searcher();
+  Searcher(const Searcher&) = delete;
+  Searcher& operator=(const Searcher&) = delete;
+  // Searches `q` (finite); `out` receives its neighbours in canonical order.
+  void search(const Point3& q, std::vector<Neighbor>& out);
+  const VisitTotals& visits() const;    // summed over every call
+  const LeaderTotals& leaders() const;
+  std::uint64_t queries() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace tigris

@@ -240,6 +240,9 @@ void validate_config(const AcceleratorConfig& cfg) {
        "holds no word of sram.query_stack.word_bytes"},
       {"sram.results.bytes", holds_one(cfg.sram.results),
        "holds no word of sram.results.word_bytes"},
+      {"result_buffer.leader_fraction",
+       cfg.result_buffer.slot_fraction + cfg.result_buffer.leader_fraction < 1.0,
+       "plus result_buffer.slot_fraction must stay below 1: the result stream needs the rest"},
   };
   for (const auto& r : rules)
     if (!r.ok) throw std::invalid_argument(source + ": '" + r.key + "' " + r.why);

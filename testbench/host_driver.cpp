@@ -16,6 +16,9 @@ HostJob host_job(const SearchParams& p) {
   j.k = static_cast<std::uint32_t>(p.effective_k());
   j.radius = p.radius;
   j.max_nn = p.max_nn;
+  j.approximate = p.approximate;
+  j.approx_thd = p.approx_thd;
+  j.leader_width = static_cast<std::uint32_t>(p.effective_leader_width());
   return j;
 }
 
@@ -99,6 +102,12 @@ void HostDriver::run_once() {
   write_csr(kNumTopNodes, image_.num_top_nodes);
   write_csr(kNumLeaves, image_.num_leaves);
   write_csr(kLeafDirOffset, image_.leaf_dir_offset);
+  const float thd2 = job_.approx_thd * job_.approx_thd;  // as sw_ref squares it: in float
+  std::uint32_t thd2_bits;
+  std::memcpy(&thd2_bits, &thd2, 4);
+  write_csr(kApprox, job_.approximate ? 1 : 0);
+  write_csr(kApproxThd2Bits, thd2_bits);
+  write_csr(kLeaderWidth, job_.leader_width);
   write_csr(kCtrl, 1);
   while (!irq.read()) wait(irq.value_changed_event());  // level: a fast error may beat us here
   const std::uint32_t status = read_csr(kStatus);

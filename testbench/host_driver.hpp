@@ -23,6 +23,9 @@ struct HostJob {
   std::uint32_t k = 1;
   float radius = 0.0f;
   std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
+  bool approximate = false;  // leader/follower search (DESIGN.md section 13)
+  float approx_thd = 0.0f;   // metres
+  std::uint32_t leader_width = 1;  // R for NN/kNN
   int runs = 1;              // the job is loaded and run this many times on one accelerator
 };
 

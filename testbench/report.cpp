@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "sw_ref/accuracy.hpp"
 #include "sw_ref/stats.hpp"
 
 namespace tigris {
@@ -50,6 +51,23 @@ nlohmann::json leaders_json(const SearchOutput& out) {
   return {{"leaders", out.leaders.leaders},
           {"followers", out.leaders.followers},
           {"leader_buffer_full", out.leaders.leader_buffer_full}};
+}
+
+nlohmann::json accuracy_json(const Accuracy& a) {
+  nlohmann::json j = {{"queries", a.queries},
+                      {"exact_matches", a.exact_matches},
+                      {"exact_match_fraction", a.exact_match_fraction()}};
+  if (a.mode != Mode::Radius) {
+    j["mean_extra_distance_m"] = a.mean_extra_m;
+    j["max_extra_distance_m"] = a.max_extra_m;
+    j["missing_neighbors"] = a.missing;
+  } else {
+    j["recall"] = a.recall();
+    j["precision"] = a.precision();
+    j["exact_hits"] = a.exact_hits;
+    j["returned_hits"] = a.returned_hits;
+  }
+  return j;
 }
 
 nlohmann::json tree_json(const KdTree& t) {

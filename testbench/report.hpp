@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sw_ref/accuracy.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
 
@@ -16,6 +17,8 @@ namespace tigris {
 nlohmann::json visits_json(const SearchOutput& out);
 // `leaders`: leader/follower decisions of the approximate search.
 nlohmann::json leaders_json(const SearchOutput& out);
+// `accuracy`: approximate against exact search of the same queries.
+nlohmann::json accuracy_json(const Accuracy& a);
 // The tree's shape: heights, leaves, leaf-set sizes.
 nlohmann::json tree_json(const KdTree& tree);
 // The search parameters as configuration keys.

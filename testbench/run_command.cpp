@@ -41,10 +41,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     std::cout << config_reference();
     return 0;
   }
-  const SearchParams params = search_params(app, o.search);
-  if (params.approximate)
-    throw std::invalid_argument("--approx-thd: the accelerator model runs exact search only so far "
-                                "(tigris ref models approximate search)");
+  SearchParams params = search_params(app, o.search);
   if (!o.search.schedule.empty())
     throw std::invalid_argument("--schedule replays a schedule in the golden model: use tigris ref");
   hw::AcceleratorConfig cfg;
@@ -52,7 +49,10 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   for (const std::string& s : o.settings) apply_setting(cfg, s);
   if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
   if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
+  // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
+  if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
   validate_config(cfg);
+  params.leader_capacity = cfg.leader.capacity_per_leaf;
 
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
   const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
@@ -61,9 +61,13 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const std::string fit = hw::job_fit_error(cfg, image.bytes.size(), w.queries.size(), tree.top_height, job.mode, job.k);
   if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
 
-  // Golden model first: its results and visit counts are what the accelerator must reproduce.
+  // Golden model first: exact search in query order. Its results and visit counts are what an
+  // exact run must reproduce; an approximate run is checked against the replay of its own
+  // schedule and measured against these exact results.
+  SearchParams exact = params;
+  exact.approximate = false;
   auto t0 = std::chrono::steady_clock::now();
-  const SearchOutput golden = search(tree, w.queries, params);
+  const SearchOutput golden = search(tree, w.queries, exact);
   const double golden_s = seconds_since(t0);
 
   SimSetup setup;
@@ -100,6 +104,12 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["mismatches"] = {{"results", verdict.result_mismatches}, {"visits", verdict.visit_mismatches},
                          {"first", verdict.first}};
   stats["visits"] = visits_json(hw_view);
+  Accuracy accuracy;
+  if (params.approximate) {
+    accuracy = measure_accuracy(params.mode, golden.results, sim.results);
+    stats["leaders"] = leaders_json(hw_view);
+    stats["accuracy"] = accuracy_json(accuracy);
+  }
   stats["lower_bound_cycles"] = sim.lower_bound_cycles;
   stats["units"] = sim.units;
   stats["buffers"] = sim.buffers;
@@ -118,8 +128,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
-  std::printf("  config  %d RU, %d SU x %d PE (%s), top height %d of %d, %.0f MHz\n",
+  std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
+              hw::to_string(cfg.node_cache.policy),
               tree.top_height, tree.full_height, cfg.clock_mhz);
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
               static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,
@@ -132,6 +143,22 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               static_cast<unsigned long long>(hw_view.visits.top),
               static_cast<unsigned long long>(hw_view.visits.pruned),
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
+  if (params.approximate) {
+    std::printf("  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
+                "leader checks %llu, follower points %llu\n",
+                static_cast<double>(params.approx_thd), params.leader_capacity,
+                static_cast<unsigned long long>(hw_view.leaders.leaders),
+                static_cast<unsigned long long>(hw_view.leaders.followers),
+                static_cast<unsigned long long>(hw_view.leaders.leader_buffer_full),
+                static_cast<unsigned long long>(hw_view.visits.leader_checks),
+                static_cast<unsigned long long>(hw_view.visits.follower_points));
+    if (params.mode == Mode::Radius)
+      std::printf("  accuracy vs exact: recall %.4f, precision %.4f, %.1f%% of queries exact\n",
+                  accuracy.recall(), accuracy.precision(), 100 * accuracy.exact_match_fraction());
+    else
+      std::printf("  accuracy vs exact: %.1f%% of queries exact, extra distance mean %.4f m, max %.3f m\n",
+                  100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
+  }
   std::fputs(energy_area_summary(stats).c_str(), stdout);
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());

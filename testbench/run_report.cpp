@@ -54,6 +54,8 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   json buffers = json::object();
   for (const hw::StatGroup* b : root.find("buffer")) buffers[b->name()] = b->counters_json();
   buffers["node_cache"] = child(root, "node_cache").counters_json();
+  buffers["node_cache"]["policy"] = hw::to_string(cfg.node_cache.policy);
+  buffers["leader_buffer"] = hw::StatGroup::sum(root.find("leader_buffer"));  // all SUs' together
   buffers["dram"] = child(root, "dram").counters_json();
 
   return {{"units",

@@ -15,14 +15,37 @@ void VisitRecorder::walked(std::uint32_t query, std::uint32_t top, std::uint32_t
   out_.visits.top += top, out_.visits.pruned += pruned;
 }
 
-void VisitRecorder::leaf_scanned(std::uint32_t query, std::uint32_t leaf, std::uint32_t points) {
+void VisitRecorder::leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) {
+  QueryVisits one;
+  one.leaf_points = visit.leaf_points;
+  one.follower_points = visit.follower_points;
+  one.leader_checks = visit.leader_checks;
+  one.leaf_visits = 1;
   QueryVisits& v = out_.per_query.at(query);
-  v.leaf_points += points, ++v.leaf_visits;
-  out_.visits.leaf_points += points, ++out_.visits.leaf_visits;
+  v.leaf_points += one.leaf_points, v.follower_points += one.follower_points;
+  v.leader_checks += one.leader_checks, ++v.leaf_visits;
+  out_.visits.add(one);
+  using Kind = hw::LeafVisit::Kind;
+  out_.leaders.leaders += visit.kind == Kind::Leader;
+  out_.leaders.followers += visit.kind == Kind::Follower;
+  out_.leaders.leader_buffer_full += visit.kind == Kind::LeaderBufferFull;
   out_.schedule.push_back({query, leaf});
 }
 
 namespace {
+
+bool same_visits(const QueryVisits& a, const QueryVisits& b) {
+  return a.top == b.top && a.pruned == b.pruned && a.leaf_points == b.leaf_points &&
+         a.follower_points == b.follower_points && a.leader_checks == b.leader_checks &&
+         a.leaf_visits == b.leaf_visits;
+}
+
+std::string counts(const QueryVisits& v) {
+  std::ostringstream s;
+  s << v.top << "/" << v.pruned << "/" << v.leaf_points << "/" << v.follower_points << "/"
+    << v.leader_checks << "/" << v.leaf_visits;
+  return s.str();
+}
 
 std::string describe(std::size_t q, const std::optional<std::string>& diff, const QueryVisits& g,
                      const QueryVisits& h, bool visits_ok) {
@@ -30,10 +53,13 @@ std::string describe(std::size_t q, const std::optional<std::string>& diff, cons
   s << "query " << q << ":";
   if (diff) s << " results differ (golden vs accelerator: " << diff->substr(diff->find(':') + 2) << ")";
   if (!visits_ok)
-    s << " visits differ (golden top/pruned/leaf points/leaf visits " << g.top << "/" << g.pruned << "/"
-      << g.leaf_points << "/" << g.leaf_visits << ", accelerator " << h.top << "/" << h.pruned << "/"
-      << h.leaf_points << "/" << h.leaf_visits << ")";
+    s << " visits differ (top/pruned/leaf points/follower points/leader checks/leaf visits: golden "
+      << counts(g) << ", accelerator " << counts(h) << ")";
   return s.str();
+}
+
+std::string totals(const LeaderTotals& t) {
+  return std::to_string(t.leaders) + "/" + std::to_string(t.followers) + "/" + std::to_string(t.leader_buffer_full);
 }
 
 }  // namespace
@@ -42,35 +68,45 @@ Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, cons
                              const SearchOutput& golden, const Results& hw_results,
                              const SearchOutput& hw_visits, std::size_t report_at_most) {
   Verdict v;
-  const std::size_t nq = golden.results.num_queries();
+  const std::size_t nq = queries.size();
   if (hw_results.num_queries() != nq || hw_visits.per_query.size() != nq) {
     v.match = false;
     v.first.push_back("the accelerator returned " + std::to_string(hw_results.num_queries()) +
                       " queries, the golden model " + std::to_string(nq));
     return v;
   }
-  for (std::size_t q = 0; q < nq; ++q) {
-    Results one_g, one_h;  // compare this query alone, to reuse the canonical comparison
-    one_g.append_query(golden.results.begin(q), golden.results.end(q));
-    one_h.append_query(hw_results.begin(q), hw_results.end(q));
-    const auto diff = first_difference(one_g, one_h);
-    const QueryVisits& g = golden.per_query[q];
-    const QueryVisits& h = hw_visits.per_query[q];
-    const bool visits_ok = g.top == h.top && g.pruned == h.pruned && g.leaf_points == h.leaf_points &&
-                           g.leaf_visits == h.leaf_visits;
-    if (diff) ++v.result_mismatches;
-    if (!visits_ok) ++v.visit_mismatches;
-    if ((diff || !visits_ok) && v.first.size() < report_at_most) v.first.push_back(describe(q, diff, g, h, visits_ok));
-  }
-  // The accelerator's own leaf-visit order, replayed through the golden model, must give the
-  // same answers: every visit it made is one the golden traversal expects, in a legal order.
+  // The accelerator's own leaf-visit order, replayed through the golden model: every visit it
+  // made must be one the query's traversal expects, in a legal order.
+  SearchOutput replay;
   try {
-    const SearchOutput replay = search(tree, queries, params, &hw_visits.schedule);
+    replay = search(tree, queries, params, &hw_visits.schedule);
+  } catch (const ScheduleError& e) {
+    v.match = false;
+    v.first.push_back(std::string("the accelerator's schedule does not replay: ") + e.what());
+    return v;
+  }
+  // Exact search does not depend on the order: the replay must agree with the in-order golden
+  // run, which is the reference. Approximate search does: the replay is the reference.
+  const SearchOutput& ref = params.approximate ? replay : golden;
+  if (!params.approximate)
     if (const auto diff = first_difference(golden.results, replay.results))
       v.first.push_back("replaying the accelerator's schedule: " + *diff);
-  } catch (const ScheduleError& e) {
-    v.first.push_back(std::string("the accelerator's schedule does not replay: ") + e.what());
+  for (std::size_t q = 0; q < nq; ++q) {
+    Results one_g, one_h;  // compare this query alone, to reuse the canonical comparison
+    one_g.append_query(ref.results.begin(q), ref.results.end(q));
+    one_h.append_query(hw_results.begin(q), hw_results.end(q));
+    const auto diff = first_difference(one_g, one_h);
+    const bool visits_ok = same_visits(ref.per_query[q], hw_visits.per_query[q]);
+    if (diff) ++v.result_mismatches;
+    if (!visits_ok) ++v.visit_mismatches;
+    if ((diff || !visits_ok) && v.first.size() < report_at_most)
+      v.first.push_back(describe(q, diff, ref.per_query[q], hw_visits.per_query[q], visits_ok));
   }
+  const LeaderTotals& g = ref.leaders;
+  const LeaderTotals& h = hw_visits.leaders;
+  if (g.leaders != h.leaders || g.followers != h.followers || g.leader_buffer_full != h.leader_buffer_full)
+    v.first.push_back("leaders/followers/leader-buffer-full differ: golden " + totals(g) +
+                      ", accelerator " + totals(h));
   v.match = v.result_mismatches == 0 && v.visit_mismatches == 0 && v.first.empty();
   return v;
 }

@@ -1,7 +1,11 @@
 // The golden check, written once: the scoreboard observes the accelerator (per-query visit
-// counts and the leaf-visit schedule in simulated-time order) and compares every query's
-// results (index and dist2 bits, canonical order) and visit counts (top, pruned, leaf points,
-// leaf visits) with the golden model, then replays the accelerator's schedule through sw_ref.
+// counts, leader decisions and the leaf-visit schedule in simulated-time order) and compares
+// every query's results (index and dist2 bits, canonical order) and visit counts (top, pruned,
+// leaf points, follower points, leader checks, leaf visits) and the leader / follower /
+// leader-buffer-full totals with the golden model. The golden model runs the queries in index
+// order; under approximate search the leader state depends on the order of leaf visits, so the
+// golden side then is the replay of the accelerator's schedule through sw_ref (which also
+// checks that every recorded visit is one the query's own traversal makes).
 #pragma once
 
 #include <cstdint>
@@ -18,7 +22,7 @@ class VisitRecorder final : public hw::JobObserver {
  public:
   void job_started(std::uint32_t num_queries) override;
   void walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) override;
-  void leaf_scanned(std::uint32_t query, std::uint32_t leaf, std::uint32_t points) override;
+  void leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) override;
   // Per-query counts, their totals and the schedule (results left empty).
   const SearchOutput& visits() const { return out_; }
 

@@ -77,13 +77,18 @@ expect 2 "schedule row 1" -- "${base[@]}" --schedule "$tmp/s2.csv"
 # tigris run: bad configurations are errors naming the key or buffer; two runs are identical.
 expect 2 "be.pes_per_su" -- run --set be.pes_per_su=0
 expect 2 "unknown key" -- run --set fe.recursion_unit=3
+expect 2 "'node_cache.policy' must be one of \`lru\`, \`fifo\`" -- run --set node_cache.policy=foo
 expect 2 "Point Buffer" -- run --set sram.points.bytes=100000
 expect 2 "sram.query_stack.bytes" -- run --set sram.query_stack.bytes=64
 expect 2 "radius must be" -- run --mode radius --radius 0
-expect 2 "exact search only" -- run --approx-thd 1
+expect 2 "leader capacity must be" -- run --approx-thd 1 --leader-capacity -1
+expect 2 "need --approx-thd" -- run --leader-width 3
+expect 0 "followers" -- run --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
+expect 0 "approximate" -- ref --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"
 expect 2 "$tmp/none.json" -- run --config "$tmp/none.json"
 small=(run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1)
 expect 0 "MATCH" -- "${small[@]}" --out "$tmp/r0"
+expect 0 "Node Cache fifo" -- "${small[@]}" --set node_cache.policy=fifo --out "$tmp/r0fifo"
 expect 0 "MATCH" -- run --mode knn --k 3 --height 12 --out "$tmp/run1" --dump-results "$tmp/run1.csv"
 expect 0 "MATCH" -- run --mode knn --k 3 --height 12 --out "$tmp/run2"
 c1=$(grep -m1 '"cycles"' "$tmp/run1/stats.json"); c2=$(grep -m1 '"cycles"' "$tmp/run2/stats.json")

@@ -165,3 +165,33 @@ TEST_CASE("a schedule that does not match the traversal is an error, not a silen
   bad_query[0].query = 50;
   CHECK_THROWS_AS(search(tree, queries, p, &bad_query), ScheduleError);
 }
+
+TEST_CASE("Searcher, one query at a time, returns what search() returns in the same order", "[approx][searcher]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2500, 31);
+  const PointCloud queries = make_queries(cloud, 300, 31);
+  const KdTree tree = build_kdtree(cloud, 6);
+  for (bool approximate : {false, true})
+    for (Mode mode : {Mode::NN, Mode::KNN, Mode::Radius}) {
+      SearchParams p = approx(mode, 1.0f);
+      p.approximate = approximate;
+      INFO(to_string(mode) << (approximate ? " approximate" : " exact"));
+      const SearchOutput batch = search(tree, queries, p);
+      Searcher one(tree, p);
+      Results got;
+      std::vector<Neighbor> n;
+      for (const Point3& q : queries) {
+        one.search(q, n);
+        got.append_query(n.data(), n.data() + n.size());
+      }
+      const auto diff = first_difference(batch.results, got);
+      if (diff) FAIL(*diff);
+      CHECK(one.queries() == queries.size());
+      CHECK(one.visits().top == batch.visits.top);
+      CHECK(one.visits().leaf_points == batch.visits.leaf_points);
+      CHECK(one.visits().follower_points == batch.visits.follower_points);
+      CHECK(one.visits().leader_checks == batch.visits.leader_checks);
+      CHECK(one.leaders().followers == batch.leaders.followers);
+      CHECK(one.leaders().leaders == batch.leaders.leaders);
+      if (approximate) CHECK(one.leaders().followers > 0);
+    }
+}

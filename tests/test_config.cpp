@@ -117,11 +117,15 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
     else if (v.is_number_integer())
       v = key == "tree.top_height" ? 12 : v.get<int>() + i;
     else if (v.is_number_float())
-      v = key == "result_buffer.slot_fraction" ? 0.25 : v.get<double>() * 2 + 0.25 * i;
+      v = key == "result_buffer.slot_fraction" ? 0.25
+          : key == "result_buffer.leader_fraction" ? 0.125
+                                                   : v.get<double>() * 2 + 0.25 * i;
     else if (v == "widest")
       v = "round-robin";
     else if (v == "mqsn")
       v = "mqmn";
+    else if (v == "lru")
+      v = "fifo";
     else
       FAIL("no change for " << key);
   }
@@ -129,6 +133,7 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
   CHECK(tigris::config_to_json(cfg) == changed);
   CHECK(cfg.fe.forwarding == false);
   CHECK(cfg.be.issue_policy == tigris::hw::IssuePolicyKind::Mqmn);
+  CHECK(cfg.node_cache.policy == tigris::hw::ReplacementPolicyKind::Fifo);
   CHECK(cfg.tree.split_axis == tigris::SplitRule::RoundRobin);
   CHECK_NOTHROW(tigris::validate_config(cfg));
   AcceleratorConfig again;
@@ -369,7 +374,37 @@ TEST_CASE("config: bad --set forms are errors naming the --set text", "[config]"
   CHECK(err("be.issue_policy=MQMN") ==
         "--set 'be.issue_policy=MQMN': 'be.issue_policy' must be one of `mqsn`, `mqmn`, got "
         "\"MQMN\"");
+  CHECK(err("node_cache.policy=MQMN") ==
+        "--set 'node_cache.policy=MQMN': 'node_cache.policy' must be one of `lru`, `fifo`, got "
+        "\"MQMN\"");
   CHECK(same(cfg, AcceleratorConfig{}));  // a failed --set changes nothing
+}
+
+TEST_CASE("config: node_cache.policy is lru by default, takes fifo, rejects anything else",
+          "[config]") {
+  AcceleratorConfig cfg;
+  CHECK(cfg.node_cache.policy == tigris::hw::ReplacementPolicyKind::Lru);
+  CHECK(tigris::config_to_json(cfg)["node_cache"]["policy"] == "lru");
+  tigris::apply_setting(cfg, "node_cache.policy=fifo");
+  CHECK(cfg.node_cache.policy == tigris::hw::ReplacementPolicyKind::Fifo);
+  CHECK(tigris::config_to_json(cfg)["node_cache"]["policy"] == "fifo");
+  tigris::apply_setting(cfg, "node_cache.policy=lru");
+  CHECK(same(cfg, AcceleratorConfig{}));
+
+  CHECK(error_of([&] { tigris::apply_setting(cfg, "node_cache.policy=foo"); }) ==
+        "--set 'node_cache.policy=foo': 'node_cache.policy' must be one of `lru`, `fifo`, got "
+        "\"foo\"");
+  CHECK(error_of([&] {
+          tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": "random"}})"),
+                                    "c.json");
+        }) == "c.json: 'node_cache.policy' must be one of `lru`, `fifo`, got \"random\"");
+  CHECK(error_of([&] {
+          tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": 0}})"),
+                                    "c.json");
+        }) == "c.json: 'node_cache.policy' must be one of `lru`, `fifo`, got 0");
+  CHECK(same(cfg, AcceleratorConfig{}));  // rejected values change nothing
+  CHECK(tigris::config_reference().find("| `node_cache.policy` | lru | - | `lru`, `fifo` |") !=
+        std::string::npos);
 }
 
 TEST_CASE("config: validate_config checks ranges and cross-field rules, naming the key",

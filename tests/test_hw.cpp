@@ -3,14 +3,18 @@
 // simulates all the configurations it compares side by side in one run.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
+#include <set>
 
+#include "hw/be/replacement_policy.hpp"
 #include "hw/mem/banked_sram.hpp"
 #include "hw/be/pe_array.hpp"
 #include "scoreboard.hpp"
 #include "simulation.hpp"
 #include "sw_ref/search.hpp"
 #include "sw_ref/synthetic.hpp"
+#include "hw_cases.hpp"
 #include "test_util.hpp"
 
 using namespace tigris;
@@ -21,62 +25,6 @@ extern "C" int sc_main(int, char**) { return 2; }  // the Catch2 main runs inste
 namespace {
 
 const bool kQuietSystemC = [] { return setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1) == 0; }();
-
-struct Case {
-  std::string name;
-  hw::AcceleratorConfig config;
-  SearchParams params;
-  const PointCloud* cloud = nullptr;    // this case's own workload, when not the shared one
-  const PointCloud* queries = nullptr;
-};
-
-// Simulates every case on (cloud, queries) in one run; checks each against the golden model.
-std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, const PointCloud& shared_queries,
-                                      const std::vector<Case>& cases) {
-  std::vector<KdTree> trees;
-  std::vector<tlm_if::TreeImage> images;
-  trees.reserve(cases.size());
-  images.reserve(cases.size());
-  std::vector<SimSetup> setups;
-  for (const Case& c : cases) {
-    const PointCloud& cloud = c.cloud ? *c.cloud : shared_cloud;
-    const PointCloud& queries = c.queries ? *c.queries : shared_queries;
-    trees.push_back(build_kdtree(cloud, c.config.tree.top_height));
-    images.push_back(tlm_if::encode_tree_image(trees.back()));
-    SimSetup s;
-    s.config = c.config;
-    s.image = &images.back();
-    s.queries = &queries;
-    s.num_points = static_cast<std::uint32_t>(cloud.size());
-    s.job = host_job(c.params);
-    setups.push_back(s);
-  }
-  std::vector<SimOutcome> out = simulate(setups);
-  for (std::size_t i = 0; i < cases.size(); ++i) {
-    INFO("case " << cases[i].name << ": " << out[i].error << out[i].deadlock);
-    const PointCloud& queries = cases[i].queries ? *cases[i].queries : shared_queries;
-    REQUIRE(out[i].error.empty());
-    REQUIRE(out[i].deadlock.empty());
-    REQUIRE(out[i].finished);
-    const SearchOutput golden = search(trees[i], queries, cases[i].params);
-    const Verdict v = check_against_golden(trees[i], queries, cases[i].params, golden, out[i].results, out[i].visits);
-    if (!v.match) FAIL(cases[i].name << ": " << v.first.front());
-  }
-  return out;
-}
-
-SearchParams mode(Mode m, int k = 1, float r = 0.0f, std::uint32_t max_nn = 0) {
-  SearchParams p;
-  p.mode = m, p.k = k, p.radius = r, p.max_nn = max_nn;
-  return p;
-}
-
-hw::AcceleratorConfig units(int ru, int su, int pe, int height) {
-  hw::AcceleratorConfig c;
-  c.fe.recursion_units = ru, c.be.search_units = su, c.be.pes_per_su = pe;
-  c.tree.top_height = height;
-  return c;
-}
 
 }  // namespace
 
@@ -327,4 +275,131 @@ TEST_CASE("Result Buffer words follow sram.results.word_bytes", "[hw][timing]") 
   CHECK(narrow_r["reads"].get<std::uint64_t>() == 2 * wide_r["reads"].get<std::uint64_t>());
   CHECK(narrow_r["writes"].get<std::uint64_t>() == 2 * wide_r["writes"].get<std::uint64_t>());
   CHECK(narrow_r["read_bytes"] == wide_r["read_bytes"]);
+}
+
+namespace {
+
+// Replays a script on a replacement policy: a number inserts that leaf, "h" + number reads it,
+// "e" evicts; returns the victims in order.
+std::vector<std::uint32_t> victims(hw::ReplacementPolicy& p, const std::vector<std::string>& script) {
+  std::vector<std::uint32_t> out;
+  for (const std::string& op : script) {
+    if (op == "e")
+      out.push_back(p.evict());
+    else if (op == "reset")
+      p.reset();
+    else if (op[0] == 'h')
+      p.hit(static_cast<std::uint32_t>(std::stoul(op.substr(1))));
+    else
+      p.inserted(static_cast<std::uint32_t>(std::stoul(op)));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Node Cache replacement: LRU evicts the least recently read, FIFO the oldest fill", "[hw][node_cache]") {
+  const std::vector<std::string> script = {"1", "2", "3", "h1", "e",      // LRU 2, FIFO 1
+                                           "4", "h3", "e", "e",           // LRU 1 4, FIFO 2 3
+                                           "5", "h3", "h5", "h3", "e", "e",  // LRU 5 3, FIFO 4 5
+                                           "reset", "7", "8", "h7", "e", "e"};  // LRU 8 7, FIFO 7 8
+  const std::vector<std::uint32_t> lru = {2, 1, 4, 5, 3, 8, 7}, fifo = {1, 2, 3, 4, 5, 7, 8};
+  CHECK(victims(*hw::make_lru_replacement(), script) == lru);
+  CHECK(victims(*hw::make_fifo_replacement(), script) == fifo);
+  // The factory follows node_cache.policy.
+  CHECK(victims(*hw::make_replacement_policy(hw::ReplacementPolicyKind::Lru), script) == lru);
+  CHECK(victims(*hw::make_replacement_policy(hw::ReplacementPolicyKind::Fifo), script) == fifo);
+  // Without hits the two agree: both evict in fill order.
+  const std::vector<std::string> no_hits = {"9", "4", "6", "e", "2", "e", "e", "e"};
+  CHECK(victims(*hw::make_lru_replacement(), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
+  CHECK(victims(*hw::make_fifo_replacement(), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
+}
+
+namespace {
+
+struct CacheCounts {
+  std::uint64_t hits = 0, misses = 0, evictions = 0;
+  bool operator==(const CacheCounts& o) const {
+    return hits == o.hits && misses == o.misses && evictions == o.evictions;
+  }
+};
+std::ostream& operator<<(std::ostream& os, const CacheCounts& c) {
+  return os << "{hits " << c.hits << ", misses " << c.misses << ", evictions " << c.evictions << "}";
+}
+
+// An independent model of the Node Cache: whole Node Sets of `capacity` bytes, looked up in
+// the schedule's order, evicting the front of `order` (fill order; LRU moves a hit to the back).
+CacheCounts replay_cache(const KdTree& tree, const Schedule& schedule, std::uint64_t capacity, bool fifo) {
+  CacheCounts c;
+  std::vector<std::uint32_t> order;
+  std::uint64_t used = 0;
+  const auto bytes = [&](std::uint32_t leaf) {
+    return std::uint64_t{tree.leaf_size(leaf)} * sizeof(tlm_if::PointEntry);
+  };
+  for (const ScheduleEntry& e : schedule) {
+    const auto it = std::find(order.begin(), order.end(), e.leaf);
+    if (it != order.end()) {
+      ++c.hits;
+      if (!fifo) order.erase(it), order.push_back(e.leaf);
+      continue;
+    }
+    ++c.misses;
+    if (bytes(e.leaf) > capacity) continue;
+    while (used + bytes(e.leaf) > capacity) {
+      used -= bytes(order.front());
+      order.erase(order.begin());
+      ++c.evictions;
+    }
+    order.push_back(e.leaf);
+    used += bytes(e.leaf);
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each policy's own evictions", "[hw][node_cache]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 21);
+  const PointCloud queries = make_queries(cloud, 300, 21);
+  const int height = 5;
+  const KdTree tree = build_kdtree(cloud, height);
+  std::uint32_t largest = 0;
+  for (std::uint32_t l = 0; l < tree.num_leaves(); ++l) largest = std::max(largest, tree.leaf_size(l));
+  // Every Node Set fits (no bypass), four at a time: misses beyond the cold ones are evictions.
+  const std::uint64_t capacity = 4 * std::uint64_t{largest} * sizeof(tlm_if::PointEntry);
+  std::vector<Case> cases;
+  for (const auto kind : {hw::ReplacementPolicyKind::Lru, hw::ReplacementPolicyKind::Fifo}) {
+    // One PE per SU: every batch is one query, so the recorded schedule is the cache's lookup
+    // order (SUs look up the shared cache as they issue, and record the visit right after).
+    hw::AcceleratorConfig c = units(8, 4, 1, height);
+    c.node_cache.bytes = capacity;
+    c.node_cache.policy = kind;
+    cases.push_back({hw::to_string(kind), c, mode(Mode::KNN, 4)});
+  }
+  const auto out = run_and_check(cloud, queries, cases);
+  std::vector<std::uint64_t> hits;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    INFO(cases[i].name);
+    const bool fifo = cases[i].config.node_cache.policy == hw::ReplacementPolicyKind::Fifo;
+    const nlohmann::json& nc = out[i].buffers["node_cache"];
+    CHECK(nc["policy"] == cases[i].name);
+    const Schedule& schedule = out[i].visits.schedule;
+    const CacheCounts got{nc["hits"].get<std::uint64_t>(), nc["misses"].get<std::uint64_t>(),
+                          nc["evictions"].get<std::uint64_t>()};
+    CHECK(out[i].units["search_units"]["batches"].get<std::uint64_t>() == schedule.size());
+    CHECK(got.hits + got.misses == schedule.size());
+    std::set<std::uint32_t> distinct;
+    for (const ScheduleEntry& e : schedule) distinct.insert(e.leaf);
+    CHECK(distinct.size() > 4);
+    CHECK(got.hits > 0);
+    CHECK(got.evictions > 0);
+    CHECK(got.misses > distinct.size());  // Node Sets were evicted and read again
+    CHECK(got.misses - got.evictions <= 4);  // what is left in the cache at the end
+    // The cache behaves exactly as its policy says on this lookup order, and not as the other
+    // policy would: the workload tells the two apart.
+    CHECK(got == replay_cache(tree, schedule, capacity, fifo));
+    CHECK_FALSE(got == replay_cache(tree, schedule, capacity, !fifo));
+    hits.push_back(got.hits);
+  }
+  CHECK(hits[0] != hits[1]);
 }

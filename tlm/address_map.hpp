@@ -34,6 +34,10 @@ enum Csr : std::uint32_t {
   kCyclesLo = 0x34,       // cycles from START to done
   kCyclesHi = 0x38,
   kErrorCode = 0x3C,
+  kApprox = 0x40,         // 1: approximate (leader/follower) search at every leaf visit
+  kApproxThd2Bits = 0x44, // thd*thd as float32 bits: a query this close to a leader follows it
+  kLeaderWidth = 0x48,    // R: entries in a NN/kNN leader's local result list
+  kCsrCount = 0x4C / 4,
 };
 
 enum class SearchMode : std::uint32_t { NN = 0, KNN = 1, Radius = 2 };

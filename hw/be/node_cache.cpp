@@ -5,7 +5,8 @@
 namespace tigris::hw {
 
 NodeCache::NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
-    : sc_module(name), capacity_(config.node_cache.bytes), policy_(make_lru_replacement()),
+    : sc_module(name), capacity_(config.node_cache.bytes),
+      policy_(make_replacement_policy(config.node_cache.policy)),
       // Priced by the SRAM rule at its bank size; a fill is charged as a read (equal by default).
       energy_(meter.line("node_cache.bytes", EnergyMeter::Component::NodeCache,
                          meter.table().sram_price(config.node_cache.bytes, per_su_banks(config), false))) {}
@@ -31,6 +32,7 @@ bool NodeCache::lookup(std::uint32_t leaf, std::uint64_t bytes) {
     const std::uint32_t victim = policy_->evict();
     used_ -= sets_.at(victim);
     sets_.erase(victim);
+    ++evictions_;
   }
   sets_[leaf] = bytes;
   policy_->inserted(leaf);

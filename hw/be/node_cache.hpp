@@ -1,6 +1,7 @@
 // Node Cache (paper section 5.3): entries hold whole Node Sets, read as FIFOs; a lookup is by
-// leaf id, the replacement policy chooses victims (replacement_policy.hpp). A Node Set larger
-// than the cache bypasses it. One cache serves every Search Unit.
+// leaf id, the replacement policy (node_cache.policy: LRU or FIFO, replacement_policy.hpp)
+// chooses victims. A Node Set larger than the cache bypasses it. One cache serves every Search
+// Unit.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +32,7 @@ class NodeCache : public sc_core::sc_module {
   std::unordered_map<std::uint32_t, std::uint64_t> sets_;  // leaf -> Node Set bytes
   std::unique_ptr<ReplacementPolicy> policy_;
   StatGroup stats_{"node_cache", "node_cache"};
-  Counter hits_{stats_, "hits"}, misses_{stats_, "misses"};
+  Counter hits_{stats_, "hits"}, misses_{stats_, "misses"}, evictions_{stats_, "evictions"};
   Counter read_bytes_{stats_, "read_bytes"}, fill_bytes_{stats_, "fill_bytes"};
   Counter& energy_;
 };

@@ -32,23 +32,42 @@ class PeArray {
   void start(const JobDescriptor& job, TreeView tree, ResultSlots slots) {
     job_ = &job, tree_ = tree, slots_ = slots;
   }
-  // One PE scans leaf set `token.leaf` for its query: NN/kNN results go to its Result Buffer
-  // slot, radius hits to `hits`. Returns the points compared.
-  std::uint32_t scan(const QueryToken& token, std::vector<tlm_if::ResultRecord>& hits) {
-    const std::uint32_t first = tree_.leaf_begin(token.leaf), last = tree_.leaf_end(token.leaf);
-    const tlm_if::PointEntry* set = tree_.leaf_entries();
-    for (std::uint32_t i = first; i < last; ++i) {
+  // The Node Set of `leaf`: its first entry and size.
+  const tlm_if::PointEntry* node_set(std::uint32_t leaf) const { return tree_.leaf_entries() + tree_.leaf_begin(leaf); }
+
+  // One PE scans `count` entries (a Node Set, or a leader's local result list) for its query:
+  // NN/kNN results go to its Result Buffer slot, radius hits to `hits`. With `local`, the PE
+  // also keeps the query's local result list as a new leader (DESIGN.md section 13): its
+  // in-radius entries (radius) or its job.leader_width best in (dist2, index) order (NN/kNN).
+  void scan(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
+            std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr) {
+    best_.clear();
+    for (std::uint32_t i = 0; i < count; ++i) {
       const float d = dist2(token.point, Point3{set[i].x, set[i].y, set[i].z});
-      if (!job_->radius())
+      if (!job_->radius()) {
         slots_.insert(token.slot, {set[i].tag, d});
-      else if (d <= job_->r2)
+        if (local) keep_best({set[i].tag, d}, set[i]);
+      } else if (d <= job_->r2) {
         hits.push_back({token.query, set[i].tag, d});
+        if (local) local->push_back(set[i]);
+      }
     }
-    return last - first;
+    if (local && !job_->radius())
+      for (const auto& b : best_) local->push_back(b.second);
   }
 
  private:
+  // The leader_width best so far, closest first (insertion into a short sorted list).
+  void keep_best(Neighbor n, const tlm_if::PointEntry& e) {
+    if (best_.size() == job_->leader_width && !closer(n, best_.back().first)) return;
+    if (best_.size() == job_->leader_width) best_.pop_back();
+    auto it = best_.end();
+    while (it != best_.begin() && closer(n, (it - 1)->first)) --it;
+    best_.insert(it, {n, e});
+  }
+
   const JobDescriptor* job_ = nullptr;
+  std::vector<std::pair<Neighbor, tlm_if::PointEntry>> best_;
   TreeView tree_;
   ResultSlots slots_;
 };

@@ -1,8 +1,11 @@
-// Which Node Set the Node Cache evicts: one small interface, one file per policy (LRU now).
+// Which Node Set the Node Cache evicts: one small interface, one file per policy
+// (lru_replacement.cpp, fifo_replacement.cpp); node_cache.policy chooses.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+
+#include "hw/config.hpp"
 
 namespace tigris::hw {
 
@@ -16,5 +19,8 @@ class ReplacementPolicy {
 };
 
 std::unique_ptr<ReplacementPolicy> make_lru_replacement();
+std::unique_ptr<ReplacementPolicy> make_fifo_replacement();
+// The policy node_cache.policy names.
+std::unique_ptr<ReplacementPolicy> make_replacement_policy(ReplacementPolicyKind kind);
 
 }  // namespace tigris::hw

@@ -15,8 +15,10 @@ SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
       links_(links), clock_{config.period()},
       capacity_(static_cast<std::size_t>(config.be.bqb_entries)),
       pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_),
-      stats_(basename(), "search_unit"),
-      distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)) {
+      leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
+      distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)),
+      leader_check_(stats_, links.meter) {
+  stats_.add(leader_buffer_.stats());
   SC_METHOD(step);
   sensitive << wake_;
   dont_initialize();
@@ -29,6 +31,7 @@ void SearchUnit::start() {
   busy_until_ = 0;
   tree_ = TreeView(points.data(), job_);
   pe_array_.start(job_, tree_, ResultSlots(results.data(), job_.k));
+  leader_buffer_.start(job_, results.data());
 }
 
 void SearchUnit::accept(const QueryToken& token) {
@@ -94,39 +97,110 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   const std::uint32_t leaf = tokens.front().leaf;
   const std::uint64_t n = tree_.leaf_size(leaf);
   const std::uint64_t b = tokens.size();
-  const std::uint64_t set_bytes = n * sizeof(tlm_if::PointEntry);
+  const int depth = config_.cost.pe_pipeline_depth;
   free_pes_ -= static_cast<std::uint32_t>(b);
   leaf_wave_.set(leaf);
   ++batches_;
   queries_ += b;
 
-  // Node Set: from the Node Cache on a hit, else one burst from the Point Buffer.
-  std::uint64_t data_ready = start + static_cast<std::uint64_t>(config_.cost.node_cache_hit);
-  if (!links_.cache.lookup(leaf, set_bytes)) {
-    tlm_if::AccessProfile a;
-    a.first_byte = tree_.leaf_address(leaf);
-    a.bytes = set_bytes;
-    data_ready = points.charge(now, a, clock_.period);
+  // Function, one query at a time in BQB order (the recorded order): the Leader Check decides
+  // how each is served, then its PE scans the Node Set or its leader's local list.
+  const Plan plan = serve(tokens, leaf);
+
+  // Timing. The batch's stream: the Leader Check (the leaf's leaders past the PEs), then the
+  // Node Set for the exact scans, then each followed leader's list, back to back through the
+  // array (a PE computes on its own group's entries only).
+  std::uint64_t check_end = start;
+  if (plan.max_checks > 0)
+    check_end += PeArray::stream_cycles(plan.max_checks, b, depth) + static_cast<std::uint64_t>(config_.cost.leader_check);
+  std::uint64_t data_ready = start, stream = 0;
+  if (plan.exact > 0) {
+    // Node Set: from the Node Cache on a hit, else one burst from the Point Buffer.
+    stream += n;
+    const std::uint64_t set_bytes = n * sizeof(tlm_if::PointEntry);
+    data_ready = start + static_cast<std::uint64_t>(config_.cost.node_cache_hit);
+    if (!links_.cache.lookup(leaf, set_bytes)) {
+      tlm_if::AccessProfile a;
+      a.first_byte = tree_.leaf_address(leaf);
+      a.bytes = set_bytes;
+      data_ready = points.charge(now, a, clock_.period);
+    }
+  }
+  // New leaders' lists are written to the Result Buffer (or DRAM) once their scan is done.
+  const std::uint64_t scan_end = PeArray::stream_end(check_end, data_ready, n, plan.exact, depth);
+  for (std::size_t i : plan.new_leaders) {
+    LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, i);
+    l.ready = list_access(scan_end, l, true);
+  }
+  for (std::size_t i : plan.followed) {
+    const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, i);
+    stream += l.list_length;
+    data_ready = std::max(data_ready, list_access(std::max(now, l.ready), l, false));
   }
   // Result Buffer: each query's NN/kNN slot is read into its PE (written back at retire).
   if (!job_.radius()) data_ready = std::max(data_ready, results.charge(now, slot_access(tokens, false), clock_.period));
-  const int depth = config_.cost.pe_pipeline_depth;
-  const std::uint64_t compute_end = start + PeArray::stream_cycles(n, b, depth);
-  const std::uint64_t end = PeArray::stream_end(start, data_ready, n, b, depth);
-  // Function: every PE scans the Node Set for its query; the decisions are reported in order.
-  std::vector<tlm_if::ResultRecord> hits;
-  for (const QueryToken& t : tokens) {
-    const std::uint32_t scanned = pe_array_.scan(t, hits);
-    distance_energy_ += scanned;
-    links_.observer.leaf_scanned(t.query, t.leaf, scanned);
-  }
-  // Busy: streaming as the formula says (cycles with a PE busy, batches of MQMN overlap);
-  // stall: the stream waiting for its data beyond that.
+  const std::uint64_t compute_end = check_end + PeArray::stream_cycles(stream, b, depth);
+  const std::uint64_t end = PeArray::stream_end(check_end, data_ready, stream, b, depth);
+  // Busy: checks and streaming as the formulas say (cycles with a PE busy, batches of MQMN
+  // overlap); stall: the stream waiting for its data beyond that.
   busy_cycles_ += compute_end - std::max(start, std::min(compute_end, busy_until_));
   busy_until_ = std::max(busy_until_, compute_end);
   sram_stall_ += end - compute_end;
   pe_busy_cycles_ += b * (compute_end - start);
-  running_.push_back({std::move(tokens), std::move(hits), end, false});
+  running_.push_back({std::move(tokens), std::move(hits_), end, false});
+  hits_.clear();
+}
+
+SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf) {
+  Plan plan;
+  const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
+  const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
+  for (const QueryToken& t : tokens) {
+    LeafVisit v;
+    if (!job_.approximate) {
+      pe_array_.scan(t, set, n, hits_);
+      v.leaf_points = n;
+      ++plan.exact;
+    } else {
+      const LeaderCheck::Decision d = leader_check_.decide(leader_buffer_, leaf, t.point, job_.thd2);
+      v.kind = d.kind;
+      v.leader_checks = d.checks;
+      plan.max_checks = std::max<std::uint64_t>(plan.max_checks, d.checks);
+      if (d.kind == LeafVisit::Kind::Follower) {
+        const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, d.leader);
+        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits_);
+        v.follower_points = l.list_length;
+        if (std::find(plan.followed.begin(), plan.followed.end(), d.leader) == plan.followed.end())
+          plan.followed.push_back(d.leader);
+      } else if (d.kind == LeafVisit::Kind::Leader) {
+        local_.clear();
+        pe_array_.scan(t, set, n, hits_, &local_);
+        plan.new_leaders.push_back(leader_buffer_.append(leaf, t.point, local_));
+        v.leaf_points = n;
+        ++plan.exact;
+      } else {
+        pe_array_.scan(t, set, n, hits_);
+        v.leaf_points = n;
+        ++plan.exact;
+      }
+    }
+    distance_energy_ += v.leaf_points + v.follower_points;
+    links_.observer.leaf_scanned(t.query, t.leaf, v);
+  }
+  // The check stream reads the leaf's leaders once per batch (as many as the last check saw).
+  leader_buffer_.read(plan.max_checks);
+  return plan;
+}
+
+std::uint64_t SearchUnit::list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write) {
+  const std::uint64_t bytes = l.list_length * LeaderBuffer::kListEntryBytes;
+  if (bytes == 0) return at;
+  if (l.in_dram) return links_.result_buffer.dram_transfer(at, bytes, write);
+  tlm_if::AccessProfile a;
+  a.write = write;
+  a.first_byte = l.list_address;
+  a.bytes = bytes;
+  return results.charge(at, a, clock_.period);
 }
 
 tlm_if::AccessProfile SearchUnit::slot_access(const std::vector<QueryToken>& tokens, bool write) {

@@ -9,6 +9,8 @@
 #include <systemc>
 
 #include "hw/be/issue_policy.hpp"
+#include "hw/be/leader_buffer.hpp"
+#include "hw/be/leader_check.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/pe_array.hpp"
 #include "hw/clock.hpp"
@@ -67,6 +69,15 @@ class SearchUnit : public sc_core::sc_module {
   };
   void step();  // SC_METHOD: retire finished batches, issue new ones
   void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
+  // How a batch is served: its exact scans, the leaders it followed and the ones it appended.
+  struct Plan {
+    std::uint64_t exact = 0;       // queries scanning the Node Set
+    std::uint64_t max_checks = 0;  // leaders the last Leader Check compared against
+    std::vector<std::size_t> followed, new_leaders;  // leader indices at the batch's leaf
+  };
+  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf);
+  // A leader's list written (at its leader's scan end) or read, from cycle `at`; returns when done.
+  std::uint64_t list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
   // The batch's NN/kNN slots in the Result Buffer, as one scattered access.
   tlm_if::AccessProfile slot_access(const std::vector<QueryToken>& tokens, bool write);
@@ -82,6 +93,9 @@ class SearchUnit : public sc_core::sc_module {
   std::vector<QueryToken> bqb_;
   std::vector<Batch> running_;
   PeArray pe_array_;
+  LeaderBuffer leader_buffer_;
+  std::vector<tlm_if::ResultRecord> hits_;      // the batch being issued: its radius hits
+  std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;
   sc_core::sc_event wake_;
@@ -95,6 +109,7 @@ class SearchUnit : public sc_core::sc_module {
   Counter pe_busy_cycles_{stats_, "pe_busy_cycles"};  // sum over PEs of cycles holding a query
   Counter bqb_max_{stats_, "bqb_max_occupancy", Counter::Merge::Max};
   Counter& distance_energy_;
+  LeaderCheck leader_check_;
   Probe bqb_wave_, pes_wave_, leaf_wave_;
 };
 

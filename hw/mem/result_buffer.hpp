@@ -1,7 +1,8 @@
 // The Result Buffer (paper section 5.2): one SRAM split between the NN/kNN query slots (the
-// `result_buffer.slot_fraction` share; layout in result_slots.hpp) and the double-buffered
-// stream area that the write-back drains to DRAM. Radius search keeps no slots: every hit is
-// streamed, so the whole buffer is stream area.
+// `result_buffer.slot_fraction` share; layout in result_slots.hpp), under approximate search the
+// leaders' local result lists (the `result_buffer.leader_fraction` share after the slots), and
+// the double-buffered stream area that the write-back drains to DRAM. Radius search keeps no
+// slots: every hit is streamed.
 #pragma once
 
 #include <cstdint>
@@ -33,10 +34,21 @@ class ResultBuffer : public sc_core::sc_module {
     const double share = static_cast<double>(config.sram.results.bytes) * config.result_buffer.slot_fraction;
     return static_cast<std::uint64_t>(share) / slot_bytes;
   }
-  // A job starts at `cycle` with `slots` query slots of `slot_bytes`; the rest is stream area.
-  void start(std::uint64_t cycle, std::uint64_t slots, std::uint64_t slot_bytes) {
+  // Bytes for leader lists when a job searches approximately.
+  static std::uint64_t leader_area_bytes(const AcceleratorConfig& config) {
+    return static_cast<std::uint64_t>(static_cast<double>(config.sram.results.bytes) *
+                                      config.result_buffer.leader_fraction);
+  }
+  // A job starts at `cycle` with `slots` query slots of `slot_bytes` and `leader_bytes` of leader
+  // lists; the rest is stream area.
+  void start(std::uint64_t cycle, std::uint64_t slots, std::uint64_t slot_bytes, std::uint64_t leader_bytes) {
     sram_.start();
-    writeback_.start(cycle, sram_.size() - slots * slot_bytes);
+    writeback_.start(cycle, sram_.size() - slots * slot_bytes - leader_bytes);
+  }
+  // A leader list kept in DRAM: `bytes` written or read over the write-back's channel from
+  // cycle `now`; returns the cycle the transfer completes.
+  std::uint64_t dram_transfer(std::uint64_t now, std::uint64_t bytes, bool write) {
+    return writeback_.transfer(now, bytes, write);
   }
   // Streams records out at cycle `now`; returns the cycle they are accepted.
   std::uint64_t stream(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n) {

@@ -10,7 +10,8 @@ ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const Accelerator
                                  EnergyMeter& meter)
     : sc_module(name), socket("socket"), config_(config.dram),
       host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), clock_{config.period()},
-      dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)) {
+      dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
+      dram_read_energy_(meter.line("dram.read_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)) {
   socket.register_b_transport(this, &ResultWriteback::b_transport);
 }
 
@@ -39,6 +40,14 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
   write_bytes_ += bytes_n;
   dram_energy_ += bytes_n;
   return origin_ + accept_cycle;
+}
+
+std::uint64_t ResultWriteback::transfer(std::uint64_t now, std::uint64_t bytes, bool write) {
+  const double begin = std::max(static_cast<double>(now - origin_), drain_free_);
+  drain_free_ = begin + static_cast<double>(bytes) / config_.bytes_per_cycle;
+  (write ? list_writes_ : list_reads_) += bytes;
+  (write ? dram_energy_ : dram_read_energy_) += bytes;
+  return origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + static_cast<std::uint64_t>(config_.latency_cycles);
 }
 
 std::uint64_t ResultWriteback::drained_cycle() const {

@@ -30,6 +30,9 @@ class ResultWriteback : public sc_core::sc_module {
   void start(std::uint64_t cycle, std::uint64_t stream_buffer_bytes);
   // Appends records at cycle `now`; returns the cycle they are accepted (backpressure).
   std::uint64_t write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n);
+  // Other traffic on the channel (leader lists kept in DRAM): `bytes` moved from cycle `now`,
+  // behind what the channel already carries; returns the cycle the transfer completes.
+  std::uint64_t transfer(std::uint64_t now, std::uint64_t bytes, bool write);
   // The cycle the last accepted byte reaches DRAM.
   std::uint64_t drained_cycle() const;
   std::uint64_t bytes() const { return region_.size(); }
@@ -48,7 +51,9 @@ class ResultWriteback : public sc_core::sc_module {
   StatGroup stats_{"dram", "dram"};
   Counter writes_{stats_, "writes"}, write_bytes_{stats_, "write_bytes"};  // result records
   Counter reads_{stats_, "reads"}, read_bytes_{stats_, "read_bytes"};      // the host's reads
+  Counter list_writes_{stats_, "leader_list.write_bytes"}, list_reads_{stats_, "leader_list.read_bytes"};
   Counter& dram_energy_;
+  Counter& dram_read_energy_;
 };
 
 }  // namespace tigris::hw

@@ -1,0 +1,71 @@
+// The Leader Buffer of one Search Unit (paper section 5.3 "Approximate Search", DESIGN.md
+// section 13): for every leaf the SU owns (leaf id mod SUs), up to leader.capacity_per_leaf
+// leaders in arrival order, 12 bytes each (the leader's point), and where each leader's local
+// result list lives. Lists are written into this SU's equal share of the Result Buffer's
+// leader-list area (16-byte entries: x, y, z, index, as in the Point Buffer), bump-allocated
+// within a job; a list that no longer fits is kept in DRAM (a documented spill: its write and
+// every follower's read cross the write-back channel).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hw/config.hpp"
+#include "hw/energy_meter.hpp"
+#include "hw/job.hpp"
+#include "hw/stats.hpp"
+#include "sw_ref/arith.hpp"
+#include "tlm/tree_image.hpp"
+
+namespace tigris::hw {
+
+class LeaderBuffer {
+ public:
+  static constexpr std::uint64_t kLeaderBytes = 12;  // x, y, z as float32
+  static constexpr std::uint64_t kListEntryBytes = sizeof(tlm_if::PointEntry);
+
+  struct Leader {
+    Point3 point;
+    std::uint64_t list_address = 0;  // byte address in the Result Buffer, or in the DRAM spill
+    std::uint32_t list_length = 0;   // entries
+    bool in_dram = false;
+    std::uint64_t ready = 0;  // cycle the list is written and followers may read it
+  };
+
+  LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter);
+
+  // A job starts: no leaders; `result_buffer` is the Result Buffer's storage (DMI).
+  void start(const JobDescriptor& job, std::uint8_t* result_buffer);
+  const std::vector<Leader>& leaders(std::uint32_t leaf) const { return leaves_[slot(leaf)]; }
+  bool full(std::uint32_t leaf) const { return leaders(leaf).size() >= capacity_; }
+  // The check stream reads `entries` leaders of one leaf.
+  void read(std::uint64_t entries) {
+    read_bytes_ += entries * kLeaderBytes;
+    read_energy_ += entries * kLeaderBytes;
+  }
+  // Appends a leader at `leaf` (not full) with its local list; returns its index. The list's
+  // storage is allocated and written now; the caller times the write and sets `ready`.
+  std::size_t append(std::uint32_t leaf, const Point3& point, const std::vector<tlm_if::PointEntry>& list);
+  Leader& leader(std::uint32_t leaf, std::size_t index) { return leaves_[slot(leaf)][index]; }
+  const tlm_if::PointEntry* list(const Leader& l) const;
+  StatGroup& stats() { return stats_; }
+
+ private:
+  std::size_t slot(std::uint32_t leaf) const { return leaf / sus_; }
+
+  std::uint32_t su_, sus_;
+  std::uint32_t capacity_;
+  std::vector<std::vector<Leader>> leaves_;
+  std::uint8_t* area_ = nullptr;  // this SU's share of the leader-list area
+  std::uint64_t area_base_ = 0, area_bytes_ = 0, area_used_ = 0;
+  std::vector<tlm_if::PointEntry> dram_;  // lists kept in DRAM
+  StatGroup stats_;
+  Counter read_bytes_{stats_, "read_bytes"}, write_bytes_{stats_, "write_bytes"};
+  Counter list_bytes_{stats_, "list_bytes"};            // local lists written
+  Counter dram_lists_{stats_, "dram_lists"};            // lists that found the area full
+  Counter max_leaders_{stats_, "max_leaders_per_leaf", Counter::Merge::Max};
+  Counter& read_energy_;
+  Counter& write_energy_;
+};
+
+}  // namespace tigris::hw
