@@ -30,6 +30,11 @@ class JobObserver {
   virtual void walked(std::uint32_t /*query*/, std::uint32_t /*top*/, std::uint32_t /*pruned*/) {}
   // A leaf-visit decision, in simulated-time order: how `query` is served at `leaf`.
   virtual void leaf_scanned(std::uint32_t /*query*/, std::uint32_t /*leaf*/, const LeafVisit& /*visit*/) {}
+  // `query` took a Query Stack slot (admission) / its last results entered the write-back
+  // stream (finished), at `cycle`; it waited `cycles` in a BE Query Buffer before its batch.
+  virtual void query_admitted(std::uint32_t /*query*/, std::uint64_t /*cycle*/) {}
+  virtual void query_finished(std::uint32_t /*query*/, std::uint64_t /*cycle*/) {}
+  virtual void bqb_waited(std::uint32_t /*query*/, std::uint64_t /*cycles*/) {}
 };
 
 // Forwards every report to the attached observers.
@@ -44,6 +49,15 @@ class ObserverList final : public JobObserver {
   }
   void leaf_scanned(std::uint32_t q, std::uint32_t leaf, const LeafVisit& visit) override {
     for (JobObserver* o : list_) o->leaf_scanned(q, leaf, visit);
+  }
+  void query_admitted(std::uint32_t q, std::uint64_t cycle) override {
+    for (JobObserver* o : list_) o->query_admitted(q, cycle);
+  }
+  void query_finished(std::uint32_t q, std::uint64_t cycle) override {
+    for (JobObserver* o : list_) o->query_finished(q, cycle);
+  }
+  void bqb_waited(std::uint32_t q, std::uint64_t cycles) override {
+    for (JobObserver* o : list_) o->bqb_waited(q, cycles);
   }
 
  private:

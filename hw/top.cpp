@@ -219,14 +219,28 @@ void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
 
 std::string TigrisAccelerator::describe_state() const {
   std::ostringstream s;
+  std::size_t held = fe_.fqq_occupancy();
   s << "queries finished " << fe_.finished() << " of " << job_.num_queries << ", admitted "
-    << fe_.admitted() << "; FQQ holds " << fe_.fqq_occupancy() << "\n";
-  for (const auto& ru : fe_.rus)
-    if (ru->busy_flag()) s << "  RU " << ru->id() << " holds query " << ru->current_query() << "\n";
-  for (std::size_t i = 0; i < sus_.size(); ++i)
+    << fe_.admitted() << " (" << fe_.admitted() - fe_.finished() << " in flight); FE Query Queue holds "
+    << fe_.fqq_occupancy() << "\n";
+  for (const auto& ru : fe_.rus) {
+    if (!ru->busy_flag()) continue;
+    ++held;
+    s << "  RU " << ru->id() << " holds query " << ru->current_query();
+    if (ru->blocked())
+      s << ", blocked: waits for room in the BE Query Buffer of SU " << ru->blocked_leaf() % sus_.size()
+        << " (leaf " << ru->blocked_leaf() << ")";
+    s << "\n";
+  }
+  for (std::size_t i = 0; i < sus_.size(); ++i) {
+    held += sus_[i]->bqb_occupancy() + sus_[i]->busy_pes();
     if (sus_[i]->bqb_occupancy() || sus_[i]->busy_pes())
-      s << "  SU " << i << ": BE Query Buffer " << sus_[i]->bqb_occupancy() << ", busy PEs "
-        << sus_[i]->busy_pes() << "\n";
+      s << "  SU " << i << ": BE Query Buffer " << sus_[i]->bqb_occupancy() << " of " << config_.be.bqb_entries
+        << ", busy PEs " << sus_[i]->busy_pes() << " of " << config_.be.pes_per_su << "\n";
+  }
+  const std::size_t in_flight = fe_.admitted() - fe_.finished();
+  if (held < in_flight)
+    s << "  " << in_flight - held << " admitted queries are held by no queue or unit (lost)\n";
   if (!error_.empty()) s << "  error: " << error_ << "\n";
   return s.str();
 }

@@ -62,6 +62,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   std::string describe_state() const;
   // Records unit busy flags, queue occupancies and query ids into `vcd` from now on.
   void attach_waves(VcdWriter& vcd);
+  FrontEnd& front_end_for_test() { return fe_; }
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
 
  private:

@@ -116,6 +116,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["energy_pj"] = sim.energy;
   stats["power_w"] = sim.power_w;
   stats["area_mm2"] = sim.area;
+  stats["latency_cycles"] = sim.latency;
   stats["config"] = config_to_json(cfg);
   stats["config"]["search"] = search_config_json(params, tree)["search"];
   stats["tree"] = tree_json(tree);
@@ -143,6 +144,12 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               static_cast<unsigned long long>(hw_view.visits.top),
               static_cast<unsigned long long>(hw_view.visits.pruned),
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
+  const auto& lat = sim.latency;
+  std::printf("  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
+              lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
+              lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
+              lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
+              lat["bqb_wait"]["max"].get<unsigned long long>());
   if (params.approximate) {
     std::printf("  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
                 "leader checks %llu, follower points %llu\n",

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "hw/top.hpp"
+#include "latency.hpp"
 #include "run_report.hpp"
 #include "scoreboard.hpp"
 #include "traces/vcd_writer.hpp"
@@ -16,6 +17,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     std::unique_ptr<sc_core::sc_signal<bool>> irq;
     std::unique_ptr<VcdWriter> vcd;
     std::unique_ptr<VisitRecorder> recorder;
+    std::unique_ptr<LatencyRecorder> latency;
   };
   std::vector<Bench> benches;
   std::vector<SimOutcome> out(setups.size());
@@ -31,6 +33,8 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     b.host->socket.bind(b.accel->host);
     b.recorder = std::make_unique<VisitRecorder>();
     b.accel->attach_observer(*b.recorder);
+    b.latency = std::make_unique<LatencyRecorder>();
+    b.accel->attach_observer(*b.latency);
     if (s.job.runs > 1) {
       const hw::TigrisAccelerator* a = b.accel.get();
       const HostDriver* h = b.host.get();
@@ -40,6 +44,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
       });
     }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
+    if (s.test_hook) s.test_hook(*b.accel);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
       b.accel->attach_waves(*b.vcd);
@@ -63,6 +68,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.energy = std::move(stats["energy_pj"]);
     o.power_w = std::move(stats["power_w"]);
     o.area = std::move(stats["area_mm2"]);
+    o.latency = benches[i].latency->json();
     o.lower_bound_cycles = lower_bound_cycles(a.config(), o.visits.visits);
     if (benches[i].vcd) {
       benches[i].vcd->close();

@@ -13,6 +13,7 @@
 
 #include "host_driver.hpp"
 #include "hw/config.hpp"
+#include "hw/top.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
 #include "tlm/tree_image.hpp"
@@ -26,6 +27,7 @@ struct SimSetup {
   std::uint32_t num_points = 0;
   HostJob job;
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
+  std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.
@@ -45,6 +47,7 @@ struct SimOutcome {
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
   // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
   nlohmann::json units, buffers, energy, power_w, area;
+  nlohmann::json latency;  // `latency_cycles`: per query and per BQB wait
   double lower_bound_cycles = 0.0;
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };

@@ -403,3 +403,44 @@ TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each po
   }
   CHECK(hits[0] != hits[1]);
 }
+
+TEST_CASE("latency: one per query, within the job's cycles; BQB waits one per leaf visit", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 61);
+  const PointCloud queries = make_queries(cloud, 200, 61);
+  const PointCloud one_query = {{0.5f, 0.25f, 0.0f}};
+  const auto out = run_and_check(cloud, queries,
+                                 {{"many", units(4, 2, 4, 5), mode(Mode::KNN, 4)},
+                                  {"one", units(1, 1, 1, 5), mode(Mode::NN), nullptr, &one_query}});
+  for (const SimOutcome& o : out) {
+    const auto& q = o.latency["query"];
+    CHECK(q["count"].get<std::size_t>() == o.visits.per_query.size());
+    CHECK(q["max"].get<std::uint64_t>() <= o.cycles);
+    CHECK(q["p50"].get<std::uint64_t>() <= q["p99"].get<std::uint64_t>());
+    CHECK(q["mean"].get<double>() > 0);
+    CHECK(o.latency["bqb_wait"]["count"].get<std::uint64_t>() == o.visits.visits.leaf_visits);
+  }
+  // Alone, the query never waits for a PE, and the job ends when its results reach DRAM.
+  CHECK(out[1].latency["bqb_wait"]["max"].get<std::uint64_t>() == 0);
+  CHECK(out[0].latency["bqb_wait"]["max"].get<std::uint64_t>() > 0);
+}
+
+TEST_CASE("a stuck machine is reported with its state, not hung or half-judged", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 1500, 62);
+  const PointCloud queries = make_queries(cloud, 100, 62);
+  const KdTree tree = build_kdtree(cloud, 4);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  SimSetup s;
+  s.config = units(4, 2, 4, 4);
+  s.image = &image;
+  s.queries = &queries;
+  s.num_points = static_cast<std::uint32_t>(cloud.size());
+  s.job = host_job(mode(Mode::NN));
+  // Scanned queries vanish instead of going back to the front-end: nothing is pending, work is left.
+  s.test_hook = [](hw::TigrisAccelerator& a) { a.front_end_for_test().drop_reinserted_for_test(true); };
+  const SimOutcome o = simulate({s}).front();
+  CHECK_FALSE(o.finished);
+  CHECK(o.error.empty());
+  INFO(o.deadlock);
+  CHECK_THAT(o.deadlock, Catch::Contains("queries finished 0 of 100"));
+  CHECK_THAT(o.deadlock, Catch::Contains("held by no queue or unit (lost)"));
+}

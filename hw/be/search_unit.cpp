@@ -105,7 +105,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
 
   // Function, one query at a time in BQB order (the recorded order): the Leader Check decides
   // how each is served, then its PE scans the Node Set or its leader's local list.
-  const Plan plan = serve(tokens, leaf);
+  const Plan plan = serve(tokens, leaf, now);
 
   // Timing. The batch's stream: the Leader Check (the leaf's leaders past the PEs), then the
   // Node Set for the exact scans, then each followed leader's list, back to back through the
@@ -151,7 +151,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   hits_.clear();
 }
 
-SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf) {
+SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now) {
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
@@ -185,6 +185,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
       }
     }
     distance_energy_ += v.leaf_points + v.follower_points;
+    links_.observer.bqb_waited(t.query, now - t.ready);
     links_.observer.leaf_scanned(t.query, t.leaf, v);
   }
   // The check stream reads the leaf's leaders once per batch (as many as the last check saw).

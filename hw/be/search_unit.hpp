@@ -75,7 +75,7 @@ class SearchUnit : public sc_core::sc_module {
     std::uint64_t max_checks = 0;  // leaders the last Leader Check compared against
     std::vector<std::size_t> followed, new_leaders;  // leader indices at the batch's leaf
   };
-  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf);
+  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now);
   // A leader's list written (at its leader's scan end) or read, from cycle `at`; returns when done.
   std::uint64_t list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave

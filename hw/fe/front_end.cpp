@@ -7,7 +7,7 @@ namespace tigris::hw {
 FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
                    const JobDescriptor& job, DistributionNetwork& qdn, ResultBuffer& result_buffer,
                    EnergyMeter& meter, JobObserver& observer)
-    : sc_module(name), job_(job), clock_{config.period()} {
+    : sc_module(name), job_(job), observer_(observer), clock_{config.period()} {
   const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer};
   for (int i = 0; i < config.fe.recursion_units; ++i) {
     rus.push_back(std::make_unique<RecursionUnit>(("ru" + std::to_string(i)).c_str(), i, config, job, links));
@@ -43,6 +43,7 @@ bool FrontEnd::admit(std::uint64_t cycle) {
   t.slot = free_slots_.back();
   free_slots_.pop_back();
   t.ready = cycle;
+  observer_.query_admitted(t.query, cycle);
   push(t);
   return true;
 }
@@ -55,6 +56,7 @@ void FrontEnd::push(const QueryToken& token) {
 }
 
 void FrontEnd::reinsert(QueryToken token, std::uint64_t ready_cycle) {
+  if (drop_reinserted_) return;
   token.ready = ready_cycle;
   push(token);
 }
@@ -67,6 +69,7 @@ void FrontEnd::ru_idle(RecursionUnit& ru) {
 void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
   ++finished_;
   finished_wave_.set(finished_);
+  observer_.query_finished(token.query, cycle);
   if (progress_ && finished_ % 4096 == 0) progress_(finished_, job_.num_queries);
   free_slots_.push_back(token.slot);
   admit(cycle);

@@ -47,6 +47,9 @@ class FrontEnd : public sc_core::sc_module {
   }
   std::uint32_t finished() const { return finished_; }
   std::uint32_t admitted() const { return next_query_; }
+  // Test-only fault: re-inserted queries are dropped, so the job can never finish (the
+  // deadlock report's test provokes a stuck machine with it).
+  void drop_reinserted_for_test(bool drop) { drop_reinserted_ = drop; }
 
  private:
   void dispatch();  // SC_METHOD: idle RUs take ready queries from the FQQ
@@ -54,11 +57,13 @@ class FrontEnd : public sc_core::sc_module {
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
   const JobDescriptor& job_;
+  JobObserver& observer_;
   Clock clock_;
   std::deque<QueryToken> fqq_;
   std::vector<RecursionUnit*> idle_rus_;
   std::vector<std::uint32_t> free_slots_;
   std::uint32_t next_query_ = 0, finished_ = 0;
+  bool drop_reinserted_ = false;
   std::function<void(std::uint64_t)> on_all_done_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   sc_core::sc_event wake_;

@@ -49,6 +49,9 @@ class RecursionUnit : public sc_core::sc_module {
   StatGroup& stats() { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }
   std::uint32_t current_query() const { return token_.query; }
+  // Blocked: its query waits for room in the BE Query Buffer of the SU serving `blocked_leaf()`.
+  bool blocked() const { return state_ == State::Blocked; }
+  std::uint32_t blocked_leaf() const { return token_.leaf; }
   void attach_waves(VcdWriter& vcd, const std::string& scope) {
     busy_wave_.attach(vcd, scope + ".busy", 1);
     stalled_wave_.attach(vcd, scope + ".bqb_full_stall", 1);
