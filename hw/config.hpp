@@ -8,6 +8,7 @@
 
 #include <systemc>
 
+#include "area_table.hpp"
 #include "config_spec.hpp"
 #include "cost_table.hpp"
 #include "energy_table.hpp"
@@ -93,6 +94,7 @@ struct AcceleratorConfig {
     int search_units = 32;
     int pes_per_su = 32;
     int bqb_entries = 128;
+    int bqb_entry_bytes = 8;  // the paper's 1 KB per SU for 128 entries
     IssuePolicyKind issue_policy = IssuePolicyKind::Mqsn;
     int issue_search_width = 32;
 
@@ -104,6 +106,8 @@ struct AcceleratorConfig {
         {"PEs", in(1, kMaxUnits), "PEs per SU: a 1-D query-stationary systolic array"});
       v("bqb_entries", bqb_entries,
         {"entries", in(1, kMaxEntries), "BE Query Buffer entries per SU"});
+      v("bqb_entry_bytes", bqb_entry_bytes,
+        {"bytes", in(1, 4096), "one BQB entry (query id + leaf id); sizes the BQB's area"});
       v("issue_policy", issue_policy,
         {"-", one_of({IssuePolicyKind::Mqsn, IssuePolicyKind::Mqmn}),
          "issue logic: mqsn (the head's leaf only, associative search) or mqmn (any query "
@@ -195,6 +199,7 @@ struct AcceleratorConfig {
 
   CostTable cost;
   EnergyTable energy;
+  AreaTable area;
 
   // Every key, in the order the reference and the dump list them.
   template <class V>
@@ -210,6 +215,7 @@ struct AcceleratorConfig {
     dram.visit(in_block(v, "dram"));
     cost.visit(in_block(v, "cost"));
     energy.visit(in_block(v, "energy"));
+    area.visit(in_block(v, "area"));
   }
 
   sc_core::sc_time period() const { return sc_core::sc_time(1000.0 / clock_mhz, sc_core::SC_NS); }

@@ -27,8 +27,13 @@ class EnergyMeter {
   // The line `name` of `component` at `pj` per count (created by its first user, shared by the
   // rest: every PE feeds "pe.distance"); its counter is in the meter's stats group.
   Counter& line(const std::string& name, Component component, double pj);
-  // {pe, ru, sram_read, sram_write, node_cache, leader_buffer, dram, total} in picojoules.
-  nlohmann::json energy_pj() const;
+  // Picojoules: {pe, ru, sram_read, sram_write, node_cache, leader_buffer, dram, leakage,
+  // total} and `by_unit`, the same total by the unit kind that spent it (unit_of below).
+  nlohmann::json energy_pj(double leakage_pj) const;
+  // The unit kind of a line, from its name's prefix: "pe." -> search_units, "ru." ->
+  // recursion_units, "sram.<buffer>." -> <buffer>, any other "<x>." -> <x> (node_cache,
+  // leader_buffer, dram).
+  static std::string unit_of(const std::string& line);
 
  private:
   struct Line {

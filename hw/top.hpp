@@ -59,7 +59,8 @@ class TigrisAccelerator : public sc_core::sc_module {
   // The statistics tree (reset at every START): fe (ru*), qdn, be (su*), the buffers,
   // node_cache, result_writeback and the energy meter's counts.
   const StatGroup& stats() const { return stats_; }
-  nlohmann::json energy_pj() const { return meter_.energy_pj(); }
+  // The energy meter's picojoules, with `leakage_pj` (hw/area_model.hpp) added.
+  nlohmann::json energy_pj(double leakage_pj) const { return meter_.energy_pj(leakage_pj); }
   void attach_observer(JobObserver& observer) { observers_.attach(observer); }
   // What every queue and unit holds: the report of a run that stopped before it finished.
   std::string describe_state() const;

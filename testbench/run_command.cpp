@@ -11,6 +11,7 @@
 #include "traces/schedule_csv.hpp"
 #include "progress.hpp"
 #include "report.hpp"
+#include "run_report.hpp"
 #include "scoreboard.hpp"
 #include "tlm/tree_image.hpp"
 #include "workload.hpp"
@@ -124,6 +125,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["units"] = sim.units;
   stats["buffers"] = sim.buffers;
   stats["energy_pj"] = sim.energy;
+  stats["power_w"] = sim.power_w;
+  stats["area_mm2"] = sim.area;
   stats["latency_cycles"] = sim.latency;
   stats["config"] = config_to_json(cfg);
   stats["config"]["search"] = search_config_json(params, tree)["search"];
@@ -176,6 +179,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
       std::printf("  accuracy vs exact: %.1f%% of queries exact, extra distance mean %.4f m, max %.3f m\n",
                   100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
   }
+  std::fputs(energy_area_summary(stats).c_str(), stdout);
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());
   if (!o.timeline.empty())

@@ -1,6 +1,9 @@
 #include "run_report.hpp"
 
 #include <algorithm>
+#include <cstdio>
+
+#include "hw/area_model.hpp"
 
 namespace tigris {
 
@@ -34,6 +37,9 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   const hw::AcceleratorConfig& cfg = accel.config();
   const hw::StatGroup& root = accel.stats();
   const double c = static_cast<double>(cycles);
+  const double seconds = c / (cfg.clock_mhz * 1e6);
+  const hw::Area area = hw::area_of(cfg);
+  const json energy = accel.energy_pj(hw::leakage_pj(cfg, cycles));
 
   json ru = unit_kind(root, "recursion_unit", cfg.fe.recursion_units);
   ru["utilization"] = ratio(static_cast<double>(at(ru, "/busy_cycles")), cfg.fe.recursion_units * c);
@@ -58,7 +64,27 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
             {"qdn", child(root, "qdn").counters_json()},
             {"fqq", child(root, "fe").counters_json()["fqq"]}}},
           {"buffers", buffers},
-          {"energy_pj", accel.energy_pj()}};
+          {"energy_pj", energy},
+          {"power_w", seconds > 0 ? energy["total"].get<double>() * 1e-12 / seconds : 0.0},
+          {"area_mm2", area.to_json()}};
+}
+
+std::string energy_area_summary(const json& stats) {
+  const json& e = stats.at("energy_pj");
+  const json& a = stats.at("area_mm2");
+  const double total = e.at("total").get<double>();
+  const auto pct = [&](const char* c) { return 100 * ratio(e.at(c).get<double>(), total); };
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "  energy  %.4g uJ: PE %.1f%%, RU %.1f%%, SRAM read %.1f%%, SRAM write %.1f%%, Node Cache "
+                "%.1f%%, Leader Buffer %.1f%%, DRAM %.1f%%, leakage %.1f%% (%.4g uJ)\n"
+                "  power   %.3g W\n"
+                "  area    %.2f mm2: SRAM %.2f, logic %.2f\n",
+                total * 1e-6, pct("pe"), pct("ru"), pct("sram_read"), pct("sram_write"), pct("node_cache"),
+                pct("leader_buffer"), pct("dram"), pct("leakage"), e.at("leakage").get<double>() * 1e-6,
+                stats.at("power_w").get<double>(), a.at("total").get<double>(), a.at("sram").get<double>(),
+                a.at("logic").get<double>());
+  return buf;
 }
 
 double lower_bound_cycles(const hw::AcceleratorConfig& cfg, const VisitTotals& v) {

@@ -67,6 +67,8 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.units = std::move(stats["units"]);
     o.buffers = std::move(stats["buffers"]);
     o.energy = std::move(stats["energy_pj"]);
+    o.power_w = std::move(stats["power_w"]);
+    o.area = std::move(stats["area_mm2"]);
     o.latency = benches[i].latency->json();
     o.lower_bound_cycles = lower_bound_cycles(a.config(), o.visits.visits);
     if (benches[i].vcd) {

@@ -36,7 +36,7 @@ struct RunRecord {
   std::uint64_t cycles = 0;
   Results results;
   SearchOutput visits;
-  nlohmann::json stats;  // units, buffers, energy_pj
+  nlohmann::json stats;  // units, buffers, energy_pj, power_w, area_mm2
 };
 
 struct SimOutcome {
@@ -46,8 +46,9 @@ struct SimOutcome {
   Results results;
   std::uint64_t cycles = 0;
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
-  nlohmann::json units, buffers, energy;  // the stats JSON's `units`, `buffers`, `energy_pj`
-  nlohmann::json latency;                 // `latency_cycles`: per query and per BQB wait
+  // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
+  nlohmann::json units, buffers, energy, power_w, area;
+  nlohmann::json latency;  // `latency_cycles`: per query and per BQB wait
   double lower_bound_cycles = 0.0;
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };

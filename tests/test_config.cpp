@@ -239,6 +239,8 @@ TEST_CASE("config: out-of-range values and bad enum values are errors naming the
         "test.json: 'cost.ru_drain' = -1 is out of range (0..1000000)");
   CHECK(err(R"({"energy": {"dram_pj_per_byte": -0.5}})") ==
         "test.json: 'energy.dram_pj_per_byte' = -0.5 is out of range (>= 0)");
+  CHECK(err(R"({"area": {"sram_bank_mm2": -1}})") ==
+        "test.json: 'area.sram_bank_mm2' = -1 is out of range (>= 0)");
   CHECK(err(R"({"be": {"pes_per_su": 99999999999}})")
             .find("'be.pes_per_su' = 99999999999 is out of range") != std::string::npos);
   CHECK(err(R"({"be": {"issue_policy": "MQSN"}})") ==
@@ -429,8 +431,18 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
           c.tree.top_height = -2;
         }).find("'tree.top_height' = -2 is out of range") != std::string::npos);
   CHECK(err([](auto& c) {
-          c.energy.sram_read_pj_per_byte = -1;
-        }).find("'energy.sram_read_pj_per_byte'") != std::string::npos);
+          c.energy.sram_ref_pj_per_byte = -1;
+        }).find("'energy.sram_ref_pj_per_byte'") != std::string::npos);
+  CHECK(err([](auto& c) {
+          c.energy.sram_size_exponent = -0.5;
+        }).find("'energy.sram_size_exponent' = -0.5 is out of range") != std::string::npos);
+  CHECK(err([](auto& c) { c.area.pe_mm2 = -0.1; }).find("'area.pe_mm2' = -0.1 is out of range") !=
+        std::string::npos);
+  CHECK(err([](auto& c) {
+          c.area.sram_mm2_per_mib = std::nan("");
+        }).find("'area.sram_mm2_per_mib' must be a finite number") != std::string::npos);
+  CHECK(err([](auto& c) { c.be.bqb_entry_bytes = 0; }).find("'be.bqb_entry_bytes' = 0 is out of range") !=
+        std::string::npos);
   CHECK(err([](auto& c) { c.cost.ru_node = 0; }).find("'cost.ru_node' = 0 is out of range") !=
         std::string::npos);
   CHECK(err([](auto& c) {

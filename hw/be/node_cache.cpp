@@ -1,12 +1,15 @@
 #include "node_cache.hpp"
 
+#include "hw/area_model.hpp"
+
 namespace tigris::hw {
 
 NodeCache::NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
     : sc_module(name), capacity_(config.node_cache.bytes),
       policy_(make_replacement_policy(config.node_cache.policy)),
+      // Priced by the SRAM rule at its bank size; a fill is charged as a read (equal by default).
       energy_(meter.line("node_cache.bytes", EnergyMeter::Component::NodeCache,
-                         meter.table().node_cache_pj_per_byte)) {}
+                         meter.table().sram_price(config.node_cache.bytes, per_su_banks(config), false))) {}
 
 void NodeCache::start() {
   sets_.clear();

@@ -10,9 +10,9 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
       banks_(config.banks), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
-                              EnergyMeter::Component::SramRead, meter.table().sram_read_pj_per_byte)),
+                              EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
       write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
-                               EnergyMeter::Component::SramWrite, meter.table().sram_write_pj_per_byte)) {
+                               EnergyMeter::Component::SramWrite, meter.table().sram_price(config.bytes, config.banks, true))) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
   socket.register_transport_dbg(this, &BankedSram::transport_dbg);

@@ -28,7 +28,7 @@ class BankedSram : public sc_core::sc_module {
  public:
   tlm_utils::multi_passthrough_target_socket<BankedSram> socket;
 
-  // Its accesses are charged to `meter` at the energy table's SRAM prices.
+  // Its accesses are charged to `meter` at the energy table's SRAM price for its bytes and banks.
   BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter);
 
   std::uint64_t size() const { return data_.size(); }
