@@ -25,7 +25,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     const SimSetup& s = setups[i];
     const std::string tag = setups.size() == 1 ? "" : std::to_string(i);
     Bench b;
-    b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config);
+    b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config, s.reverse_construction);
     b.host = std::make_unique<HostDriver>(("host" + tag).c_str(), *s.image, *s.queries, s.num_points, s.job);
     b.irq = std::make_unique<sc_core::sc_signal<bool>>(("irq" + tag).c_str());
     b.accel->irq(*b.irq);

@@ -28,6 +28,7 @@ struct SimSetup {
   HostJob job;
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
   std::function<void(hw::TigrisAccelerator&)> test_hook;
+  bool reverse_construction = false;  // tests: RUs and SUs built in reverse id order
   std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)  // tests: faults injected before the run
 };
 

@@ -203,6 +203,18 @@ TEST_CASE("SRAM banks: bursts spread over banks, overlapping accesses queue, por
   hw::SramConfig narrow{4096, 4, 1, 0, 16};
   hw::BankedSram port("port", narrow, clock, meter);
   CHECK(port.charge(0, burst) == 8);                    // one port: a word per cycle
+  // Ports are shared across requests (units): two single-word reads of different banks in the
+  // same cycle take the two ports of a 2-port buffer; a third waits a cycle.
+  hw::SramConfig two_ports{4096, 4, 2, 0, 16};
+  hw::BankedSram shared("shared", two_ports, clock, meter);
+  tlm_if::AccessProfile word;
+  word.bytes = 16;
+  for (std::uint64_t bank : {0, 1}) {
+    word.first_byte = bank * 16;
+    CHECK(shared.charge(50, word) == 51);
+  }
+  word.first_byte = 2 * 16;  // a free bank, but no free port in cycle 50
+  CHECK(shared.charge(50, word) == 52);
 }
 
 TEST_CASE("jobs that do not fit are rejected with the reason", "[hw]") {
@@ -535,4 +547,37 @@ TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as 
     CHECK(x[2]["args"]["stream_entries"] == 200);
     CHECK(x[1]["ts"].get<double>() == Approx(x[0]["ts"].get<double>() + x[0]["dur"].get<double>()));
   }
+}
+
+TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, identical figures", "[hw][timing]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 4000, 65);
+  const PointCloud queries = make_queries(cloud, 1500, 65);
+  const KdTree tree = build_kdtree(cloud, 6);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  // Per mode, three copies of one accelerator in one SystemC run, the second built in reverse.
+  std::vector<SimSetup> setups;
+  for (const SearchParams& p : {mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)}) {
+    SimSetup s;
+    s.config = units(16, 8, 8, 6);
+    s.config.sram.points.ports = 8;  // fewer ports than banks: the port calendar is shared
+    s.image = &image;
+    s.queries = &queries;
+    s.num_points = static_cast<std::uint32_t>(cloud.size());
+    s.job = host_job(p);
+    SimSetup reversed = s;
+    reversed.reverse_construction = true;
+    setups.insert(setups.end(), {s, reversed, s});
+  }
+  const auto out = simulate(setups);
+  for (const SimOutcome& o : out) REQUIRE(o.finished);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const SimOutcome& first = out[i / 3 * 3];
+    INFO("setup " << i);
+    CHECK(out[i].cycles == first.cycles);
+    CHECK(out[i].units == first.units);
+    CHECK(out[i].buffers == first.buffers);
+    CHECK(out[i].latency == first.latency);
+    CHECK(out[i].visits.schedule == first.visits.schedule);
+  }
+  CHECK(out[0].cycles != out[3].cycles);  // the two modes are different jobs
 }

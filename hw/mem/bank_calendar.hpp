@@ -19,32 +19,40 @@ class BankCalendar {
   // Marks the first free cycle at or after `cycle` busy and returns it; `now` is the current
   // cycle (blocks wholly before it are free to reuse).
   std::uint64_t reserve(std::uint64_t cycle, std::uint64_t now) {
+    cycle = next_free(cycle, now);
+    book(cycle, now);
+    return cycle;
+  }
+  // The first free cycle at or after `cycle`, not booked.
+  std::uint64_t next_free(std::uint64_t cycle, std::uint64_t now) {
     for (;;) {
-      const std::uint64_t id = cycle / 64;
-      Block& b = blocks_[id & (blocks_.size() - 1)];
-      if (b.id != id) {
-        if (b.busy != 0 && b.id + 1 > now / 64) {  // still live: make room and try again
-          grow();
-          continue;
-        }
-        b.id = id;
-        b.busy = 0;
-      }
+      const Block& b = block(cycle / 64, now);
       const std::uint64_t free = ~b.busy >> (cycle % 64);
-      if (free != 0) {
-        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
-        b.busy |= std::uint64_t{1} << (cycle % 64);
-        return cycle;
-      }
-      cycle = (id + 1) * 64;  // this block is full from here on
+      if (free != 0) return cycle + static_cast<std::uint64_t>(__builtin_ctzll(free));
+      cycle = (cycle / 64 + 1) * 64;  // this block is full from here on
     }
   }
+  void book(std::uint64_t cycle, std::uint64_t now) { block(cycle / 64, now).busy |= std::uint64_t{1} << (cycle % 64); }
 
  private:
   struct Block {
     std::uint64_t id = 0;    // cycle / 64 of the cycles this block describes
     std::uint64_t busy = 0;  // bit i: cycle id * 64 + i is taken
   };
+  // The block of cycles id * 64 .. id * 64 + 63 (recycling one wholly in the past).
+  Block& block(std::uint64_t id, std::uint64_t now) {
+    for (;;) {
+      Block& b = blocks_[id & (blocks_.size() - 1)];
+      if (b.id == id) return b;
+      if (b.busy != 0 && b.id + 1 > now / 64) {  // still live: make room and try again
+        grow();
+        continue;
+      }
+      b.id = id;
+      b.busy = 0;
+      return b;
+    }
+  }
   void grow() {
     std::vector<Block> old = std::move(blocks_);
     blocks_.assign(old.size() * 2, Block{});

@@ -8,7 +8,8 @@ namespace tigris::hw {
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
                        EnergyMeter& meter)
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
-      banks_(config.banks), stats_(basename(), "buffer"),
+      banks_(config.banks), ports_bind_(config.ports < config.banks),
+      ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
       write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
@@ -29,7 +30,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
       const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
       for (std::uint64_t w = first; w < first + words; ++w)
-        finish = std::max(finish, banks_[w % banks].reserve(start, now) + 1);
+        finish = std::max(finish, reserve(banks_[w % banks], start, now) + 1);
       n += words;
     }
   } else {
@@ -39,13 +40,12 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == banks ? 0 : b + 1) {
       BankCalendar& bank = banks_[b];
       std::uint64_t t = start;
-      for (std::uint64_t w = i; w < n; w += banks) t = bank.reserve(t, now) + 1;
+      for (std::uint64_t w = i; w < n; w += banks) t = reserve(bank, t, now) + 1;
       finish = std::max(finish, t);
     }
   }
   if (n == 0) return start;
   const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
-  finish = std::max(finish, start + (n + ports - 1) / ports);
   const std::uint64_t lanes = std::min<std::uint64_t>(banks, ports);
   const std::uint64_t ideal = start + (n + lanes - 1) / lanes;
   conflict_cycles_ += finish - ideal;
@@ -62,7 +62,7 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
     const std::uint64_t t = start + a.issue_offset[i] + stall;
     const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
     std::uint64_t served = t;
-    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, banks_[w % banks].reserve(t, now));
+    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(banks_[w % banks], t, now));
     stall += served - t;
     last = served + 1;
     n += words;

@@ -19,6 +19,7 @@
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/mem/bank_calendar.hpp"
+#include "hw/mem/port_calendar.hpp"
 #include "hw/stats.hpp"
 #include "tlm/access_profile.hpp"
 
@@ -37,12 +38,28 @@ class BankedSram : public sc_core::sc_module {
   StatGroup& stats() { return stats_; }
 
   // A job starts: the banks forget their bookings (all in the past: the host's loads).
-  void start() { banks_.assign(banks_.size(), BankCalendar{}); }
+  void start() {
+    banks_.assign(banks_.size(), BankCalendar{});
+    ports_.clear();
+  }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
+  // Books one word access in `bank` at the first cycle >= `cycle` when the bank and a port are
+  // free (ports shared by every unit; only tracked when they can bind: fewer ports than banks).
+  std::uint64_t reserve(BankCalendar& bank, std::uint64_t cycle, std::uint64_t now) {
+    if (!ports_bind_) return bank.reserve(cycle, now);
+    for (;;) {
+      cycle = bank.next_free(cycle, now);
+      if (ports_.has_room(cycle, now)) break;
+      ++cycle;
+    }
+    bank.book(cycle, now);
+    ports_.take(cycle, now);
+    return cycle;
+  }
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
   // The words an access of `bytes` at `first_byte` touches: (first word, how many).
   std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const;
@@ -54,6 +71,8 @@ class BankedSram : public sc_core::sc_module {
   Clock clock_;
   std::vector<std::uint8_t> data_;
   std::vector<BankCalendar> banks_;
+  bool ports_bind_;
+  PortCalendar ports_;
   StatGroup stats_;
   Counter reads_{stats_, "reads"}, writes_{stats_, "writes"};
   Counter read_bytes_{stats_, "read_bytes"}, write_bytes_{stats_, "write_bytes"};
