@@ -111,6 +111,7 @@ std::string allowed_text(const Spec& s, bool is_bool, bool is_string) {
 }
 
 std::string shown(const json& v) {
+  if (v.is_number_float()) return number_text(v.get<double>());
   std::string s = v.dump();
   return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
