@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+#include <pcl/console/print.h>
 
 #include "options.hpp"
 #include "report.hpp"
@@ -179,6 +180,9 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
   }
 
+  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
+  // would flood stderr: the counts are in registration.json instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s\n",
                source_name.c_str(), source.size(), target_name.c_str(), target.size(), o.preset.c_str(),
                config.search.backend.c_str());
