@@ -204,7 +204,7 @@ TEST_CASE("poses: files, KITTI camera poses to the Velodyne frame, relative pose
   CHECK(velo(2, 3) == Approx(0.0).margin(1e-12));
 }
 
-TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward; DP4 registers it", "[pipeline][kitti]") {
+TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward, and DP4 registers it", "[pipeline][kitti]") {
   const std::string dir = std::string(TIGRIS_DATA_DIR) + "/kitti-00";
   if (!fs::is_directory(dir)) {
     WARN("KITTI data not found at " << dir
