@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "ref_command.hpp"
+#include "register_command.hpp"
 #include "run_command.hpp"
 
 // SystemC's own main() would print its banner before we could silence it, so `tigris` has a
@@ -33,6 +34,12 @@ int main(int argc, char** argv) {
              "(exit 0 only when all match, 1 on a mismatch or deadlock)");
   tigris::add_run_options(*run, run_options);
 
+  tigris::RegisterOptions register_options;
+  CLI::App* reg = app.add_subcommand(
+      "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
+                  "KPCE, rejection, ICP) with its KD-tree searches on the golden model or FLANN");
+  tigris::add_register_options(*reg, register_options);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -42,6 +49,7 @@ int main(int argc, char** argv) {
   try {
     if (*ref) return tigris::run_ref_command(*ref, ref_options);
     if (*run) return tigris::run_run_command(*run, run_options);
+    if (*reg) return tigris::run_register_command(*reg, register_options);
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << e.what() << '\n';
     return 2;

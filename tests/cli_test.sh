@@ -110,5 +110,16 @@ if grep -q '^\$enddefinitions' "$tmp/w/run.vcd" && grep -q 'busy' "$tmp/w/run.vc
   passes=$((passes + 1))
 else echo "FAIL: --vcd output"; failures=$((failures + 1)); fi
 
+# tigris register: the default run (synthetic pair, dp4, exact search) and its clear errors.
+expect 0 "wrote $tmp/reg/registration.json" -- register --out "$tmp/reg"
+if grep -q '"transform"' "$tmp/reg/registration.json" && grep -q '"kdtree_share"' "$tmp/reg/registration.json" &&
+   grep -q '"rotation_deg"' "$tmp/reg/registration.json"; then passes=$((passes + 1))
+else echo "FAIL: register's registration.json"; failures=$((failures + 1)); fi
+expect 2 "unknown key 'icp.max_iteration' (did you mean 'icp.max_iterations'?)" -- register --set icp.max_iteration=3 --out "$tmp/reg2"
+expect 2 "'normals.radius' = -1 is out of range" -- register --set normals.radius=-1 --out "$tmp/reg2"
+expect 2 "$tmp/missing.json: cannot open" -- register --config "$tmp/missing.json" --out "$tmp/reg2"
+expect 2 "$tmp/missing.bin" -- register --source "$tmp/missing.bin" --target "$tmp/three.bin" --out "$tmp/reg2"
+expect 2 "--source and --target go together" -- register --source "$tmp/three.bin" --out "$tmp/reg2"
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

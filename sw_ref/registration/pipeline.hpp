@@ -1,0 +1,51 @@
+// The registration pipeline (DESIGN.md section 15, the paper's Table 1): statistical outlier
+// removal, normal estimation, key points, descriptors, KPCE, correspondence rejection and ICP
+// (RPCE + transformation estimation). Source = the later frame, target = the earlier; the result
+// maps source points into the target frame.
+//
+// Every 3D KD-tree search (outlier removal, normals, key points that search, descriptors and
+// their reference frames, RPCE both ways when reciprocal) goes through a TigrisKdTree charged to
+// its stage. With search.backend = approx only the paper's approximated stages (normals: radius
+// search, ICP's RPCE: NN search) search approximately; the others search exactly on the golden
+// model (the paper: approximation in sparse data hurts). KPCE searches feature space with PCL's
+// exact FLANN KD-tree, never the 3D plug-in. Single-threaded: never PCL's OMP classes (the
+// approximate leader state is order dependent).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "pipeline_config.hpp"
+#include "search_plugin.hpp"
+#include "sw_ref/cloud.hpp"
+
+namespace tigris::registration {
+
+struct StageReport {
+  std::string name;            // outlier_removal, normals, keypoints, descriptors, kpce, rejection, icp
+  double seconds = 0.0;        // wall time of the whole stage (both clouds)
+  std::string search;          // the 3D back-end its KD-tree searches used ("" when none)
+  SearchCounters kdtree;       // the stage's 3D KD-tree builds and searches
+  nlohmann::json info = nlohmann::json::object();  // stage-specific counts
+};
+
+struct RegistrationResult {
+  Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // target <- source (final)
+  Eigen::Matrix4d initial = Eigen::Matrix4d::Identity();    // after rejection, ICP's guess
+  std::vector<StageReport> stages;
+  double total_seconds = 0.0;
+};
+
+// Called at the start of each stage with its name (for progress on stderr).
+using StageCallback = std::function<void(const std::string& stage)>;
+
+// Runs the pipeline. Throws std::runtime_error when a stage cannot go on (e.g. no key point
+// survives). `config` must have been validated (apply_json / preset).
+RegistrationResult register_clouds(const PointCloud& source, const PointCloud& target,
+                                   const PipelineConfig& config, const StageCallback& on_stage = {});
+
+}  // namespace tigris::registration

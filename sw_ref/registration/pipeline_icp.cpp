@@ -1,0 +1,139 @@
+// Pipeline back end: key-point correspondence rejection (the initial estimate) and ICP.
+#include <stdexcept>
+
+#include <pcl/registration/correspondence_rejection_distance.h>
+#include <pcl/registration/correspondence_rejection_sample_consensus.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/transformation_estimation_lm.h>
+#include <pcl/registration/transformation_estimation_point_to_plane.h>
+#include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
+#include <pcl/registration/transformation_estimation_svd.h>
+
+#include "stages.hpp"
+
+namespace tigris::registration::stages {
+namespace {
+
+using PN = pcl::PointNormal;
+using PNCloud = pcl::PointCloud<PN>;
+
+PNCloud::Ptr with_normals(const Cloud& cloud, const Normals& normals) {
+  if (cloud.size() != normals.size()) throw std::logic_error("ICP: points and normals differ in count");
+  auto out = std::make_shared<PNCloud>();
+  out->resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    PN& p = (*out)[i];
+    p.x = cloud[i].x;
+    p.y = cloud[i].y;
+    p.z = cloud[i].z;
+    p.normal_x = normals[i].normal_x;
+    p.normal_y = normals[i].normal_y;
+    p.normal_z = normals[i].normal_z;
+    p.curvature = normals[i].curvature;
+  }
+  return out;
+}
+
+// ICP with its iteration count and stop reason readable.
+class Icp : public pcl::IterativeClosestPoint<PN, PN> {
+ public:
+  int iterations() const { return nr_iterations_; }
+  std::size_t last_correspondences() const { return correspondences_ ? correspondences_->size() : 0; }
+};
+
+const char* stop_reason(pcl::registration::DefaultConvergenceCriteria<float>::ConvergenceState s) {
+  using C = pcl::registration::DefaultConvergenceCriteria<float>;
+  switch (s) {
+    case C::CONVERGENCE_CRITERIA_NOT_CONVERGED: return "not_converged";
+    case C::CONVERGENCE_CRITERIA_ITERATIONS: return "max_iterations";
+    case C::CONVERGENCE_CRITERIA_TRANSFORM: return "transformation_epsilon";
+    case C::CONVERGENCE_CRITERIA_ABS_MSE: return "absolute_mse";
+    case C::CONVERGENCE_CRITERIA_REL_MSE: return "euclidean_fitness_epsilon";
+    case C::CONVERGENCE_CRITERIA_NO_CORRESPONDENCES: return "too_few_correspondences";
+    case C::CONVERGENCE_CRITERIA_FAILURE_AFTER_MAX_ITERATIONS: return "failure_after_max_iterations";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+Rejection reject(const Descriptors& source, const Descriptors& target, const pcl::Correspondences& all,
+                 const PipelineConfig& c) {
+  Rejection r;
+  if (all.size() < 3) {
+    r.fallback = true;
+    return r;
+  }
+  const auto all_ptr = std::make_shared<pcl::Correspondences>(all);
+  if (c.rejection.method == "ransac") {
+    pcl::registration::CorrespondenceRejectorSampleConsensus<pcl::PointXYZ> sac;
+    sac.setInputSource(source.keypoints);
+    sac.setInputTarget(target.keypoints);
+    sac.setInlierThreshold(c.rejection.ransac_threshold);
+    sac.setMaximumIterations(c.rejection.ransac_iterations);
+    sac.setRefineModel(false);
+    sac.getRemainingCorrespondences(all, r.inliers);
+    if (r.inliers.size() >= 3) r.initial = sac.getBestTransformation().cast<double>();
+  } else {
+    pcl::registration::CorrespondenceRejectorDistance rej;
+    rej.setInputSource<pcl::PointXYZ>(source.keypoints);
+    rej.setInputTarget<pcl::PointXYZ>(target.keypoints);
+    rej.setMaximumDistance(static_cast<float>(c.rejection.distance_max));
+    rej.getRemainingCorrespondences(all, r.inliers);
+    if (r.inliers.size() >= 3) {
+      pcl::registration::TransformationEstimationSVD<pcl::PointXYZ, pcl::PointXYZ> svd;
+      Eigen::Matrix4f t;
+      svd.estimateRigidTransformation(*source.keypoints, *target.keypoints, r.inliers, t);
+      r.initial = t.cast<double>();
+    }
+  }
+  if (r.inliers.size() < 3 || !r.initial.allFinite()) {
+    r.fallback = true;
+    r.initial = Eigen::Matrix4d::Identity();
+  }
+  return r;
+}
+
+IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& source_normals,
+                   const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals,
+                   const Eigen::Matrix4d& guess, const PipelineConfig& c, const SearchSettings& s,
+                   const Counters& counters) {
+  Icp icp;
+  icp.setInputSource(with_normals(*source, *source_normals));
+  icp.setInputTarget(with_normals(*target, *target_normals));
+  // initCompute hands these trees to the correspondence estimator (it would overwrite trees set
+  // on the estimator itself); the source tree serves the reciprocal direction.
+  icp.setSearchMethodTarget(make_tree<PN>(s, counters));
+  icp.setSearchMethodSource(make_tree<PN>(s, counters));
+  const bool plane = c.icp.error == "point_to_plane", lm = c.icp.solver == "lm";
+  using TE = pcl::registration::TransformationEstimation<PN, PN>;
+  std::shared_ptr<TE> te;
+  if (plane && lm) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlane<PN, PN>>();
+  else if (plane) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlaneLLS<PN, PN>>();
+  else if (lm) te = std::make_shared<pcl::registration::TransformationEstimationLM<PN, PN>>();
+  else te = std::make_shared<pcl::registration::TransformationEstimationSVD<PN, PN>>();
+  icp.setTransformationEstimation(te);
+  icp.setMaximumIterations(c.icp.max_iterations);
+  icp.setMaxCorrespondenceDistance(c.icp.max_correspondence_distance);
+  icp.setTransformationEpsilon(c.icp.transformation_epsilon);
+  icp.setEuclideanFitnessEpsilon(c.icp.euclidean_fitness_epsilon);
+  icp.setUseReciprocalCorrespondences(c.icp.reciprocal);
+  if (c.icp.ransac) {
+    auto rej = std::make_shared<pcl::registration::CorrespondenceRejectorSampleConsensus<PN>>();
+    rej->setInlierThreshold(c.icp.ransac_threshold);
+    rej->setMaximumIterations(c.icp.ransac_iterations);
+    rej->setRefineModel(false);
+    icp.addCorrespondenceRejector(rej);
+  }
+  PNCloud aligned;
+  icp.align(aligned, guess.cast<float>());
+  IcpOutcome out;
+  out.transform = icp.getFinalTransformation().cast<double>();
+  out.iterations = icp.iterations();
+  out.converged = icp.hasConverged();
+  out.stop = stop_reason(icp.getConvergeCriteria()->getConvergenceState());
+  out.last_correspondences = icp.last_correspondences();
+  return out;
+}
+
+}  // namespace tigris::registration::stages

@@ -1,0 +1,247 @@
+#include "register_command.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <pcl/console/print.h>
+
+#include "options.hpp"
+#include "report.hpp"
+#include "sw_ref/io/cloud_io.hpp"
+#include "sw_ref/registration/pipeline.hpp"
+#include "sw_ref/registration/pose.hpp"
+#include "sw_ref/synthetic.hpp"
+
+namespace tigris {
+namespace {
+
+using nlohmann::ordered_json;
+using registration::Pose;
+
+ordered_json matrix_json(const Eigen::Matrix4d& t) {
+  ordered_json rows = ordered_json::array();
+  for (int r = 0; r < 4; ++r) {
+    ordered_json row = ordered_json::array();
+    for (int c = 0; c < 4; ++c) row.push_back(t(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+ordered_json stage_json(const registration::StageReport& s) {
+  ordered_json j;
+  j["seconds"] = s.seconds;
+  const registration::SearchCounters& k = s.kdtree;
+  if (!s.search.empty()) {
+    j["search"] = s.search;
+    // PCL's batch calls loop over single points: each search is one query point.
+    j["searches"] = k.searches;
+    j["queries"] = k.searches;
+    j["neighbors"] = k.neighbors;
+    j["trees_built"] = k.builds;
+    j["build_seconds"] = k.build_seconds;
+    j["search_seconds"] = k.search_seconds;
+    if (s.search != "flann")
+      j["visits"] = {{"top", k.visits.top},
+                     {"pruned", k.visits.pruned},
+                     {"leaf_visits", k.visits.leaf_visits},
+                     {"leaf_points", k.visits.leaf_points},
+                     {"follower_points", k.visits.follower_points},
+                     {"leader_checks", k.visits.leader_checks}};
+    if (s.search == "approx")
+      j["leaders"] = {{"leaders", k.leaders.leaders},
+                      {"followers", k.leaders.followers},
+                      {"leader_buffer_full", k.leaders.leader_buffer_full}};
+  } else {
+    j["search"] = "none";
+    j["searches"] = 0;
+    j["queries"] = 0;
+    j["search_seconds"] = 0.0;
+  }
+  for (const auto& [key, v] : s.info.items()) j[key] = v;
+  return j;
+}
+
+std::pair<int, int> parse_frames(const std::string& text) {
+  int a = -1, b = -1;
+  char comma = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &comma, &b, &extra) != 3 || comma != ',' || a < 0 || b < 0)
+    throw std::invalid_argument("--kitti-frames must be SOURCE,TARGET frame numbers (e.g. 1,0), got '" + text + "'");
+  return {a, b};
+}
+
+double parse_number(const std::string& flag, const std::string& text) {
+  std::size_t used = 0;
+  double x = NAN;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(x) || x < 0)
+    throw std::invalid_argument(flag + " must be a number >= 0 (metres), got '" + text + "'");
+  return x;
+}
+
+}  // namespace
+
+void add_register_options(CLI::App& app, RegisterOptions& o) {
+  app.add_option("--source", o.source,
+                 "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
+  app.add_option("--target", o.target,
+                 "Target (earlier) frame, same formats (default: synthetic frame 0)");
+  app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair")->capture_default_str();
+  app.add_option("--preset", o.preset, "Pipeline preset: dp4 (performance) or dp7 (accuracy)")
+      ->check(CLI::IsMember({"dp4", "dp7"}))
+      ->capture_default_str();
+  app.add_option("--config", o.config, "Pipeline configuration JSON applied over the preset");
+  app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)");
+  app.add_option("--search", o.search,
+                 "3D KD-tree back-end: flann (PCL's, the CPU baseline), exact or approx (golden "
+                 "model); default: search.backend (exact)")
+      ->check(CLI::IsMember({"flann", "exact", "approx"}));
+  app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (default: search.top_height, 10)");
+  app.add_option("--approx-thd", o.approx_thd,
+                 "Approximate NN threshold in metres (sets search.nn_thd; search.radius_thd becomes "
+                 "0.4 * T / 1.2 of r, so 1.2 gives the paper's pair and 0 exact search); implies "
+                 "--search approx");
+  app.add_option("--ground-truth", o.ground_truth,
+                 "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file");
+  app.add_option("--kitti-poses", o.kitti_poses,
+                 "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)");
+  app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")
+      ->capture_default_str();
+  app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
+  app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
+}
+
+int run_register_command(const CLI::App& app, const RegisterOptions& o) {
+  registration::PipelineConfig config = registration::preset(o.preset);
+  if (!o.config.empty()) registration::apply_file(config, o.config);
+  for (const std::string& s : o.sets) registration::apply_set(config, s);
+  if (!o.search.empty()) config.search.backend = o.search;
+  if (!o.height.empty()) {
+    const int h = parse_height(o.height);
+    config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
+  }
+  if (!o.approx_thd.empty()) {
+    if (!o.search.empty() && o.search != "approx")
+      throw std::invalid_argument("--approx-thd needs --search approx (got --search " + o.search + ")");
+    const double t = parse_number("--approx-thd", o.approx_thd);
+    config.search.backend = "approx";
+    config.search.nn_thd = t;
+    config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
+  }
+  if (o.list_config) {
+    std::printf("%-42s %-16s %s\n", "key", o.preset.c_str(), "allowed: meaning");
+    for (const auto& k : registration::key_reference(config))
+      std::printf("%-42s %-16s %s: %s\n", k.name.c_str(), k.value.c_str(), k.allowed.c_str(), k.doc.c_str());
+    return 0;
+  }
+  if (app.count("--source") != app.count("--target"))
+    throw std::invalid_argument("--source and --target go together (neither: the built-in synthetic pair)");
+  if (!o.ground_truth.empty() && !o.kitti_poses.empty())
+    throw std::invalid_argument("give --ground-truth or --kitti-poses, not both");
+
+  PointCloud source, target;
+  std::string source_name, target_name;
+  std::optional<Pose> truth;
+  std::string truth_name;
+  if (o.source.empty()) {
+    SyntheticConfig sc;
+    sc.seed = o.seed;
+    const SyntheticPair pair = make_synthetic_pair(sc);
+    source = pair.frame1;
+    target = pair.frame0;
+    const std::string tag = " (seed " + std::to_string(o.seed) + ")";
+    source_name = "synthetic:frame1" + tag;
+    target_name = "synthetic:frame0" + tag;
+    Pose t;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) t(r, c) = pair.frame1_to_frame0[static_cast<std::size_t>(4 * r + c)];
+    truth = t;
+    truth_name = "synthetic pair's known pose";
+  } else {
+    source = load_cloud(o.source);
+    target = load_cloud(o.target);
+    source_name = o.source;
+    target_name = o.target;
+  }
+  if (!o.ground_truth.empty()) {
+    truth = registration::read_pose_file(o.ground_truth);
+    truth_name = o.ground_truth;
+  } else if (!o.kitti_poses.empty()) {
+    const auto [s, t] = parse_frames(o.kitti_frames);
+    truth = registration::kitti_relative_velo_pose(o.kitti_poses, s, t);
+    truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
+  }
+
+  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
+  // would flood stderr: the counts are in registration.json instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s\n",
+               source_name.c_str(), source.size(), target_name.c_str(), target.size(), o.preset.c_str(),
+               config.search.backend.c_str());
+  const registration::RegistrationResult r = registration::register_clouds(
+      source, target, config, [](const std::string& stage) { std::fprintf(stderr, "tigris register: %s...\n", stage.c_str()); });
+
+  ordered_json doc;
+  doc["command"] = "register";
+  doc["source"] = {{"name", source_name}, {"points", source.size()}};
+  doc["target"] = {{"name", target_name}, {"points", target.size()}};
+  doc["preset"] = o.preset;
+  doc["search"] = config.search.backend;
+  doc["transform"] = matrix_json(r.transform);
+  doc["initial_transform"] = matrix_json(r.initial);
+  doc["seconds"] = r.total_seconds;
+  double kd_seconds = 0.0;
+  ordered_json stages = ordered_json::object();
+  for (const auto& s : r.stages) {
+    stages[s.name] = stage_json(s);
+    kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
+  }
+  doc["stages"] = stages;
+  doc["kdtree_seconds"] = kd_seconds;
+  doc["kdtree_share"] = r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0;
+  std::optional<registration::PoseError> err;
+  if (truth) {
+    err = registration::pose_error(*truth, r.transform);
+    const registration::PoseError initial = registration::pose_error(*truth, r.initial);
+    doc["ground_truth"] = {{"source", truth_name}, {"transform", matrix_json(*truth)}};
+    doc["error"] = {{"translation_m", err->translation_m},
+                    {"rotation_deg", err->rotation_deg},
+                    {"travelled_m", err->travelled_m},
+                    {"translation_m_per_m", err->translation_per_m},
+                    {"rotation_deg_per_m", err->rotation_deg_per_m},
+                    {"initial_translation_m", initial.translation_m},
+                    {"initial_rotation_deg", initial.rotation_deg}};
+  }
+  doc["config"] = ordered_json::parse(registration::to_json(config).dump());
+  const std::string path = o.out + "/registration.json";
+  write_file(path, [&](std::ostream& f) { f << doc.dump(2) << '\n'; });
+
+  std::printf("tigris register: preset %s, search %s, %zu -> %zu points\n", o.preset.c_str(),
+              config.search.backend.c_str(), source.size(), target.size());
+  std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
+  for (const auto& s : r.stages)
+    std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,
+                static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
+  std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
+              100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
+  std::printf("  transform (target <- source):\n");
+  for (int i = 0; i < 3; ++i)
+    std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
+                r.transform(i, 3));
+  if (err)
+    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
+                err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
+                err->travelled_m);
+  std::printf("  wrote %s\n", path.c_str());
+  return 0;
+}
+
+}  // namespace tigris

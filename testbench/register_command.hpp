@@ -1,0 +1,32 @@
+// `tigris register`: the registration pipeline (sw_ref/registration, DESIGN.md section 15) on two
+// frames, searching through the golden model (exact or approximate) or FLANN; writes
+// DIR/registration.json (transform, per-stage seconds and KD-tree work, accuracy against ground
+// truth when given).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace tigris {
+
+struct RegisterOptions {
+  std::string source, target;
+  std::uint64_t seed = 1;
+  std::string preset = "dp4";
+  std::string config;
+  std::vector<std::string> sets;
+  std::string search;      // empty: the configuration's search.backend (exact by default)
+  std::string height;      // empty: search.top_height
+  std::string approx_thd;  // empty: search.nn_thd / search.radius_thd
+  std::string ground_truth, kitti_poses, kitti_frames = "1,0";
+  bool list_config = false;
+  std::string out = "tigris-out";
+};
+
+void add_register_options(CLI::App& app, RegisterOptions& o);
+int run_register_command(const CLI::App& app, const RegisterOptions& o);
+
+}  // namespace tigris
