@@ -60,7 +60,8 @@ def main():
             print(f"| {name} | {label} | {nodes(s)/q:.1f} | {s['cycles']:,} | {ex['cycles']/s['cycles']:.2f}x | {e:,.1f} | {pw:.2f} | {acc} | {lead} | {s['verdict']} |")
         print(f"| | visited nodes | {100*(nodes(ap_)/nodes(ex)-1):+.1f}% | | | | | | | |")
     print("\n### Energy split (% of total)\n")
-    comps = [c for c in rows[0][2]["energy_pj"] if c != "total"]
+    comps = [c for c in ("pe", "ru", "sram_read", "sram_write", "node_cache", "leader_buffer", "dram", "leakage")
+             if c in rows[0][2]["energy_pj"]]
     print("| run | " + " | ".join(comps) + " |")
     print("|---|" + "---:|" * len(comps))
     print("| paper DP4 | " + " | ".join(f"{PAPER_SPLIT[c]:.1f}" if c in PAPER_SPLIT else "" for c in comps) + " |")
@@ -72,8 +73,11 @@ def main():
     if area:
         print("\n### Area (mm2, 16 nm)\n")
         print(f"| | SRAM | logic | total |\n|---|---:|---:|---:|\n| paper | 8.38 | 7.19 | 15.57 |")
-        print(f"| model | {area['sram']['total'] if isinstance(area['sram'], dict) else area['sram']:.2f} | "
-              f"{area['logic']['total'] if isinstance(area['logic'], dict) else area['logic']:.2f} | {area['total']:.2f} |")
+        print(f"| model | {area['sram']:.2f} | {area['logic']:.2f} | {area['total']:.2f} |")
+        print("\n| block | mm2 |\n|---|---:|")
+        for kind, blocks in area.get("by_block", {}).items():
+            for block, mm2 in blocks.items():
+                print(f"| {kind}: {block} | {mm2:.3f} |")
 
 if __name__ == "__main__":
     main()
