@@ -197,6 +197,21 @@ struct AcceleratorConfig {
     }
   } dram;
 
+  struct Stall {
+    double rate = 0.0;
+    std::uint64_t seed = 1;
+
+    template <class V>
+    void visit(V&& v) {
+      v("rate", rate,
+        {"-", in(0, 0.9),
+         "random stall injection: probability that a hand-off (FQQ -> RU, RU -> QDN, QDN -> "
+         "BQB, SU -> FE, SRAM and write-back grants) is held back a cycle, and again for each "
+         "further cycle; results must not change (0: off)"});
+      v("seed", seed, {"-", at_least(0), "random stall injection: the seed of every injection point's stream"});
+    }
+  } stall;
+
   CostTable cost;
   EnergyTable energy;
   AreaTable area;
@@ -213,6 +228,7 @@ struct AcceleratorConfig {
     sram.visit(in_block(v, "sram"));
     result_buffer.visit(in_block(v, "result_buffer"));
     dram.visit(in_block(v, "dram"));
+    stall.visit(in_block(v, "stall"));
     cost.visit(in_block(v, "cost"));
     energy.visit(in_block(v, "energy"));
     area.visit(in_block(v, "area"));

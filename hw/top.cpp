@@ -14,9 +14,9 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
                                      bool reverse_construction)
     : sc_module(name), config_(config), meter_(config_.energy), host("host"), irq("irq"),
       clock_{config_.period()}, scheduler_("scheduler", clock_),
-      points_("points", config_.sram.points, clock_, meter_),
-      queries_("queries", config_.sram.queries, clock_, meter_),
-      query_stack_("query_stack", config_.sram.query_stack, clock_, meter_),
+      points_("points", config_.sram.points, clock_, meter_, config_.stall),
+      queries_("queries", config_.sram.queries, clock_, meter_, config_.stall),
+      query_stack_("query_stack", config_.sram.query_stack, clock_, meter_, config_.stall),
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
       qdn_("qdn", config_, observers_),
       fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, reverse_construction),

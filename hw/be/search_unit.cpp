@@ -17,12 +17,13 @@ SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
       pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_),
       leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
       distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)),
-      leader_check_(stats_, links.meter) {
+      leader_check_(stats_, links.meter), stall_(config.stall, "su" + std::to_string(id), stats_) {
   stats_.add(leader_buffer_.stats());
   links.scheduler.add(*this);
 }
 
 void SearchUnit::start() {
+  stall_.start();
   bqb_.clear();
   running_.clear();
   free_pes_ = pes_;
@@ -55,7 +56,7 @@ void SearchUnit::step() {
       ++i;
       continue;
     }
-    const std::uint64_t back = now + static_cast<std::uint64_t>(config_.cost.be_to_fe);
+    const std::uint64_t back = now + static_cast<std::uint64_t>(config_.cost.be_to_fe) + stall_.draw();
     for (const QueryToken& t : running_[i].tokens) links_.fe.reinsert(t, back);
     free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
     running_[i] = std::move(running_.back());

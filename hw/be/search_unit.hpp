@@ -21,6 +21,7 @@
 #include "hw/observer.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -113,6 +114,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter bqb_max_{stats_, "bqb_max_occupancy", Counter::Merge::Max};
   Counter& distance_energy_;
   LeaderCheck leader_check_;
+  StallInjector stall_;  // SU -> FE
   Probe bqb_wave_, pes_wave_, leaf_wave_;
 };
 

@@ -9,7 +9,7 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
                    EnergyMeter& meter, JobObserver& observer, Scheduler& scheduler,
                    bool reverse_construction)
     : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job), observer_(observer),
-      clock_{config.period()}, scheduler_(scheduler) {
+      clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
   const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler};
   const int n = config.fe.recursion_units;
   rus.resize(static_cast<std::size_t>(n));
@@ -24,6 +24,7 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
 
 void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
   on_all_done_ = std::move(on_all_done);
+  stall_.start();
   fqq_.clear();
   next_query_ = finished_ = 0;
   in_flight_.set(job_.slots);
@@ -85,6 +86,11 @@ void FrontEnd::dispatch() {
   while (!idle_rus_.empty() && !fqq_.empty()) {
     if (fqq_.front().ready > now) {
       scheduler_.at(*this, fqq_.front().ready);
+      return;
+    }
+    if (const std::uint64_t d = stall_.draw()) {  // the hand-off to an RU is held back
+      fqq_.front().ready = now + d;
+      scheduler_.at(*this, now + d);
       return;
     }
     RecursionUnit* ru = idle_rus_.back();

@@ -17,6 +17,7 @@
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {
@@ -71,6 +72,7 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   Scheduler& scheduler_;
   StatGroup stats_{"fe", "front_end"};
+  StallInjector stall_;  // FQQ -> RU
   Counter fqq_max_{stats_, "fqq.max_occupancy", Counter::Merge::Max};
   Counter in_flight_{stats_, "fqq.queries_in_flight", Counter::Merge::Max};  // slots of the job
   Probe fqq_wave_, finished_wave_;

@@ -13,12 +13,14 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
     : sc_module(name), Scheduler::Client(Scheduler::kRecursionUnit, static_cast<std::uint32_t>(id)),
       points("points"), queries("queries"), stacks("stacks"), results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
       clock_{config.period()}, stats_(basename(), "recursion_unit"),
-      node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)) {
+      node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)),
+      stall_(config.stall, "ru" + std::to_string(id), stats_) {
   links.scheduler.add(*this);
 }
 
 void RecursionUnit::start_job() {
   state_ = State::Idle;
+  stall_.start();
   tree_ = TreeView(points.data(), job_);
   slots_ = ResultSlots(results.data(), job_.k);
   query_records_ = reinterpret_cast<const tlm_if::QueryRecord*>(queries.data());
@@ -150,6 +152,10 @@ std::uint64_t RecursionUnit::walk() {
 
 void RecursionUnit::on_done() {
   const std::uint64_t now = clock_.now();
+  if (const std::uint64_t d = stall_.draw()) {  // the hand-off is held back (stall injection)
+    links_.scheduler.at(*this, now + d);
+    return;
+  }
   if (state_ == State::Blocked) {
     bqb_full_stall_ += now - blocked_since_;
     links_.observer.ru_blocked(static_cast<std::uint32_t>(id_), token_.query, blocked_since_, now);

@@ -18,6 +18,7 @@
 #include "hw/observer.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 #include "hw/tree_view.hpp"
 
@@ -91,6 +92,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // results wait for the stream
   Counter prune_cycles_{stats_, "prune_cycles"};  // of busy: pruned nodes
   Counter& node_energy_;
+  StallInjector stall_;  // the hand-off to the QDN (or the finish)
   Probe busy_wave_, stalled_wave_, query_wave_;
   // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
   struct AccessLog {

@@ -6,14 +6,15 @@
 namespace tigris::hw {
 
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
-                       EnergyMeter& meter)
+                       EnergyMeter& meter, const AcceleratorConfig::Stall& stall)
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
       banks_(config.banks), ports_bind_(config.ports < config.banks),
       ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
       write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
-                               EnergyMeter::Component::SramWrite, meter.table().sram_price(config.bytes, config.banks, true))) {
+                               EnergyMeter::Component::SramWrite, meter.table().sram_price(config.bytes, config.banks, true))),
+      stall_(stall, basename(), stats_) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
   socket.register_transport_dbg(this, &BankedSram::transport_dbg);
@@ -50,7 +51,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   const std::uint64_t ideal = start + (n + lanes - 1) / lanes;
   conflict_cycles_ += finish - ideal;
   count(a.write, n, a.bytes);
-  return finish + static_cast<std::uint64_t>(config_.latency_cycles);
+  return finish + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
 }
 
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
@@ -69,7 +70,7 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   }
   conflict_cycles_ += stall;
   count(a.write, n, a.bytes);
-  return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) : start;
+  return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
 }
 
 std::pair<std::uint64_t, std::uint64_t> BankedSram::words_of(std::uint64_t first_byte, std::uint64_t bytes) const {

@@ -20,6 +20,7 @@
 #include "hw/energy_meter.hpp"
 #include "hw/mem/bank_calendar.hpp"
 #include "hw/mem/port_calendar.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 #include "tlm/access_profile.hpp"
 
@@ -30,7 +31,9 @@ class BankedSram : public sc_core::sc_module {
   tlm_utils::multi_passthrough_target_socket<BankedSram> socket;
 
   // Its accesses are charged to `meter` at the energy table's SRAM price for its bytes and banks.
-  BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter);
+  // `stall`: random stall injection on its grants (off by default).
+  BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter,
+             const AcceleratorConfig::Stall& stall = {});
 
   std::uint64_t size() const { return data_.size(); }
   // reads/writes (bank words), read_bytes/write_bytes (payload), conflict_cycles (lost to busy
@@ -41,6 +44,7 @@ class BankedSram : public sc_core::sc_module {
   void start() {
     banks_.assign(banks_.size(), BankCalendar{});
     ports_.clear();
+    stall_.start();
   }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
@@ -79,6 +83,7 @@ class BankedSram : public sc_core::sc_module {
   Counter conflict_cycles_{stats_, "conflict_cycles"};
   Counter& read_energy_;
   Counter& write_energy_;
+  StallInjector stall_;
 };
 
 }  // namespace tigris::hw

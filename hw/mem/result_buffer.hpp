@@ -20,7 +20,7 @@ class ResultBuffer : public sc_core::sc_module {
  public:
   ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter,
                JobObserver& observer)
-      : sc_module(name), sram_("results", config.sram.results, Clock{config.period()}, meter),
+      : sc_module(name), sram_("results", config.sram.results, Clock{config.period()}, meter, config.stall),
         writeback_("writeback", config, meter, observer) {}
 
   // The units' way to the slots (DMI data, timed accesses), and the host's to the DRAM region.

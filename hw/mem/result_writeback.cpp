@@ -12,12 +12,13 @@ ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const Accelerator
       host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), clock_{config.period()},
       dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
       dram_read_energy_(meter.line("dram.read_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
-      observer_(observer) {
+      observer_(observer), stall_(config.stall, "writeback", stats_) {
   socket.register_b_transport(this, &ResultWriteback::b_transport);
 }
 
 void ResultWriteback::start(std::uint64_t cycle, std::uint64_t stream_buffer_bytes) {
   region_.clear();
+  stall_.start();
   origin_ = cycle;
   drain_free_ = 0.0;
   buffer_bytes_ = std::max<std::uint64_t>(stream_buffer_bytes, sizeof(tlm_if::ResultRecord));
@@ -28,7 +29,7 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
   const double bytes = static_cast<double>(bytes_n);
   const double bw = config_.bytes_per_cycle;
   // Backlog still in the stream buffer at `accept`: (drain_free_ - accept) * bw bytes.
-  double accept = static_cast<double>(now - origin_);
+  double accept = static_cast<double>(now - origin_ + stall_.draw());
   const double room_needed = bytes - static_cast<double>(buffer_bytes_);
   if (drain_free_ > accept && (drain_free_ - accept) * bw > -room_needed)
     accept = std::max(accept, drain_free_ + room_needed / bw);

@@ -16,6 +16,7 @@
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/observer.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/probe.hpp"
 #include "hw/stats.hpp"
 #include "tlm/address_map.hpp"
@@ -61,6 +62,7 @@ class ResultWriteback : public sc_core::sc_module {
   Counter& dram_read_energy_;
   Probe* backlog_wave_ = nullptr;
   JobObserver& observer_;
+  StallInjector stall_;  // write-back grants
 };
 
 }  // namespace tigris::hw

@@ -9,7 +9,7 @@ namespace tigris::hw {
 
 DistributionNetwork::DistributionNetwork(sc_core::sc_module_name name, const AcceleratorConfig& config,
                                          JobObserver& observer)
-    : sc_module(name), cost_(config.cost), observer_(observer) {}
+    : sc_module(name), cost_(config.cost), observer_(observer), stall_(config.stall, "qdn", stats_) {}
 
 void DistributionNetwork::connect(std::vector<SearchUnit*> units) {
   units_ = std::move(units);
@@ -17,6 +17,7 @@ void DistributionNetwork::connect(std::vector<SearchUnit*> units) {
 }
 
 void DistributionNetwork::start() {
+  stall_.start();
   port_free_.assign(units_.size(), 0);
   waiting_.assign(units_.size(), {});
 }
@@ -27,7 +28,7 @@ bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, Recu
     waiting_[su].push_back(&from);
     return false;
   }
-  const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency);
+  const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency) + stall_.draw();
   const std::uint64_t arrival = std::max(earliest, port_free_[su]);
   port_wait_ += arrival - earliest;
   port_free_[su] = arrival + static_cast<std::uint64_t>(cost_.qdn_port_interval);

@@ -11,6 +11,7 @@
 
 #include "hw/config.hpp"
 #include "hw/observer.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/job.hpp"
 #include "hw/stats.hpp"
 
@@ -40,6 +41,7 @@ class DistributionNetwork : public sc_core::sc_module {
   std::vector<std::deque<RecursionUnit*>> waiting_;
   StatGroup stats_{"qdn", "qdn"};
   Counter port_wait_{stats_, "port_wait_cycles"};  // queries waited for their SU port
+  StallInjector stall_;  // QDN -> BQB
 };
 
 }  // namespace tigris::hw
