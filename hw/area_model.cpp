@@ -1,6 +1,9 @@
 #include "area_model.hpp"
 
+#include <algorithm>
+
 #include "hw/be/leader_buffer.hpp"
+#include "tlm/tree_image.hpp"
 
 namespace tigris::hw {
 
@@ -17,6 +20,12 @@ double sum(const std::vector<Area::Block>& blocks) {
 std::uint64_t leader_buffer_bytes(const AcceleratorConfig& c) {
   if (c.tree.top_height < 0) return 0;
   return (std::uint64_t{1} << c.tree.top_height) * static_cast<std::uint64_t>(c.leader.capacity_per_leaf) * LeaderBuffer::kLeaderBytes;
+}
+
+std::uint64_t replicated_top_bytes(const AcceleratorConfig& c) {
+  const int levels = c.tree.top_height < 0 ? c.fe.top_levels_replicated
+                                           : std::min(c.fe.top_levels_replicated, c.tree.top_height);
+  return ((std::uint64_t{1} << levels) - 1) * sizeof(tlm_if::PointEntry);
 }
 
 double Area::sram_mm2() const { return sum(sram); }
@@ -52,7 +61,9 @@ Area area_of(const AcceleratorConfig& c) {
             {"fqq", sram(c.fe.fqq_bytes, 1)},
             {"bqb", sus * sram(bqb, 1)},
             {"node_cache", sram(c.node_cache.bytes, per_su_banks(c))},
-            {"leader_buffer", sram(leader_buffer_bytes(c), per_su_banks(c))}};
+            {"leader_buffer", sram(leader_buffer_bytes(c), per_su_banks(c))},
+            {"top_level_replicas", c.fe.recursion_units * static_cast<double>(replicated_top_bytes(c)) / 1024.0 *
+                                       t.register_mm2_per_kib}};
   a.logic = {{"recursion_units", c.fe.recursion_units * t.ru_mm2},
              {"pes", static_cast<double>(sus) * c.be.pes_per_su * t.pe_mm2},
              {"issue_logic", sus * t.issue_logic_mm2}};

@@ -21,6 +21,8 @@ namespace tigris::hw {
 // tree ("full", about one leaf per point) gets none. The leaders' result lists live in the
 // Result Buffer, whose area already counts them.
 std::uint64_t leader_buffer_bytes(const AcceleratorConfig& config);
+// One RU's copy of the top tree's first fe.top_levels_replicated levels (16-byte nodes).
+std::uint64_t replicated_top_bytes(const AcceleratorConfig& config);
 // Banks of the SRAMs the SUs share (Node Cache, Leader Buffer): one per SU.
 inline int per_su_banks(const AcceleratorConfig& config) { return config.be.search_units; }
 

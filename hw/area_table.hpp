@@ -20,6 +20,7 @@ struct AreaTable {
   double issue_logic_mm2 = 0.0177;
   double sram_mm2_per_mib = 0.8024;
   double sram_bank_mm2 = 0.002;
+  double register_mm2_per_kib = 0.008;
 
   template <class V>
   void visit(V&& v) {
@@ -41,6 +42,10 @@ struct AreaTable {
         "8.38 mm2 (16 nm); the paper's 1.5 MB points would give 7.98");
     mm2("sram_bank_mm2", sram_bank_mm2, "mm2/bank",
         "banking overhead: decoder, control and I/O of one SRAM bank (an estimate)");
+    mm2("register_mm2_per_kib", register_mm2_per_kib, "mm2/KiB",
+        "flip-flop storage (each RU's copy of the top tree's first levels, "
+        "fe.top_levels_replicated): ~1 um2 per bit, a 16 nm D flip-flop with its share of "
+        "muxing, ~10x the SRAM bit");
   }
 };
 

@@ -72,6 +72,7 @@ struct AcceleratorConfig {
     bool bypassing = true;
     std::uint64_t fqq_bytes = 1572864;  // 1.5 MB
     int fqq_entry_bytes = 8;
+    int top_levels_replicated = 0;
 
     template <class V>
     void visit(V&& v) {
@@ -87,6 +88,11 @@ struct AcceleratorConfig {
          "FE Query Queue: new queries and queries re-inserted by the BE; backpressure when full"});
       v("fqq_entry_bytes", fqq_entry_bytes,
         {"bytes", in(1, 4096), "one FQQ entry (query id + flags)"});
+      v("top_levels_replicated", top_levels_replicated,
+        {"levels", in(0, 16),
+         "the top tree's first levels kept in every RU's own registers (2^N - 1 nodes of 16 "
+         "bytes, filled by the host's tree-image write): their node reads leave the Point "
+         "Buffer, whose root bank every new query otherwise reads (0: the paper's design)"});
     }
   } fe;
 

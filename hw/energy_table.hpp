@@ -33,6 +33,7 @@ struct EnergyTable {
   double sram_write_factor = 1.0;
   // The SRAM rule at the default Leader Buffer bank, one per SU: 6 KB (hw/area_model.hpp).
   double leader_buffer_pj_per_byte = 0.30;
+  double register_pj_per_byte = 0.05;
   double dram_pj_per_byte = 120.0;           // 15 pJ/bit
   double leakage_pj_per_mm2_cycle = 4.0;     // 2 mW/mm2 at 500 MHz
 
@@ -75,6 +76,10 @@ struct EnergyTable {
     pj("leader_buffer_pj_per_byte", leader_buffer_pj_per_byte, "pJ/byte",
        "Leader Buffer read or write: the SRAM rule at its default bank, one per SU: 1024 leaves x "
        "16 leaders x 12 bytes / 32 SUs = 6 KB, 0.35 x (6/8)^0.5");
+    pj("register_pj_per_byte", register_pj_per_byte, "pJ/byte",
+       "flip-flop register read (an RU's copy of the top tree's first levels, "
+       "fe.top_levels_replicated): ~7x below the smallest SRAM's 0.35 pJ/byte, an estimate "
+       "from Horowitz's 64-bit 8 KB SRAM read (10 pJ) vs a register file access (~1 pJ) at 45 nm");
     pj("dram_pj_per_byte", dram_pj_per_byte, "pJ/byte",
        "DRAM access (off chip, not scaled): DDR4 ~15 pJ/bit with I/O, the middle of ~10-20 "
        "pJ/bit from Micron's DDR4 power calculator (TN-40-07); Horowitz 45 nm DDR3: 1.3-2.6 nJ "

@@ -115,10 +115,11 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
     else if (v.is_number_unsigned())
       v = v.get<std::uint64_t>() * 2 + 64 * static_cast<unsigned>(i);
     else if (v.is_number_integer())
-      v = key == "tree.top_height" ? 12 : v.get<int>() + i;
+      v = key == "tree.top_height" ? 12 : key == "fe.top_levels_replicated" ? 3 : v.get<int>() + i;
     else if (v.is_number_float())
       v = key == "result_buffer.slot_fraction" ? 0.25
           : key == "result_buffer.leader_fraction" ? 0.125
+          : key == "stall.rate"                    ? 0.375
                                                    : v.get<double>() * 2 + 0.25 * i;
     else if (v == "widest")
       v = "round-robin";

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "hw/be/replacement_policy.hpp"
+#include "hw/area_model.hpp"
 #include "hw/mem/banked_sram.hpp"
 #include "hw/be/pe_array.hpp"
 #include "scoreboard.hpp"
@@ -580,4 +581,38 @@ TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, iden
     CHECK(out[i].visits.schedule == first.visits.schedule);
   }
   CHECK(out[0].cycles != out[3].cycles);  // the two modes are different jobs
+}
+
+TEST_CASE("top-level replicas: bit-exact, their node reads leave the Point Buffer for RU registers", "[hw][timing]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 66);
+  const PointCloud queries = make_queries(cloud, 400, 66);
+  std::vector<Case> cases;
+  for (int n : {0, 2, 4, 20}) {  // 20: more levels than the tree has, the whole top tree
+    hw::AcceleratorConfig c = units(8, 4, 1, 6);  // one PE: Node Set reads do not depend on timing
+    c.node_cache.bytes = 0;
+    c.fe.top_levels_replicated = std::min(n, 16);
+    cases.push_back({"replicated " + std::to_string(n), c, mode(Mode::KNN, 3)});
+  }
+  const auto out = run_and_check(cloud, queries, cases);
+  const hw::EnergyTable prices;
+  const auto read_bytes = [](const SimOutcome& o) { return o.buffers["points"]["read_bytes"].get<std::uint64_t>(); };
+  std::uint64_t previous = read_bytes(out[0]) + 1;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    INFO(cases[i].name);
+    const std::uint64_t moved = read_bytes(out[0]) - read_bytes(out[i]);
+    CHECK(read_bytes(out[i]) < previous);  // each level more takes reads off the Point Buffer
+    previous = read_bytes(out[i]);
+    CHECK(moved % sizeof(tlm_if::PointEntry) == 0);
+    // The RU's energy grows by the register reads only.
+    CHECK(out[i].energy["ru"].get<double>() - out[0].energy["ru"].get<double>() ==
+          Approx(static_cast<double>(moved) * prices.register_pj_per_byte));
+  }
+  // All 6 levels replicated: the RUs read no top-tree node from the Point Buffer, only the
+  // leaf directory (4 bytes per leaf visit) beside the SUs' Node Sets (16 bytes per point).
+  const std::uint64_t dir_and_sets = out[3].visits.visits.leaf_visits * 4 + out[3].visits.visits.leaf_points * 16;
+  CHECK(read_bytes(out[3]) == dir_and_sets);
+  // Area: every RU holds 2^N - 1 nodes of 16 bytes in registers.
+  CHECK(hw::area_of(cases[2].config).of("top_level_replicas") ==
+        Approx(8 * 15 * 16 / 1024.0 * cases[2].config.area.register_mm2_per_kib));
+  CHECK(hw::area_of(cases[0].config).of("top_level_replicas") == 0.0);
 }

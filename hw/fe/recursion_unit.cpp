@@ -14,12 +14,16 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
       points("points"), queries("queries"), stacks("stacks"), results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
       clock_{config.period()}, stats_(basename(), "recursion_unit"),
       node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)),
+      replica_bytes_(links.meter.line("ru.top_level_replica_bytes", EnergyMeter::Component::Ru,
+                                      links.meter.table().register_pj_per_byte)),
       stall_(config.stall, "ru" + std::to_string(id), stats_) {
   links.scheduler.add(*this);
 }
 
 void RecursionUnit::start_job() {
   state_ = State::Idle;
+  const int levels = std::min(config_.fe.top_levels_replicated, job_.top_height);
+  replicated_nodes_ = (std::uint32_t{1} << levels) - 1;
   stall_.start();
   tree_ = TreeView(points.data(), job_);
   slots_ = ResultSlots(results.data(), job_.k);
@@ -108,7 +112,10 @@ std::uint64_t RecursionUnit::walk() {
       // RN: read the node; CD: its distance to the query; PI: insert into the result, push
       // the far child with its plane distance, go on with the near child.
       const tlm_if::PointEntry& e = tree_.node(node);
-      node_reads_.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
+      if (node < replicated_nodes_)  // the RU's own copy of the first levels
+        replica_bytes_ += sizeof(tlm_if::PointEntry);
+      else
+        node_reads_.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
       ++top;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
       if (!forwarding) {

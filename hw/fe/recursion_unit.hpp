@@ -92,6 +92,8 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // results wait for the stream
   Counter prune_cycles_{stats_, "prune_cycles"};  // of busy: pruned nodes
   Counter& node_energy_;
+  Counter& replica_bytes_;             // node reads from the RU's own top-level copy
+  std::uint32_t replicated_nodes_ = 0;  // heap nodes below this id are in the copy
   StallInjector stall_;  // the hand-off to the QDN (or the finish)
   Probe busy_wave_, stalled_wave_, query_wave_;
   // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
