@@ -42,11 +42,15 @@ class PeArray {
   void scan(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
             std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr) {
     best_.clear();
+    // The PE holds its query's k-th best distance: a point farther than it cannot enter the
+    // list (equal ones still may, by index), so only closer ones go through the insert.
+    float bound = job_->radius() ? 0.0f : slots_.bound(token.slot);
     for (std::uint32_t i = 0; i < count; ++i) {
       const float d = dist2(token.point, Point3{set[i].x, set[i].y, set[i].z});
       if (!job_->radius()) {
-        slots_.insert(token.slot, {set[i].tag, d});
         if (local) keep_best({set[i].tag, d}, set[i]);
+        if (d > bound) continue;
+        if (slots_.insert(token.slot, {set[i].tag, d})) bound = slots_.bound(token.slot);
       } else if (d <= job_->r2) {
         hits.push_back({token.query, set[i].tag, d});
         if (local) local->push_back(set[i]);
