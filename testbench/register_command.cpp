@@ -87,6 +87,51 @@ double parse_number(const std::string& flag, const std::string& text) {
   return x;
 }
 
+// --inject-kth K: an integer >= 1.
+int parse_kth(const std::string& text) {
+  std::size_t used = 0;
+  long long k = 0;
+  try {
+    k = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || k < 1 || k > 100000)
+    throw std::invalid_argument("--inject-kth must be an integer K in 1..100000 (1: the nearest, no error), got '" +
+                                text + "'");
+  return static_cast<int>(k);
+}
+
+// --inject-shell R1,R2 against the normal radius r: 0 <= R1 < r < R2.
+std::pair<double, double> parse_shell(const std::string& text, double r) {
+  const auto comma = text.find(',');
+  const auto number = [&](const std::string& part, double& x) {
+    std::size_t used = 0;
+    try {
+      x = std::stod(part, &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    return used == part.size() && std::isfinite(x);
+  };
+  double r1 = NAN, r2 = NAN;
+  if (comma == std::string::npos || !number(text.substr(0, comma), r1) || !number(text.substr(comma + 1), r2))
+    throw std::invalid_argument("--inject-shell must be R1,R2 in metres (e.g. 0.1,0.4), got '" + text + "'");
+  char buf[160];
+  if (r1 < 0 || r1 >= r2) {
+    std::snprintf(buf, sizeof buf, "--inject-shell %s: needs 0 <= R1 < R2, got R1 = %g, R2 = %g", text.c_str(), r1, r2);
+    throw std::invalid_argument(buf);
+  }
+  if (r1 >= r || r2 <= r) {
+    std::snprintf(buf, sizeof buf,
+                  "--inject-shell %s: needs R1 < r < R2 around the normal radius r = %g (normals.radius), got "
+                  "R1 = %g, R2 = %g",
+                  text.c_str(), r, r1, r2);
+    throw std::invalid_argument(buf);
+  }
+  return {r1, r2};
+}
+
 }  // namespace
 
 void add_register_options(CLI::App& app, RegisterOptions& o) {
@@ -109,6 +154,13 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Approximate NN threshold in metres (sets search.nn_thd; search.radius_thd becomes "
                  "0.4 * T / 1.2 of r, so 1.2 gives the paper's pair and 0 exact search); implies "
                  "--search approx");
+  app.add_option("--inject-kth", o.inject_kth,
+                 "Error injection (paper Fig. 5): RPCE's nearest-neighbour searches (both ways when "
+                 "reciprocal) return the K-th nearest neighbour; 1: no error (sets inject.rpce_kth)");
+  app.add_option("--inject-shell", o.inject_shell,
+                 "Error injection: normal estimation's radius searches return the points with "
+                 "R1 <= d <= R2 instead of d <= r, R1 < r < R2 (r = normals.radius; sets "
+                 "inject.normals_shell_inner/_outer)");
   app.add_option("--ground-truth", o.ground_truth,
                  "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file");
   app.add_option("--kitti-poses", o.kitti_poses,
@@ -136,6 +188,18 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     config.search.nn_thd = t;
     config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
   }
+  const bool injecting = !o.inject_kth.empty() || !o.inject_shell.empty();
+  if (!o.inject_kth.empty()) config.inject.rpce_kth = parse_kth(o.inject_kth);
+  if (!o.inject_shell.empty()) {
+    const auto [r1, r2] = parse_shell(o.inject_shell, config.normals.radius);
+    config.inject.normals_shell_inner = r1;
+    config.inject.normals_shell_outer = r2;
+  }
+  if (injecting && config.search.backend == "approx")
+    throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
+                                " needs --search exact or flann (error injection measures exact search; "
+                                "got search approx)");
+  registration::validate(config, "tigris register");
   if (o.list_config) {
     std::printf("%-42s %-16s %s\n", "key", o.preset.c_str(), "allowed: meaning");
     for (const auto& k : registration::key_reference(config))
@@ -183,9 +247,18 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
   // would flood stderr: the counts are in registration.json instead.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s\n",
+  std::string injection;
+  if (config.inject.rpce_kth > 1)
+    injection += ", RPCE returns the K-th nearest (K = " + std::to_string(config.inject.rpce_kth) + ")";
+  if (config.inject.normals_shell_outer > 0) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, ", normals search the shell %g..%g m (r %g)", config.inject.normals_shell_inner,
+                  config.inject.normals_shell_outer, config.normals.radius);
+    injection += buf;
+  }
+  std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
                source_name.c_str(), source.size(), target_name.c_str(), target.size(), o.preset.c_str(),
-               config.search.backend.c_str());
+               config.search.backend.c_str(), injection.c_str());
   const registration::RegistrationResult r = registration::register_clouds(
       source, target, config, [](const std::string& stage) { std::fprintf(stderr, "tigris register: %s...\n", stage.c_str()); });
 
@@ -195,6 +268,13 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   doc["target"] = {{"name", target_name}, {"points", target.size()}};
   doc["preset"] = o.preset;
   doc["search"] = config.search.backend;
+  // The injected error (also in config.inject): null when none.
+  doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
+                      {"normals_shell", config.inject.normals_shell_outer > 0
+                                            ? ordered_json::array({config.inject.normals_shell_inner,
+                                                                   config.inject.normals_shell_outer})
+                                            : ordered_json()},
+                      {"normals_radius", config.normals.radius}};
   doc["transform"] = matrix_json(r.transform);
   doc["initial_transform"] = matrix_json(r.initial);
   doc["seconds"] = r.total_seconds;
@@ -224,8 +304,8 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& f) { f << doc.dump(2) << '\n'; });
 
-  std::printf("tigris register: preset %s, search %s, %zu -> %zu points\n", o.preset.c_str(),
-              config.search.backend.c_str(), source.size(), target.size());
+  std::printf("tigris register: preset %s, search %s, %zu -> %zu points%s\n", o.preset.c_str(),
+              config.search.backend.c_str(), source.size(), target.size(), injection.c_str());
   std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
   for (const auto& s : r.stages)
     std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,

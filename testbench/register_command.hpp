@@ -21,6 +21,8 @@ struct RegisterOptions {
   std::string search;      // empty: the configuration's search.backend (exact by default)
   std::string height;      // empty: search.top_height
   std::string approx_thd;  // empty: search.nn_thd / search.radius_thd
+  std::string inject_kth;    // empty: inject.rpce_kth
+  std::string inject_shell;  // "R1,R2"; empty: inject.normals_shell_inner/_outer
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
   std::string out = "tigris-out";

@@ -121,5 +121,24 @@ expect 2 "$tmp/missing.json: cannot open" -- register --config "$tmp/missing.jso
 expect 2 "$tmp/missing.bin" -- register --source "$tmp/missing.bin" --target "$tmp/three.bin" --out "$tmp/reg2"
 expect 2 "--source and --target go together" -- register --source "$tmp/three.bin" --out "$tmp/reg2"
 
+# Error injection: bad values are rejected before any work, naming the flag or key.
+expect 2 "--inject-kth must be an integer K in 1..100000" -- register --inject-kth 0 --out "$tmp/reg2"
+expect 2 "--inject-kth must be an integer K in 1..100000" -- register --inject-kth 2.5 --out "$tmp/reg2"
+expect 2 "--inject-kth must be an integer K in 1..100000" -- register --inject-kth abc --out "$tmp/reg2"
+expect 2 "--inject-shell must be R1,R2 in metres" -- register --inject-shell 0.1 --out "$tmp/reg2"
+expect 2 "--inject-shell must be R1,R2 in metres" -- register --inject-shell 0.1,x --out "$tmp/reg2"
+expect 2 "--inject-shell 0.4,0.2: needs 0 <= R1 < R2" -- register --inject-shell 0.4,0.2 --out "$tmp/reg2"
+expect 2 "--inject-shell 0.35,0.5: needs R1 < r < R2 around the normal radius r = 0.3" -- register --inject-shell 0.35,0.5 --out "$tmp/reg2"
+expect 2 "--inject-shell 0.1,0.3: needs R1 < r < R2" -- register --inject-shell 0.1,0.3 --out "$tmp/reg2"
+expect 2 "--inject-shell 0.1,0.4: needs R1 < r < R2 around the normal radius r = 0.75" -- register --preset dp7 --inject-shell 0.1,0.4 --out "$tmp/reg2"
+expect 2 "--inject-kth needs --search exact or flann" -- register --inject-kth 4 --search approx --out "$tmp/reg2"
+expect 2 "'inject.normals_shell_inner' < 'normals.radius'" -- register --set inject.normals_shell_outer=0.2 --out "$tmp/reg2"
+expect 0 "inject.rpce_kth" -- register --list-config
+# An injected run says so and echoes the injection in registration.json.
+expect 0 "RPCE returns the K-th nearest (K = 4), normals search the shell 0.1..0.4 m (r 0.3)" -- register --inject-kth 4 --inject-shell 0.1,0.4 --out "$tmp/inj"
+if grep -q '"rpce_kth": 4' "$tmp/inj/registration.json" && grep -q '"normals_shell_outer": 0.4' "$tmp/inj/registration.json" &&
+   grep -q '"error": "kth_nearest"' "$tmp/inj/registration.json"; then passes=$((passes + 1))
+else echo "FAIL: the injection in registration.json"; failures=$((failures + 1)); fi
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -1,6 +1,7 @@
 // The registration pipeline (sw_ref/registration/pipeline.hpp): pose recovery on the synthetic
 // pair with both presets and every back-end, approximate search with thd 0 equal to exact,
-// configuration errors, and the KITTI ground-truth conversion (skipped without ../shared/data).
+// configuration errors, error injection (K-th neighbour, shell) reaching only its stages, and the
+// KITTI ground-truth conversion (skipped without ../shared/data).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -133,6 +134,89 @@ TEST_CASE("pipeline: approximate search with thresholds 0 gives the exact transf
   CHECK(a.transform == b.transform);
   CHECK(stage(b, "normals").kdtree.leaders.followers == 0);
   CHECK(stage(b, "icp").kdtree.searches == stage(a, "icp").kdtree.searches);
+}
+
+// DP4 on the thinned synthetic pair without injection, computed once (the injection tests
+// compare against it; each stays under ~2.5 s).
+static const RegistrationResult& uninjected_dp4() {
+  static const RegistrationResult r = register_clouds(synthetic(900).source, synthetic(900).target, preset("dp4"));
+  return r;
+}
+
+TEST_CASE("pipeline: error injection off (K = 1, no shell) gives the uninjected transform", "[pipeline]") {
+  const Pair& p = synthetic(900);
+  PipelineConfig off = preset("dp4");
+  apply_set(off, "inject.rpce_kth=1");
+  apply_set(off, "inject.normals_shell_inner=0");
+  apply_set(off, "inject.normals_shell_outer=0");
+  const RegistrationResult& a = uninjected_dp4();
+  const RegistrationResult b = register_clouds(p.source, p.target, off);
+  CHECK(a.transform == b.transform);
+  CHECK_FALSE(stage(b, "icp").info.contains("injected"));
+  CHECK_FALSE(stage(b, "normals").info.contains("injected"));
+  CHECK(stage(b, "normals").kdtree.neighbors == stage(a, "normals").kdtree.neighbors);
+}
+
+TEST_CASE("pipeline: the injected K-th neighbour reaches RPCE only", "[pipeline]") {
+  const Pair& p = synthetic(900);
+  const RegistrationResult& base = uninjected_dp4();
+  PipelineConfig kth = preset("dp4");
+  kth.inject.rpce_kth = 8;
+  const RegistrationResult k = register_clouds(p.source, p.target, kth);
+  CHECK(k.transform != base.transform);
+  CHECK(stage(k, "icp").info["injected"]["k"] == 8);
+  // The stages before ICP are untouched (the same initial estimate and normals).
+  CHECK(k.initial == base.initial);
+  CHECK(stage(k, "normals").kdtree.neighbors == stage(base, "normals").kdtree.neighbors);
+}
+
+TEST_CASE("pipeline: the injected shell reaches normal estimation only", "[pipeline]") {
+  const Pair& p = synthetic(900);
+  const RegistrationResult& base = uninjected_dp4();
+  PipelineConfig shell = preset("dp4");  // r = 0.30
+  shell.inject.normals_shell_inner = 0.1;
+  shell.inject.normals_shell_outer = 0.4;
+  const RegistrationResult s = register_clouds(p.source, p.target, shell);
+  const StageReport& ne = stage(s, "normals");
+  CHECK(ne.info["injected"]["inner_m"] == 0.1);
+  CHECK(ne.kdtree.neighbors != stage(base, "normals").kdtree.neighbors);
+  CHECK(s.transform != base.transform);
+  CHECK(stage(s, "outlier_removal").kdtree.neighbors == stage(base, "outlier_removal").kdtree.neighbors);
+  CHECK_FALSE(stage(s, "icp").info.contains("injected"));
+  const PoseError e = pose_error(p.truth, s.transform);
+  CHECK(e.translation_m < 0.1);  // the paper: registration tolerates a shell around r
+}
+
+TEST_CASE("pipeline config: error injection values are checked, naming the keys", "[pipeline]") {
+  PipelineConfig c = preset("dp4");
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=0"), Catch::Contains("'inject.rpce_kth' = 0 is out of range (>= 1"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=two"), Catch::Contains("'inject.rpce_kth' must be a number"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.normals_shell_inner=-0.1"),
+                    Catch::Contains("'inject.normals_shell_inner' = -0.1 is out of range"));
+  CHECK_NOTHROW(validate(c, "x"));
+  c.inject.normals_shell_inner = 0.35;  // R1 >= r = 0.30
+  c.inject.normals_shell_outer = 0.5;
+  CHECK_THROWS_WITH(validate(c, "conf.json"),
+                    Catch::StartsWith("conf.json") && Catch::Contains("'inject.normals_shell_inner' < 'normals.radius'"));
+  c.inject.normals_shell_inner = 0.1;
+  c.inject.normals_shell_outer = 0.3;  // R2 <= r
+  CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("got 0.1, 0.3, 0.3"));
+  c.inject.normals_shell_inner = 0.0;  // only one of the pair set
+  CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("R1 < r < R2"));
+  c.inject.normals_shell_outer = 0.4;
+  CHECK_NOTHROW(validate(c, "x"));
+  c.search.backend = "approx";
+  CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("needs 'search.backend' flann or exact"));
+  c.inject.normals_shell_outer = 0.0;
+  c.inject.rpce_kth = 2;
+  CHECK_THROWS_WITH(register_clouds(synthetic(900).source, synthetic(900).target, c),
+                    Catch::Contains("needs 'search.backend' flann or exact"));
+  // The echo carries the injection and reads back.
+  c.search.backend = "exact";
+  PipelineConfig d = preset("dp7");
+  apply_json(d, to_json(c), "echo");
+  CHECK(d.inject.rpce_kth == 2);
+  CHECK(to_json(c)["inject"]["rpce_kth"] == 2);
 }
 
 TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipeline]") {

@@ -63,7 +63,13 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
                                    const PipelineConfig& c, const StageCallback& on_stage) {
   const auto t_all = Clock::now();
   RegistrationResult r;
+  validate(c, "registration configuration");
   const SearchSettings exact = settings_for(c, false), approximable = settings_for(c, true);
+  // Error injection only on the paper's injected searches: normal estimation (radius) and RPCE.
+  SearchSettings normals_s = approximable, rpce_s = approximable;
+  normals_s.shell_inner = static_cast<float>(c.inject.normals_shell_inner);
+  normals_s.shell_outer = static_cast<float>(c.inject.normals_shell_outer);
+  rpce_s.inject_kth = c.inject.rpce_kth;
   Cloud::Ptr src = to_pcl(source_points), tgt = to_pcl(target_points);
 
   if (c.outlier_removal.enabled) {
@@ -77,11 +83,16 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
 
   Normals::Ptr src_n, tgt_n;
   {
-    StageRun st(r, "normals", on_stage, &approximable);
-    const std::size_t ds = estimate_normals(src, src_n, c, approximable, st.counters());
-    const std::size_t dt = estimate_normals(tgt, tgt_n, c, approximable, st.counters());
+    StageRun st(r, "normals", on_stage, &normals_s);
+    const std::size_t ds = estimate_normals(src, src_n, c, normals_s, st.counters());
+    const std::size_t dt = estimate_normals(tgt, tgt_n, c, normals_s, st.counters());
     st.info() = {{"source_without_normal", ds}, {"target_without_normal", dt},
                  {"source_points", src->size()}, {"target_points", tgt->size()}};
+    if (normals_s.injects_shell())
+      st.info()["injected"] = {{"error", "shell"},
+                               {"inner_m", c.inject.normals_shell_inner},
+                               {"outer_m", c.inject.normals_shell_outer},
+                               {"instead_of_radius_m", c.normals.radius}};
     st.done();
   }
   if (src->size() < 3 || tgt->size() < 3)
@@ -131,11 +142,12 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
   }
 
   {
-    StageRun st(r, "icp", on_stage, &approximable);
-    const IcpOutcome icp = run_icp(src, src_n, tgt, tgt_n, r.initial, c, approximable, st.counters());
+    StageRun st(r, "icp", on_stage, &rpce_s);
+    const IcpOutcome icp = run_icp(src, src_n, tgt, tgt_n, r.initial, c, rpce_s, st.counters());
     r.transform = icp.transform;
     st.info() = {{"iterations", icp.iterations}, {"converged", icp.converged}, {"stop", icp.stop},
                  {"last_correspondences", icp.last_correspondences}};
+    if (rpce_s.injects_kth()) st.info()["injected"] = {{"error", "kth_nearest"}, {"k", c.inject.rpce_kth}};
     st.done();
   }
   r.total_seconds = seconds_since(t_all);

@@ -8,8 +8,10 @@
 // its stage. With search.backend = approx only the paper's approximated stages (normals: radius
 // search, ICP's RPCE: NN search) search approximately; the others search exactly on the golden
 // model (the paper: approximation in sparse data hurts). KPCE searches feature space with PCL's
-// exact FLANN KD-tree, never the 3D plug-in. Single-threaded: never PCL's OMP classes (the
-// approximate leader state is order dependent).
+// exact FLANN KD-tree, never the 3D plug-in. Error injection (config block `inject`, the paper's
+// Figure 5) goes only to the normal-estimation trees (a shell instead of the ball) and ICP's
+// RPCE trees (the K-th nearest neighbour), both directions when reciprocal. Single-threaded:
+// never PCL's OMP classes (the approximate leader state is order dependent).
 #pragma once
 
 #include <functional>

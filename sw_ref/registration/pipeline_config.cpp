@@ -92,6 +92,12 @@ void visit(Config& c, F&& f) {
   f("search.radius_thd", c.search.radius_thd, range(0, 1, "approximate radius threshold (fraction of r)"));
   f("search.leader_capacity", c.search.leader_capacity, range(1, 1 << 20, "leaders kept per leaf (approximate)"));
   f("search.leader_width", c.search.leader_width, range(0, 1 << 20, "leader result width R for NN/kNN (0: k)"));
+  f("inject.rpce_kth", c.inject.rpce_kth,
+    range(1, 100000, "error injection: RPCE's NN searches return the K-th nearest (1: off; --inject-kth)"));
+  f("inject.normals_shell_inner", c.inject.normals_shell_inner,
+    range(0, 100, "error injection: normals' radius searches return R1 <= d <= R2, this is R1 (m; --inject-shell)"));
+  f("inject.normals_shell_outer", c.inject.normals_shell_outer,
+    range(0, 100, "error injection: R2 (m), R1 < normals.radius < R2; both 0: off"));
 }
 
 std::string number_text(double x) {
@@ -251,6 +257,19 @@ PipelineConfig preset(const std::string& name) {
 
 void apply_json(PipelineConfig& config, const json& doc, const std::string& source) {
   apply_object(config, doc, "", source);
+}
+
+void validate(const PipelineConfig& c, const std::string& source) {
+  const double r1 = c.inject.normals_shell_inner, r2 = c.inject.normals_shell_outer, r = c.normals.radius;
+  const bool shell = r1 != 0.0 || r2 != 0.0;
+  if (shell && !(r1 < r && r < r2))
+    throw std::invalid_argument(source + ": the injected shell needs 'inject.normals_shell_inner' < 'normals.radius' < "
+                                "'inject.normals_shell_outer' (the paper's R1 < r < R2; both 0: off), got " +
+                                number_text(r1) + ", " + number_text(r) + ", " + number_text(r2));
+  if ((shell || c.inject.rpce_kth > 1) && c.search.backend == "approx")
+    throw std::invalid_argument(source + ": error injection ('inject.rpce_kth' = " + std::to_string(c.inject.rpce_kth) +
+                                ", shell " + number_text(r1) + ".." + number_text(r2) +
+                                ") needs 'search.backend' flann or exact, not approx");
 }
 
 void apply_file(PipelineConfig& config, const std::string& path) {

@@ -59,6 +59,13 @@ struct PipelineConfig {
     int leader_capacity = 16;
     int leader_width = 0;
   } search;
+  // Error injection (the paper's Figure 5; search_plugin.hpp has the exact semantics). Exact
+  // back-ends only (flann, exact); off by default.
+  struct {
+    int rpce_kth = 1;                  // RPCE's NN searches return the K-th nearest (1: off)
+    double normals_shell_inner = 0.0;  // m, R1: normal estimation's radius searches return
+    double normals_shell_outer = 0.0;  // m, R2: R1 <= d <= R2 instead of d <= r (both 0: off)
+  } inject;
 };
 
 // The preset names, and a preset's configuration (throws std::invalid_argument naming the
@@ -71,6 +78,10 @@ PipelineConfig preset(const std::string& name);
 // `source` (the file name) and naming the key: unknown key (with the nearest valid name),
 // wrong type, out of range, or not one of the allowed names.
 void apply_json(PipelineConfig& config, const nlohmann::json& doc, const std::string& source);
+// The checks across keys, once every key is set (register_clouds calls it too): the injected
+// shell must satisfy inner < normals.radius < outer (or both 0), and injection needs an exact
+// back-end. std::invalid_argument starting with `source` and naming the keys.
+void validate(const PipelineConfig& config, const std::string& source);
 // Reads a JSON file and applies it; errors name the file (missing, unreadable, invalid JSON).
 void apply_file(PipelineConfig& config, const std::string& path);
 // Applies `key=value` as given to --set (the value parsed per the key's type).

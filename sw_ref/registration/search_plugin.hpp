@@ -7,8 +7,23 @@
 //
 // Approximate search keeps leader state between calls (mutable behind PCL's const search
 // methods): results depend on the order of the calls, so never use it from PCL's OMP classes.
+//
+// Error injection (the paper's section "Quantifying the error-tolerance", Figure 5), off by
+// default and exact on the exact back-ends (golden exact, FLANN):
+//  - inject_kth = K > 1: a k-nearest search returns the neighbours of rank K .. K+k-1 in the
+//    canonical (dist2, index) order instead of ranks 1 .. k, so an NN search (k = 1) returns the
+//    K-th nearest neighbour. It searches k+K-1 neighbours and drops the first K-1; a cloud with
+//    fewer than K points gives its farthest point (an NN search never comes back empty, which
+//    PCL's CorrespondenceEstimation relies on).
+//  - shell_outer > 0: a radius search returns every point with R1^2 <= dist2 <= R2^2 (R1 =
+//    shell_inner, R2 = shell_outer, squared in float32 as r2 in DESIGN.md section 2), in
+//    canonical order, then max_nn truncation, instead of the ball of the requested radius
+//    (which is ignored). It searches the ball of R2 and drops the points closer than R1.
+// On the approx back-end both would apply to the approximate results; the pipeline rejects that
+// combination (pipeline_config.hpp, validate).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -37,6 +52,16 @@ struct SearchSettings {
   float radius_thd = 0.4f;      // approximate radius: threshold as a fraction of r
   int leader_capacity = 16;
   int leader_width = 0;         // R for NN/kNN (0: k)
+  // Error injection (see the top of this file); the defaults inject nothing.
+  int inject_kth = 1;           // k-nearest searches return ranks K .. K+k-1 (>= 1)
+  float shell_inner = 0.0f;     // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
+  float shell_outer = 0.0f;     // 0: no shell
+
+  bool injects_kth() const { return inject_kth > 1; }
+  bool injects_shell() const { return shell_outer > 0.0f; }
+  // Throws std::invalid_argument naming the field: inject_kth < 1, a shell with inner < 0,
+  // inner >= outer or a non-finite bound.
+  void validate_injection() const;
 };
 
 // What one pipeline stage's searches cost. `searches` counts query points searched (PCL's
@@ -61,7 +86,9 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   using Base::radiusSearch;
 
   TigrisKdTree(const SearchSettings& settings, std::shared_ptr<SearchCounters> counters)
-      : Base(true), settings_(settings), counters_(std::move(counters)) {}
+      : Base(true), settings_(settings), counters_(std::move(counters)) {
+    settings_.validate_injection();
+  }
 
   // The counters searches are charged to (the pipeline switches them per stage).
   void set_counters(std::shared_ptr<SearchCounters> counters) { counters_ = std::move(counters); }
@@ -83,14 +110,26 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   int nearestKSearch(const PointT& point, int k, pcl::Indices& k_indices,
                      std::vector<float>& k_sqr_distances) const override {
     const auto t0 = Clock::now();
+    // Injection: search k + K - 1 and keep ranks K .. K+k-1 (the farthest when fewer than K).
+    const int skip = settings_.injects_kth() && k >= 1 ? settings_.inject_kth - 1 : 0;
+    const int want = k + skip;
     int n;
     if (settings_.backend == Backend::Flann) {
-      n = Base::nearestKSearch(point, k, k_indices, k_sqr_distances);
+      n = Base::nearestKSearch(point, want, k_indices, k_sqr_distances);
     } else {
       SearchParams p;
-      p.mode = k == 1 ? Mode::NN : Mode::KNN;
-      p.k = k;
+      p.mode = want == 1 ? Mode::NN : Mode::KNN;
+      p.k = want;
       n = golden(p, point, k_indices, k_sqr_distances);
+    }
+    if (skip > 0 && n > 0) {
+      const int drop = std::min(skip, n - 1);
+      const int keep = std::min(n - drop, k);
+      k_indices.erase(k_indices.begin(), k_indices.begin() + drop);
+      k_sqr_distances.erase(k_sqr_distances.begin(), k_sqr_distances.begin() + drop);
+      k_indices.resize(static_cast<std::size_t>(keep));
+      k_sqr_distances.resize(static_cast<std::size_t>(keep));
+      n = keep;
     }
     charge(n, t0);
     return n;
@@ -99,15 +138,33 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices,
                    std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override {
     const auto t0 = Clock::now();
+    // Injection: the ball of R2, all of it (max_nn applies to the shell), minus d < R1.
+    const bool shell = settings_.injects_shell();
+    const double search_radius = shell ? static_cast<double>(settings_.shell_outer) : radius;
+    const unsigned int search_max_nn = shell ? 0u : max_nn;
     int n;
     if (settings_.backend == Backend::Flann) {
-      n = Base::radiusSearch(point, radius, k_indices, k_sqr_distances, max_nn);
+      n = Base::radiusSearch(point, search_radius, k_indices, k_sqr_distances, search_max_nn);
     } else {
       SearchParams p;
       p.mode = Mode::Radius;
-      p.radius = static_cast<float>(radius);
-      p.max_nn = max_nn;
+      p.radius = static_cast<float>(search_radius);
+      p.max_nn = search_max_nn;
       n = golden(p, point, k_indices, k_sqr_distances);
+    }
+    if (shell) {
+      const float r1_2 = settings_.shell_inner * settings_.shell_inner;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+        if (!(k_sqr_distances[i] >= r1_2)) continue;
+        if (max_nn > 0 && kept == max_nn) break;
+        k_indices[kept] = k_indices[i];
+        k_sqr_distances[kept] = k_sqr_distances[i];
+        ++kept;
+      }
+      k_indices.resize(kept);
+      k_sqr_distances.resize(kept);
+      n = static_cast<int>(kept);
     }
     charge(n, t0);
     return n;
