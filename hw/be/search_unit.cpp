@@ -68,13 +68,15 @@ void SearchUnit::step() {
     const IssueDecision d = links_.policy.pick(bqb_, free_pes_, pes_, now);
     if (d.batches.empty()) break;
     std::vector<std::vector<QueryToken>> batches;
-    std::vector<std::size_t> taken;
+    taken_.assign(bqb_.size(), 0);
     for (const auto& positions : d.batches) {
       batches.emplace_back();
-      for (std::size_t i : positions) batches.back().push_back(bqb_[i]), taken.push_back(i);
+      for (std::size_t i : positions) batches.back().push_back(bqb_[i]), taken_[i] = 1;
     }
-    std::sort(taken.begin(), taken.end());
-    for (auto it = taken.rbegin(); it != taken.rend(); ++it) bqb_.erase(bqb_.begin() + static_cast<std::ptrdiff_t>(*it));
+    std::size_t kept = 0;  // the rest keep their order
+    for (std::size_t i = 0; i < bqb_.size(); ++i)
+      if (!taken_[i]) bqb_[kept++] = bqb_[i];
+    bqb_.resize(kept);
     const std::uint64_t setup = d.search_cycles + static_cast<std::uint64_t>(config_.cost.issue_cycle);
     issue_stall_ += setup;
     for (auto& b : batches) issue(std::move(b), now, setup);

@@ -101,6 +101,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   LeaderBuffer leader_buffer_;
   std::vector<tlm_if::ResultRecord> hits_;      // the batch being issued: its radius hits
   std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
+  std::vector<char> taken_;                     // BQB positions issued this step
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;
   StatGroup stats_;

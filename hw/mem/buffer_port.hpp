@@ -37,6 +37,7 @@ class BufferPort {
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access,
                        const sc_core::sc_time& period) {
+    if (access.bytes == 0 && access.scatter_count == 0) return start;  // nothing to access
     profile_ = access;
     trans_.set_command(tlm::TLM_IGNORE_COMMAND);
     trans_.set_address(access.scatter ? 0 : access.first_byte);
