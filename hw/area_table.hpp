@@ -25,7 +25,7 @@ struct AreaTable {
   template <class V>
   void visit(V&& v) {
     const auto mm2 = [&](const char* name, double& field, const char* unit, const char* doc) {
-      v(name, field, {unit, at_least(0), doc});
+      v(name, field, {unit, in(0, 1e4), doc});  // beyond any chip
     };
     mm2("pe_mm2", pe_mm2, "mm2",
         "one PE: a pipelined float32 squared-distance datapath (3 sub, 3 mul, 2 add); the "

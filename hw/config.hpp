@@ -198,7 +198,9 @@ struct AcceleratorConfig {
     template <class V>
     void visit(V&& v) {
       v("bytes_per_cycle", bytes_per_cycle,
-        {"bytes/cycle", above(0, 1e6), "DRAM bandwidth for the result write-back"});
+        {"bytes/cycle", in(1e-3, 1e6),
+         "DRAM bandwidth for the result write-back (at least 1e-3: below it a job's cycle "
+         "count leaves the 64-bit range)"});
       v("latency_cycles", latency_cycles, {"cycles", in(0, kMaxCycles), "DRAM access latency"});
     }
   } dram;
@@ -225,7 +227,10 @@ struct AcceleratorConfig {
   // Every key, in the order the reference and the dump list them.
   template <class V>
   void visit(V&& v) {
-    v("clock_mhz", clock_mhz, {"MHz", above(0, 1e5), "accelerator clock"});
+    v("clock_mhz", clock_mhz,
+      {"MHz", in(1, 1e5),
+       "accelerator clock (1 MHz .. 100 GHz: SystemC's 64-bit picosecond time must hold every "
+       "job's cycles)"});
     tree.visit(in_block(v, "tree"));
     fe.visit(in_block(v, "fe"));
     be.visit(in_block(v, "be"));

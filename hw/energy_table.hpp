@@ -50,7 +50,7 @@ struct EnergyTable {
   template <class V>
   void visit(V&& v) {
     const auto pj = [&](const char* name, double& field, const char* unit, const char* doc) {
-      v(name, field, {unit, at_least(0), doc});
+      v(name, field, {unit, in(0, 1e6), doc});  // 1 uJ an operation: beyond any real circuit
     };
     pj("distance_pj", distance_pj, "pJ",
        "PE: one float32 squared distance (3 sub, 3 mul, 2 add); Horowitz ISSCC'14 45 nm fp32 "

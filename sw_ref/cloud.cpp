@@ -15,6 +15,12 @@ void validate_cloud(const PointCloud& cloud, const std::string& label) {
           << ", " << p.z << "); NaN/Inf points are rejected, filter them out first";
       throw InputError(msg.str());
     }
+    if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate || std::fabs(p.z) > kMaxCoordinate) {
+      std::ostringstream msg;
+      msg << label << ": point " << i << " (" << p.x << ", " << p.y << ", " << p.z
+          << ") has a coordinate beyond +-1e18: its squared distances would overflow float32";
+      throw InputError(msg.str());
+    }
   }
 }
 

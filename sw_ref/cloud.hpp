@@ -18,8 +18,15 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Policy (DESIGN.md section 2): a cloud with a NaN/Inf coordinate or no point is rejected,
-// never silently repaired. `label` names the source in the message (usually the file path).
+// The largest coordinate magnitude accepted. dist2 sums three squared float32 differences:
+// with |coordinates| <= 1e18 a difference is at most 2e18 and the sum 1.2e37, inside float32's
+// 3.4e38, so no distance overflows to infinity (which would make every point "nearest" or
+// every point "within r" while both models agree).
+constexpr float kMaxCoordinate = 1e18f;
+
+// Policy (DESIGN.md section 2): a cloud with a NaN/Inf coordinate, a coordinate beyond
+// kMaxCoordinate, or no point is rejected, never silently repaired. `label` names the source in
+// the message (usually the file path).
 void validate_cloud(const PointCloud& cloud, const std::string& label);
 
 }  // namespace tigris

@@ -114,6 +114,8 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
     case Type::Enum:
       return text;
     case Type::Number: {
+      // Decimal numbers only: strtod would also take hex ("0x10"), "inf" and "nan".
+      if (text.find_first_not_of("0123456789.eE+-") != std::string::npos) return fail("a decimal number");
       char* end = nullptr;
       errno = 0;
       const double x = text.empty() || std::isspace(static_cast<unsigned char>(text[0]))

@@ -11,7 +11,17 @@ void add_search_options(CLI::App& app, SearchOptions& o) {
   app.add_option("--queries", o.queries,
                  "Query points, same formats (default: the built-in synthetic frame 1, the same "
                  "street scanned 1 m further on and turned 1 degree)");
-  app.add_option("--seed", o.seed, "Seed of the built-in synthetic frames")->capture_default_str();
+  app.add_option("--seed", o.seed, "Seed of the built-in synthetic frames (0 .. 2^64-1)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            // CLI11 would wrap "-1" and round "1e23" to 2^64-1: digits only, in range.
+            if (s.empty() || s.size() > 20 || s.find_first_not_of("0123456789") != std::string::npos ||
+                (s.size() == 20 && s > "18446744073709551615"))
+              return "must be a whole number from 0 to 18446744073709551615, got '" + s + "'";
+            return {};
+          },
+          "UINT64"));
   app.add_option("--mode", o.mode, "Search: nn, knn or radius")
       ->check(CLI::IsMember({"nn", "knn", "radius"}))
       ->capture_default_str();

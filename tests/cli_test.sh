@@ -82,6 +82,14 @@ expect 2 "Point Buffer" -- run --set sram.points.bytes=100000
 expect 2 "sram.query_stack.bytes" -- run --set sram.query_stack.bytes=64
 expect 2 "radius must be" -- run --mode radius --radius 0
 expect 2 "leader capacity must be" -- run --approx-thd 1 --leader-capacity -1
+# Values that used to wrap, overflow or be taken in another base (issue 11).
+expect 2 "must be a whole number" -- run --seed -1
+expect 2 "must be a whole number" -- ref --seed 1e23
+expect 2 "must be a decimal number" -- run --set clock_mhz=0x10
+expect 2 "must be a decimal number" -- run --set energy.distance_pj=inf
+expect 2 "'clock_mhz' = 1e-10 is out of range" -- run --set clock_mhz=1e-10
+expect 2 "'dram.bytes_per_cycle' = 1e-15 is out of range" -- run --set dram.bytes_per_cycle=1e-15
+expect 2 "'energy.distance_pj' = 1e+308 is out of range" -- run --set energy.distance_pj=1e308
 expect 2 "need --approx-thd" -- run --leader-width 3
 expect 0 "followers" -- run --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
 expect 0 "approximate" -- ref --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"

@@ -108,8 +108,9 @@ PointCloud awkward_cloud() {
   const tigris::SyntheticPair pair = tigris::make_synthetic_pair();
   PointCloud cloud(pair.frame0.begin(), pair.frame0.begin() + 5000);
   cloud.push_back(Point3{-0.0f, 0.0f, 1e-40f});  // negative zero and a subnormal
-  cloud.push_back(
-      Point3{std::numeric_limits<float>::max(), -std::numeric_limits<float>::min(), 0.1f});
+  // The largest magnitude accepted (FLT_MAX is refused: its distances overflow) and the
+  // smallest normal number.
+  cloud.push_back(Point3{tigris::kMaxCoordinate, -std::numeric_limits<float>::min(), 0.1f});
   cloud.push_back(Point3{1.0f / 3.0f, -123456.789f, 3.4e-38f});
   return cloud;
 }
@@ -179,6 +180,30 @@ TEST_CASE("cloud_io: NaN, Inf and empty clouds are rejected", "[io]") {
   const std::string with_inf = dir.file("with_inf.bin");
   write_bytes(with_inf, kitti_bytes({{1.0f, 2.0f, -inf}}));
   require_input_error(with_inf, "point 0 has a non-finite coordinate");
+  // A list property in the vertex element: PCL 1.13 shifts x, y, z into the list's values
+  // (point 0 read as (7, 7, 1)) or aborts; refused with the reason (issue 11).
+  const std::string list_ply = dir.file("list.ply");
+  write_bytes(list_ply,
+              "ply\nformat ascii 1.0\nelement vertex 4\nproperty list uint float e\nproperty float x\n"
+              "property float y\nproperty float z\nend_header\n3 7 7 7 1 2 3\n1 7 10 20 30\n1 7 -5 -6 -7\n"
+              "1 7 100 0 0\n");
+  require_input_error(list_ply, "the vertex element has a list property ('e')");
+  // Lists in other elements (faces) are fine: the vertices read exactly.
+  const std::string face_ply = dir.file("face.ply");
+  write_bytes(face_ply,
+              "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3\n4 5 6\n3 0 1 1\n");
+  const PointCloud faces = tigris::load_cloud(face_ply);
+  REQUIRE(faces.size() == 2);
+  CHECK(faces[0].x == 1.0f);
+  CHECK(faces[1].z == 6.0f);
+  // Finite but huge: squared differences would overflow float32 and every distance be inf.
+  const std::string huge = dir.file("huge.bin");
+  write_bytes(huge, kitti_bytes({{1.0f, 2.0f, 3.0f}, {2e19f, 0.0f, 0.0f}}));
+  require_input_error(huge, "point 1 (2e+19, 0, 0) has a coordinate beyond +-1e18");
+  const std::string edge = dir.file("edge.bin");
+  write_bytes(edge, kitti_bytes({{1e18f, -1e18f, 1e18f}, {-1e18f, 1e18f, -1e18f}}));
+  CHECK(tigris::load_cloud(edge).size() == 2);  // the limit itself is accepted
   const std::string empty = dir.file("empty.bin");
   write_bytes(empty, "");
   require_input_error(empty, "empty");

@@ -399,7 +399,7 @@ void precheck_ply(const std::string& path, std::uint64_t file_size) {
   bool have_vertex = false;
   std::uint64_t elem_count = 0, elem_bytes = 0, elem_values = 0;  // current element
   std::uint64_t min_bytes = 0, min_values = 0;                    // whole body, at least
-  bool in_element = false;
+  bool in_element = false, in_vertex = false;
   auto close_element = [&]() {
     if (!in_element) return;
     min_bytes += elem_count * elem_bytes;
@@ -424,6 +424,7 @@ void precheck_ply(const std::string& path, std::uint64_t file_size) {
       in_element = true;
       elem_count = n;
       elem_bytes = elem_values = 0;
+      in_vertex = w[1] == "vertex";
       if (w[1] == "vertex") {
         if (have_vertex) corrupt("two vertex elements");
         have_vertex = true;
@@ -433,6 +434,12 @@ void precheck_ply(const std::string& path, std::uint64_t file_size) {
       if (w.size() == 3) {
         elem_bytes += static_cast<std::uint64_t>(type_size(w[1]));
       } else if (w.size() == 5 && w[1] == "list") {
+        // PCL 1.13 shifts the vertex fields after a list (x read from the list's values) or
+        // aborts on an int/uint count: refuse such files rather than hand them over.
+        if (in_vertex)
+          fail(path, "the vertex element has a list property ('" + printable(w[4]) +
+                         "'), which PCL 1.13 reads wrongly; keep only scalar properties "
+                         "(e.g. re-save the cloud with x, y, z)");
         const int count_size = type_size(w[2]);
         type_size(w[3]);
         if (w[2] == "float" || w[2] == "double" || w[2] == "float32" || w[2] == "float64")
