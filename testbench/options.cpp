@@ -1,5 +1,6 @@
 #include "options.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 namespace tigris {
@@ -50,7 +51,26 @@ void add_search_options(CLI::App& app, SearchOptions& o) {
                  "Write the leaf-visit schedule as CSV seq,query,leaf");
   app.add_option("--schedule", o.schedule,
                  "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
-  app.add_option("--out", o.out, "Output folder for stats.json")->capture_default_str();
+  app.add_option("--out", o.out, "Output folder for stats.json")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string { return s.empty() ? "must name a folder, got an empty path" : ""; },
+          "DIR"));
+}
+
+int default_height_for(int height, bool chosen, std::size_t points, const std::string& cloud_name) {
+  const int full = full_height_for(points);
+  if (height <= full) return height;
+  if (chosen)
+    throw std::invalid_argument(cloud_name + ": top height " + std::to_string(height) +
+                                " (--height / tree.top_height) exceeds the full height " + std::to_string(full) +
+                                " of its " + std::to_string(points) + "-point tree; use at most " +
+                                std::to_string(full) + ", or full");
+  std::fprintf(stderr,
+               "tigris: note: %s has %zu points, so its full tree height is %d; the default top "
+               "height %d is clamped to %d (pass --height to choose)\n",
+               cloud_name.c_str(), points, full, height, full);
+  return full;
 }
 
 int parse_height(const std::string& text) {

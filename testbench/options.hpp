@@ -37,4 +37,9 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o);
 // --height: a number from 0 to the full height, or "full" (-1).
 int parse_height(const std::string& text);
 
+// The default top height (10) for a cloud of `points`: clamped to the cloud's full height, with
+// a note on stderr, when nobody asked for it (`chosen` false); an explicit height is kept as is
+// (and a too large one stays an error naming the full height).
+int default_height_for(int height, bool chosen, std::size_t points, const std::string& cloud_name);
+
 }  // namespace tigris

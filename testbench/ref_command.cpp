@@ -22,12 +22,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   const SearchParams params = search_params(app, o);
-  const int height = parse_height(o.height);
+  int height = parse_height(o.height);
   const SplitRule split = parse_split_rule(o.split_axis);
   Schedule replay;
   if (!o.schedule.empty()) replay = read_schedule_csv(o.schedule);
 
   const Workload w = load_workload(o.cloud, o.queries, o.seed);
+  height = default_height_for(height, app.count("--height") > 0, w.cloud.size(), w.cloud_name);
   auto t0 = std::chrono::steady_clock::now();
   const KdTree tree = build_kdtree(w.cloud, height, split);
   const double build_s = seconds_since(t0);

@@ -63,6 +63,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   params.leader_capacity = cfg.leader.capacity_per_leaf;
 
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  // The default top height only: one from --height, --set or --config stays as asked.
+  const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+  cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
   const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   const HostJob job = host_job(params);
@@ -184,7 +187,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               stats_path.c_str());
   if (!o.timeline.empty())
     std::printf("  timeline %s (every %u-th query; open in ui.perfetto.dev)\n", o.timeline.c_str(), timeline.stride());
-  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s.gtkw)\n", o.vcd.c_str(), o.vcd.substr(0, o.vcd.rfind('.')).c_str());
+  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
   if (!verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
                  static_cast<unsigned long long>(verdict.result_mismatches),

@@ -1,5 +1,6 @@
 #include "simulation.hpp"
 
+#include <filesystem>
 #include <memory>
 
 #include "hw/top.hpp"
@@ -9,6 +10,10 @@
 #include "traces/vcd_writer.hpp"
 
 namespace tigris {
+
+std::string gtkw_path(const std::string& vcd_path) {
+  return std::filesystem::path(vcd_path).replace_extension(".gtkw").string();
+}
 
 std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimProgress& progress) {
   struct Bench {
@@ -74,7 +79,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     if (benches[i].vcd) {
       benches[i].vcd->close();
       const std::string& vcd = setups[i].vcd_path;
-      const std::string gtkw = vcd.substr(0, vcd.rfind('.') == std::string::npos ? vcd.size() : vcd.rfind('.')) + ".gtkw";
+      const std::string gtkw = gtkw_path(vcd);
       const std::uint64_t start_ps = static_cast<std::uint64_t>(
           a.start_cycle() * a.config().period() / sc_core::sc_time(1, sc_core::SC_PS));
       write_gtkw(gtkw, vcd, *benches[i].vcd, start_ps);

@@ -58,4 +58,7 @@ using SimProgress = std::function<void(std::uint32_t done, std::uint32_t total)>
 
 std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimProgress& progress = {});
 
+// The GTKWave save file written beside waveforms `vcd_path`: the same name, extension .gtkw.
+std::string gtkw_path(const std::string& vcd_path);
+
 }  // namespace tigris

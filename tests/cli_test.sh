@@ -90,6 +90,15 @@ expect 2 "must be a decimal number" -- run --set energy.distance_pj=inf
 expect 2 "'clock_mhz' = 1e-10 is out of range" -- run --set clock_mhz=1e-10
 expect 2 "'dram.bytes_per_cycle' = 1e-15 is out of range" -- run --set dram.bytes_per_cycle=1e-15
 expect 2 "'energy.distance_pj' = 1e+308 is out of range" -- run --set energy.distance_pj=1e308
+# The default top height is clamped for small clouds (with a note); an explicit one is not.
+expect 0 "the default top height 10 is clamped to 2" -- ref --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
+expect 0 "MATCH" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
+expect 2 "$tmp/three.bin: top height 10" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 10
+# Output paths: empty, a full disk, dots in folder names.
+expect 2 "--out: must name a folder" -- run --out ""
+expect 2 "/dev/full: writing the waveforms failed" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out "$tmp/full" --vcd /dev/full
+expect 0 "gtkwave $tmp/o/dir.v2/waves.gtkw" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out "$tmp/dots" --vcd "$tmp/o/dir.v2/waves"
+[ -f "$tmp/o/dir.v2/waves.gtkw" ] && passes=$((passes + 1)) || { echo "FAIL: the save file is not beside the waves"; failures=$((failures + 1)); }
 expect 2 "need --approx-thd" -- run --leader-width 3
 expect 0 "followers" -- run --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
 expect 0 "approximate" -- ref --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"

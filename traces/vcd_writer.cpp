@@ -1,5 +1,6 @@
 #include "vcd_writer.hpp"
 
+#include <exception>
 #include <filesystem>
 #include <stdexcept>
 
@@ -26,7 +27,7 @@ std::string binary(std::uint64_t v, int width) {
 
 }  // namespace
 
-VcdWriter::VcdWriter(const std::string& path) {
+VcdWriter::VcdWriter(const std::string& path) : path_(path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
@@ -34,7 +35,12 @@ VcdWriter::VcdWriter(const std::string& path) {
   if (!out_) throw std::runtime_error(path + ": cannot open for writing");
 }
 
-VcdWriter::~VcdWriter() { close(); }
+VcdWriter::~VcdWriter() {
+  try {
+    close();
+  } catch (const std::exception&) {  // a destructor must not throw; close() first to see errors
+  }
+}
 
 int VcdWriter::add(const std::string& dotted_name, int width) {
   if (header_written_) throw std::logic_error("VCD signals must be declared before changes");
@@ -98,13 +104,24 @@ void VcdWriter::change(int id, std::uint64_t time_ps, std::uint64_t value) {
 void VcdWriter::close() {
   if (!out_.is_open()) return;
   if (!header_written_) write_header();
+  out_.flush();
+  const bool ok = out_.good();
   out_.close();
+  if (!ok || out_.fail()) throw std::runtime_error(path_ + ": writing the waveforms failed (disk full?)");
 }
 
 void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
                 std::uint64_t start_ps) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot open for writing");
+  struct Check {  // the save file is complete or an error names it
+    std::ofstream& f;
+    const std::string& path;
+    ~Check() noexcept(false) {
+      f.flush();
+      if (!f && std::uncaught_exceptions() == 0) throw std::runtime_error(path + ": write failed");
+    }
+  } check{f, path};
   f << "[*] GTKWave save file for a Tigris TLM run: open with  gtkwave " << path << "\n";
   f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
   // Zoom to the job's span. Measured with GTKWave 3.3.118 (Debian 12) under Xvfb: zoom -z

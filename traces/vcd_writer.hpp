@@ -20,6 +20,7 @@ class VcdWriter {
   int add(const std::string& dotted_name, int width);
   // Records that signal `id` has `value` from `time_ps` on (repeated values are dropped).
   void change(int id, std::uint64_t time_ps, std::uint64_t value);
+  // Writes what is left; throws std::runtime_error naming the file if anything failed.
   void close();
 
   const std::vector<std::string>& names() const { return names_; }
@@ -28,6 +29,7 @@ class VcdWriter {
 
  private:
   void write_header();
+  std::string path_;
   std::ofstream out_;
   std::vector<std::string> names_;
   std::vector<int> widths_;
