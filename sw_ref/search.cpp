@@ -315,6 +315,7 @@ struct Searcher::Impl {
   virtual ~Impl() = default;
   virtual void search(const Point3& q, std::vector<Neighbor>& out) = 0;
   SearchOutput totals;  // visits and leaders summed over calls (no results, no schedule)
+  QueryVisits last;     // the last call's visits
   std::uint64_t queries = 0;
 };
 
@@ -326,22 +327,21 @@ struct SearcherImpl final : Searcher::Impl {
   Engine<Collector> engine;
   std::vector<StackEntry> stack;
   Walker<Collector> walker;
-  QueryVisits visits;
   Results one;
 
   SearcherImpl(const KdTree& tree, const SearchParams& p)
       : params(p), engine(tree, params, totals), stack(engine.stack_capacity()),
-        walker{{}, stack.data(), 0, &visits, Collector(params)} {}
+        walker{{}, stack.data(), 0, &last, Collector(params)} {}
 
   void search(const Point3& q, std::vector<Neighbor>& out) override {
     walker.q = q;
-    visits = {};
+    last = {};
     engine.start(walker);
     for (std::uint32_t leaf; (leaf = engine.advance(walker)) != kDone;) engine.visit_leaf(walker, leaf);
     one = Results{};
     walker.result.emit(one);
     out.assign(one.begin(0), one.end(0));
-    totals.visits.add(visits);
+    totals.visits.add(last);
     ++queries;
   }
 };
@@ -363,6 +363,7 @@ Searcher::~Searcher() = default;
 void Searcher::search(const Point3& q, std::vector<Neighbor>& out) { impl_->search(q, out); }
 const VisitTotals& Searcher::visits() const { return impl_->totals.visits; }
 const LeaderTotals& Searcher::leaders() const { return impl_->totals.leaders; }
+const QueryVisits& Searcher::last_visits() const { return impl_->last; }
 std::uint64_t Searcher::queries() const { return impl_->queries; }
 
 SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,

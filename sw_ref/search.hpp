@@ -99,6 +99,7 @@ class Searcher {
   // Searches `q` (finite); `out` receives its neighbours in canonical order.
   void search(const Point3& q, std::vector<Neighbor>& out);
   const VisitTotals& visits() const;    // summed over every call
+  const QueryVisits& last_visits() const;  // of the last call
   const LeaderTotals& leaders() const;
   std::uint64_t queries() const;
 

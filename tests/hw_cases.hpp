@@ -59,6 +59,25 @@ inline std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, con
   return out;
 }
 
+// `p` as approximate search with threshold `thd` (metres).
+inline SearchParams approximate(SearchParams p, float thd) {
+  p.approximate = true;
+  p.approx_thd = thd;
+  return p;
+}
+
+// One accelerator's setup: `image` of a cloud of `points`, searched by `queries` as `params`.
+inline SimSetup one_setup(const tlm_if::TreeImage& image, const PointCloud& queries, std::size_t points,
+                          const hw::AcceleratorConfig& config, const SearchParams& params) {
+  SimSetup s;
+  s.config = config;
+  s.image = &image;
+  s.queries = &queries;
+  s.num_points = static_cast<std::uint32_t>(points);
+  s.job = host_job(params);
+  return s;
+}
+
 inline SearchParams mode(Mode m, int k = 1, float r = 0.0f, std::uint32_t max_nn = 0) {
   SearchParams p;
   p.mode = m, p.k = k, p.radius = r, p.max_nn = max_nn;

@@ -445,12 +445,7 @@ TEST_CASE("a stuck machine is reported with its state, not hung or half-judged",
   const PointCloud queries = make_queries(cloud, 100, 62);
   const KdTree tree = build_kdtree(cloud, 4);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  SimSetup s;
-  s.config = units(4, 2, 4, 4);
-  s.image = &image;
-  s.queries = &queries;
-  s.num_points = static_cast<std::uint32_t>(cloud.size());
-  s.job = host_job(mode(Mode::NN));
+  SimSetup s = one_setup(image, queries, cloud.size(), units(4, 2, 4, 4), mode(Mode::NN));
   // Scanned queries vanish instead of going back to the front-end: nothing is pending, work is left.
   s.test_hook = [](hw::TigrisAccelerator& a) { a.front_end_for_test().drop_reinserted_for_test(true); };
   const SimOutcome o = simulate({s}).front();
@@ -470,12 +465,7 @@ nlohmann::json timeline_of(const PointCloud& cloud, const PointCloud& queries, i
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   config.tree.top_height = height;
   TimelineRecorder timeline(1000.0 / config.clock_mhz, shown);
-  SimSetup s;
-  s.config = config;
-  s.image = &image;
-  s.queries = &queries;
-  s.num_points = static_cast<std::uint32_t>(cloud.size());
-  s.job = host_job(mode(Mode::NN));
+  SimSetup s = one_setup(image, queries, cloud.size(), config, mode(Mode::NN));
   s.observers.push_back(&timeline);
   const SimOutcome o = simulate({s}).front();
   REQUIRE(o.finished);
@@ -558,13 +548,9 @@ TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, iden
   // Per mode, three copies of one accelerator in one SystemC run, the second built in reverse.
   std::vector<SimSetup> setups;
   for (const SearchParams& p : {mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)}) {
-    SimSetup s;
-    s.config = units(16, 8, 8, 6);
-    s.config.sram.points.ports = 8;  // fewer ports than banks: the port calendar is shared
-    s.image = &image;
-    s.queries = &queries;
-    s.num_points = static_cast<std::uint32_t>(cloud.size());
-    s.job = host_job(p);
+    hw::AcceleratorConfig c = units(16, 8, 8, 6);
+    c.sram.points.ports = 8;  // fewer ports than banks: the port calendar is shared
+    SimSetup s = one_setup(image, queries, cloud.size(), c, p);
     SimSetup reversed = s;
     reversed.reverse_construction = true;
     setups.insert(setups.end(), {s, reversed, s});

@@ -14,12 +14,6 @@ using namespace tigris::test;
 
 namespace {
 
-SearchParams approx(SearchParams p, float thd) {
-  p.approximate = true;
-  p.approx_thd = thd;
-  return p;
-}
-
 hw::AcceleratorConfig with_capacity(hw::AcceleratorConfig c, int capacity, bool mqmn = false) {
   c.leader.capacity_per_leaf = capacity;
   if (mqmn) c.be.issue_policy = hw::IssuePolicyKind::Mqmn;
@@ -36,11 +30,11 @@ TEST_CASE("approximate search is bit-exact with schedule replay: machines, polic
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 21);
   const PointCloud queries = make_queries(cloud, 400, 21);
   const std::vector<std::pair<std::string, SearchParams>> modes = {
-      {"nn", approx(mode(Mode::NN), 1.2f)},
-      {"knn5", approx(mode(Mode::KNN, 5), 1.2f)},
-      {"knn5 R2", [] { auto p = approx(mode(Mode::KNN, 5), 1.0f); p.leader_width = 2; return p; }()},
-      {"r1.0", approx(mode(Mode::Radius, 1, 1.0f), 0.4f)},
-      {"r1.5 max_nn 3", approx(mode(Mode::Radius, 1, 1.5f, 3), 0.6f)}};
+      {"nn", approximate(mode(Mode::NN), 1.2f)},
+      {"knn5", approximate(mode(Mode::KNN, 5), 1.2f)},
+      {"knn5 R2", [] { auto p = approximate(mode(Mode::KNN, 5), 1.0f); p.leader_width = 2; return p; }()},
+      {"r1.0", approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)},
+      {"r1.5 max_nn 3", approximate(mode(Mode::Radius, 1, 1.5f, 3), 0.6f)}};
   std::vector<Case> cases;
   for (const auto& [name, p] : modes)
     for (const auto& [machine, c] : std::vector<std::pair<std::string, hw::AcceleratorConfig>>{
@@ -66,7 +60,7 @@ TEST_CASE("approximate search with thd 0 returns the exact results and visits", 
   const PointCloud queries = make_queries(cloud, 300, 22);
   std::vector<Case> cases;
   const std::vector<SearchParams> exact = {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)};
-  for (const SearchParams& p : exact) cases.push_back({std::string(to_string(p.mode)) + " thd 0", units(8, 4, 8, 6), approx(p, 0.0f)});
+  for (const SearchParams& p : exact) cases.push_back({std::string(to_string(p.mode)) + " thd 0", units(8, 4, 8, 6), approximate(p, 0.0f)});
   const auto out = run_and_check(cloud, queries, cases);
   for (std::size_t i = 0; i < exact.size(); ++i) {
     INFO(cases[i].name);
@@ -85,8 +79,8 @@ TEST_CASE("approximate search with thd 0 returns the exact results and visits", 
 TEST_CASE("a huge thd makes every later query at a leaf follow its first leader", "[hw][approx]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 23);
   const PointCloud queries = make_queries(cloud, 300, 23);
-  const std::vector<Case> cases = {{"nn", units(8, 4, 8, 4), approx(mode(Mode::NN), 1e6f)},
-                                   {"radius", units(8, 4, 8, 4), approx(mode(Mode::Radius, 1, 1.0f), 1e6f)}};
+  const std::vector<Case> cases = {{"nn", units(8, 4, 8, 4), approximate(mode(Mode::NN), 1e6f)},
+                                   {"radius", units(8, 4, 8, 4), approximate(mode(Mode::Radius, 1, 1.0f), 1e6f)}};
   const auto out = run_and_check(cloud, queries, cases);
   for (const SimOutcome& o : out) {
     // One leader per non-empty leaf visited, no more; every other visit follows.
@@ -104,10 +98,10 @@ TEST_CASE("approximate search on the synthetic LiDAR pair: NN, kNN, radius, MQMN
   auto mqmn = units(16, 8, 16, 10);
   mqmn.be.issue_policy = hw::IssuePolicyKind::Mqmn;
   const std::vector<Case> cases = {
-      {"nn", units(64, 32, 32, 10), approx(mode(Mode::NN), 1.2f)},
-      {"knn10", units(64, 32, 32, 10), approx(mode(Mode::KNN, 10), 1.2f)},
-      {"r0.30", units(64, 32, 32, 10), approx(mode(Mode::Radius, 1, 0.30f), 0.12f)},
-      {"r0.75 mqmn", mqmn, approx(mode(Mode::Radius, 1, 0.75f), 0.30f)}};
+      {"nn", units(64, 32, 32, 10), approximate(mode(Mode::NN), 1.2f)},
+      {"knn10", units(64, 32, 32, 10), approximate(mode(Mode::KNN, 10), 1.2f)},
+      {"r0.30", units(64, 32, 32, 10), approximate(mode(Mode::Radius, 1, 0.30f), 0.12f)},
+      {"r0.75 mqmn", mqmn, approximate(mode(Mode::Radius, 1, 0.75f), 0.30f)}};
   const auto out = run_and_check(pair.frame0, queries, cases);
   for (const SimOutcome& o : out) CHECK(followers(o) > 0);
 }
@@ -117,8 +111,8 @@ TEST_CASE("leader lists that find the Result Buffer's list area full live in DRA
   const PointCloud queries = make_queries(cloud, 300, 24);
   auto tiny = units(8, 4, 8, 5);
   tiny.result_buffer.leader_fraction = 1e-5;  // 31 bytes: less than one 16-byte entry per SU
-  const std::vector<Case> cases = {{"area", units(8, 4, 8, 5), approx(mode(Mode::Radius, 1, 1.0f), 0.4f)},
-                                   {"dram", tiny, approx(mode(Mode::Radius, 1, 1.0f), 0.4f)}};
+  const std::vector<Case> cases = {{"area", units(8, 4, 8, 5), approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)},
+                                   {"dram", tiny, approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)}};
   const auto out = run_and_check(cloud, queries, cases);
   const auto lists = [](const SimOutcome& o) { return o.buffers["dram"]["leader_list"]; };
   CHECK(lists(out[0])["write_bytes"].get<std::uint64_t>() == 0);
@@ -134,7 +128,7 @@ TEST_CASE("Leader Check cost: leaders stream past the PEs, then one decision cyc
   const PointCloud queries = {{0.0f, 0.0f, 0.0f}, {0.01f, 0.0f, 0.0f}, {0.0f, 0.02f, 0.0f}};
   hw::AcceleratorConfig c = units(1, 1, 1, 0);
   c.node_cache.bytes = 0;
-  const auto out = run_and_check(cloud, queries, {{"nn", c, approx(mode(Mode::NN), 1.0f)}});
+  const auto out = run_and_check(cloud, queries, {{"nn", c, approximate(mode(Mode::NN), 1.0f)}});
   const SimOutcome& o = out[0];
   REQUIRE(leaders(o) == 1);
   REQUIRE(followers(o) == 2);

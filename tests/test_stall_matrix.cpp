@@ -12,12 +12,6 @@ using namespace tigris::test;
 
 namespace {
 
-SearchParams approximate(SearchParams p, float thd) {
-  p.approximate = true;
-  p.approx_thd = thd;
-  return p;
-}
-
 // Every seed x rate x search on `tiny` (a machine with some queue cut to one entry).
 void stall_matrix(const std::string& name, const hw::AcceleratorConfig& tiny) {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 1500, 71);

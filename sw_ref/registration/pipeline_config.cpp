@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "sw_ref/edit_distance.hpp"
+
 namespace tigris::registration {
 namespace {
 
@@ -122,21 +124,6 @@ std::string shown(const json& v) {
   return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
 
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 std::vector<std::string> all_names() {
   std::vector<std::string> out;
   PipelineConfig c;
@@ -154,7 +141,6 @@ bool is_block(const std::string& name) {
   std::string best;
   std::size_t best_d = 4;
   for (const auto& k : all_names()) {
-    // Compare with the whole key and with its last part (a key placed in the wrong block).
     const std::size_t d = edit_distance(name, k);
     if (d < best_d) best_d = d, best = k;
   }

@@ -218,10 +218,9 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     // One Searcher (and one leader state) per distinct search: mode, k, radius, max_nn.
     auto& s = searchers_[std::make_tuple(static_cast<int>(p.mode), p.k, p.radius, p.max_nn)];
     if (!s) s = std::make_unique<Searcher>(*tree_, p);
-    const VisitTotals before = s->visits();
     const LeaderTotals lead_before = s->leaders();
     s->search({point.x, point.y, point.z}, found_);
-    add_difference(counters_->visits, before, s->visits());
+    counters_->visits.add(s->last_visits());
     counters_->leaders.leaders += s->leaders().leaders - lead_before.leaders;
     counters_->leaders.followers += s->leaders().followers - lead_before.followers;
     counters_->leaders.leader_buffer_full += s->leaders().leader_buffer_full - lead_before.leader_buffer_full;
@@ -230,15 +229,6 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       k_sqr_distances.push_back(n.dist2);
     }
     return static_cast<int>(found_.size());
-  }
-
-  static void add_difference(VisitTotals& to, const VisitTotals& a, const VisitTotals& b) {
-    to.top += b.top - a.top;
-    to.pruned += b.pruned - a.pruned;
-    to.leaf_points += b.leaf_points - a.leaf_points;
-    to.follower_points += b.follower_points - a.follower_points;
-    to.leader_checks += b.leader_checks - a.leader_checks;
-    to.leaf_visits += b.leaf_visits - a.leaf_visits;
   }
 
   SearchSettings settings_;
