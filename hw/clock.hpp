@@ -7,11 +7,15 @@
 
 namespace tigris::hw {
 
+// Integer arithmetic on the time's value (in SystemC's resolution): every time the model
+// notifies is a whole number of periods, and sc_time's double arithmetic is slow.
 struct Clock {
   sc_core::sc_time period;
-  std::uint64_t now() const { return static_cast<std::uint64_t>(sc_core::sc_time_stamp() / period); }
+  std::uint64_t now() const { return sc_core::sc_time_stamp().value() / period.value(); }
+  // Cycle `c` as a time.
+  sc_core::sc_time at(std::uint64_t c) const { return sc_core::sc_time::from_value(c * period.value()); }
   // The delay from now until cycle `c` (c >= now).
-  sc_core::sc_time until(std::uint64_t c) const { return (c - now()) * period; }
+  sc_core::sc_time until(std::uint64_t c) const { return at(c - now()); }
 };
 
 }  // namespace tigris::hw

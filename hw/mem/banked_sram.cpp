@@ -8,7 +8,10 @@ namespace tigris::hw {
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
                        EnergyMeter& meter, const AcceleratorConfig::Stall& stall)
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
-      banks_(config.banks), ports_bind_(config.ports < config.banks),
+      word_bytes_(static_cast<std::uint64_t>(config.word_bytes)), num_banks_(static_cast<std::uint64_t>(config.banks)),
+      word_shift_((word_bytes_ & (word_bytes_ - 1)) == 0 ? __builtin_ctzll(word_bytes_) : -1),
+      bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0),
+      banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
       ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
@@ -23,7 +26,6 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
   const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
-  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
   if (a.scatter && a.issue_offset) return charge_in_order(start, a);
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
@@ -31,15 +33,15 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
       const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
       for (std::uint64_t w = first; w < first + words; ++w)
-        finish = std::max(finish, reserve(banks_[w % banks], start, now) + 1);
+        finish = std::max(finish, reserve(bank_of(w), start, now) + 1);
       n += words;
     }
   } else {
     n = words_of(a.first_byte, a.bytes).second;  // word i of the burst is in bank (first + i) mod banks
     const std::uint64_t touched = std::min<std::uint64_t>(n, banks);
-    std::uint64_t b = (a.first_byte / word) % banks;
+    std::uint32_t b = bank_of(word_index(a.first_byte));
     for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == banks ? 0 : b + 1) {
-      BankCalendar& bank = banks_[b];
+      const std::uint32_t bank = b;
       std::uint64_t t = start;
       for (std::uint64_t w = i; w < n; w += banks) t = reserve(bank, t, now) + 1;
       finish = std::max(finish, t);
@@ -56,14 +58,13 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
-  const std::uint64_t banks = static_cast<std::uint64_t>(config_.banks);
   std::uint64_t stall = 0, last = start, n = 0;
   for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
     // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + a.issue_offset[i] + stall;
     const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
     std::uint64_t served = t;
-    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(banks_[w % banks], t, now));
+    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(bank_of(w), t, now));
     stall += served - t;
     last = served + 1;
     n += words;
@@ -73,12 +74,6 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
 }
 
-std::pair<std::uint64_t, std::uint64_t> BankedSram::words_of(std::uint64_t first_byte, std::uint64_t bytes) const {
-  const std::uint64_t word = static_cast<std::uint64_t>(config_.word_bytes);
-  if (bytes == 0) return {first_byte / word, 0};
-  return {first_byte / word, (first_byte + bytes - 1) / word - first_byte / word + 1};
-}
-
 void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
   (write ? writes_ : reads_) += words;
   (write ? write_bytes_ : read_bytes_) += bytes;
@@ -86,11 +81,12 @@ void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
 }
 
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
-  const std::uint64_t start = static_cast<std::uint64_t>((sc_core::sc_time_stamp() + delay) / clock_.period);
+  const std::uint64_t now = sc_core::sc_time_stamp().value(), period = clock_.period.value();
+  const std::uint64_t start = (now + delay.value()) / period;
   if (trans.get_command() == tlm::TLM_IGNORE_COMMAND) {
     tlm_if::AccessProfile* a = nullptr;
     trans.get_extension(a);
-    if (a) delay = (charge(start, *a)) * clock_.period - sc_core::sc_time_stamp();
+    if (a) delay = sc_core::sc_time::from_value(charge(start, *a) * period - now);
     trans.set_response_status(tlm::TLM_OK_RESPONSE);
     return;
   }
@@ -113,7 +109,7 @@ void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_t
   burst.write = write;
   burst.first_byte = addr;
   burst.bytes = len;
-  delay = charge(start, burst) * clock_.period - sc_core::sc_time_stamp();
+  delay = sc_core::sc_time::from_value(charge(start, burst) * period - now);
   trans.set_dmi_allowed(true);
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }

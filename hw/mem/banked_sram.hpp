@@ -42,7 +42,7 @@ class BankedSram : public sc_core::sc_module {
 
   // A job starts: the banks forget their bookings (all in the past: the host's loads).
   void start() {
-    banks_.assign(banks_.size(), BankCalendar{});
+    banks_.clear();
     ports_.clear();
     stall_.start();
   }
@@ -53,20 +53,30 @@ class BankedSram : public sc_core::sc_module {
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
   // Books one word access in `bank` at the first cycle >= `cycle` when the bank and a port are
   // free (ports shared by every unit; only tracked when they can bind: fewer ports than banks).
-  std::uint64_t reserve(BankCalendar& bank, std::uint64_t cycle, std::uint64_t now) {
-    if (!ports_bind_) return bank.reserve(cycle, now);
+  std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    if (!ports_bind_) return banks_.reserve(bank, cycle, now);
     for (;;) {
-      cycle = bank.next_free(cycle, now);
+      cycle = banks_.next_free(bank, cycle, now);
       if (ports_.has_room(cycle, now)) break;
       ++cycle;
     }
-    bank.book(cycle, now);
+    banks_.book(bank, cycle, now);
     ports_.take(cycle, now);
     return cycle;
   }
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
   // The words an access of `bytes` at `first_byte` touches: (first word, how many).
-  std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const;
+  std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const {
+    if (bytes == 0) return {word_index(first_byte), 0};
+    const std::uint64_t first = word_index(first_byte);
+    return {first, word_index(first_byte + bytes - 1) - first + 1};
+  }
+  // Word and bank arithmetic with shifts and masks when the sizes are powers of two (the
+  // defaults): a division per word costs more than the booking itself.
+  std::uint64_t word_index(std::uint64_t byte) const { return word_shift_ >= 0 ? byte >> word_shift_ : byte / word_bytes_; }
+  std::uint32_t bank_of(std::uint64_t word) const {
+    return static_cast<std::uint32_t>(bank_mask_ ? word & bank_mask_ : word % num_banks_);
+  }
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   bool get_direct_mem_ptr(int id, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
@@ -74,7 +84,10 @@ class BankedSram : public sc_core::sc_module {
   SramConfig config_;
   Clock clock_;
   std::vector<std::uint8_t> data_;
-  std::vector<BankCalendar> banks_;
+  std::uint64_t word_bytes_, num_banks_;
+  int word_shift_;          // log2(word_bytes_), or -1
+  std::uint64_t bank_mask_;  // num_banks_ - 1 for a power of two, else 0
+  BankCalendar banks_;
   bool ports_bind_;
   PortCalendar ports_;
   StatGroup stats_;

@@ -44,10 +44,11 @@ class BufferPort {
     trans_.set_data_ptr(&dummy_);
     trans_.set_data_length(0);
     trans_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
-    const sc_core::sc_time now = sc_core::sc_time_stamp();
-    sc_core::sc_time delay = start * period - now;
+    // Integer time values: every time here is a whole number of periods (see hw/clock.hpp).
+    const std::uint64_t now = sc_core::sc_time_stamp().value(), p = period.value();
+    sc_core::sc_time delay = sc_core::sc_time::from_value(start * p - now);
     socket->b_transport(trans_, delay);
-    return static_cast<std::uint64_t>((now + delay) / period);
+    return (now + delay.value()) / p;
   }
 
  private:
