@@ -117,6 +117,13 @@ TEST_CASE("edge cases: one point, k larger than the cloud, radius with no hits",
                                {"radius none", units(3, 2, 4, -1), mode(Mode::Radius, 1, 1e-3f), &few}});
 }
 
+TEST_CASE("a large k: heap-ordered slots stay bit-exact (k = 300 of 700 points, and k = all)", "[hw]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 700, 4);
+  const PointCloud queries = make_queries(cloud, 60, 4);
+  run_and_check(cloud, queries, {{"knn300 default", units(64, 32, 32, 5), mode(Mode::KNN, 300)},
+                                 {"knn700 1/1/1", units(1, 1, 1, 3), mode(Mode::KNN, 700)}});
+}
+
 TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypassing 2 per pruned node", "[hw][timing]") {
   // One query on the canonical tree and one RU: the whole job is one top-tree walk.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 1000, 3);

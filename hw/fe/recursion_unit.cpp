@@ -66,6 +66,7 @@ void RecursionUnit::start(const QueryToken& token) {
 
   // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
   if (!job_.radius() && finished_) {
+    slots_.finish(token_.slot);
     const Neighbor* e = slots_.entries(token_.slot);
     for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
       hits_.push_back({token_.query, e[i].index, e[i].dist2});

@@ -24,34 +24,88 @@ class BankCalendar {
   void clear() {
     rows_.assign(kRows, Row{});
     busy_.assign(std::size_t{kRows} * banks_, 0);
+    runs_.assign(banks_, Run{});
   }
   // Marks `bank`'s first free cycle at or after `cycle` busy and returns it; `now` is the
   // current cycle (rows wholly before it are free to reuse).
   std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    cycle = next_free(bank, cycle, now);
+    book(bank, cycle, now);
+    return cycle;
+  }
+  // Books `bank`'s first `m` (> 0) free cycles at or after `cycle` and returns the last: what m
+  // reserve() calls, each from the cycle after the previous one, book; a row at a time.
+  std::uint64_t reserve_n(std::uint32_t bank, std::uint64_t cycle, std::uint64_t m, std::uint64_t now) {
+    Run& run = runs_[bank];
+    const std::uint64_t asked = cycle;
+    if (run.from <= cycle && cycle < run.to) cycle = run.to;
+    std::uint64_t last = cycle;
     for (;;) {
       std::uint64_t& busy = word(bank, cycle / 64, now);
-      const std::uint64_t free = ~busy >> (cycle % 64);
-      if (free != 0) {
-        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
-        busy |= std::uint64_t{1} << (cycle % 64);
-        return cycle;
+      std::uint64_t free = ~busy & (~std::uint64_t{0} << (cycle % 64));
+      const std::uint64_t base = cycle / 64 * 64;
+      cycle = base + 64;
+      if (free == 0) continue;
+      const std::uint64_t avail = popcount(free);
+      if (avail < m) {
+        busy |= free;
+        m -= avail;
+        continue;
       }
-      cycle = (cycle / 64 + 1) * 64;  // full from here to the row's end
+      std::uint64_t take = 0;
+      for (; m > 0; --m) {  // the lowest m free cycles of this row
+        const std::uint64_t low = free & (~free + 1);
+        take |= low;
+        free ^= low;
+      }
+      busy |= take;
+      last = base + 63 - static_cast<std::uint64_t>(__builtin_clzll(take));
+      break;
     }
+    // [asked, last] is now all booked.
+    if (asked <= run.to && run.from <= last + 1) {
+      run.from = std::min(run.from, asked);
+      run.to = std::max(run.to, last + 1);
+    } else if (last + 1 > run.to) {
+      run = {asked, last + 1};
+    }
+    return last;
   }
   // `bank`'s first free cycle at or after `cycle`, not booked.
   std::uint64_t next_free(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    Run& run = runs_[bank];
+    const std::uint64_t asked = cycle;
+    if (run.from <= cycle && cycle < run.to) cycle = run.to;
     for (;;) {
       const std::uint64_t free = ~peek(bank, cycle / 64, now) >> (cycle % 64);
-      if (free != 0) return cycle + static_cast<std::uint64_t>(__builtin_ctzll(free));
+      if (free != 0) {
+        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
+        break;
+      }
       cycle = (cycle / 64 + 1) * 64;
     }
+    // [asked, cycle) is all busy: remember it, joined to the known run when they touch.
+    if (asked <= run.to && run.from <= cycle) {
+      run.from = std::min(run.from, asked);
+      run.to = std::max(run.to, cycle);
+    } else if (cycle > run.to) {
+      run = {asked, cycle};
+    }
+    return cycle;
   }
   void book(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
     word(bank, cycle / 64, now) |= std::uint64_t{1} << (cycle % 64);
+    if (cycle == runs_[bank].to) ++runs_[bank].to;
   }
 
  private:
+  // Portable (no -mpopcnt: the builtin would be a libgcc call).
+  static std::uint64_t popcount(std::uint64_t x) {
+    x = x - ((x >> 1) & 0x5555555555555555ULL);
+    x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
+    return (x * 0x0101010101010101ULL) >> 56;
+  }
   static constexpr std::uint32_t kRows = 64;  // a power of two, doubled as needed
   struct Row {
     std::uint64_t id = 0;  // cycle / 64 of the cycles this row describes
@@ -100,6 +154,13 @@ class BankCalendar {
   std::uint32_t banks_;
   std::vector<Row> rows_;
   std::vector<std::uint64_t> busy_;  // rows_.size() x banks_
+  // Per bank, cycles known to be all booked, so a search skips a long backlog at once (a bank
+  // that falls behind by thousands of cycles would otherwise be rescanned row by row by every
+  // access). Bookings are never taken back at or after the current cycle, so a run stays true.
+  struct Run {
+    std::uint64_t from = 0, to = 0;
+  };
+  std::vector<Run> runs_;
 };
 
 }  // namespace tigris::hw

@@ -32,20 +32,12 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   if (a.scatter) {
     for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
       const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
-      for (std::uint64_t w = first; w < first + words; ++w)
-        finish = std::max(finish, reserve(bank_of(w), start, now) + 1);
+      finish = std::max(finish, reserve_words(first, words, start, now));
       n += words;
     }
   } else {
-    n = words_of(a.first_byte, a.bytes).second;  // word i of the burst is in bank (first + i) mod banks
-    const std::uint64_t touched = std::min<std::uint64_t>(n, banks);
-    std::uint32_t b = bank_of(word_index(a.first_byte));
-    for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == banks ? 0 : b + 1) {
-      const std::uint32_t bank = b;
-      std::uint64_t t = start;
-      for (std::uint64_t w = i; w < n; w += banks) t = reserve(bank, t, now) + 1;
-      finish = std::max(finish, t);
-    }
+    n = words_of(a.first_byte, a.bytes).second;
+    finish = std::max(finish, reserve_words(word_index(a.first_byte), n, start, now));
   }
   if (n == 0) return start;
   const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
@@ -54,6 +46,24 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   conflict_cycles_ += finish - ideal;
   count(a.write, n, a.bytes);
   return finish + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
+}
+
+std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
+                                         std::uint64_t now) {
+  // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
+  const std::uint64_t touched = std::min(words, num_banks_);
+  std::uint32_t b = bank_of(first);
+  std::uint64_t finish = cycle;
+  for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1) {
+    const std::uint64_t share = (words - i + num_banks_ - 1) / num_banks_;
+    std::uint64_t t = cycle;
+    if (!ports_bind_)
+      t = banks_.reserve_n(b, t, share, now) + 1;
+    else
+      for (std::uint64_t w = 0; w < share; ++w) t = reserve(b, t, now) + 1;
+    finish = std::max(finish, t);
+  }
+  return finish;
 }
 
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {

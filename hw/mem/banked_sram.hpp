@@ -64,6 +64,9 @@ class BankedSram : public sc_core::sc_module {
     ports_.take(cycle, now);
     return cycle;
   }
+  // Books the `words` words from word `first` (each bank's share in its first free cycles at
+  // or after `cycle`, one after another); returns the cycle after the last one booked.
+  std::uint64_t reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle, std::uint64_t now);
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
   // The words an access of `bytes` at `first_byte` touches: (first word, how many).
   std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const {

@@ -1,9 +1,12 @@
-// The Result Buffer's per-query slots for NN/kNN: a count word, then up to k neighbours kept in
-// the canonical (dist2, index) order of sw_ref/arith.hpp. Radius search keeps no slot: each hit
-// is streamed out. The RU's PI stage and the PE's insert stage both update a slot through this
-// view of the Result Buffer's DMI memory.
+// The Result Buffer's per-query slots for NN/kNN: a count word, then up to k neighbours. While
+// a query searches, its list is a max-heap in the canonical (dist2, index) order of
+// sw_ref/arith.hpp (the worst held neighbour first: the pruning bound is one read, an insert
+// O(log k), so a large k stays cheap); when it finishes, finish() sorts the list closest first.
+// Radius search keeps no slot: each hit is streamed out. The RU's PI stage and the PE's insert
+// stage both update a slot through this view of the Result Buffer's DMI memory.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -30,25 +33,33 @@ class ResultSlots {
   }
   // The pruning bound: the k-th best dist2, +inf while fewer than k are held.
   float bound(std::uint32_t slot) const {
-    const std::uint32_t c = count(slot);
-    return c < k_ ? kInfinity : entries(slot)[c - 1].dist2;
+    return count(slot) < k_ ? kInfinity : entries(slot)[0].dist2;
   }
-  // Inserts n if it is among the k best so far (insertion sort); returns whether it was.
+  // Inserts n if it is among the k best so far; returns whether it was.
   bool insert(std::uint32_t slot, Neighbor n) {
-    Neighbor* e = reinterpret_cast<Neighbor*>(at(slot) + kHeaderBytes);
+    Neighbor* e = mutable_entries(slot);
     const std::uint32_t c = count(slot);
-    if (c == k_ && !closer(n, e[c - 1])) return false;
-    std::uint32_t pos = c < k_ ? c : k_ - 1;
-    while (pos > 0 && closer(n, e[pos - 1])) {
-      e[pos] = e[pos - 1];
-      --pos;
+    if (c < k_) {
+      e[c] = n;
+      std::push_heap(e, e + c + 1, closer_order);
+      set_count(slot, c + 1);
+      return true;
     }
-    e[pos] = n;
-    if (c < k_) set_count(slot, c + 1);
+    if (!closer(n, e[0])) return false;
+    std::pop_heap(e, e + c, closer_order);  // the worst moves to the end and is replaced
+    e[c - 1] = n;
+    std::push_heap(e, e + c, closer_order);
     return true;
+  }
+  // The query is done: its list in canonical order, closest first (entries() then reads it).
+  void finish(std::uint32_t slot) {
+    Neighbor* e = mutable_entries(slot);
+    std::sort_heap(e, e + count(slot), closer_order);
   }
 
  private:
+  static bool closer_order(const Neighbor& a, const Neighbor& b) { return closer(a, b); }
+  Neighbor* mutable_entries(std::uint32_t slot) { return reinterpret_cast<Neighbor*>(at(slot) + kHeaderBytes); }
   std::uint8_t* at(std::uint32_t slot) const { return base_ + slot * slot_bytes(k_); }
   void set_count(std::uint32_t slot, std::uint32_t c) { std::memcpy(at(slot), &c, 4); }
   std::uint8_t* base_ = nullptr;

@@ -1,0 +1,101 @@
+// The buffers' bookkeeping against naive models: the bank calendar (its rows, runs and
+// many-word bookings are for speed only, so they must book exactly what one-at-a-time
+// reservation on a plain set of busy cycles books) and the Result Buffer's heap-ordered slots.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "hw/mem/bank_calendar.hpp"
+#include "hw/mem/result_slots.hpp"
+
+using namespace tigris;
+
+namespace {
+
+struct NaiveCalendar {
+  std::vector<std::set<std::uint64_t>> busy;
+  std::uint64_t next_free(std::uint32_t bank, std::uint64_t c) const {
+    while (busy[bank].count(c)) ++c;
+    return c;
+  }
+  std::uint64_t reserve(std::uint32_t bank, std::uint64_t c) {
+    c = next_free(bank, c);
+    busy[bank].insert(c);
+    return c;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy cycles books", "[hw][memory]") {
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::uint32_t banks = 1 + seed % 5;
+    hw::BankCalendar cal(banks);
+    NaiveCalendar ref{std::vector<std::set<std::uint64_t>>(banks)};
+    std::uint64_t now = 0;
+    for (int op = 0; op < 4000; ++op) {
+      now += rng() % 8;  // time moves on; bookings reach far ahead, so rows recycle and grow
+      const std::uint32_t bank = static_cast<std::uint32_t>(rng() % banks);
+      const std::uint64_t at = now + rng() % (seed % 2 ? 300 : 9000);
+      INFO("seed " << seed << " op " << op << " bank " << bank << " at " << at);
+      switch (rng() % 4) {
+        case 0:
+          REQUIRE(cal.reserve(bank, at, now) == ref.reserve(bank, at));
+          break;
+        case 1: {
+          const std::uint64_t m = 1 + rng() % 150;
+          std::uint64_t t = at, last = 0;
+          for (std::uint64_t i = 0; i < m; ++i) t = (last = ref.reserve(bank, t)) + 1;
+          REQUIRE(cal.reserve_n(bank, at, m, now) == last);
+          break;
+        }
+        case 2:
+          REQUIRE(cal.next_free(bank, at, now) == ref.next_free(bank, at));
+          break;
+        default: {
+          const std::uint64_t c = ref.next_free(bank, at);
+          cal.book(bank, cal.next_free(bank, at, now), now);
+          ref.busy[bank].insert(c);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("Result Buffer slots: the k best in canonical order, bound = k-th best, for small and large k", "[hw][memory]") {
+  for (std::uint32_t k : {1u, 2u, 5u, 64u, 1000u}) {
+    std::mt19937 rng(k);
+    const std::uint32_t slots = 3;
+    std::vector<std::uint8_t> memory(hw::ResultSlots::slot_bytes(k) * slots);
+    hw::ResultSlots view(memory.data(), k);
+    std::vector<std::vector<Neighbor>> seen(slots);
+    for (std::uint32_t s = 0; s < slots; ++s) view.clear(s);
+    for (int i = 0; i < 5000; ++i) {
+      const std::uint32_t s = rng() % slots;
+      // Few distinct distances, so ties are broken by index.
+      const Neighbor n{static_cast<std::uint32_t>(i), static_cast<float>(rng() % 97)};
+      view.insert(s, n);
+      seen[s].push_back(n);
+      if (i % 37 != 0) continue;
+      std::vector<Neighbor> best = seen[s];
+      std::sort(best.begin(), best.end(), closer);
+      const float bound = best.size() < k ? kInfinity : best[k - 1].dist2;
+      REQUIRE(view.bound(s) == bound);
+    }
+    for (std::uint32_t s = 0; s < slots; ++s) {
+      std::vector<Neighbor> best = seen[s];
+      std::sort(best.begin(), best.end(), closer);
+      best.resize(std::min<std::size_t>(best.size(), k));
+      view.finish(s);
+      REQUIRE(view.count(s) == best.size());
+      for (std::uint32_t i = 0; i < best.size(); ++i) {
+        CHECK(view.entries(s)[i].index == best[i].index);
+        CHECK(view.entries(s)[i].dist2 == best[i].dist2);
+      }
+    }
+  }
+}
