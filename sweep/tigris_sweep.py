@@ -435,7 +435,8 @@ def dry_check(spec, tig, pts, out, jobs):
         err = p.stderr.read().strip()
         if rc == 2 and missing in err or rc in (0, 1):
             return
-        line = err.splitlines()[-1] if err else f"exit {rc}"
+        lines = [l for l in err.splitlines() if l.strip() and not l.startswith("Run with --help")]
+        line = next((l for l in lines if "error" in l), lines[0] if lines else f"exit {rc}")
         problems.setdefault(line, []).append(pt)
 
     pool(pts, jobs, launch, done)
