@@ -64,6 +64,11 @@ stop_cluster() {
     log "stopped $name (pid $pid)"
   done
   for pid in $(ours_stepd); do kill -KILL "$pid" 2>/dev/null && log "killed orphaned slurmstepd $pid"; done
+  if [ -f "$dir/munge-socket-dir" ]; then
+    sd=$(cat "$dir/munge-socket-dir")
+    case $sd in /tmp/local-slurm-munge.*) rm -rf "$sd" ;; esac
+    rm -f "$dir/munge-socket-dir"
+  fi
   rm -f "$pidfile"
 }
 
@@ -120,8 +125,19 @@ give_up() {
   exit 1
 }
 
-# 3. munged.
-sock=$dir/run/munge.socket.2
+# 3. munged. Its socket's folder and every folder above need o+x; when one above DIR lacks it
+#    (e.g. a mktemp -d folder), the socket goes to a folder of its own in /tmp, removed by stop.
+sockdir=$dir/run
+d=$dir
+while [ "$d" != / ]; do
+  d=$(dirname "$d")
+  if [ $(( 0$(stat -c %a "$d") & 1 )) -eq 0 ]; then
+    sockdir=$(mktemp -d /tmp/local-slurm-munge.XXXXXX) && chmod 755 "$sockdir"
+    echo "$sockdir" >"$dir/munge-socket-dir"
+    break
+  fi
+done
+sock=$sockdir/munge.socket.2
 setsid munged -F --key-file="$dir/munge/munge.key" --socket="$sock" --pid-file="$dir/run/munged.pid" \
   --seed-file="$dir/munge/munged.seed" --log-file="$dir/log/munged.log" </dev/null >"$dir/log/munged.out" 2>&1 &
 started munged $!
