@@ -30,7 +30,7 @@ class Workdir:
         return self.path
 
     def __exit__(self, exc_type, exc, tb):
-        if self.keep or exc_type is not None:
+        if self.keep or exc_type not in (None, SystemExit) or exc_type is SystemExit and exc.code not in (0, SKIP):
             print(f"(files kept in {self.path})", file=sys.stderr)
         else:
             shutil.rmtree(self.path, ignore_errors=True)
