@@ -12,7 +12,7 @@ build/testbench/tigris-sweep) works; Slurm tasks run this same file as `_task TA
 Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
 2 bad spec or arguments, 3 Slurm submission failed, 130 interrupted (finished points kept).
 """
-import argparse, csv, datetime, difflib, fcntl, hashlib, io, itertools, json, os, re, shlex
+import argparse, csv, datetime, difflib, fcntl, hashlib, io, itertools, json, math, os, re, shlex
 import shutil, signal, socket, subprocess, sys, time
 from decimal import Decimal
 
@@ -143,7 +143,7 @@ def _no_duplicates(pairs):
 
 class Spec:
     def __init__(self, path, tig):
-        self.path = os.path.abspath(path)
+        self.given, self.path = path, os.path.abspath(path)
         self.dir = os.path.dirname(self.path)
         self.tig = tig
         self.names = {}                          # canonical key -> spelling in the spec
@@ -191,7 +191,7 @@ class Spec:
             self.swept += [k for k in p if k not in self.swept]
 
     def _at(self, loc, msg):
-        return f"{os.path.relpath(self.path)}: {loc}: {msg}"
+        return f"{self.given}: {loc}: {msg}"
 
     def _key(self, key, loc):
         """A spec key as ('flag' | 'config', canonical name); unknown keys are errors."""
@@ -221,7 +221,7 @@ class Spec:
         if isinstance(v, (dict, list)) or v is None:
             got = {dict: "an object", list: "a list", type(None): "null"}[type(v)]
             raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a number, text or boolean, got {got}"))
-        if isinstance(v, float) and v != v or v in (float("inf"), float("-inf")):
+        if isinstance(v, float) and not math.isfinite(v):
             raise SpecError(self._at(loc, "needs a finite number"))
         if canon in self.tig.flags and isinstance(v, bool):
             raise SpecError(self._at(loc, f"run flag '{self.names[canon]}' takes a number or text, not a boolean"))
@@ -391,7 +391,11 @@ class PointRun:
             status = "mismatch"
             msg = next((l.strip() for l in err_lines if "queries with other results" in l), msg) or "mismatch"
         elif rc < 0:
-            status, msg = "error", f"killed by signal {signal.Signals(-rc).name}" + (f": {msg}" if msg else "")
+            try:
+                sig = signal.Signals(-rc).name
+            except ValueError:
+                sig = str(-rc)
+            status, msg = "error", f"killed by signal {sig}" + (f": {msg}" if msg else "")
         elif rc == 0:
             status, msg = "error", "exit 0 but no readable stats.json with a verdict"
         else:
@@ -445,7 +449,7 @@ def dry_check(spec, tig, pts, out, jobs):
         for line, bad in problems.items():
             keys = [k for k in bad[0]["params"] if k in line or f"--{k}" in line]
             where = "; ".join(f"'{spec.names[k]}' at {', '.join(spec.where[k])}" for k in keys if k in spec.where)
-            msgs.append(f"{os.path.relpath(spec.path)}: point {bad[0]['id']}"
+            msgs.append(f"{spec.given}: point {bad[0]['id']}"
                         + (f" and {len(bad) - 1} more" if len(bad) > 1 else "")
                         + f": tigris rejects it: {line}" + (f" [{where}]" if where else ""))
         raise SpecError("\n".join(msgs))
@@ -719,19 +723,28 @@ def parse_args(argv):
         else:
             fixed.append(argv[i])
             i += 1
-    ap = argparse.ArgumentParser(prog="tigris_sweep.py", description="Runs a sweep spec of `tigris run` "
-                                 "points and collects DIR/sweep.csv. `tigris_sweep.py collect DIR` "
-                                 "re-collects a folder (after --no-wait).")
-    ap.add_argument("spec", help="sweep spec JSON: {base, grid, points}")
-    ap.add_argument("--out", required=True, help="sweep folder (points/<id>/, sweep.csv, sweep.json)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="local points at once")
-    ap.add_argument("--tigris", help="tigris binary (default: beside this script, $TIGRIS, "
-                    "or build/testbench/tigris of the repository)")
+    ap = argparse.ArgumentParser(
+        prog=os.path.basename(sys.argv[0]), description="Runs the `tigris run` points of a sweep spec "
+        "and collects DIR/sweep.csv and DIR/sweep.json (README.md, \"Sweeps\").",
+        epilog="`%(prog)s collect DIR` collects a folder again (after --no-wait). Exit codes: 0 every "
+        "point ok, 1 a point mismatched or failed, 2 bad spec or arguments, 3 sbatch failed, 130 "
+        "interrupted.")
+    ap.add_argument("spec", metavar="SPEC.json", help="sweep spec: {\"base\", \"grid\", \"points\"}")
+    ap.add_argument("--out", required=True, metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
+                    "sweep.json); rerunning into it resumes")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
+                    help="points run at once locally (and dry checks) (default: %(default)s)")
+    ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
+                    "script, else $TIGRIS, else build/testbench/tigris of the repository)")
     ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
-    ap.add_argument("--partition"), ap.add_argument("--time"), ap.add_argument("--mem")
-    ap.add_argument("--chunk", type=int, default=1, help="points per array task (--slurm)")
-    ap.add_argument("--sbatch-arg", action="append", metavar="ARG", help="raw sbatch argument, repeatable")
-    ap.add_argument("--no-wait", action="store_true", help="return after sbatch (--slurm)")
+    ap.add_argument("--partition", metavar="P", help="sbatch --partition")
+    ap.add_argument("--time", metavar="T", help="sbatch --time (per array task)")
+    ap.add_argument("--mem", metavar="M", help="sbatch --mem (per array task)")
+    ap.add_argument("--chunk", type=int, default=1, metavar="K", help="points per array task (default 1)")
+    ap.add_argument("--sbatch-arg", action="append", metavar="ARG",
+                    help="one more raw sbatch argument, repeatable: --sbatch-arg --qos=low")
+    ap.add_argument("--no-wait", action="store_true", help="return after submitting; print the job id "
+                    "and the collect command")
     a = ap.parse_args(fixed)
     if a.jobs < 1:
         ap.error("--jobs must be at least 1")

@@ -81,5 +81,46 @@ def test_failed_point_recorded():
         assert "2 finished earlier" in p.stderr and "[1/1] height=12" in p.stderr, p.stderr
 
 
+FAKE = """#!/bin/sh
+# The real tigris, except: a run with --seed 7 then reports a golden mismatch (exit 1, verdict
+# mismatch), one with --seed 8 is killed by SIGKILL.
+"{real}" "$@"; rc=$?
+out=; prev=
+for x in "$@"; do [ "$prev" = --out ] && out=$x; prev=$x; done
+[ "$rc" = 0 ] || exit $rc                 # the dry check and real errors pass through
+case " $* " in
+  *" --seed 7 "*) sed -i 's/"verdict": "match"/"verdict": "mismatch"/' "$out/stats.json"
+                  echo "tigris run: 3 queries with other results, 0 with other visit counts; first:" >&2
+                  exit 1 ;;
+  *" --seed 8 "*) kill -KILL $$ ;;
+esac
+exit $rc
+"""
+
+
+def test_mismatch_and_signal():
+    """A mismatching point (exit 1, verdict mismatch) is `mismatch` and finished; a killed one is
+    `error`; the others are ok and the sweep exits 1."""
+    with Workdir(a, "local") as d:
+        small_workload(d, 300, 100)
+        fake = os.path.join(d, "fake-tigris")
+        with open(fake, "w") as f:
+            f.write(FAKE.format(real=a.tigris))
+        os.chmod(fake, 0o755)
+        spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"}, "grid": {"seed": [6, 7, 8]}})
+        out = os.path.join(d, "out")
+        p = sweep(a, spec, "--out", out, "--tigris", fake, check=1)
+        _, rows = read_csv(os.path.join(out, "sweep.csv"))
+        st = {r["point"]: (r["status"], r["error"], r["verdict"]) for r in rows}
+        assert st["seed=6"] == ("ok", "", "match"), st
+        assert st["seed=7"] == ("mismatch", "tigris run: 3 queries with other results, 0 with other visit "
+                                "counts; first:", "mismatch"), st
+        assert st["seed=8"][0] == "error" and "SIGKILL" in st["seed=8"][1], st
+        assert "MISMATCH" in p.stderr and "ERROR: killed by signal SIGKILL" in p.stderr, p.stderr
+        # a mismatch is a result (finished), a killed point is not: only seed 8 runs again
+        p = sweep(a, spec, "--out", out, "--tigris", fake, check=1)
+        assert "2 finished earlier" in p.stderr and "[1/1] seed=8" in p.stderr, p.stderr
+
+
 if __name__ == "__main__":
-    run_tests([test_four_points, test_failed_point_recorded])
+    run_tests([test_four_points, test_failed_point_recorded, test_mismatch_and_signal])
