@@ -1,0 +1,85 @@
+"""Shared helpers of the sweep driver's tests (each test file runs standalone:
+python3 sweep/tests/test_X.py --tigris build/testbench/tigris [--sweep PATH] [--keep])."""
+import argparse, csv, json, os, random, shutil, struct, subprocess, sys, tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SKIP = 77                                        # ctest SKIP_RETURN_CODE
+
+
+def options():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
+                    os.path.join(HERE, "..", "..", "build", "testbench", "tigris"))
+    ap.add_argument("--sweep", default=os.path.join(HERE, "..", "tigris_sweep.py"),
+                    help="the driver under test (e.g. the installed build/testbench/tigris-sweep)")
+    ap.add_argument("--keep", action="store_true", help="keep the temporary folder")
+    a = ap.parse_args()
+    a.tigris, a.sweep = os.path.abspath(a.tigris), os.path.abspath(a.sweep)
+    if not os.access(a.tigris, os.X_OK):
+        sys.exit(f"no tigris binary at {a.tigris} (give --tigris)")
+    return a
+
+
+class Workdir:
+    """A temporary folder, removed at the end unless --keep or the test failed."""
+    def __init__(self, a, name):
+        self.path = tempfile.mkdtemp(prefix=f"tigris-{name}-")
+        self.keep = a.keep
+
+    def __enter__(self):
+        return self.path
+
+    def __exit__(self, exc_type, exc, tb):
+        if self.keep or exc_type not in (None, SystemExit) or exc_type is SystemExit and exc.code not in (0, SKIP):
+            print(f"(files kept in {self.path})", file=sys.stderr)
+        else:
+            shutil.rmtree(self.path, ignore_errors=True)
+
+
+def write_cloud(path, n, seed):
+    """A small KITTI .bin (x, y, z, intensity float32): random points in a 40 x 40 x 4 m box."""
+    r = random.Random(seed)
+    with open(path, "wb") as f:
+        for _ in range(n):
+            f.write(struct.pack("<4f", r.uniform(-20, 20), r.uniform(-20, 20), r.uniform(-2, 2), 0.0))
+
+
+def small_workload(folder, n_cloud=3000, n_queries=800):
+    write_cloud(os.path.join(folder, "cloud.bin"), n_cloud, 1)
+    write_cloud(os.path.join(folder, "queries.bin"), n_queries, 2)
+
+
+def write_spec(folder, spec, name="spec.json"):
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump(spec, f, indent=1)
+    return path
+
+
+def sweep(a, *args, check=None, timeout=300, env=None):
+    """Runs the driver; returns the CompletedProcess (stdout, stderr as text)."""
+    p = subprocess.run([sys.executable, a.sweep] + list(args), capture_output=True, text=True,
+                       timeout=timeout, env=env)
+    if check is not None and p.returncode != check:
+        raise AssertionError(f"exit {p.returncode}, expected {check}: {' '.join(args)}\n"
+                             f"stdout: {p.stdout}\nstderr: {p.stderr}")
+    return p
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
+
+
+def run_tests(tests):
+    """Runs test functions in order; prints each with its time; exit 1 on the first failure."""
+    import time
+    for t in tests:
+        t0 = time.monotonic()
+        try:
+            t()
+        except Exception:
+            print(f"FAIL {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)
+            raise
+        print(f"ok   {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)

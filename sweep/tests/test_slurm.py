@@ -1,0 +1,94 @@
+#!/usr/bin/python3
+"""Sweep driver, Slurm back-end, on a real one-node cluster (scripts/local_slurm.sh): the same
+sweep as one job array (chunks of points) gives the same CSV as the local back-end, wall times
+aside; --no-wait returns at once and `collect` gathers the finished array; sbatch's errors are
+shown. Skips (exit 77) with the reason when the cluster cannot start (not root and no sudo, no
+packages), unless TIGRIS_REQUIRE_SLURM=1. The cluster is stopped by PID whatever happens."""
+import os, subprocess, sys, time
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import SKIP, Workdir, options, read_csv, run_tests, small_workload, sweep, write_spec
+
+a = options()
+LOCAL_SLURM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "local_slurm.sh")
+SPEC = {"base": {"cloud": "cloud.bin", "queries": "queries.bin", "set": {"be.issue_policy": "mqmn"}},
+        "grid": {"fe.recursion_units": [16, 64], "height": [6, 8]},
+        "points": [{"mode": "radius", "radius": 0.8}, {"height": 14}]}    # height 14: an error row
+
+
+def same_csv(x, y):
+    cx, rx = read_csv(x)
+    cy, ry = read_csv(y)
+    assert cx == cy, f"columns differ: {set(cx) ^ set(cy)}"
+    assert len(rx) == len(ry) == 6
+    for r, s in zip(rx, ry):
+        diff = [c for c in cx if r[c] != s[c] and not c.startswith("wall_seconds")]
+        assert not diff, f"{r['point']}: {[(c, r[c], s[c]) for c in diff]}"
+
+
+def test_slurm(env, d):
+    small_workload(d)
+    spec = write_spec(d, SPEC)
+    local, array, nowait = (os.path.join(d, n) for n in ("local", "array", "nowait"))
+    sweep(a, spec, "--out", local, "--jobs", "2", "--tigris", a.tigris, check=1)
+
+    p = sweep(a, spec, "--out", array, "--slurm", "--chunk", "4", "--time", "5", "--mem", "300M",
+              "--sbatch-arg", "--comment=tigris-sweep-test", "--tigris", a.tigris, check=1, env=env)
+    assert "2 task(s) for 6 point(s)" in p.stderr and "[6/6]" in p.stderr, p.stderr
+    same_csv(os.path.join(local, "sweep.csv"), os.path.join(array, "sweep.csv"))
+    job = [l for l in p.stderr.splitlines() if "submitted Slurm job array" in l][0].split()[5].rstrip(":")
+    logs = sorted(f for f in os.listdir(os.path.join(array, "slurm")) if f.endswith(".out"))
+    assert logs == [f"{job}_0.out", f"{job}_1.out"], logs
+    pj = open(os.path.join(array, "points", "fe.recursion_units=16,height=6", "point.json")).read()
+    assert f'"array_job_id": "{job}"' in pj, pj        # really run by an array task
+    ctl = subprocess.run(["scontrol", "show", "job", job], capture_output=True, text=True, env=env).stdout
+    assert "Comment=tigris-sweep-test" in ctl, ctl       # the raw sbatch argument went through
+
+    # rerun: nothing to submit
+    p = sweep(a, spec, "--out", array, "--slurm", "--tigris", a.tigris, check=1, env=env)
+    assert "5 finished earlier (skipped), 1 to run" in p.stderr, p.stderr     # the error row retries
+
+    # --no-wait: returns the job id and the collect command; collect after the array ends
+    p = sweep(a, spec, "--out", nowait, "--slurm", "--no-wait", "--tigris", a.tigris, check=0, env=env)
+    assert p.stdout.startswith("job ") and " collect " in p.stdout, p.stdout
+    job = p.stdout.split()[1]
+    t0 = time.monotonic()
+    while subprocess.run(["squeue", "-h", "-j", job, "-o", "%i"], capture_output=True, text=True,
+                         env=env).stdout.strip():
+        assert time.monotonic() - t0 < 120, "the --no-wait array did not finish"
+        time.sleep(0.5)
+    sweep(a, "collect", nowait, check=1, env=env)
+    same_csv(os.path.join(local, "sweep.csv"), os.path.join(nowait, "sweep.csv"))
+
+    # sbatch's own error is shown, exit 3
+    p = sweep(a, spec, "--out", os.path.join(d, "bad"), "--slurm", "--partition", "no-such-partition",
+              "--tigris", a.tigris, env=env)
+    assert p.returncode == 3 and "sbatch failed" in p.stderr and "partition" in p.stderr, p.stderr
+
+
+def main():
+    with Workdir(a, "slurm") as d:
+        cluster = os.path.join(d, "cluster")
+        t0 = time.monotonic()
+        p = subprocess.run([LOCAL_SLURM, "start", cluster], capture_output=True, text=True, timeout=600)
+        if p.returncode != 0 or not p.stdout.startswith("export SLURM_CONF="):
+            reason = (p.stderr.strip().splitlines() or ["no message"])[-1]
+            msg = f"local Slurm cluster did not start (exit {p.returncode}): {reason}"
+            if os.environ.get("TIGRIS_REQUIRE_SLURM") == "1":
+                sys.exit(f"FAIL: {msg}\n{p.stderr}")
+            print(f"SKIP: {msg}\n{p.stderr[-3000:]}")
+            subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True)
+            sys.exit(SKIP)
+        print(f"cluster up in {time.monotonic() - t0:.1f} s", flush=True)
+        env = dict(os.environ, SLURM_CONF=p.stdout.strip().split("=", 1)[1])
+        try:
+            def test_slurm_vs_local():
+                test_slurm(env, d)
+            run_tests([test_slurm_vs_local])
+        finally:
+            s = subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True, timeout=120)
+            print(s.stderr.strip())
+            assert s.returncode == 0 and not os.path.exists(os.path.join(cluster, "pids")), s.stderr
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,812 @@
+#!/usr/bin/python3
+"""tigris_sweep: runs a sweep spec of `tigris run` points locally or as one Slurm job array,
+and collects one CSV (DESIGN.md section 17; README.md "Sweeps").
+
+  tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH]
+                  [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
+                           [--sbatch-arg ARG ...] [--no-wait]]
+  tigris_sweep.py collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
+
+One self-contained file (Python 3 standard library only), so a copy anywhere (CMake puts one at
+build/testbench/tigris-sweep) works; Slurm tasks run this same file as `_task TASKFILE INDEX`.
+Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
+2 bad spec or arguments, 3 Slurm submission failed, 130 interrupted (finished points kept).
+"""
+import argparse, csv, datetime, difflib, fcntl, hashlib, io, itertools, json, math, os, re, shlex
+import shutil, signal, socket, subprocess, sys, time
+from decimal import Decimal
+
+PROG = "tigris_sweep"
+TOP_KEYS = ("base", "grid", "points", "comment")
+PATH_FLAGS = ("cloud", "queries", "config")
+NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "", "list-config": "",
+                 "set": "write configuration keys as dotted keys (or under \"set\" in base/points)",
+                 "vcd": "per-run output files are not swept", "timeline": "per-run output files are not swept",
+                 "timeline-queries": "per-run output files are not swept", "schedule": "tigris run does not replay",
+                 "dump-results": "per-run output files are not swept",
+                 "dump-schedule": "per-run output files are not swept"}
+FIXED_BASE = ("cloud", "queries", "mode")           # always a column, so a CSV tells what ran
+WALL = "wall_seconds"
+
+
+class SpecError(Exception):
+    """A bad spec, argument or sweep folder: printed, exit 2."""
+
+
+def die(msg, code=2):
+    print(f"{PROG}: error: {msg}", file=sys.stderr)
+    sys.exit(code)
+
+
+def note(msg):
+    print(f"{PROG}: {msg}", file=sys.stderr, flush=True)
+
+
+def write_json(path, obj):
+    tmp = f"{path}.tmp{os.getpid()}"
+    with open(tmp, "w") as f:
+        json.dump(obj, f, indent=1)
+        f.write("\n")
+    os.replace(tmp, path)                       # never a half-written file
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def now():
+    return datetime.datetime.now().astimezone().isoformat(timespec="milliseconds")
+
+
+def cli_value(v):
+    """A spec value as tigris reads it: booleans true/false, numbers in plain decimal."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        r = repr(v)
+        return format(Decimal(r), "f") if "e" in r or "E" in r else r
+    return str(v)
+
+
+def csv_value(v):
+    return "" if v is None else cli_value(v)
+
+
+def typed(text):
+    """A default from tigris's help text as a JSON-like value."""
+    if text in ("true", "false"):
+        return text == "true"
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    return text
+
+
+# ----------------------------------------------------------------------------------------------
+# The tigris binary: its run flags and configuration keys, with their defaults
+
+def default_tigris():
+    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tigris")
+    if os.path.isfile(beside) and os.access(beside, os.X_OK):
+        return beside
+    if os.environ.get("TIGRIS"):
+        return os.environ["TIGRIS"]
+    repo = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+    return os.path.join(repo, "build", "testbench", "tigris")
+
+
+class Tigris:
+    def __init__(self, path):
+        self.path = os.path.abspath(path)
+        if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
+            raise SpecError(f"tigris binary not found or not executable: {self.path} "
+                            "(give --tigris PATH or set $TIGRIS)")
+        help_text = self._ask("--help")
+        self.flags = {}                          # run flag -> default (None: no default)
+        for m in re.finditer(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)(?:\s+(\S+))?", help_text, re.M):
+            d = re.search(r"=(\S+)$", m.group(2) or "")
+            self.flags[m.group(1)] = typed(d.group(1)) if d else None
+        self.config = {}                         # configuration key -> default
+        for m in re.finditer(r"^\| `([a-z0-9_.]+)` \| ([^|]*)\|", self._ask("--list-config"), re.M):
+            self.config[m.group(1)] = typed(m.group(2).split()[0].strip("`") if m.group(2).split() else "")
+        if "cloud" not in self.flags or not self.config:
+            raise SpecError(f"{self.path} does not look like tigris: `tigris run --help` "
+                            "and `--list-config` gave no flags or keys")
+
+    def _ask(self, flag):
+        try:
+            p = subprocess.run([self.path, "run", flag], capture_output=True, text=True, timeout=60)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise SpecError(f"cannot run {self.path} run {flag}: {e}")
+        if p.returncode != 0:
+            raise SpecError(f"{self.path} run {flag} failed (exit {p.returncode}): {p.stderr.strip()}")
+        return p.stdout
+
+
+# ----------------------------------------------------------------------------------------------
+# The spec: {"base": {...}, "grid": {key: [values]}, "points": [{...}]}
+
+def _no_duplicates(pairs):
+    seen = {}
+    for k, v in pairs:
+        if k in seen:
+            raise SpecError(f"duplicate key \"{k}\"")
+        seen[k] = v
+    return seen
+
+
+class Spec:
+    def __init__(self, path, tig):
+        self.given, self.path = path, os.path.abspath(path)
+        self.dir = os.path.dirname(self.path)
+        self.tig = tig
+        self.names = {}                          # canonical key -> spelling in the spec
+        self.where = {}                          # canonical key -> spec locations
+        try:
+            with open(self.path) as f:
+                text = f.read()
+        except OSError as e:
+            raise SpecError(f"cannot read the spec {path}: {e.strerror}")
+        try:
+            raw = json.loads(text, object_pairs_hook=_no_duplicates)
+        except json.JSONDecodeError as e:
+            raise SpecError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}")
+        except SpecError as e:
+            raise SpecError(f"{path}: {e}")
+        self.raw = raw
+        if not isinstance(raw, dict):
+            raise SpecError(f"{path}: the spec must be a JSON object with base, grid, points")
+        for k in raw:
+            if k not in TOP_KEYS:
+                raise SpecError(self._at(k, f"unknown top-level key (allowed: {', '.join(TOP_KEYS)})"))
+        self.base = self._settings(raw.get("base", {}), "base")
+        grid = raw.get("grid", {})
+        if not isinstance(grid, dict):
+            raise SpecError(self._at("grid", "must be an object {key: [values, ...]}"))
+        self.grid = {}
+        for key, values in grid.items():
+            loc = f"grid[\"{key}\"]"
+            if key == "set":
+                raise SpecError(self._at(loc, "write configuration keys in the grid as dotted keys"))
+            canon = self._key(key, loc)
+            if not isinstance(values, list):
+                raise SpecError(self._at(loc, "must be a list of values"))
+            if not values:
+                raise SpecError(self._at(loc, "is an empty list: the grid would have no points"))
+            self.grid[canon] = [self._value(canon, v, f"{loc}[{i}]") for i, v in enumerate(values)]
+        points = raw.get("points", [])
+        if not isinstance(points, list):
+            raise SpecError(self._at("points", "must be a list of objects"))
+        self.points = [self._settings(p, f"points[{i}]") for i, p in enumerate(points)]
+        if "points" in raw and not points and not grid:
+            raise SpecError(self._at("points", "is empty and there is no grid: nothing to run"))
+        self.swept = list(self.grid)             # grid keys, then the points' keys
+        for p in self.points:
+            self.swept += [k for k in p if k not in self.swept]
+
+    def _at(self, loc, msg):
+        return f"{self.given}: {loc}: {msg}"
+
+    def _key(self, key, loc):
+        """A spec key as ('flag' | 'config', canonical name); unknown keys are errors."""
+        if not isinstance(key, str) or not key:
+            raise SpecError(self._at(loc, "empty key"))
+        flag = key.replace("_", "-")
+        if "." not in key and flag in NOT_SWEEPABLE:
+            raise SpecError(self._at(loc, f"'{key}' cannot be set in a sweep spec"
+                                     + (f": {NOT_SWEEPABLE[flag]}" if NOT_SWEEPABLE[flag] else "")))
+        if "." not in key and flag in self.tig.flags:
+            canon = flag
+        elif key in self.tig.config:
+            canon = key
+        else:
+            kind = "configuration key" if "." in key else "run flag"
+            pool = list(self.tig.config) if "." in key else [f for f in self.tig.flags if f not in NOT_SWEEPABLE]
+            near = difflib.get_close_matches(flag if "." not in key else key, pool, 1, 0.6)
+            hint = f" (did you mean '{near[0]}'?)" if near else (
+                f" (run flags: {', '.join(pool)}; configuration keys are dotted, see "
+                "`tigris run --list-config`)" if "." not in key else " (see `tigris run --list-config`)")
+            raise SpecError(self._at(loc, f"unknown {kind} '{key}'{hint}"))
+        self.names.setdefault(canon, key)
+        self.where.setdefault(canon, []).append(loc)
+        return canon
+
+    def _value(self, canon, v, loc):
+        if isinstance(v, (dict, list)) or v is None:
+            got = {dict: "an object", list: "a list", type(None): "null"}[type(v)]
+            raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a number, text or boolean, got {got}"))
+        if isinstance(v, float) and not math.isfinite(v):
+            raise SpecError(self._at(loc, "needs a finite number"))
+        if canon in self.tig.flags and isinstance(v, bool):
+            raise SpecError(self._at(loc, f"run flag '{self.names[canon]}' takes a number or text, not a boolean"))
+        if canon in PATH_FLAGS:
+            if not isinstance(v, str) or not v:
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a file name"))
+            full = os.path.join(self.dir, v)
+            if not os.path.isfile(full):
+                raise SpecError(self._at(loc, f"no such file: {full} (relative paths are relative to "
+                                         "the spec's folder)"))
+        return v
+
+    def _settings(self, obj, loc):
+        if not isinstance(obj, dict):
+            raise SpecError(self._at(loc, "must be an object"))
+        out = {}
+        for key, v in obj.items():
+            if key == "set":
+                if not isinstance(v, dict):
+                    raise SpecError(self._at(f"{loc}.set", "must be an object {\"dotted.key\": value}"))
+                for sk, sv in v.items():
+                    sloc = f"{loc}.set[\"{sk}\"]"
+                    canon = self._key(sk, sloc)
+                    if canon not in self.tig.config:
+                        raise SpecError(self._at(sloc, f"'{sk}' is a run flag: put it beside \"set\", not in it"))
+                    if canon in out:
+                        raise SpecError(self._at(sloc, f"'{sk}' is set twice in {loc}"))
+                    out[canon] = self._value(canon, sv, sloc)
+                continue
+            kloc = f"{loc}[\"{key}\"]"
+            canon = self._key(key, kloc)
+            if canon in out:
+                raise SpecError(self._at(kloc, f"'{key}' is set twice in {loc}"))
+            out[canon] = self._value(canon, v, kloc)
+        return out
+
+    def args(self, params):
+        """tigris run arguments of a point: flags, then --set, each sorted (stable for resume)."""
+        a = []
+        for k in sorted(k for k in params if k in self.tig.flags):
+            v = params[k]
+            a += [f"--{k}", os.path.join(self.dir, v) if k in PATH_FLAGS else cli_value(v)]
+        for k in sorted(k for k in params if k not in self.tig.flags):
+            a += ["--set", f"{k}={cli_value(params[k])}"]
+        return a
+
+    def expand(self):
+        """Every point in a stable order: the grid's cross product (first key outermost), then
+        `points`; each over base. A point repeating an earlier one is dropped."""
+        own = [dict(zip(self.grid, combo)) for combo in itertools.product(*self.grid.values())] \
+            if self.grid else ([] if self.points else [{}])
+        own += self.points
+        pts, seen, ids = [], set(), {}
+        for o in own:
+            params = dict(self.base)
+            params.update(o)
+            args = self.args(params)
+            if tuple(args) in seen:
+                continue
+            seen.add(tuple(args))
+            pid = ",".join(f"{k}={_id_value(k, o[k])}" for k in sorted(o)) or "base"
+            pts.append({"id": pid, "own": o, "params": params, "args": args})
+            ids.setdefault(pid, []).append(pts[-1])
+        for pid, same in ids.items():            # names that sanitise alike or are too long
+            if len(same) > 1 or len(pid) > 150:
+                for p in same:
+                    h = hashlib.sha1(json.dumps(p["args"]).encode()).hexdigest()[:10]
+                    p["id"] = f"{pid[:120]}~{h}"
+        return pts
+
+
+def _id_value(key, v):
+    s = os.path.basename(v) if key in PATH_FLAGS else cli_value(v)
+    return re.sub(r"[^A-Za-z0-9._+-]", "_", s) or "_"
+
+
+# ----------------------------------------------------------------------------------------------
+# Running processes: a small pool of subprocesses, each in its own process group
+
+def kill_group(p):
+    for sig, wait in ((signal.SIGTERM, 3.0), (signal.SIGKILL, 5.0)):
+        try:
+            os.killpg(p.pid, sig)
+        except (ProcessLookupError, PermissionError):
+            pass
+        try:
+            p.wait(timeout=wait)
+            return
+        except subprocess.TimeoutExpired:
+            pass
+
+
+def pool(tasks, jobs, launch, done):
+    """Runs launch(task) -> Popen for every task, at most `jobs` at once; done(task, proc, rc)."""
+    queue, running = list(tasks), []
+    try:
+        while queue or running:
+            while queue and len(running) < jobs:
+                t = queue.pop(0)
+                running.append((t, launch(t)))
+            still = []
+            for t, p in running:
+                rc = p.poll()
+                if rc is None:
+                    still.append((t, p))
+                else:
+                    done(t, p, rc)
+            running = still
+            if running:
+                time.sleep(0.02)
+    finally:                                     # Ctrl-C, SIGTERM or an error: no orphans
+        for _, p in running:
+            kill_group(p)
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+# ----------------------------------------------------------------------------------------------
+# One point: `tigris run ARGS --out DIR/points/<id>`, recorded in point.json
+
+def point_dir(out, pid):
+    return os.path.join(out, "points", pid)
+
+
+def finished(out, pt):
+    """A point is finished when its point.json says so (for these arguments) and stats.json exists."""
+    d = point_dir(out, pt["id"])
+    pj = read_json(os.path.join(d, "point.json"))
+    return bool(pj and pj.get("finished") and pj.get("args") == pt["args"]
+                and os.path.isfile(os.path.join(d, "stats.json")))
+
+
+class PointRun:
+    def __init__(self, out, tigris, pt):
+        self.out, self.tigris, self.pt = out, tigris, pt
+        self.dir = point_dir(out, pt["id"])
+        self.cmd = [tigris, "run"] + pt["args"] + ["--out", self.dir]
+
+    def start(self):
+        os.makedirs(self.dir, exist_ok=True)
+        for f in ("point.json", "stats.json"):
+            if os.path.exists(os.path.join(self.dir, f)):
+                os.remove(os.path.join(self.dir, f))
+        self.started, self.t0 = now(), time.monotonic()
+        with open(os.path.join(self.dir, "stdout.txt"), "w") as so, \
+                open(os.path.join(self.dir, "stderr.txt"), "w") as se:
+            self.proc = subprocess.Popen(self.cmd, stdout=so, stderr=se, stdin=subprocess.DEVNULL,
+                                         cwd=self.dir, start_new_session=True)
+        return self.proc
+
+    def finish(self, rc):
+        wall = time.monotonic() - self.t0
+        try:
+            with open(os.path.join(self.dir, "stderr.txt"), errors="replace") as f:
+                err_lines = [l for l in re.split(r"[\r\n]", f.read()) if l.strip()]
+        except OSError:
+            err_lines = []
+        stats = read_json(os.path.join(self.dir, "stats.json"))
+        verdict = stats.get("verdict") if isinstance(stats, dict) else None
+        picked = [l for l in err_lines if "error" in l.lower() or "DEADLOCK" in l or "mismatch" in l.lower()]
+        msg = (picked or err_lines or [""])[-1].strip()
+        if rc == 0 and verdict == "match":
+            status, msg = "ok", ""
+        elif rc in (0, 1) and verdict == "mismatch":
+            status = "mismatch"
+            msg = next((l.strip() for l in err_lines if "queries with other results" in l), msg) or "mismatch"
+        elif rc < 0:
+            try:
+                sig = signal.Signals(-rc).name
+            except ValueError:
+                sig = str(-rc)
+            status, msg = "error", f"killed by signal {sig}" + (f": {msg}" if msg else "")
+        elif rc == 0:
+            status, msg = "error", "exit 0 but no readable stats.json with a verdict"
+        else:
+            status, msg = "error", msg or f"exit {rc} and nothing on stderr"
+        rec = {"id": self.pt["id"], "params": self.pt["own"], "args": self.pt["args"],
+               "command": self.cmd, "command_line": shlex.join(self.cmd), "exit_code": rc,
+               "status": status, "error": msg, "stderr_tail": "\n".join(err_lines[-20:])[-4000:],
+               "wall_seconds": round(wall, 3), "started_at": self.started, "ended_at": now(),
+               "host": socket.gethostname(), "finished": status in ("ok", "mismatch")}
+        if os.environ.get("SLURM_JOB_ID"):
+            rec["slurm"] = {k: os.environ.get(f"SLURM_{k.upper()}") for k in
+                            ("array_job_id", "array_task_id", "job_id")}
+        write_json(os.path.join(self.dir, "point.json"), rec)
+        return rec
+
+
+def progress_line(spec_names, pt, rec, k, n):
+    shown = " ".join(f"{spec_names.get(key, key)}={cli_value(v)}" for key, v in pt["own"].items()) or pt["id"]
+    what = "match" if rec["status"] == "ok" else f"{rec['status'].upper()}: {rec['error']}"
+    return f"[{k}/{n}] {shown} ... {rec['wall_seconds']:.1f} s, {what}"
+
+
+# ----------------------------------------------------------------------------------------------
+# The dry check: every point's flags and keys, before anything runs
+
+def dry_check(spec, tig, pts, out, jobs):
+    """tigris validates flags and configuration before it reads the workload, so each point runs
+    with a cloud that does not exist: the expected 'no such file' error means all was accepted."""
+    missing = os.path.join(out, ".dry-check-no-such-folder", "cloud.bin")
+    problems = {}
+
+    def launch(pt):
+        a = list(pt["args"])
+        if "--cloud" in a:
+            del a[a.index("--cloud"):a.index("--cloud") + 2]
+        return subprocess.Popen([tig.path, "run"] + a + ["--cloud", missing, "--out", os.path.dirname(missing)],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                                stdin=subprocess.DEVNULL, start_new_session=True)
+
+    def done(pt, p, rc):
+        err = p.stderr.read().strip()
+        if rc == 2 and missing in err or rc in (0, 1):
+            return
+        lines = [l for l in err.splitlines() if l.strip() and not l.startswith("Run with --help")]
+        line = next((l for l in lines if "error" in l), lines[0] if lines else f"exit {rc}")
+        problems.setdefault(line, []).append(pt)
+
+    pool(pts, jobs, launch, done)
+    if problems:
+        msgs = []
+        for line, bad in problems.items():
+            keys = [k for k in bad[0]["params"] if k in line or f"--{k}" in line]
+            where = "; ".join(f"'{spec.names[k]}' at {', '.join(spec.where[k])}" for k in keys if k in spec.where)
+            msgs.append(f"{spec.given}: point {bad[0]['id']}"
+                        + (f" and {len(bad) - 1} more" if len(bad) > 1 else "")
+                        + f": tigris rejects it: {line}" + (f" [{where}]" if where else ""))
+        raise SpecError("\n".join(msgs))
+
+
+# ----------------------------------------------------------------------------------------------
+# The sweep folder: plan.json (the points), points/<id>/, sweep.csv, sweep.json
+
+def make_plan(spec, tig, pts):
+    keys = set(spec.swept) | set(spec.base) | set(FIXED_BASE)
+    defaults = {k: (tig.config.get(k) if k in tig.config else tig.flags.get(k)) for k in keys}
+    defaults.update({k: "synthetic" for k in ("cloud", "queries")})
+    base_cols = [k for k in FIXED_BASE if k not in spec.swept] + \
+                [k for k in spec.base if k not in spec.swept and k not in FIXED_BASE]
+    return {"format": 1, "spec_file": spec.path, "spec": spec.raw, "tigris": tig.path,
+            "base_args": spec.args(spec.base), "swept": spec.swept, "base_columns": base_cols,
+            "names": {k: spec.names.get(k, k) for k in keys}, "defaults": defaults,
+            "config_keys": [k for k in keys if k in tig.config], "points": pts}
+
+
+def check_folder(out, plan):
+    old = read_json(os.path.join(out, "plan.json"))
+    if old is None:
+        if os.path.isdir(os.path.join(out, "points")) and os.listdir(os.path.join(out, "points")):
+            raise SpecError(f"{out} holds point folders but no plan.json: not a sweep folder of this "
+                            "driver; use another --out")
+        return
+    if old.get("base_args") != plan["base_args"]:
+        raise SpecError(f"{out} holds a sweep with another base (there: {shlex.join(old.get('base_args') or [])}; "
+                        f"now: {shlex.join(plan['base_args'])}); its results would mix with these. "
+                        "Use another --out, or delete that folder")
+    if old.get("tigris") != plan["tigris"]:
+        note(f"warning: {out} was swept with {old.get('tigris')}; points it finished are kept, "
+             f"new ones run with {plan['tigris']}")
+    ids = {p["id"] for p in plan["points"]}
+    stale = [p["id"] for p in old.get("points", []) if p["id"] not in ids]
+    if stale:
+        note(f"{len(stale)} point folder(s) of an earlier spec are not in this one and are left out "
+             f"of the CSV (e.g. {stale[0]})")
+
+
+def lock_folder(out):
+    os.makedirs(os.path.join(out, "points"), exist_ok=True)
+    fd = os.open(os.path.join(out, ".lock"), os.O_CREAT | os.O_RDWR, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        raise SpecError(f"another {PROG} is running into {out}")
+    return fd
+
+
+def flatten(obj, prefix=""):
+    """Scalar leaves of stats.json as (dotted path, value); lists and `config` left out."""
+    for k, v in obj.items():
+        path = f"{prefix}{k}"
+        if isinstance(v, dict):
+            if path != "config":
+                yield from flatten(v, path + ".")
+        elif not isinstance(v, list):
+            yield path, v
+
+
+def ordered_union(cols, keys):
+    """Adds keys missing from cols, each after its predecessor in `keys` (a stable order)."""
+    have, prev = set(cols), None
+    for k in keys:
+        if k not in have:
+            cols.insert(cols.index(prev) + 1 if prev is not None else len(cols), k)
+            have.add(k)
+        prev = k
+
+
+def param_value(plan, pt, key, stats):
+    if key in pt["params"]:
+        return pt["params"][key]
+    if key == "height" and isinstance(stats, dict) and "top_height" in (stats.get("tree") or {}):
+        return stats["tree"]["top_height"]       # the effective height (a small cloud clamps 10)
+    if key in plan["config_keys"] and isinstance(stats, dict):
+        node = stats.get("config")
+        for part in key.split("."):
+            node = node.get(part) if isinstance(node, dict) else None
+        if node is not None and not isinstance(node, (dict, list)):
+            return node
+    return plan["defaults"].get(key)
+
+
+def collect(out):
+    plan = read_json(os.path.join(out, "plan.json"))
+    if not plan:
+        raise SpecError(f"{out}/plan.json is missing or unreadable: not a sweep folder")
+    job = read_json(os.path.join(out, "slurm", "job.json")) or {}
+    names = plan["names"]
+    param_cols = [names[k] for k in plan["swept"]] + [names[k] for k in plan["base_columns"]]
+    fixed = {"point", "status", "error", WALL} | set(param_cols)
+    rows, stat_cols, counts = [], [], {"ok": 0, "mismatch": 0, "error": 0}
+    for pt in plan["points"]:
+        d = point_dir(out, pt["id"])
+        pj = read_json(os.path.join(d, "point.json"))
+        if pj and pj.get("args") != pt["args"]:
+            pj = None                            # an earlier spec's run of this name
+        stats = read_json(os.path.join(d, "stats.json")) if pj and pj.get("finished") else None
+        if pj and pj.get("finished") and not isinstance(stats, dict):
+            pj = dict(pj, status="error", error="stats.json missing or unreadable")
+        if pj is None:
+            task = next((i for i, c in enumerate(job.get("chunks", [])) if pt["id"] in c), None)
+            why = (f"no result: Slurm job {job['job']} task {task} did not finish it (log "
+                   f"{out}/slurm/{job['job']}_{task}.out)" if task is not None else "not run (yet)")
+            pj = {"status": "error", "error": why, "wall_seconds": None}
+        row = {"point": pt["id"]}
+        for k in plan["swept"]:
+            row[names[k]] = param_value(plan, pt, k, stats)
+        row.update(status=pj["status"], error=pj.get("error", ""), wall_seconds=pj.get("wall_seconds"))
+        for k in plan["base_columns"]:
+            row[names[k]] = param_value(plan, pt, k, stats)
+        keys = []
+        for path, v in flatten(stats or {}):
+            col = f"stats.{path}" if path in fixed else path
+            row[col] = v
+            keys.append(col)
+        ordered_union(stat_cols, keys)
+        counts[pj["status"]] = counts.get(pj["status"], 0) + 1
+        rows.append(row)
+    columns = ["point"] + [names[k] for k in plan["swept"]] + ["status", "error", WALL] + \
+              [names[k] for k in plan["base_columns"]] + stat_cols
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(columns)
+    for r in rows:
+        w.writerow([csv_value(r.get(c)) for c in columns])
+    tmp = os.path.join(out, f".sweep.csv.tmp{os.getpid()}")
+    with open(tmp, "w") as f:
+        f.write(buf.getvalue())
+    os.replace(tmp, os.path.join(out, "sweep.csv"))
+    write_json(os.path.join(out, "sweep.json"),
+               {"spec_file": plan["spec_file"], "spec": plan["spec"], "tigris": plan["tigris"],
+                "columns": columns, "swept_keys": [names[k] for k in plan["swept"]],
+                "base_keys": [names[k] for k in plan["base_columns"]],
+                "rows": [{c: r.get(c) for c in columns} for r in rows]})
+    note(f"{len(rows)} points: {counts['ok']} ok, {counts['mismatch']} mismatch, {counts['error']} error; "
+         f"{os.path.join(out, 'sweep.csv')}")
+    return 0 if counts["ok"] == len(rows) else 1
+
+
+# ----------------------------------------------------------------------------------------------
+# Back-ends
+
+def run_local(plan, todo, out, jobs, names):
+    n, k = len(todo), [0]
+
+    def launch(pt):
+        r = PointRun(out, plan["tigris"], pt)
+        runs[pt["id"]] = r
+        return r.start()
+
+    def done(pt, p, rc):
+        rec = runs.pop(pt["id"]).finish(rc)
+        k[0] += 1
+        print(progress_line(names, pt, rec, k[0], n), file=sys.stderr, flush=True)
+
+    runs = {}
+    pool(todo, jobs, launch, done)
+
+
+def squeue_active(job):
+    """Task ids of `job` still queued or running; None when squeue cannot tell."""
+    try:
+        p = subprocess.run(["squeue", "-h", "-j", str(job), "-t", "PD,R,CG,CF,S,RQ,RS,RH,SE",
+                            "-o", "%i"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    if p.returncode != 0:
+        return [] if "Invalid job id" in p.stderr else None
+    return p.stdout.split()
+
+
+def run_slurm(a, plan, todo, out, names):
+    if not shutil.which("sbatch"):
+        die("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)", 3)
+    chunks = [[p["id"] for p in todo[i:i + a.chunk]] for i in range(0, len(todo), a.chunk)]
+    sdir = os.path.join(out, "slurm")
+    os.makedirs(sdir, exist_ok=True)
+    stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{os.getpid()}"
+    tasks = os.path.join(sdir, f"tasks-{stamp}.json")
+    write_json(tasks, {"dir": out, "chunks": chunks})
+    script = os.path.join(sdir, f"array-{stamp}.sh")
+    with open(script, "w") as f:
+        f.write("#!/bin/sh\n# One task of a tigris_sweep job array: runs its chunk of points.\n"
+                f"exec {shlex.quote(sys.executable)} {shlex.quote(os.path.abspath(__file__))} _task "
+                f"{shlex.quote(tasks)} \"$SLURM_ARRAY_TASK_ID\"\n")
+    os.chmod(script, 0o755)
+    cmd = ["sbatch", "--parsable", f"--array=0-{len(chunks) - 1}", "--job-name=tigris-sweep",
+           f"--output={sdir}/%A_%a.out", f"--chdir={out}"]
+    for opt in ("partition", "time", "mem"):
+        if getattr(a, opt):
+            cmd.append(f"--{opt}={getattr(a, opt)}")
+    cmd += (a.sbatch_arg or []) + [script]
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        die(f"sbatch did not run: {e}\n  command: {shlex.join(cmd)}", 3)
+    if p.returncode != 0:
+        die(f"sbatch failed (exit {p.returncode}): {p.stderr.strip() or p.stdout.strip()}\n"
+            f"  command: {shlex.join(cmd)}", 3)
+    job = p.stdout.strip().split(";")[0]
+    write_json(os.path.join(sdir, "job.json"), {"job": job, "tasks": tasks, "chunks": chunks,
+                                                 "command": cmd, "submitted_at": now()})
+    note(f"submitted Slurm job array {job}: {len(chunks)} task(s) for {len(todo)} point(s); "
+         f"logs {sdir}/{job}_<task>.out")
+    if a.no_wait:
+        me = os.path.abspath(sys.argv[0])
+        print(f"job {job}\ncollect when it has finished: {shlex.quote(me)} collect {shlex.quote(out)}")
+        return False
+    left, k, misses = {p["id"]: p for p in todo}, 0, 0
+    try:
+        while left:
+            active = squeue_active(job)          # asked before the scan: no point is missed
+            for pid in list(left):
+                rec = read_json(os.path.join(point_dir(out, pid), "point.json"))
+                if rec and rec.get("args") == left[pid]["args"]:
+                    k += 1
+                    print(progress_line(names, left.pop(pid), rec, k, len(todo)), file=sys.stderr, flush=True)
+            if active == []:
+                break
+            misses = misses + 1 if active is None else 0
+            if misses > 30:
+                die(f"squeue cannot report job {job}; collect later with: {PROG} collect {out}", 3)
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        subprocess.run(["scancel", str(job)], capture_output=True)
+        note(f"interrupted: cancelled Slurm job {job}; finished points are kept")
+        raise
+    if left:
+        note(f"Slurm job {job} ended with {len(left)} point(s) unfinished (see {sdir}/{job}_*.out)")
+    return True
+
+
+def run_task(tasks_file, index):
+    """A Slurm array task: its chunk of points, run exactly as the local back-end runs them."""
+    t = read_json(tasks_file)
+    plan = read_json(os.path.join(t["dir"], "plan.json")) if t else None
+    if not plan:
+        die(f"_task: cannot read {tasks_file} or its plan.json")
+    by_id = {p["id"]: p for p in plan["points"]}
+    chunk = t["chunks"][int(index)]
+    signal.signal(signal.SIGTERM, _interrupt)
+    for k, pid in enumerate(chunk, 1):
+        pt = by_id[pid]
+        if finished(t["dir"], pt):
+            print(f"[{k}/{len(chunk)}] {pid}: finished earlier, skipped", flush=True)
+            continue
+        r = PointRun(t["dir"], plan["tigris"], pt)
+        proc = r.start()
+        try:
+            rc = proc.wait()
+        except KeyboardInterrupt:
+            kill_group(proc)
+            sys.exit(143)
+        print(progress_line(plan["names"], pt, r.finish(rc), k, len(chunk)), flush=True)
+    return 0
+
+
+# ----------------------------------------------------------------------------------------------
+
+def parse_args(argv):
+    # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`
+    fixed, i = [], 0
+    while i < len(argv):
+        if argv[i] == "--sbatch-arg" and i + 1 < len(argv):
+            fixed.append(f"--sbatch-arg={argv[i + 1]}")
+            i += 2
+        else:
+            fixed.append(argv[i])
+            i += 1
+    ap = argparse.ArgumentParser(
+        prog=os.path.basename(sys.argv[0]), description="Runs the `tigris run` points of a sweep spec "
+        "and collects DIR/sweep.csv and DIR/sweep.json (README.md, \"Sweeps\").",
+        epilog="`%(prog)s collect DIR` collects a folder again (after --no-wait). Exit codes: 0 every "
+        "point ok, 1 a point mismatched or failed, 2 bad spec or arguments, 3 sbatch failed, 130 "
+        "interrupted.")
+    ap.add_argument("spec", metavar="SPEC.json", help="sweep spec: {\"base\", \"grid\", \"points\"}")
+    ap.add_argument("--out", required=True, metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
+                    "sweep.json); rerunning into it resumes")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
+                    help="points run at once locally (and dry checks) (default: %(default)s)")
+    ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
+                    "script, else $TIGRIS, else build/testbench/tigris of the repository)")
+    ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
+    ap.add_argument("--partition", metavar="P", help="sbatch --partition")
+    ap.add_argument("--time", metavar="T", help="sbatch --time (per array task)")
+    ap.add_argument("--mem", metavar="M", help="sbatch --mem (per array task)")
+    ap.add_argument("--chunk", type=int, default=1, metavar="K", help="points per array task (default 1)")
+    ap.add_argument("--sbatch-arg", action="append", metavar="ARG",
+                    help="one more raw sbatch argument, repeatable: --sbatch-arg --qos=low")
+    ap.add_argument("--no-wait", action="store_true", help="return after submitting; print the job id "
+                    "and the collect command")
+    a = ap.parse_args(fixed)
+    if a.jobs < 1:
+        ap.error("--jobs must be at least 1")
+    if a.chunk < 1:
+        ap.error("--chunk must be at least 1")
+    if not a.slurm:
+        used = [o for o, v in (("--partition", a.partition), ("--time", a.time), ("--mem", a.mem),
+                               ("--chunk", a.chunk != 1), ("--sbatch-arg", a.sbatch_arg),
+                               ("--no-wait", a.no_wait)) if v]
+        if used:
+            ap.error(f"{', '.join(used)} need(s) --slurm")
+    return a
+
+
+def run(a):
+    tig = Tigris(a.tigris or default_tigris())
+    spec = Spec(a.spec, tig)
+    pts = spec.expand()
+    out = os.path.abspath(a.out)
+    plan = make_plan(spec, tig, pts)
+    check_folder(out, plan)
+    dry_check(spec, tig, [p for p in pts if not finished(out, p)], out, a.jobs)
+    lock = lock_folder(out)                      # the folder is made only for a valid spec
+    job = read_json(os.path.join(out, "slurm", "job.json"))
+    if job and shutil.which("squeue") and squeue_active(job["job"]):
+        raise SpecError(f"Slurm job {job['job']} of an earlier submission is still running into {out}; "
+                        f"wait for it, or scancel {job['job']}")
+    todo = [p for p in pts if not finished(out, p)]
+    note(f"{len(pts)} points, {len(pts) - len(todo)} finished earlier (skipped), {len(todo)} to run; "
+         f"tigris {tig.path}")
+    write_json(os.path.join(out, "plan.json"), plan)
+    for p in todo:                               # an earlier failed try of a point is not its result
+        for f in ("point.json", "stats.json"):
+            if os.path.exists(os.path.join(point_dir(out, p["id"]), f)):
+                os.remove(os.path.join(point_dir(out, p["id"]), f))
+    if todo:
+        if a.slurm:
+            if not run_slurm(a, plan, todo, out, spec.names):
+                os.close(lock)
+                return 0
+        else:
+            run_local(plan, todo, out, a.jobs, spec.names)
+    return collect(out)
+
+
+def main(argv):
+    signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        if argv[:1] == ["_task"] and len(argv) == 3:
+            return run_task(argv[1], argv[2])
+        if argv[:1] == ["collect"]:
+            if len(argv) != 2 or argv[1].startswith("-"):
+                die("usage: tigris_sweep.py collect DIR")
+            return collect(os.path.abspath(argv[1]))
+        return run(parse_args(argv))
+    except SpecError as e:
+        die(str(e))
+    except KeyboardInterrupt:
+        note("interrupted: running points stopped; finished points are kept (rerun the same "
+             "command to resume)")
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
