@@ -40,9 +40,10 @@ class Skip(Exception):
 
 
 def _need_columns(sw, name, any_of=(), all_of=()):
+    """any_of: setting columns (one must be swept or set); all_of: stats columns."""
     missing = [c for c in all_of if not sw.has_column(c)]
-    if any_of and not any(sw.has_column(c) for c in any_of):
-        missing.append(" or ".join(any_of))
+    if any_of and not any(c in sw.setting_columns for c in any_of):
+        missing.insert(0, " or ".join(any_of))
     if missing:
         raise Skip(f"{name}: the CSVs have no column {', '.join(missing)}")
 
@@ -300,7 +301,7 @@ def traffic_rows(sw):
 
 
 def fig_memory_traffic(sw):
-    _need_columns(sw, "memory_traffic", all_of=("node_cache.bytes", "buffers.points.read_bytes"))
+    _need_columns(sw, "memory_traffic", any_of=("node_cache.bytes",), all_of=("buffers.points.read_bytes",))
     rows, msg = traffic_rows(sw)
     notes = [msg] if msg else []
     if len({r["eff"]["nc_bytes"] for r in rows}) < 2:
@@ -341,7 +342,7 @@ def fig_memory_traffic(sw):
 # ---------------------------------------------------------------- approximate search
 
 def fig_approx(sw):
-    _need_columns(sw, "approx", all_of=("approx-thd", "cycles"))
+    _need_columns(sw, "approx", any_of=("approx-thd",), all_of=("cycles",))
     rows, msg = ed.select(sw.ok, {"approx", "mode", "radius", "k"})
     notes = [msg] if msg else []
     series = {l: sorted(rs, key=lambda r: r["eff"]["approx"] or 0.0) for l, rs in _series(rows).items()
