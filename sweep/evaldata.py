@@ -278,11 +278,12 @@ def select(rows, axes, where=None):
 
 def find(rows, **want):
     """The row whose effective settings are the defaults except `want` (keys: effective names;
-    radius/k follow the mode). Other setting columns must be empty. A setting that has one
-    value in all `rows` (the sweeps' base) is not compared. None when absent."""
+    radius/k follow the mode). Other setting columns must be empty, unless they hold one value
+    in all `rows` (a base key of the sweeps; so do cloud and queries). None when absent."""
     rows = list(rows)
     constant = {k for k in (rows[0]["eff"] if rows else {})
-                if k not in want and len({repr(r["eff"].get(k)) for r in rows}) == 1}
+                if k not in want and (k not in DEFAULTS or k in ("cloud", "queries"))
+                and len({repr(r["eff"].get(k)) for r in rows}) == 1}
     for r in rows:
         eff = r["eff"]
         ok = True

@@ -344,7 +344,7 @@ def claims_units(sw):
            f"whose doubling speeds up by less than {100 * (KNEE_GAIN - 1):.0f}% (when every doubling "
            f"swept gains more, the knee is at or beyond the largest count: '>= N', within 2x only "
            f"decidable when N > 2x the paper's). Direction: the doubling into the paper's knee "
-           f"gains more than the doubling out of it. Size: knee within a factor 2 of the paper's.")
+           f"gains at least {100 * (KNEE_GAIN - 1):.0f}% and more than the doubling out of it. Size: knee within a factor 2 of the paper's.")
     for s in searches(sw.ok)[:1]:
         for axis, (name, col) in UNIT_NAMES.items():
             paper = PAPER["knee"][axis]

@@ -117,6 +117,12 @@ def driver_command(spec, folder, a):
 
 
 def parse_args(argv):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    fixed = []  # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`, as the driver takes it
+    while argv:
+        a = argv.pop(0)
+        fixed.append(f"--sbatch-arg={argv.pop(0)}" if a == "--sbatch-arg" and argv else a)
+    argv = fixed
     names = list(experiments(False)) + [n for n in experiments(True) if n not in experiments(False)]
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  epilog="experiments: " + ", ".join(names))
