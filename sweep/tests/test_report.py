@@ -132,6 +132,15 @@ class Misses(unittest.TestCase):
         self.assertIs(c.direction, False)
         self.assertIs(c.within, False)
 
+    def test_no_change_band(self):
+        """A 0.5% difference is no change: the direction does not hold."""
+        rows = [{"settings": {"height": "full"}, "stats": fx.fake_stats(top_height=17, cycles=100500)},
+                {"settings": {"height": 10}, "stats": fx.fake_stats(cycles=100000)}]
+        sw = ed.Sweep([fx.write_csv(os.path.join(self.tmp.name, "k.csv"), rows)])
+        c = {c.cid: c for c in report.all_claims(sw)}["acc2skd-vs-acckd-nn"]
+        self.assertEqual(c.measured, "1.00x")
+        self.assertIs(c.direction, False)
+
     def test_nothing_measured(self):
         rows = [{"settings": {"fe.recursion_units": 16}, "stats": fx.fake_stats(ru=16)}]
         sw = ed.Sweep([fx.write_csv(os.path.join(self.tmp.name, "x.csv"), rows)])
