@@ -1,0 +1,745 @@
+#!/usr/bin/python3
+"""REPORT.md from sweep CSVs: the paper's claims of DESIGN.md sections 9 and 14, measured.
+
+    sweep/report.py CSV... --out DIR [--figures DIR | --no-figures] [--title TEXT]
+
+Writes DIR/REPORT.md: a table of every claim (the paper's value, the measured value, whether the
+direction holds, whether the size is within 2x, and an explanation made only of facts the sweep
+measured), how each claim is measured, and the figures of plots.py (made into DIR/figures unless
+--figures names another folder or --no-figures). Claims whose rows the CSVs lack say which
+sweep they need. Nothing here is tuned toward the paper's numbers.
+"""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import evaldata as ed  # noqa: E402
+from evaldata import num  # noqa: E402
+
+TWO_X = 2.0
+KNEE_GAIN = 1.10  # a doubling that speeds up by less than 10% is past the knee
+NO_CHANGE = 0.01  # a ratio within 1% of 1 is no change: a direction needs more
+
+
+def up(ratio):
+    """ratio is a change upwards (beyond the no-change band)."""
+    return ratio > 1 + NO_CHANGE
+
+# The paper's figures (MICRO 2019, sections 4.1 and 6), as DESIGN.md sections 9 and 14 cite them.
+PAPER = {
+    "redundancy_nn_32": 35.0, "redundancy_radius_32": 3.0,
+    # Acc-2SKD is 77.2x Base-2SKD, which is 1.283x Base-KD; Acc-KD is 18.7x Base-KD.
+    "acc2skd_over_acckd": 77.2 * 1.283 / 18.7,
+    "bypass_gain": 0.131, "forward_gain": 0.105, "mqmn_speedup": 2.0,
+    "pb_share_without_nc": 0.53, "pb_share_with_nc": 0.35,
+    "knee": {"ru": 64, "su": 32, "pe": 32},
+    "best_height": 10, "approx_visit_cut": 0.728,
+    "split": {"pe": 0.537, "sram_read": 0.348, "sram_write": 0.080, "leakage": 0.033, "dram": 0.002},
+    "acckd_energy": 2.5, "mqmn_power": 4.0, "nc_energy_saving": 0.059,
+    "area_sram": 8.38, "area_logic": 7.19,
+}
+SPLIT_NAMES = {"pe": "PE", "sram_read": "SRAM read", "sram_write": "SRAM write",
+               "leakage": "leakage", "dram": "DRAM"}
+UNIT_NAMES = {"ru": ("RU", "fe.recursion_units"), "su": ("SU", "be.search_units"),
+              "pe": ("PE per SU", "be.pes_per_su")}
+
+
+class Claim:
+    def __init__(self, cid, section, text, paper, how):
+        self.cid, self.section, self.text, self.paper, self.how = cid, section, text, paper, how
+        self.measured = "not measured"
+        self.direction = None  # True / False / None (n/a)
+        self.within = None
+        self.explanation = ""
+
+    def missing(self, what):
+        self.explanation = f"needs {what}"
+        return self
+
+    def set(self, measured, direction, within, explanation):
+        self.measured, self.direction, self.within, self.explanation = measured, direction, within, explanation
+        return self
+
+
+def within_2x(measured, paper):
+    """measured / paper in [1/2, 2]; False when the signs differ; None when either is missing."""
+    if measured is None or paper is None:
+        return None
+    if paper == 0:
+        return None
+    r = measured / paper
+    return r > 0 and 1 / TWO_X <= r <= TWO_X
+
+
+def pct(x, digits=1):
+    return f"{100 * x:.{digits}f}%"
+
+
+def xf(x):
+    return f"{x:.2f}x"
+
+
+def searches(rows):
+    """The searches (mode, radius, k) present, NN first, each as a `find` keyword dict."""
+    seen = {}
+    for r in rows:
+        e = r["eff"]
+        seen.setdefault((e["mode"], e["radius"], e["k"]), {"mode": e["mode"], "radius": e["radius"], "k": e["k"]})
+    order = {"nn": 0, "knn": 1, "radius": 2}
+    return [seen[k] for k in sorted(seen, key=lambda k: (order.get(k[0], 3), k[1] or 0, k[2] or 0))]
+
+
+def label(s):
+    return ed.search_label(s)
+
+
+def short_bound(row):
+    return ed.bound_facts(row)
+
+
+# ------------------------------------------------------------------------- section 9 claims
+
+def redundancy_curve(sw, s):
+    """[(leaf-set size, redundancy, row)] for one search, from exact runs of one height sweep,
+    with the canonical row (redundancy 1 at size 1); None without a canonical row."""
+    rows, _ = ed.select(sw.ok, {"height", "mode", "radius", "k"}, where=lambda e: e["approx"] is None)
+    canon = ed.find(rows, height=ed.CANONICAL, **s)
+    if canon is None:
+        return None, None
+    base = ed.nodes_per_query(canon)
+    pts = []
+    for r in rows:
+        e = r["eff"]
+        if (e["mode"], e["radius"], e["k"]) != (s["mode"], s["radius"], s["k"]) or e["height"] == ed.CANONICAL:
+            continue
+        ls = num(r, "tree.leaf_set_mean")
+        if ls and base:
+            pts.append((ls, ed.nodes_per_query(r) / base, r))
+    return canon, sorted(pts, key=lambda p: p[0])
+
+
+def at_size(pts, size):
+    """Redundancy at a leaf-set size: log-log interpolation between the two nearest measured
+    sizes around it, or the nearest size when the sweep does not reach it."""
+    below = [p for p in pts if p[0] <= size]
+    above = [p for p in pts if p[0] >= size]
+    if below and above:
+        (x0, y0, _), (x1, y1, _) = below[-1], above[0]
+        if x0 == x1:
+            return y0, f"at leaf-set {x0:.0f}"
+        t = (math.log(size) - math.log(x0)) / (math.log(x1) - math.log(x0))
+        return math.exp(math.log(y0) + t * (math.log(y1) - math.log(y0))), \
+            f"interpolated between leaf-sets {x0:.0f} and {x1:.0f}"
+    near = min(pts, key=lambda p: abs(math.log(p[0] / size)))
+    return near[1], f"nearest measured leaf-set {near[0]:.0f} (sweep does not reach {size})"
+
+
+def grows(pts):
+    ys = [p[1] for p in pts]
+    if len(ys) < 2:
+        return ys[0] > 1 if ys else None
+    return ys[-1] > ys[0] and all(b >= a * 0.98 for a, b in zip(ys, ys[1:]))
+
+
+def claims_redundancy(sw):
+    out, at32 = [], {}
+    how = ("redundancy = nodes visited per query (top-tree nodes + leaf-set points, "
+           "`visits.per_query.nodes.mean`) of the two-stage tree / the canonical tree's "
+           "(`height` full), exact search; leaf-set size = `tree.leaf_set_mean`; the value at 32 "
+           "is interpolated log-log between the nearest two heights. Direction: redundancy "
+           "grows with leaf-set size at every step of the height sweep.")
+    for mode, key in (("nn", "redundancy_nn_32"), ("radius", "redundancy_radius_32")):
+        c = Claim(f"redundancy-{mode}", "9", f"two-stage redundancy grows with leaf-set size "
+                  f"({'NN' if mode == 'nn' else 'radius'}; value at leaf-set 32)",
+                  f"{PAPER[key]:g}x at 32 (KITTI)", how)
+        out.append(c)
+        ss = [s for s in searches(sw.ok) if s["mode"] == mode]
+        if not ss:
+            c.missing(f"a height sweep with `height` full and numeric heights, mode {mode}")
+            continue
+        canon, pts = redundancy_curve(sw, ss[0])
+        if canon is None or not pts:
+            c.missing(f"a canonical-tree row (`height` full) and numeric heights, {label(ss[0])}")
+            continue
+        v, where = at_size(pts, 32)
+        at32[mode] = v
+        base = ed.nodes_per_query(canon)
+        near = min(pts, key=lambda p: abs(math.log(p[0] / 32)))
+        r = near[2]
+        q = num(r, "queries") or 1
+        fact = (f"{label(ss[0])}: canonical tree {base:.0f} nodes/query; leaf-set {near[0]:.0f} "
+                f"(height {r['eff']['height']}): {ed.nodes_per_query(r):.0f} nodes/query "
+                f"({(num(r, 'visits.leaf_points') or 0) / q:.0f} leaf points, "
+                f"{(num(r, 'visits.top') or 0) / q:.0f} top nodes); redundancy "
+                + ", ".join(f"{p[1]:.2f}x@{p[0]:.0f}" for p in pts) + f"; value {where}")
+        c.set(xf(v), grows(pts), within_2x(v, PAPER[key]), fact)
+    c = Claim("redundancy-nn-vs-radius", "9", "redundancy grows faster for NN than for radius "
+              "(NN / radius redundancy at leaf-set 32)",
+              f"{PAPER['redundancy_nn_32']:g}x / {PAPER['redundancy_radius_32']:g}x = "
+              f"{PAPER['redundancy_nn_32'] / PAPER['redundancy_radius_32']:.1f}", how)
+    out.append(c)
+    if "nn" in at32 and "radius" in at32:
+        ratio = at32["nn"] / at32["radius"]
+        paper = PAPER["redundancy_nn_32"] / PAPER["redundancy_radius_32"]
+        c.set(f"{at32['nn']:.2f}x / {at32['radius']:.2f}x = {ratio:.2f}", up(ratio),
+              within_2x(ratio, paper), "from the two rows above")
+    else:
+        c.missing("both the NN and the radius height sweeps with a canonical row")
+    return out
+
+
+def claims_acc_kd(sw):
+    out = []
+    how = ("cycles of the canonical tree (`height` full, Acc-KD) / cycles at top height 10 "
+           "(Acc-2SKD), exact search, default machine. The paper's figure compares both with "
+           "GPU baselines: 77.2x (over Base-2SKD, itself 1.283x Base-KD) vs 18.7x (over Base-KD) "
+           "= 5.3x.")
+    found = False
+    for s in searches(sw.ok):
+        kd = ed.find(sw.ok, height=ed.CANONICAL, **s)
+        two = ed.find(sw.ok, height=10, **s)
+        if kd is None or two is None:
+            continue
+        found = True
+        v = num(kd, "cycles") / num(two, "cycles")
+        c = Claim(f"acc2skd-vs-acckd-{s['mode']}", "9", f"Acc-2SKD beats Acc-KD ({label(s)}; "
+                  "speed-up of Acc-2SKD over Acc-KD)", f"{PAPER['acc2skd_over_acckd']:.1f}x", how)
+        c.set(xf(v), up(v), within_2x(v, PAPER["acc2skd_over_acckd"]),
+              f"Acc-KD {num(kd, 'cycles'):,.0f} cycles, {short_bound(kd)}. "
+              f"Acc-2SKD {num(two, 'cycles'):,.0f} cycles, {short_bound(two)}")
+        out.append(c)
+    if not found:
+        out.append(Claim("acc2skd-vs-acckd", "9", "Acc-2SKD beats Acc-KD (speed-up of Acc-2SKD "
+                         "over Acc-KD)", f"{PAPER['acc2skd_over_acckd']:.1f}x", how)
+                   .missing("rows at `height` full and 10 (exact, default machine)"))
+    return out
+
+
+def _opt_rows(sw, s):
+    f = lambda **kw: ed.find(sw.ok, **dict(s, **kw))  # noqa: E731
+    return {"No-Opt": f(bypass=False, forward=False), "Bypass": f(forward=False),
+            "+Forward": f(), "MQMN": f(policy="mqmn")}
+
+
+def claims_optimizations(sw):
+    out = []
+    spec = [
+        ("bypass", "bypassing helps (No-Opt -> Bypass, speed-up)", "No-Opt", "Bypass",
+         "bypass_gain", "+13.1%"),
+        ("forward", "forwarding helps (Bypass -> +Forward, speed-up)", "Bypass", "+Forward",
+         "forward_gain", "+10.5%"),
+        ("mqmn-speed", "MQMN ~2x faster than MQSN (+Forward -> MQMN, speed-up)", "+Forward",
+         "MQMN", "mqmn_speedup", "2x"),
+    ]
+    how_gain = ("gain = cycles(before) / cycles(after) - 1, exact search, top height 10, default "
+                "machine; No-Opt = fe.bypassing=false, fe.forwarding=false; Bypass = "
+                "fe.forwarding=false; +Forward = both on (default); MQMN = be.issue_policy=mqmn "
+                "with both on. The size test compares the gains (for MQMN the speed-ups).")
+    ss = searches(sw.ok)
+    for cid, text, a, b, key, paper in spec:
+        done = False
+        for s in ss:
+            rows = _opt_rows(sw, s)
+            ra, rb = rows[a], rows[b]
+            if ra is None or rb is None:
+                continue
+            done = True
+            sp = num(ra, "cycles") / num(rb, "cycles")
+            c = Claim(f"{cid}-{s['mode']}", "9", f"{text}, {label(s)}", paper, how_gain)
+            if cid == "bypass":
+                fact = (f"RU prune cycles {num(ra, 'units.recursion_units.prune_cycles') or 0:,.0f} -> "
+                        f"{num(rb, 'units.recursion_units.prune_cycles') or 0:,.0f}; No-Opt: {short_bound(ra)}")
+            elif cid == "forward":
+                fact = (f"RU PI->RS stall cycles "
+                        f"{num(ra, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f} -> "
+                        f"{num(rb, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f}; "
+                        f"Bypass: {short_bound(ra)}")
+            else:
+                fact = (f"MQSN: {num(ra, 'units.search_units.queries_per_batch') or 0:.2f} queries/batch, "
+                        f"{short_bound(ra)}. MQMN: {short_bound(rb)}")
+            if cid == "mqmn-speed":
+                c.set(xf(sp), up(sp), within_2x(sp, PAPER[key]), fact)
+            else:
+                c.set(f"{100 * (sp - 1):+.1f}%", up(sp), within_2x(sp - 1, PAPER[key]), fact)
+            out.append(c)
+        if not done:
+            out.append(Claim(cid, "9", text, paper, how_gain).missing(
+                f"the {a} and {b} rows (fe.bypassing / fe.forwarding / be.issue_policy)"))
+    how = ("Node Set bytes read (Point Buffer `buffers.points.read_bytes` + Node Cache "
+           "`buffers.node_cache.read_bytes`: a Node Set streams from one or the other) with MQMN "
+           "/ with MQSN (+Forward), exact search, top height 10; the paper gives no number "
+           "(direction only). The Point Buffer alone is in the explanation.")
+    done = False
+    for s in ss:
+        rows = _opt_rows(sw, s)
+        if rows["+Forward"] is None or rows["MQMN"] is None:
+            continue
+        done = True
+        a, b = rows["+Forward"], rows["MQMN"]
+        pa, pb = num(a, "buffers.points.read_bytes") or 0, num(b, "buffers.points.read_bytes") or 0
+        na, nb = num(a, "buffers.node_cache.read_bytes") or 0, num(b, "buffers.node_cache.read_bytes") or 0
+        v = (pb + nb) / (pa + na) if pa + na else float("nan")
+        ta, tb = (sum(ed.buffer_traffic(r, sw.columns).values()) for r in (a, b))
+        c = Claim(f"mqmn-traffic-{s['mode']}", "9", f"MQMN has far more Point Buffer (Node Set) "
+                  f"traffic than MQSN ({label(s)}; MQMN / MQSN bytes)", "far more (no number)", how)
+        c.set(xf(v), up(v), None,
+              f"Point Buffer {ed.fmt_bytes(pa)} -> {ed.fmt_bytes(pb)} ({pb / pa if pa else 0:.2f}x); "
+              f"Node Cache reads {ed.fmt_bytes(na)} -> {ed.fmt_bytes(nb)}; all on-chip traffic "
+              f"{ed.fmt_bytes(ta)} -> {ed.fmt_bytes(tb)}")
+        out.append(c)
+    if not done:
+        out.append(Claim("mqmn-traffic", "9", "MQMN has far more Point Buffer traffic than MQSN",
+                         "far more (no number)", how).missing("the +Forward and MQMN rows"))
+    return out
+
+
+def _nc_rows(sw, s):
+    return ed.find(sw.ok, **s), ed.find(sw.ok, nc_bytes=0, **s)
+
+
+def claims_node_cache(sw):
+    out = []
+    how = ("share of the Point Buffer's bytes (read + write) in all on-chip buffer traffic "
+           "(every `buffers.<b>` read + write bytes, the Node Cache's read + fill bytes; DRAM not "
+           "counted), top height 10, exact search, `node_cache.bytes` 0 vs the default 128 KiB.")
+    done = False
+    for s in searches(sw.ok):
+        w, wo = _nc_rows(sw, s)
+        if w is None or wo is None:
+            continue
+        done = True
+        tw, two = ed.buffer_traffic(w, sw.columns), ed.buffer_traffic(wo, sw.columns)
+        sw_, swo = tw.get("points", 0) / sum(tw.values()), two.get("points", 0) / sum(two.values())
+        hits, miss = num(w, "buffers.node_cache.hits") or 0, num(w, "buffers.node_cache.misses") or 0
+        c1 = Claim(f"pb-share-without-nc-{s['mode']}", "9", f"Point Buffer share of memory traffic "
+                   f"without the Node Cache ({label(s)})", "53%", how)
+        c1.set(pct(swo, 0), None, within_2x(swo, PAPER["pb_share_without_nc"]),
+               f"Point Buffer {ed.fmt_bytes(two.get('points', 0))} of {ed.fmt_bytes(sum(two.values()))}")
+        c2 = Claim(f"pb-share-with-nc-{s['mode']}", "9", f"the Node Cache moves Point Buffer "
+                   f"traffic down ({label(s)}; share with the Node Cache)", "53% -> 35%", how)
+        c2.set(f"{pct(swo, 0)} -> {pct(sw_, 0)}", up(swo / sw_) if sw_ else True, within_2x(sw_, PAPER["pb_share_with_nc"]),
+               f"Node Cache hit rate {pct(hits / (hits + miss) if hits + miss else 0, 0)} "
+               f"({hits:,.0f} hits, {miss:,.0f} misses), fills {ed.fmt_bytes(num(w, 'buffers.node_cache.fill_bytes') or 0)}, "
+               f"reads {ed.fmt_bytes(num(w, 'buffers.node_cache.read_bytes') or 0)}; Point Buffer "
+               f"{ed.fmt_bytes(two.get('points', 0))} -> {ed.fmt_bytes(tw.get('points', 0))}")
+        out += [c1, c2]
+    if not done:
+        out.append(Claim("pb-share", "9", "the Node Cache moves Point Buffer traffic from ~53% to "
+                         "~35% of the total", "53% -> 35%", how)
+                   .missing("rows with `node_cache.bytes` 0 and the default at top height 10"))
+    return out
+
+
+def _speedups(sw, axis, fixed):
+    """[(value, cycles, row)] along one unit axis, the other two at their defaults."""
+    vals = sorted({r["eff"][axis] for r in sw.ok})
+    pts = []
+    for v in vals:
+        r = ed.find(sw.ok, **dict(fixed, **{axis: v}))
+        if r is not None:
+            pts.append((v, num(r, "cycles"), r))
+    return pts
+
+
+def claims_units(sw):
+    out = []
+    how = (f"cycles along one axis of the RU x SU x PE sweep with the other two at the paper's "
+           f"64 RU / 32 SU / 32 PE (exact search, top height 10); the knee is the smallest count "
+           f"whose doubling speeds up by less than {100 * (KNEE_GAIN - 1):.0f}% (when every doubling "
+           f"swept gains more, the knee is at or beyond the largest count: '>= N', within 2x only "
+           f"decidable when N > 2x the paper's). Direction: the doubling into the paper's knee "
+           f"gains at least {100 * (KNEE_GAIN - 1):.0f}% and more than the doubling out of it. Size: knee within a factor 2 of the paper's.")
+    for s in searches(sw.ok)[:1]:
+        for axis, (name, col) in UNIT_NAMES.items():
+            paper = PAPER["knee"][axis]
+            c = Claim(f"knee-{axis}", "9", f"RU/SU/PE sweep: knee in {name} count ({label(s)})",
+                      f"{paper}", how)
+            out.append(c)
+            pts = _speedups(sw, axis, s)
+            if len(pts) < 2:
+                c.missing(f"a sweep of `{col}` (the other two at the defaults)")
+                continue
+            by = {v: cyc for v, cyc, _ in pts}
+            doublings = [(v, by[v] / by[2 * v]) for v, _, _ in pts if 2 * v in by]
+            if not doublings:
+                c.missing(f"two `{col}` values a factor 2 apart (the other two at the defaults)")
+                continue
+            knee = next((v for v, g in doublings if g < KNEE_GAIN), None)
+            direction = None
+            if paper // 2 in by and paper in by and 2 * paper in by:
+                into, out_of = by[paper // 2] / by[paper], by[paper] / by[2 * paper]
+                direction = into >= KNEE_GAIN and out_of < into
+            steps = ", ".join(f"{v}->{2 * v} {g:.2f}x" for v, g in doublings)
+            if knee is None:
+                # Every doubling swept gains >= 10%: the knee lies beyond the last doubling.
+                last = doublings[-1][0] * 2
+                knee_row = [r for v, _, r in pts if v == last][0]
+                c.set(f">= {last} (every doubling swept gains >= {100 * (KNEE_GAIN - 1):.0f}%)",
+                      direction, False if last > 2 * paper else None,
+                      f"speed-up per doubling: {steps}; at {last} {name}: {short_bound(knee_row)}")
+            else:
+                knee_row = [r for v, _, r in pts if v == knee][0]
+                c.set(f"{knee}", direction, within_2x(knee, paper),
+                      f"speed-up per doubling: {steps}; at {knee} {name}: {short_bound(knee_row)}")
+        # At few RUs the front-end bounds the run: SU/PE counts help little.
+        c = Claim("low-ru-frontend-bound", "9", "at 16-32 RU the front-end bounds the run: more "
+                  "SU x PE helps only marginally (back-end scaling gain at the fewest RU / at 64 RU)",
+                  "marginal at 16-32 RU; balanced at 64 (no number)",
+                  "speed-up from the smallest to the largest SU x PE configuration swept, at the "
+                  "fewest RUs swept and at 64 RUs (exact search, top height 10). Direction: the "
+                  "gain at the fewest RUs is smaller.")
+        out.append(c)
+        grid = [r for r in sw.ok if all(r["eff"][k] == v for k, v in s.items())
+                and r["eff"]["approx"] is None]
+        grid, _ = ed.select(grid, {"ru", "su", "pe"})
+        rus = sorted({r["eff"]["ru"] for r in grid})
+        cfg = lambda r: (r["eff"]["su"] * r["eff"]["pe"], r["eff"]["su"])  # noqa: E731
+        common = None
+        for ru in rus:
+            cf = {(r["eff"]["su"], r["eff"]["pe"]) for r in grid if r["eff"]["ru"] == ru}
+            common = cf if common is None else common & cf
+        if len(rus) < 2 or 64 not in rus or rus[0] >= 64 or not common or len(common) < 2:
+            c.missing("an RU x (SU or PE) grid that includes 64 RU and fewer")
+            continue
+        lo_cfg = min(common, key=lambda t: (t[0] * t[1], t[0]))
+        hi_cfg = max(common, key=lambda t: (t[0] * t[1], t[0]))
+
+        def gain(ru):
+            a = ed.find(grid, ru=ru, su=lo_cfg[0], pe=lo_cfg[1], **s)
+            b = ed.find(grid, ru=ru, su=hi_cfg[0], pe=hi_cfg[1], **s)
+            return num(a, "cycles") / num(b, "cycles"), b
+        g_lo, row_lo = gain(rus[0])
+        g_64, _ = gain(64)
+        c.set(f"{xf(g_lo)} at {rus[0]} RU vs {xf(g_64)} at 64 RU "
+              f"({lo_cfg[0]}x{lo_cfg[1]} -> {hi_cfg[0]}x{hi_cfg[1]})", up(g_64 / g_lo), None,
+              f"{rus[0]} RU with {hi_cfg[0]} SU x {hi_cfg[1]} PE: {short_bound(row_lo)}")
+    if not out:
+        out.append(Claim("knee", "9", "RU/SU/PE sweep 16..128 has its knee near 64/32/32",
+                         "64 / 32 / 32", how).missing("an RU x SU x PE sweep"))
+    return out
+
+
+def claims_height(sw):
+    out = []
+    how = ("cycles over the swept numeric top heights (exact search, default machine); best = "
+           "fewest cycles. Direction: cycles fall, then rise (the best is inside the swept "
+           "range, not at either end, and both ends take more than 1% more cycles). Size: best height within a factor 2 of 10.")
+    for s in searches(sw.ok):
+        rows, _ = ed.select(sw.ok, {"height", "mode", "radius", "k"}, where=lambda e: e["approx"] is None)
+        rows = sorted((r for r in rows if all(r["eff"][k] == v for k, v in s.items())
+                       and r["eff"]["height"] != ed.CANONICAL), key=lambda r: r["eff"]["height"])
+        if len(rows) < 3:
+            continue
+        cyc = [num(r, "cycles") for r in rows]
+        i = min(range(len(rows)), key=lambda j: cyc[j])
+        best = rows[i]["eff"]["height"]
+        spread = max(cyc) / min(cyc)
+        c = Claim(f"best-height-{s['mode']}", "9", f"top height ~10 is best ({label(s)})", "10", how)
+        c.set(f"{best}", 0 < i < len(rows) - 1 and up(cyc[0] / cyc[i]) and up(cyc[-1] / cyc[i]),
+              within_2x(best, PAPER["best_height"]),
+              "cycles " + ", ".join(f"h{r['eff']['height']} {v:,.0f}" for r, v in zip(rows, cyc))
+              + f" (max/min {spread:.2f}); lowest height: {short_bound(rows[0])}; "
+              f"highest: {short_bound(rows[-1])}")
+        out.append(c)
+    if not out:
+        out.append(Claim("best-height", "9", "top height ~10 is best", "10", how)
+                   .missing("a sweep of at least three numeric `height` values"))
+    return out
+
+
+def claims_approx(sw):
+    out = []
+    how = ("1 - nodes visited (top nodes + leaf points + leader checks + follower points per "
+           "query) with approximate search at the paper's threshold (1.2 m for NN/kNN, 0.4 r for "
+           "radius) / with exact search; top height 10, default machine. The paper's 72.8% is "
+           "over DP7's mix of NN and radius searches. Registration error is not part of a "
+           "sweep (README: `tigris register --search approx`).")
+    for s in searches(sw.ok):
+        thd = 0.4 * s["radius"] if s["mode"] == "radius" else 1.2
+        ex = ed.find(sw.ok, **s)
+        ap = ed.find(sw.ok, approx=thd, **s)
+        if ex is None or ap is None:
+            continue
+        v = 1 - ed.nodes_per_query(ap) / ed.nodes_per_query(ex)
+        if s["mode"] == "radius":
+            acc = (f"recall {num(ap, 'accuracy.recall') or 0:.4f}, precision "
+                   f"{num(ap, 'accuracy.precision') or 0:.4f}")
+        else:
+            acc = (f"{pct(num(ap, 'accuracy.exact_match_fraction') or 0)} of queries exact, extra "
+                   f"distance mean {num(ap, 'accuracy.mean_extra_distance_m') or 0:.3f} m, max "
+                   f"{num(ap, 'accuracy.max_extra_distance_m') or 0:.2f} m")
+        c = Claim(f"approx-visits-{s['mode']}", "9", f"approximate search cuts visited nodes "
+                  f"({label(s)}, thd {thd:.2f} m)", "-72.8% (DP7)", how)
+        c.set(f"-{pct(v)}", v > NO_CHANGE, within_2x(v, PAPER["approx_visit_cut"]),
+              f"nodes/query {ed.nodes_per_query(ex):.0f} -> {ed.nodes_per_query(ap):.0f}; "
+              f"{num(ap, 'leaders.leaders') or 0:,.0f} leaders, {num(ap, 'leaders.followers') or 0:,.0f} "
+              f"followers; cycles {num(ex, 'cycles'):,.0f} -> {num(ap, 'cycles'):,.0f}; {acc}")
+        out.append(c)
+    if not out:
+        out.append(Claim("approx-visits", "9", "approximate search cuts visited nodes by ~70%",
+                         "-72.8% (DP7)", how)
+                   .missing("an exact row and one at `approx-thd` 1.2 (NN) or 0.4 r (radius)"))
+    return out
+
+
+# ------------------------------------------------------------------------- section 14 claims
+
+def claims_energy(sw):
+    out = []
+    ss = searches(sw.ok)
+    how = ("share of `energy_pj.<part>` in `energy_pj.total`, default configuration, exact "
+           "search (the first search present, NN preferred); the paper's split is DP4's (NN and "
+           "radius 0.30 searches). Direction: the part has the same rank among the five as in "
+           "the paper.")
+    default = next((ed.find(sw.ok, **s) for s in ss if ed.find(sw.ok, **s) is not None), None)
+    if default is not None and num(default, "energy_pj.total"):
+        tot = num(default, "energy_pj.total")
+        shares = {p: (num(default, f"energy_pj.{p}") or 0) / tot for p in SPLIT_NAMES}
+        rank_m = sorted(shares, key=lambda p: -shares[p])
+        rank_p = sorted(PAPER["split"], key=lambda p: -PAPER["split"][p])
+        others = {p: (num(default, f"energy_pj.{p}") or 0) / tot for p in ("ru", "node_cache", "leader_buffer")}
+        s = default["eff"]
+        for p, name in SPLIT_NAMES.items():
+            if p == "dram":
+                wb = num(default, "buffers.dram.write_bytes") or 0
+                fact = (f"{ed.fmt_bytes(wb)} of results written to DRAM at "
+                        f"{(num(default, 'energy_pj.dram') or 0) / wb if wb else 0:.0f} pJ/byte")
+            elif p == "pe":
+                q = num(default, "queries") or 1
+                fact = (f"{((num(default, 'visits.leaf_points') or 0) + (num(default, 'visits.leader_checks') or 0) + (num(default, 'visits.follower_points') or 0)) / q:.0f} "
+                        f"PE distances per query")
+            elif p == "leakage":
+                fact = (f"{num(default, 'area_mm2.total') or 0:.2f} mm2 over {num(default, 'cycles'):,.0f} cycles")
+            else:
+                tr = sum(ed.buffer_traffic(default, sw.columns).values())
+                fact = f"all on-chip traffic {ed.fmt_bytes(tr)}"
+            fact += (f"; rank {rank_m.index(p) + 1} of 5 (paper {rank_p.index(p) + 1}); parts the "
+                     f"paper's split does not name: RU {pct(others['ru'])}, Node Cache "
+                     f"{pct(others['node_cache'])}, Leader Buffer {pct(others['leader_buffer'])}")
+            c = Claim(f"split-{p}", "14", f"energy split: {name} ({label(s)}, default machine)",
+                      pct(PAPER["split"][p]), how)
+            c.set(pct(shares[p]), rank_m.index(p) == rank_p.index(p),
+                  within_2x(shares[p], PAPER["split"][p]), fact)
+            out.append(c)
+    else:
+        out.append(Claim("split", "14", "energy split PE 53.7%, SRAM read 34.8%, write 8.0%, "
+                         "leakage 3.3%, DRAM 0.2%", "53.7/34.8/8.0/3.3/0.2%", how)
+                   .missing("a default-configuration row"))
+
+    how = "energy_pj.total of Acc-KD (`height` full) / of Acc-2SKD (height 10), exact search."
+    done = False
+    for s in ss:
+        kd, two = ed.find(sw.ok, height=ed.CANONICAL, **s), ed.find(sw.ok, height=10, **s)
+        if kd is None or two is None:
+            continue
+        done = True
+        ek, e2 = num(kd, "energy_pj.total"), num(two, "energy_pj.total")
+        v = ek / e2
+        diffs = sorted(((num(kd, f"energy_pj.{p}") or 0) - (num(two, f"energy_pj.{p}") or 0), p)
+                       for p in ("pe", "ru", "sram_read", "sram_write", "node_cache", "dram", "leakage"))
+        c = Claim(f"acckd-energy-{s['mode']}", "14", f"Acc-KD uses more energy than Acc-2SKD "
+                  f"({label(s)}; energy ratio)", f"{PAPER['acckd_energy']:g}x", how)
+        c.set(xf(v), up(v), within_2x(v, PAPER["acckd_energy"]),
+              f"{ek / 1e6:,.1f} vs {e2 / 1e6:,.1f} uJ; cycles {num(kd, 'cycles') / num(two, 'cycles'):.2f}x; "
+              f"largest changes: " + ", ".join(f"{p} {d / 1e6:+,.1f} uJ" for d, p in
+                                                (diffs[0], diffs[-1])) +
+              f"; DRAM {pct((num(two, 'energy_pj.dram') or 0) / e2)} of Acc-2SKD's energy")
+        out.append(c)
+    if not done:
+        out.append(Claim("acckd-energy", "14", "Acc-KD uses ~2.5x the energy of Acc-2SKD",
+                         "2.5x", how).missing("rows at `height` full and 10"))
+
+    how = "power_w with be.issue_policy=mqmn / with mqsn (+Forward), exact search, top height 10."
+    done = False
+    for s in ss:
+        rows = _opt_rows(sw, s)
+        a, b = rows["+Forward"], rows["MQMN"]
+        if a is None or b is None:
+            continue
+        done = True
+        v = num(b, "power_w") / num(a, "power_w")
+        c = Claim(f"mqmn-power-{s['mode']}", "14", f"MQMN draws more power than MQSN(+Forward) "
+                  f"({label(s)}; power ratio)", f"{PAPER['mqmn_power']:g}x", how)
+        c.set(xf(v), up(v), within_2x(v, PAPER["mqmn_power"]),
+              f"power ratio = energy ratio {num(b, 'energy_pj.total') / num(a, 'energy_pj.total'):.2f}x "
+              f"x speed-up {num(a, 'cycles') / num(b, 'cycles'):.2f}x; SRAM read energy "
+              f"{(num(a, 'energy_pj.sram_read') or 0) / 1e6:,.1f} -> {(num(b, 'energy_pj.sram_read') or 0) / 1e6:,.1f} uJ; "
+              f"DRAM {pct((num(a, 'energy_pj.dram') or 0) / num(a, 'energy_pj.total'))} of MQSN's energy")
+        out.append(c)
+    if not done:
+        out.append(Claim("mqmn-power", "14", "MQMN ~4x the power of MQSN(+Forward)", "4x", how)
+                   .missing("the +Forward and MQMN rows"))
+
+    how = "1 - energy_pj.total with the default Node Cache / with node_cache.bytes 0, height 10."
+    done = False
+    for s in ss:
+        w, wo = _nc_rows(sw, s)
+        if w is None or wo is None:
+            continue
+        done = True
+        v = 1 - num(w, "energy_pj.total") / num(wo, "energy_pj.total")
+        c = Claim(f"nc-energy-{s['mode']}", "14", f"the Node Cache saves energy ({label(s)})",
+                  pct(PAPER["nc_energy_saving"]), how)
+        c.set(pct(v), v > NO_CHANGE, within_2x(v, PAPER["nc_energy_saving"]),
+              f"Point Buffer energy {(num(wo, 'energy_pj.by_unit.points') or 0) / 1e6:,.1f} -> "
+              f"{(num(w, 'energy_pj.by_unit.points') or 0) / 1e6:,.1f} uJ, Node Cache "
+              f"{(num(w, 'energy_pj.node_cache') or 0) / 1e6:,.1f} uJ, leakage "
+              f"{(num(wo, 'energy_pj.leakage') or 0) / 1e6:,.2f} -> {(num(w, 'energy_pj.leakage') or 0) / 1e6:,.2f} uJ; "
+              f"DRAM {pct((num(w, 'energy_pj.dram') or 0) / num(w, 'energy_pj.total'))} of the total")
+        out.append(c)
+    if not done:
+        out.append(Claim("nc-energy", "14", "the Node Cache saves 5.9% energy", "5.9%", how)
+                   .missing("rows with `node_cache.bytes` 0 and the default at height 10"))
+
+    how = ("`area_mm2.sram` and `.logic` of the default configuration; the area table is "
+           "calibrated to these two totals (README), so this checks the calibration, not a trend.")
+    if default is not None and num(default, "area_mm2.sram") is not None:
+        for part, key in (("sram", "area_sram"), ("logic", "area_logic")):
+            v = num(default, f"area_mm2.{part}")
+            c = Claim(f"area-{part}", "14", f"area: {part.upper() if part == 'sram' else part} (16 nm)",
+                      f"{PAPER[key]:.2f} mm2", how)
+            c.set(f"{v:.2f} mm2", None, within_2x(v, PAPER[key]),
+                  "calibrated default (the table's densities are fitted to the paper's totals)")
+            out.append(c)
+    else:
+        out.append(Claim("area", "14", "area 8.38 mm2 SRAM, 7.19 mm2 logic", "8.38 / 7.19 mm2", how)
+                   .missing("a default-configuration row"))
+    return out
+
+
+CLAIM_GROUPS = [claims_redundancy, claims_acc_kd, claims_optimizations, claims_node_cache,
+                claims_units, claims_height, claims_approx, claims_energy]
+
+
+def all_claims(sw):
+    out = []
+    for g in CLAIM_GROUPS:
+        out += g(sw)
+    return out
+
+
+def yn(v):
+    return "n/a" if v is None else ("yes" if v else "**no**")
+
+
+def md_cell(s):
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def claim_table(claims):
+    lines = ["| # | DESIGN.md | claim | paper | measured | direction holds | within 2x | explanation (measured facts) |",
+             "|---:|---|---|---|---|---|---|---|"]
+    for i, c in enumerate(claims, 1):
+        lines.append("| " + " | ".join(md_cell(x) for x in (
+            i, f"§{c.section}", c.text, c.paper, c.measured, yn(c.direction), yn(c.within),
+            c.explanation)) + " |")
+    return "\n".join(lines)
+
+
+def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
+    measured = [c for c in claims if c.measured != "not measured"]
+    dir_n = [c for c in measured if c.direction is not None]
+    size_n = [c for c in measured if c.within is not None]
+    wl = sorted({(r.get("workload.cloud") or r["eff"]["cloud"] or "synthetic frame 0 (built-in)",
+                  r.get("workload.queries") or r["eff"]["queries"] or "synthetic frame 1 (built-in)")
+                 for r in sw.ok})
+    wtxt = "; ".join(f"cloud `{c}`, queries `{q}`" for c, q in wl) or "none"
+    counts = {}
+    for r in sw.rows:
+        counts[r.get("status", "")] = counts.get(r.get("status", ""), 0) + 1
+    L = [f"# {title or 'Tigris TLM: the paper evaluation, reproduced'}", "",
+         "Generated by `sweep/report.py` from " + ", ".join(
+             f"`{os.path.relpath(p, fig_rel) if fig_rel else p}`" for p in sw.paths) + ".", "",
+         f"- Workload: {wtxt}.",
+         f"- Rows: " + ", ".join(f"{n} {s}" for s, n in sorted(counts.items())) +
+         f"; {len(sw.ok)} distinct ok runs used.",
+         "- Every number below is measured by the model on this workload; nothing is tuned toward "
+         "the paper. A miss is reported as a miss, with the facts the sweep measured beside it.",
+         ""]
+    if len(wl) > 1:
+        L += ["**Warning**: the CSVs hold several workloads; claims compare rows of one workload "
+              "only when their other settings match, so mixed workloads may pair badly.", ""]
+    L += ["## Claims of DESIGN.md sections 9 and 14", "",
+          f"{len(measured)} of {len(claims)} claims measured; direction holds for "
+          f"{sum(1 for c in dir_n if c.direction)} of {len(dir_n)} with a direction test; size within "
+          f"2x for {sum(1 for c in size_n if c.within)} of {len(size_n)} with a paper number.", "",
+          claim_table(claims), "",
+          "Verdicts: *direction holds* is the claim's qualitative test (stated per claim below); "
+          "*within 2x* is measured / paper in [0.5, 2] (for a '+x%' or '-x%' claim, the gains or "
+          "cuts are compared; a gain of the wrong sign is not within 2x). A change of less than "
+          f"{100 * NO_CHANGE:.0f}% counts as no change: the direction does not hold. n/a: the paper "
+          "gives no number, or the claim has no direction.", "",
+          "## How each claim is measured", ""]
+    seen = set()
+    for c in claims:
+        if c.how in seen:
+            continue
+        seen.add(c.how)
+        ids = ", ".join(f"#{i}" for i, d in enumerate(claims, 1) if d.how == c.how)
+        L.append(f"- {ids}: {c.how}")
+    L.append("")
+    L += ["What bounds a run (the explanations): each unit kind's busy and stall cycles by cause "
+          "as a share of (units x cycles), summed over its units (`units.*.busy_cycles`, "
+          "`units.*.stall_cycles.*`); 'front-end bound' when the RUs are occupied (busy or "
+          "stalled) a larger share than the SUs, 'back-end bound' otherwise, 'result write-back "
+          "bound' when RUs or SUs wait on the DRAM write-back more than 30% of the time. The lower "
+          "bound is max(top visits / #RU, leaf points / (#SU x #PE)).", ""]
+    if figures is not None:
+        L += ["## Figures", ""]
+        import plots
+        for name, (png, _svg, notes) in figures.items():
+            rel = os.path.relpath(png, fig_rel) if fig_rel else png
+            L += [f"### {plots.FIGURES[name][1]}", "", f"![{name}]({rel})", ""]
+            if notes:
+                L += [f"Rows: {'; '.join(notes)}.", ""]
+        for name, why in (skipped or {}).items():
+            L += [f"- Not drawn: {why}."]
+        if skipped:
+            L.append("")
+    bad = [r for r in sw.rows if r.get("status", "") != "ok"]
+    if bad:
+        L += ["## Rows not ok", "", "| csv | point | status | error |", "|---|---|---|---|"]
+        for r in bad:
+            L.append(f"| `{os.path.basename(os.path.dirname(r['_csv'])) or r['_csv']}` | {r.get('point', '')} | "
+                     f"{r.get('status', '')} | {md_cell((r.get('error') or '')[:200])} |")
+        L.append("")
+    return "\n".join(L)
+
+
+def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note):
+    sw = ed.Sweep(csvs)
+    claims = all_claims(sw)
+    figs = skipped = None
+    if draw:
+        import plots
+        figs, skipped = plots.make_figures(sw, figures_dir or os.path.join(out, "figures"), log=log)
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "REPORT.md")
+    with open(path, "w") as f:
+        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title))
+    log(f"report: wrote {path}")
+    return path, claims
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("csv", nargs="+", help="sweep CSVs")
+    ap.add_argument("--out", required=True, help="folder for REPORT.md")
+    ap.add_argument("--figures", help="folder for the figures (default OUT/figures)")
+    ap.add_argument("--no-figures", action="store_true", help="the claim table only")
+    ap.add_argument("--title", help="the report's heading")
+    a = ap.parse_args(argv)
+    for p in a.csv:
+        if not os.path.isfile(p):
+            ap.exit(2, f"report: no such CSV: {p}\n")
+    try:
+        write_report(a.csv, a.out, a.figures, not a.no_figures, a.title)
+    except (ValueError, OSError) as e:
+        ap.exit(2, f"report: {e}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

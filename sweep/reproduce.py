@@ -1,0 +1,226 @@
+#!/usr/bin/python3
+"""Reproduces the paper's evaluation (section 6) as sweeps, then the figures and REPORT.md.
+
+    sweep/reproduce.py [--out DIR] [--cloud FILE --queries FILE] [--quick] [--jobs N]
+                       [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
+                       [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
+                                [--sbatch-arg ARG ...] [--no-wait]]
+
+Writes one sweep spec per experiment to DIR/specs/<exp>.json, runs each with the sweep driver
+beside this script (tigris_sweep.py SPEC --out DIR/sweeps/<exp>), locally (--jobs) or as Slurm
+job arrays (--slurm and its options are passed through), then plots.py's figures into
+DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
+interrupted or --no-wait run is completed by running the same command again (or --report-only
+once the Slurm jobs are done). Default workload: the built-in synthetic frame pair.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+DRIVER = os.path.join(HERE, "tigris_sweep.py")
+NC_DEFAULT = 131072
+RADIUS = 0.30
+
+
+def experiments(quick=False):
+    """name -> (what it measures, spec without the workload). The full set is the paper's
+    grids (64-point RU x SU x PE, top heights 4..15); --quick keeps each figure's and each
+    claim's points with fewer heights, thresholds and unit counts."""
+    units = [16, 32, 64, 128]
+    heights = ["full", 6, 8, 10, 11, 12, 14] if quick else ["full"] + list(range(4, 16))
+    heights_r = ["full", 8, 10, 11, 12] if quick else ["full"] + list(range(4, 16))
+    nn_thd = [0.3, 1.2, 2.4] if quick else [0.15, 0.3, 0.6, 1.2, 2.4]
+    r_thd = [0.06, 0.12] if quick else [0.03, 0.06, 0.12, 0.24]
+    radius = {"mode": "radius", "radius": RADIUS}
+    exps = {
+        "heights-nn": ("redundancy, top height vs time and energy, Acc-KD vs Acc-2SKD (NN)",
+                       {"base": {"mode": "nn"}, "grid": {"height": heights}}),
+        "heights-radius": ("redundancy, top height vs time and energy, Acc-KD vs Acc-2SKD "
+                           f"(radius {RADIUS} m)",
+                           {"base": dict(radius), "grid": {"height": heights_r}}),
+    }
+    if quick:
+        exps["units-su"] = ("RU x SU at 32 PE per SU (Fig. 13, knee)",
+                            {"base": {"mode": "nn", "set": {"be.pes_per_su": 32}},
+                             "grid": {"fe.recursion_units": units, "be.search_units": units}})
+        exps["units-pe"] = ("RU x PE at 32 SU (Fig. 13, knee)",
+                            {"base": {"mode": "nn", "set": {"be.search_units": 32}},
+                             "grid": {"fe.recursion_units": units, "be.pes_per_su": units}})
+    else:
+        exps["units"] = ("RU x SU x PE, 16..128 each (Fig. 13, knee)",
+                         {"base": {"mode": "nn"},
+                          "grid": {"fe.recursion_units": units, "be.search_units": units,
+                                   "be.pes_per_su": units}})
+    opt = lambda b, f, p: {"fe.bypassing": b, "fe.forwarding": f, "be.issue_policy": p}  # noqa: E731
+    exps["optimizations"] = ("No-Opt / Bypass / +Forward / MQMN (Fig. 11)",
+                             {"base": {"mode": "nn"},
+                              "points": [opt(False, False, "mqsn"), opt(True, False, "mqsn"),
+                                         opt(True, True, "mqsn"), opt(True, True, "mqmn")]})
+    exps["node-cache"] = ("memory traffic and energy with and without the Node Cache (Fig. 12)",
+                          {"base": {"mode": "nn"},
+                           "grid": {"node_cache.bytes": [NC_DEFAULT, 0], "height": [10, "full"]}})
+    exps["approx-nn"] = ("approximation threshold vs visits, cycles, accuracy (NN); {} = exact",
+                         {"base": {"mode": "nn"}, "grid": {"approx-thd": nn_thd}, "points": [{}]})
+    exps["approx-radius"] = (f"approximation threshold vs visits, cycles, recall (radius {RADIUS} m)",
+                             {"base": dict(radius), "grid": {"approx-thd": r_thd}, "points": [{}]})
+    return exps
+
+
+def with_workload(spec, cloud, queries):
+    spec = json.loads(json.dumps(spec))
+    base = spec.setdefault("base", {})
+    if cloud:
+        base["cloud"] = os.path.abspath(cloud)
+    if queries:
+        base["queries"] = os.path.abspath(queries)
+    return spec
+
+
+def write_specs(out, names, quick, cloud, queries):
+    """Writes DIR/specs/<exp>.json; returns [(name, spec path, sweep folder)]."""
+    exps = experiments(quick)
+    os.makedirs(os.path.join(out, "specs"), exist_ok=True)
+    made = []
+    for name in names:
+        what, spec = exps[name]
+        spec = with_workload(spec, cloud, queries)
+        spec["comment"] = f"sweep/reproduce.py{' --quick' if quick else ''}: {what}"
+        path = os.path.join(out, "specs", name + ".json")
+        with open(path, "w") as f:
+            json.dump(spec, f, indent=1)
+            f.write("\n")
+        made.append((name, path, os.path.join(out, "sweeps", name)))
+    return made
+
+
+def driver_command(spec, folder, a):
+    cmd = [sys.executable, a.driver, spec, "--out", folder]
+    if a.tigris:
+        cmd += ["--tigris", a.tigris]
+    if a.slurm:
+        cmd.append("--slurm")
+        for opt in ("partition", "time", "mem", "chunk"):
+            if getattr(a, opt) is not None:
+                cmd += [f"--{opt}", str(getattr(a, opt))]
+        for s in a.sbatch_arg or []:
+            cmd.append(f"--sbatch-arg={s}")
+        if a.no_wait:
+            cmd.append("--no-wait")
+    else:
+        cmd += ["--jobs", str(a.jobs)]
+    return cmd
+
+
+def parse_args(argv):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    fixed = []  # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`, as the driver takes it
+    while argv:
+        a = argv.pop(0)
+        fixed.append(f"--sbatch-arg={argv.pop(0)}" if a == "--sbatch-arg" and argv else a)
+    argv = fixed
+    names = list(experiments(False)) + [n for n in experiments(True) if n not in experiments(False)]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 epilog="experiments: " + ", ".join(names))
+    ap.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
+    ap.add_argument("--cloud", help="tree cloud (KITTI .bin, .pcd, .ply); default: synthetic frame 0")
+    ap.add_argument("--queries", help="query points; default: synthetic frame 1")
+    ap.add_argument("--quick", action="store_true", help="small grids (a few minutes on 2 cores)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="local points at once")
+    ap.add_argument("--tigris", help="tigris binary (passed to the driver)")
+    ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris_sweep.py "
+                    "beside this script)")
+    ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--specs-only", action="store_true", help="write the specs, run nothing")
+    g.add_argument("--report-only", action="store_true",
+                   help="no runs: re-collect the sweep folders, then the figures and the report")
+    s = ap.add_argument_group("Slurm (passed to tigris_sweep.py)")
+    s.add_argument("--slurm", action="store_true", help="run every sweep as a Slurm job array")
+    s.add_argument("--partition")
+    s.add_argument("--time")
+    s.add_argument("--mem")
+    s.add_argument("--chunk", type=int)
+    s.add_argument("--sbatch-arg", action="append", metavar="ARG")
+    s.add_argument("--no-wait", action="store_true", help="return after submitting; rerun with "
+                   "--report-only when the jobs are done")
+    a = ap.parse_args(argv)
+    if a.jobs < 1:
+        ap.error("--jobs must be at least 1")
+    if not a.slurm and (a.partition or a.time or a.mem or a.chunk or a.sbatch_arg or a.no_wait):
+        ap.error("--partition, --time, --mem, --chunk, --sbatch-arg and --no-wait need --slurm")
+    for f in (a.cloud, a.queries):
+        if f and not os.path.isfile(f):
+            ap.error(f"no such file: {f}")
+    if a.cloud and not a.queries:
+        ap.error("--cloud needs --queries (tigris would search the synthetic frame 1 in it)")
+    exps = experiments(a.quick)
+    a.names = [n for n in (a.only or list(exps)) if n in exps]
+    bad = [n for n in (a.only or []) if n not in exps]
+    if bad:
+        ap.error(f"{', '.join(bad)}: not an experiment of the {'quick' if a.quick else 'full'} set "
+                 f"({', '.join(exps)})")
+    return a
+
+
+def main(argv=None):
+    a = parse_args(argv)
+    out = os.path.abspath(a.out)
+    plan = write_specs(out, a.names, a.quick, a.cloud, a.queries)
+    print(f"reproduce: {len(plan)} sweep specs in {os.path.join(out, 'specs')}", file=sys.stderr)
+    if a.specs_only:
+        return 0
+    if not os.path.isfile(a.driver):
+        print(f"reproduce: the sweep driver {a.driver} is missing", file=sys.stderr)
+        return 2
+    failed, pending = [], []
+    for name, spec, folder in plan:
+        if a.report_only:
+            if not os.path.isfile(os.path.join(folder, "plan.json")):
+                print(f"reproduce: {name}: no sweep in {folder} (not run)", file=sys.stderr)
+                continue
+            cmd = [sys.executable, a.driver, "collect", folder]
+        else:
+            cmd = driver_command(spec, folder, a)
+        print(f"reproduce: {name}: {' '.join(cmd)}", file=sys.stderr, flush=True)
+        rc = subprocess.call(cmd)
+        if rc == 2 or rc == 3 or rc >= 128:
+            print(f"reproduce: {name}: the driver failed (exit {rc})", file=sys.stderr)
+            return rc
+        if rc == 1:
+            failed.append(name)
+        if a.slurm and a.no_wait and not a.report_only:
+            pending.append(name)
+    if pending:
+        print(f"reproduce: submitted {len(pending)} Slurm sweep(s); when they are done, run the "
+              f"same command with --report-only instead of --no-wait", file=sys.stderr)
+        return 0
+    csvs = [os.path.join(f, "sweep.csv") for _, _, f in plan if os.path.isfile(os.path.join(f, "sweep.csv"))]
+    if not csvs:
+        print("reproduce: no sweep.csv to report on", file=sys.stderr)
+        return 1
+    import report
+    try:
+        import matplotlib  # noqa: F401
+        draw = True
+    except ImportError:
+        print("reproduce: matplotlib is missing (Debian: apt-get install python3-matplotlib; run "
+              "with /usr/bin/python3): REPORT.md without figures", file=sys.stderr)
+        draw = False
+    title = "Tigris TLM: the paper's evaluation, reproduced" + (" (--quick)" if a.quick else "")
+    path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title)
+    measured = [c for c in claims if c.measured != "not measured"]
+    print(f"reproduce: {path}: {len(measured)} of {len(claims)} claims measured; direction holds "
+          f"for {sum(1 for c in measured if c.direction)} of "
+          f"{sum(1 for c in measured if c.direction is not None)}, within 2x for "
+          f"{sum(1 for c in measured if c.within)} of {sum(1 for c in measured if c.within is not None)}"
+          + (f"; sweeps with failed points: {', '.join(failed)}" if failed else ""), file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,209 @@
+#!/usr/bin/python3
+"""sweep/report.py: the claim table of DESIGN.md sections 9 and 14 from tiny hand-made CSVs:
+measured values, direction and 2x verdicts (hits, a failed direction, sizes beyond 2x),
+missing claims, REPORT.md with the figures, the command line.
+Run: python3 sweep/tests/test_report.py"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = os.path.dirname(HERE)
+sys.path.insert(0, SWEEP)
+sys.path.insert(0, HERE)
+
+import evaldata as ed  # noqa: E402
+import plot_fixtures as fx  # noqa: E402
+import report  # noqa: E402
+
+try:
+    import matplotlib  # noqa: F401
+    HAVE_MPL = True
+except ImportError:
+    HAVE_MPL = False
+
+
+class Verdicts(unittest.TestCase):
+    def test_within_2x(self):
+        self.assertTrue(report.within_2x(1.0, 2.0))
+        self.assertTrue(report.within_2x(4.0, 2.0))
+        self.assertFalse(report.within_2x(4.01, 2.0))
+        self.assertFalse(report.within_2x(0.99, 2.0))
+        self.assertFalse(report.within_2x(-0.1, 0.131))  # a gain of the wrong sign
+        self.assertIsNone(report.within_2x(None, 2.0))
+        self.assertIsNone(report.within_2x(1.0, None))
+
+    def test_at_size_interpolates_log_log(self):
+        pts = [(16.0, 2.0, None), (64.0, 8.0, None)]
+        v, how = report.at_size(pts, 32)
+        self.assertAlmostEqual(v, 4.0)
+        self.assertIn("interpolated between leaf-sets 16 and 64", how)
+        v, how = report.at_size([(64.0, 8.0, None), (128.0, 9.0, None)], 32)
+        self.assertEqual(v, 8.0)
+        self.assertIn("nearest measured leaf-set 64", how)
+
+
+class Claims(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.csvs = fx.hand_made_csvs(cls.tmp.name)
+        cls.sw = ed.Sweep(list(cls.csvs.values()))
+        cls.claims = {c.cid: c for c in report.all_claims(cls.sw)}
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def check(self, cid, measured, direction, within):
+        c = self.claims[cid]
+        if measured is not None:
+            self.assertEqual(c.measured, measured, cid)
+        self.assertIs(c.direction, direction, f"{cid}: direction")
+        self.assertIs(c.within, within, f"{cid}: within 2x")
+        return c
+
+    def test_redundancy_nn_size_beyond_2x(self):
+        # 1.5x @27, 2.0x @55: log-log at 32 = 1.60x; grows at every step; 35x is > 2x away
+        c = self.check("redundancy-nn", "1.60x", True, False)
+        self.assertIn("canonical tree 50 nodes/query", c.explanation)
+
+    def test_redundancy_radius_direction_fails(self):
+        # 3.0x at leaf-set 27, then 2.5x at 112: falls; 2.94x at 32 is within 2x of 3x
+        self.check("redundancy-radius", "2.94x", False, True)
+        self.check("redundancy-nn-vs-radius", None, False, False)
+
+    def test_optimizations(self):
+        self.check("bypass-nn", "+13.0%", True, True)
+        self.check("forward-nn", "+15.0%", True, True)
+        c = self.check("mqmn-speed-nn", "5.00x", True, False)  # 5x vs the paper's 2x
+        self.assertIn("queries/batch", c.explanation)
+        self.check("mqmn-power-nn", "5.00x", True, True)       # same energy in 1/5 the time
+
+    def test_height_and_trees(self):
+        c = self.check("best-height-nn", "10", True, True)
+        self.assertIn("h8 300,000", c.explanation)
+        self.check("acc2skd-vs-acckd-nn", "1.50x", True, False)
+        self.assertNotIn("best-height-radius", self.claims)  # two numeric heights: no claim
+
+    def test_node_cache(self):
+        self.check("pb-share-without-nc-nn", "50%", None, True)
+        self.check("pb-share-with-nc-nn", "50% -> 25%", True, True)
+        self.check("nc-energy-nn", "4.8%", True, True)
+
+    def test_units(self):
+        c = self.check("knee-ru", "64", True, True)
+        self.assertIn("32->64 2.00x", c.explanation)
+        self.check("low-ru-frontend-bound", None, True, None)
+        c = self.claims["knee-pe"]
+        self.assertEqual(c.measured, "not measured")
+        self.assertIn("be.pes_per_su", c.explanation)
+
+    def test_energy_split_and_area(self):
+        self.check("split-pe", "50.0%", True, True)
+        c = self.check("split-dram", "2.0%", True, False)  # 2% vs the paper's 0.2%
+        self.assertIn("pJ/byte", c.explanation)
+        self.check("area-sram", "8.38 mm2", None, True)
+
+    def test_approx(self):
+        c = self.check("approx-visits-nn", "-75.0%", True, True)
+        self.assertIn("nodes/query 200 -> 50", c.explanation)
+        self.assertNotIn("approx-visits-radius", self.claims)
+
+    def test_every_claim_has_an_explanation(self):
+        for c in self.claims.values():
+            self.assertTrue(c.explanation, c.cid)
+            self.assertTrue(c.how, c.cid)
+
+
+class Misses(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+
+    def test_bypass_slower_fails_both(self):
+        rows = [{"settings": {"fe.bypassing": False, "fe.forwarding": False}, "stats": fx.fake_stats(cycles=100000)},
+                {"settings": {"fe.bypassing": True, "fe.forwarding": False}, "stats": fx.fake_stats(cycles=110000)}]
+        sw = ed.Sweep([fx.write_csv(os.path.join(self.tmp.name, "o.csv"), rows)])
+        c = {c.cid: c for c in report.all_claims(sw)}["bypass-nn"]
+        self.assertEqual(c.measured, "-9.1%")
+        self.assertIs(c.direction, False)
+        self.assertIs(c.within, False)
+
+    def test_no_change_band(self):
+        """A 0.5% difference is no change: the direction does not hold."""
+        rows = [{"settings": {"height": "full"}, "stats": fx.fake_stats(top_height=17, cycles=100500)},
+                {"settings": {"height": 10}, "stats": fx.fake_stats(cycles=100000)}]
+        sw = ed.Sweep([fx.write_csv(os.path.join(self.tmp.name, "k.csv"), rows)])
+        c = {c.cid: c for c in report.all_claims(sw)}["acc2skd-vs-acckd-nn"]
+        self.assertEqual(c.measured, "1.00x")
+        self.assertIs(c.direction, False)
+
+    def test_nothing_measured(self):
+        rows = [{"settings": {"fe.recursion_units": 16}, "stats": fx.fake_stats(ru=16)}]
+        sw = ed.Sweep([fx.write_csv(os.path.join(self.tmp.name, "x.csv"), rows)])
+        claims = report.all_claims(sw)
+        by = {c.cid: c for c in claims}
+        self.assertEqual(by["redundancy-nn"].measured, "not measured")
+        self.assertIn("needs", by["redundancy-nn"].explanation)
+        self.assertEqual(by["bypass"].measured, "not measured")
+        text = report.render(sw, claims)
+        self.assertTrue(text.split("## Claims")[1].splitlines()[2].startswith("0 of"))
+        self.assertEqual(by["split"].measured, "not measured")  # 16 RU is not the default machine
+
+
+class Document(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+        self.csvs = fx.hand_made_csvs(os.path.join(self.tmp.name, "csv"))
+        err = dict(settings={"height": 16}, stats=None, status="error",
+                   error="tigris: error: the tree image needs 2105348 bytes")
+        self.bad = fx.write_csv(os.path.join(self.tmp.name, "csv", "bad.csv"),
+                                [err, {"settings": {"height": 9}, "stats": fx.fake_stats(top_height=9)}])
+
+    def test_table(self):
+        out = os.path.join(self.tmp.name, "r")
+        path, claims = report.write_report(list(self.csvs.values()) + [self.bad], out, draw=False,
+                                           log=lambda m: None)
+        with open(path) as f:
+            text = f.read()
+        self.assertIn("| # | DESIGN.md | claim | paper | measured | direction holds | within 2x | "
+                      "explanation (measured facts) |", text)
+        self.assertIn("| §9 | bypassing helps (No-Opt -> Bypass, speed-up), NN | +13.1% | +13.0% | yes | yes |", text)
+        self.assertIn("| 5.00x | yes | **no** |", text)
+        self.assertIn("## How each claim is measured", text)
+        self.assertIn("## Rows not ok", text)
+        self.assertIn("the tree image needs 2105348 bytes", text)
+        self.assertNotIn("## Figures", text)
+        rows = [l for l in text.splitlines() if l.startswith("| ") and l[2:3].isdigit()]
+        self.assertEqual(len(rows), len(claims))
+
+    @unittest.skipUnless(HAVE_MPL, "matplotlib missing")
+    def test_figures_embedded(self):
+        out = os.path.join(self.tmp.name, "r2")
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py")] + list(self.csvs.values())
+                           + ["--out", out], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(os.path.join(out, "REPORT.md")) as f:
+            text = f.read()
+        for name in ("redundancy", "units", "height", "optimizations", "memory_traffic", "approx"):
+            self.assertIn(f"![{name}](figures/{name}.png)", text)
+            self.assertTrue(os.path.isfile(os.path.join(out, "figures", name + ".png")))
+
+    def test_cli_no_figures_and_errors(self):
+        out = os.path.join(self.tmp.name, "r3")
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py"), self.csvs["optimizations"],
+                            "--out", out, "--no-figures"], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "figures")))
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py"), "nope.csv", "--out", out],
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no such CSV", p.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

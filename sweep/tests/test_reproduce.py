@@ -1,0 +1,195 @@
+#!/usr/bin/python3
+"""sweep/reproduce.py: the sweep specs of the paper's experiments (full and --quick), the
+driver command lines (local and Slurm), argument errors, and the run -> figures -> REPORT.md
+flow with a stand-in driver (so no tigris run is needed).
+Run: python3 sweep/tests/test_reproduce.py"""
+import itertools
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import textwrap
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = os.path.dirname(HERE)
+sys.path.insert(0, SWEEP)
+sys.path.insert(0, HERE)
+
+import reproduce  # noqa: E402
+
+# A stand-in for tigris_sweep.py: expands the spec (grid product, then points, over base) and
+# writes sweep.csv of hand-made stats in the driver's layout; `collect DIR` keeps the CSV.
+FAKE_DRIVER = textwrap.dedent('''\
+    import itertools, json, os, sys
+    sys.path.insert(0, {here!r})
+    import plot_fixtures as fx
+    if sys.argv[1] == "collect":
+        sys.exit(0 if os.path.isfile(os.path.join(sys.argv[2], "sweep.csv")) else 1)
+    spec = json.load(open(sys.argv[1]))
+    out = sys.argv[sys.argv.index("--out") + 1]
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "argv.json"), "w") as f:
+        json.dump(sys.argv[1:], f)
+    open(os.path.join(out, "plan.json"), "w").write("{{}}")
+    base = dict(spec.get("base", {{}}))
+    base.update(base.pop("set", {{}}))
+    grid = spec.get("grid", {{}})
+    own = [dict(zip(grid, c)) for c in itertools.product(*grid.values())] + spec.get("points", [])
+    rows = []
+    for o in own:
+        s = dict(base, **o)
+        h = s.get("height", 10)
+        kw = dict(top_height=17 if h == "full" else h, ru=s.get("fe.recursion_units", 64),
+                  su=s.get("be.search_units", 32), pe=s.get("be.pes_per_su", 32),
+                  policy=s.get("be.issue_policy", "mqsn"))
+        kw["cycles"] = 1e5 * 64 / kw["ru"] + 1e3 * abs(kw["top_height"] - 10) + (
+            0 if s.get("fe.forwarding", True) else 5e3)
+        kw["nodes"] = 60.0 if h == "full" else 60.0 + 2 ** max(0, 17 - kw["top_height"]) / 2
+        if "approx-thd" in s:
+            kw["accuracy"] = {{"exact_match_fraction": 0.5, "mean_extra_distance_m": 0.1,
+                               "max_extra_distance_m": 1.0, "recall": 0.9, "precision": 1.0}}
+            kw["nodes"] /= 3
+        rows.append({{"settings": s, "stats": fx.fake_stats(**kw)}})
+    fx.write_csv(os.path.join(out, "sweep.csv"), rows,
+                 base=[k for k in base if k not in ("cloud", "queries", "mode")], sidecar=True)
+''').format(here=HERE)
+
+
+def product_size(spec):
+    g = spec.get("grid", {})
+    n = 1
+    for v in g.values():
+        n *= len(v)
+    return (n if g else 0) + len(spec.get("points", []))
+
+
+class Specs(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+
+    def specs(self, *args):
+        out = tempfile.mkdtemp(dir=self.tmp.name)
+        self.assertEqual(reproduce.main(["--out", out, "--specs-only"] + list(args)), 0)
+        d = os.path.join(out, "specs")
+        specs = {}
+        for f in sorted(os.listdir(d)):
+            with open(os.path.join(d, f)) as fh:
+                specs[f[:-5]] = json.load(fh)
+        return specs
+
+    def test_full_set(self):
+        s = self.specs()
+        self.assertEqual(set(s), {"heights-nn", "heights-radius", "units", "optimizations",
+                                  "node-cache", "approx-nn", "approx-radius"})
+        self.assertEqual(product_size(s["units"]), 64)
+        self.assertEqual(s["units"]["grid"]["fe.recursion_units"], [16, 32, 64, 128])
+        self.assertEqual(s["heights-nn"]["grid"]["height"], ["full"] + list(range(4, 16)))
+        self.assertEqual(s["heights-radius"]["base"], {"mode": "radius", "radius": 0.3})
+        self.assertEqual(s["optimizations"]["points"][0],
+                         {"fe.bypassing": False, "fe.forwarding": False, "be.issue_policy": "mqsn"})
+        self.assertEqual(s["optimizations"]["points"][3]["be.issue_policy"], "mqmn")
+        self.assertEqual(s["node-cache"]["grid"], {"node_cache.bytes": [131072, 0], "height": [10, "full"]})
+        self.assertIn({}, s["approx-nn"]["points"])  # the exact run
+        self.assertIn(1.2, s["approx-nn"]["grid"]["approx-thd"])
+        self.assertIn(0.12, s["approx-radius"]["grid"]["approx-thd"])  # 0.4 r
+        for spec in s.values():
+            self.assertNotIn("cloud", spec["base"])
+            self.assertTrue(spec["comment"].startswith("sweep/reproduce.py:"))
+
+    def test_quick_is_smaller(self):
+        full = sum(product_size(v) for v in self.specs().values())
+        q = self.specs("--quick")
+        self.assertIn("units-su", q)
+        self.assertIn("units-pe", q)
+        self.assertNotIn("units", q)
+        quick = sum(product_size(v) for v in q.values())
+        self.assertLess(quick, 0.6 * full)
+        self.assertIn(11, q["heights-nn"]["grid"]["height"])   # leaf-set 32 is bracketed
+        self.assertIn(12, q["heights-radius"]["grid"]["height"])
+
+    def test_workload_paths_are_absolute(self):
+        a = os.path.join(self.tmp.name, "a.bin")
+        b = os.path.join(self.tmp.name, "b.bin")
+        for p in (a, b):
+            open(p, "wb").close()
+        old = os.getcwd()
+        os.chdir(self.tmp.name)
+        try:
+            s = self.specs("--cloud", "a.bin", "--queries", "b.bin", "--only", "optimizations")
+        finally:
+            os.chdir(old)
+        self.assertEqual(list(s), ["optimizations"])
+        self.assertEqual(s["optimizations"]["base"]["cloud"], a)
+        self.assertEqual(s["optimizations"]["base"]["queries"], b)
+
+    def test_driver_command(self):
+        a = reproduce.parse_args(["--jobs", "3", "--tigris", "/x/tigris"])
+        cmd = reproduce.driver_command("s.json", "dir", a)
+        self.assertEqual(cmd[1:], [reproduce.DRIVER, "s.json", "--out", "dir", "--tigris", "/x/tigris", "--jobs", "3"])
+        a = reproduce.parse_args(["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
+                                  "--sbatch-arg", "--qos=low", "--no-wait"])
+        cmd = reproduce.driver_command("s.json", "dir", a)
+        self.assertEqual(cmd[5:], ["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
+                                   "--sbatch-arg=--qos=low", "--no-wait"])
+
+    def test_argument_errors(self):
+        def err(*args):
+            p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--specs-only",
+                                "--out", os.path.join(self.tmp.name, "e")] + list(args),
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            return p.stderr
+        self.assertIn("need --slurm", err("--partition", "p"))
+        self.assertIn("no such file", err("--cloud", "/nonexistent.bin", "--queries", "/nonexistent.bin"))
+        self.assertIn("not an experiment of the quick set", err("--quick", "--only", "units"))
+        self.assertIn("invalid choice", err("--only", "nonsense"))
+
+
+class Flow(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+        self.driver = os.path.join(self.tmp.name, "fake_sweep.py")
+        with open(self.driver, "w") as f:
+            f.write(FAKE_DRIVER)
+
+    def test_run_then_report(self):
+        out = os.path.join(self.tmp.name, "out")
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
+                            "--driver", self.driver, "--jobs", "2"], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("claims measured", p.stderr)
+        with open(os.path.join(out, "sweeps", "units-su", "argv.json")) as f:
+            argv = json.load(f)
+        self.assertEqual(argv[-2:], ["--jobs", "2"])
+        with open(os.path.join(out, "REPORT.md")) as f:
+            text = f.read()
+        self.assertIn("(--quick)", text.splitlines()[0])
+        self.assertIn("| # | DESIGN.md | claim |", text)
+        self.assertIn("top height ~10 is best (NN)", text)
+        try:
+            import matplotlib  # noqa: F401
+            self.assertIn("![units](figures/units.png)", text)
+        except ImportError:
+            pass
+        # --report-only re-collects and reports without running
+        os.remove(os.path.join(out, "REPORT.md"))
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
+                            "--driver", self.driver, "--report-only"], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn(" collect ", p.stderr)
+        self.assertTrue(os.path.isfile(os.path.join(out, "REPORT.md")))
+
+    def test_missing_driver(self):
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--out",
+                            os.path.join(self.tmp.name, "x"), "--driver", os.path.join(self.tmp.name, "none.py")],
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("the sweep driver", p.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
