@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 
+#include "python_tools.hpp"
 #include "ref_command.hpp"
 #include "register_command.hpp"
 #include "run_command.hpp"
@@ -16,6 +17,7 @@
 extern "C" int sc_main(int, char**) { return 2; }
 
 int main(int argc, char** argv) {
+  if (const int code = tigris::run_python_tool(argc, argv); code >= 0) return code;
   setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1);
   // The host driver ends every run with sc_stop(); that is not news for the user.
   sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
@@ -39,6 +41,12 @@ int main(int argc, char** argv) {
       "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
                   "KPCE, rejection, ICP) with its KD-tree searches on the golden model or FLANN");
   tigris::add_register_options(*reg, register_options);
+
+  // Listed for --help only: run_python_tool() has already taken these.
+  app.add_subcommand("sweep", "Design-space sweep from a JSON spec, locally (--jobs) or as a Slurm job array "
+                              "(--slurm); CSV, JSON and resume (sweep/tigris_sweep.py; tigris sweep --help)");
+  app.add_subcommand("reproduce", "The paper's section 6 experiments as sweeps, with figures and REPORT.md "
+                                  "(sweep/reproduce.py; tigris reproduce --help)");
 
   try {
     app.parse(argc, argv);
