@@ -51,6 +51,16 @@ void add_search_options(CLI::App& app, SearchOptions& o) {
                  "Write the leaf-visit schedule as CSV seq,query,leaf");
   app.add_option("--schedule", o.schedule,
                  "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
+  app.add_option("--max-work", o.limits.max_work,
+                 "Refuse a run estimated (from a sample of queries) to compute more node and point "
+                 "distances than this; 0: no limit")
+      ->check(CLI::Range(0.0, 1e18))
+      ->capture_default_str();
+  app.add_option("--max-results", o.limits.max_results,
+                 "Refuse a run estimated to return more neighbours than this (radius: before "
+                 "--max-nn); 0: no limit")
+      ->check(CLI::Range(0.0, 1e18))
+      ->capture_default_str();
   app.add_option("--out", o.out, "Output folder for stats.json")
       ->capture_default_str()
       ->check(CLI::Validator(

@@ -9,6 +9,7 @@
 
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
+#include "work_guard.hpp"
 
 namespace tigris {
 
@@ -26,6 +27,7 @@ struct SearchOptions {
   int leader_width = 0;
   std::string dump_results, dump_schedule, schedule;
   std::string out = "tigris-out";
+  WorkLimits limits;
 };
 
 void add_search_options(CLI::App& app, SearchOptions& o);

@@ -32,6 +32,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   auto t0 = std::chrono::steady_clock::now();
   const KdTree tree = build_kdtree(w.cloud, height, split);
   const double build_s = seconds_since(t0);
+  check_work(estimate_work(tree, w.queries, params), o.limits, w.queries.size());
   ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");
   t0 = std::chrono::steady_clock::now();
   const SearchOutput out = search(tree, w.queries, params, o.schedule.empty() ? nullptr : &replay,

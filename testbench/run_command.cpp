@@ -71,6 +71,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const HostJob job = host_job(params);
   const std::string fit = hw::job_fit_error(cfg, image.bytes.size(), w.queries.size(), tree.top_height, job.mode, job.k);
   if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
+  check_work(estimate_work(tree, w.queries, params), o.search.limits, w.queries.size());
 
   // Golden model first: exact search in query order. Its results and visit counts are what an
   // exact run must reproduce; an approximate run is checked against the replay of its own

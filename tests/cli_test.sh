@@ -166,5 +166,13 @@ else echo "FAIL: tigris sweep's sweep.csv"; cat "$tmp/sw/sweep.csv"; failures=$(
 expect 2 "--jobs must be at least 1" -- sweep "$tmp/spec.json" --out "$tmp/sw2" --jobs 0
 expect 0 "usage: reproduce.py" -- reproduce --help
 
+# The work guard: estimated from a sample before the search, exit 2 naming the limit to raise.
+python3 -c "import sys; sys.stdout.buffer.write(open('$tmp/one.bin','rb').read() * 3000)" > "$tmp/same.bin"
+expect 2 "above --max-work 1e+06; raise --max-work" -- ref --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 1e6 --out "$tmp/guard"
+expect 2 "above --max-work 1e+06" -- run --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 1e6 --out "$tmp/guard"
+expect 0 "" -- ref --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 0 --out "$tmp/guard"
+expect 2 "above --max-results 1e+03" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --mode radius --radius 1 --max-results 1000 --out "$tmp/guard"
+expect 2 "--max-work: Value -1 not in range" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --max-work -1 --out "$tmp/guard"
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -1,0 +1,36 @@
+// The work and memory guard (issue 11): before the search starts, a sample of the queries is
+// searched by the golden model and the whole run's node and point visits and result records
+// are extrapolated from it. A run estimated above --max-work visits or --max-results records
+// stops with exit 2 and says how to raise the limit, instead of running for hours or dying of
+// std::bad_alloc (50,000 identical points defeat every prune; a 100 m radius returns the cloud).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "sw_ref/cloud.hpp"
+#include "sw_ref/kdtree.hpp"
+#include "sw_ref/search.hpp"
+
+namespace tigris {
+
+struct WorkLimits {
+  double max_work = 2e9;     // node + point distance computations, summed over the queries; 0: none
+  double max_results = 2e8;  // result records (12 bytes each, held several times); 0: none
+};
+
+struct WorkEstimate {
+  std::uint64_t sampled = 0;      // queries searched for the estimate
+  double visits_per_query = 0.0;  // top-tree nodes + leaf points + leader-list entries
+  double hits_per_query = 0.0;    // neighbours found (radius: before --max-nn, as the stream is)
+  double visits = 0.0, hits = 0.0;  // extrapolated to every query
+};
+
+// Searches up to `sample` queries spread evenly over `queries` (exact search, one at a time).
+WorkEstimate estimate_work(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                           std::uint32_t sample = 128);
+
+// Throws std::invalid_argument naming the limit when the estimate exceeds it.
+void check_work(const WorkEstimate& estimate, const WorkLimits& limits, std::size_t num_queries);
+
+}  // namespace tigris
