@@ -174,5 +174,14 @@ expect 0 "" -- ref --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 
 expect 2 "above --max-results 1e+03" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --mode radius --radius 1 --max-results 1000 --out "$tmp/guard"
 expect 2 "--max-work: Value -1 not in range" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --max-work -1 --out "$tmp/guard"
 
+# The README's Point Buffer capacity: 130,815 points fit at height 10, 130,816 do not.
+python3 -c "
+import struct, random
+random.seed(2)
+d = b''.join(struct.pack('<4f', random.uniform(-50, 50), random.uniform(-50, 50), random.uniform(-3, 3), 0) for _ in range(130816))
+open('$tmp/fits.bin', 'wb').write(d[:-16]); open('$tmp/over.bin', 'wb').write(d)"
+expect 2 "above --max-work 1" -- run --cloud "$tmp/fits.bin" --queries "$tmp/three.bin" --max-work 1 --out "$tmp/cap"
+expect 2 "(130816 points): the tree image needs 2097156 bytes, the Point Buffer holds 2097152 (sram.points.bytes)" -- run --cloud "$tmp/over.bin" --queries "$tmp/three.bin" --out "$tmp/cap"
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
