@@ -6,6 +6,7 @@
 #include <systemc>
 
 #include <cstdlib>
+#include <string>
 
 #include "python_tools.hpp"
 #include "ref_command.hpp"
@@ -18,6 +19,45 @@
 extern "C" const char* __asan_default_options() { return "detect_leaks=0"; }
 #endif
 
+
+namespace {
+
+// An error message as the terminal should show it: a path or file line the user gave may hold
+// control characters (escape sequences would act on the terminal) or be a megabyte long, so
+// control bytes are shown as \xNN and each line is cut at 400 bytes, saying how much is left.
+std::string printable(const std::string& message) {
+  constexpr std::size_t kLine = 400;
+  std::string out;
+  std::size_t line = 0;
+  for (std::size_t i = 0; i < message.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(message[i]);
+    if (c == '\n') {
+      out += '\n';
+      line = 0;
+      continue;
+    }
+    if (line == kLine) {
+      const std::size_t end = message.find('\n', i);
+      const std::size_t rest = (end == std::string::npos ? message.size() : end) - i;
+      out += "... (" + std::to_string(rest) + " more bytes)";
+      if (end == std::string::npos) break;
+      i = end - 1;
+      continue;
+    }
+    if (c < 0x20 || c == 0x7f) {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    } else {
+      out += static_cast<char>(c);
+    }
+    ++line;
+  }
+  return out;
+}
+
+}  // namespace
 
 // SystemC's own main() would print its banner before we could silence it, so `tigris` has a
 // plain main(); the library still needs an sc_main symbol to link.
@@ -58,15 +98,16 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "tigris: error: " << printable(e.what()) << "\nRun with --help for more information.\n";
+    return 2;
   }
   try {
     if (*ref) return tigris::run_ref_command(*ref, ref_options);
     if (*run) return tigris::run_run_command(*run, run_options);
     if (*reg) return tigris::run_register_command(*reg, register_options);
   } catch (const std::exception& e) {
-    std::cerr << "tigris: error: " << e.what() << '\n';
+    std::cerr << "tigris: error: " << printable(e.what()) << '\n';
     return 2;
   }
   return 2;

@@ -35,8 +35,12 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   check_work(estimate_work(tree, w.queries, params), o.limits, w.queries.size());
   ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");
   t0 = std::chrono::steady_clock::now();
-  const SearchOutput out = search(tree, w.queries, params, o.schedule.empty() ? nullptr : &replay,
-                                  std::ref(progress));
+  SearchOutput out;
+  try {
+    out = search(tree, w.queries, params, o.schedule.empty() ? nullptr : &replay, std::ref(progress));
+  } catch (const ScheduleError& e) {  // a schedule that does not fit these queries: name the file
+    throw ScheduleError(o.schedule + ": " + e.what());
+  }
   const double search_s = seconds_since(t0);
 
   nlohmann::json stats;
