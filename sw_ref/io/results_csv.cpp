@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <unordered_set>
 
 #include "reader_util.hpp"
 
@@ -53,6 +54,7 @@ Results parse_results_csv(const char* data, std::size_t size, const std::string&
     fail_line(label, 1, "expected the header 'query,rank,index,dist2'");
   Results results;
   std::uint64_t current = 0;  // the query of the previous row
+  std::unordered_set<std::uint64_t> indices;  // the current query's neighbours
   bool any = false;
   while (next(line)) {
     if (line.empty()) continue;
@@ -82,12 +84,13 @@ Results parse_results_csv(const char* data, std::size_t size, const std::string&
     if (rank != expected_rank)
       fail_line(label, lineno, "rank " + std::to_string(rank) + " of query " + std::to_string(q) +
                                    " (expected " + std::to_string(expected_rank) + ")");
-    if (same) {
-      const Neighbor& prev = results.neighbors.back();
-      if (!closer(prev, Neighbor{static_cast<std::uint32_t>(index), d}))
-        fail_line(label, lineno, "neighbours of query " + std::to_string(q) +
-                                     " out of canonical (dist2, index) order");
-    }
+    if (!same) indices.clear();
+    if (same && !closer(results.neighbors.back(), Neighbor{static_cast<std::uint32_t>(index), d}))
+      fail_line(label, lineno, "neighbours of query " + std::to_string(q) +
+                                   " out of canonical (dist2, index) order");
+    if (!indices.insert(index).second)
+      fail_line(label, lineno, "index " + std::to_string(index) + " appears twice in query " +
+                                   std::to_string(q));
     // Close the queries before q (those without a row have no neighbour).
     while (results.num_queries() + 1 <= q) results.offset.push_back(results.neighbors.size());
     results.neighbors.push_back(Neighbor{static_cast<std::uint32_t>(index), d});
