@@ -235,11 +235,13 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
   throw InputError(msg.str());
 }
 
+// A coordinate as float32; `where` (called only on an error) says where the value lies.
+template <class Where>
 float coordinate(const Value& v, const std::string& label, const char* axis, std::uint64_t point,
-                 const std::string& at) {
+                 Where where) {
   bool fits = true;
   const float f = io_detail::to_coordinate(v, fits);
-  if (!fits) not_float32(label + ": point " + std::to_string(point) + " (" + at + "): '" + axis + "'", v);
+  if (!fits) not_float32(label + ": point " + std::to_string(point) + " (" + where() + "): '" + axis + "'", v);
   return f;
 }
 
@@ -277,7 +279,7 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
                                   "' is not a valid " + io_detail::scalar_name(f.scalar));
         for (int a = 0; a < 3; ++a)
           if (h.xyz[a] == static_cast<int>(fi))
-            xyz[a] = coordinate(v, label, kAxisNames[a], i, "line " + std::to_string(n));
+            xyz[a] = coordinate(v, label, kAxisNames[a], i, [&] { return "line " + std::to_string(n); });
       }
     }
     cloud.push_back(Point3{xyz[0], xyz[1], xyz[2]});
@@ -304,9 +306,10 @@ PointCloud read_records(const Header& h, const unsigned char* base, bool by_fiel
       const Field& f = h.fields[static_cast<std::size_t>(h.xyz[a])];
       const std::uint64_t at = by_field ? field_start[a] + i * f.size : i * h.step + f.offset;
       const Value v = io_detail::load_scalar(base + at, f.scalar, false);
-      xyz[a] = coordinate(v, label, kAxisNames[a], i,
-                          by_field ? "uncompressed byte " + std::to_string(at)
-                                   : "byte offset " + std::to_string(base_offset + at));
+      xyz[a] = coordinate(v, label, kAxisNames[a], i, [&] {
+        return by_field ? "uncompressed byte " + std::to_string(at)
+                        : "byte offset " + std::to_string(base_offset + at);
+      });
     }
     cloud[static_cast<std::size_t>(i)] = Point3{xyz[0], xyz[1], xyz[2]};
   }
