@@ -1,10 +1,10 @@
 // fuzz_corpus_regression (a ctest of the normal build, no libFuzzer): feeds every file under
-// fuzz/corpus/<target>/ to that target's fuzz entry point, plus a few hundred deterministic
+// fuzz/corpus/<target>/ to that target's fuzz entry point, plus 2000 deterministic
 // generator inputs per target, so the corpus and the structure-aware checks run in CI. A clean
 // read or a clean error passes; an unexpected exception fails the test, a wrong read or a crash
 // stops it (the file being run is printed first).
 //
-// Usage: fuzz_corpus_regression CORPUS_DIR [GENERATED_INPUTS_PER_TARGET (default 300)]
+// Usage: fuzz_corpus_regression CORPUS_DIR [GENERATED_INPUTS_PER_TARGET (default 2000)]
 #include <algorithm>
 #include <csignal>
 #include <cstdint>
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   }
   for (int sig : {SIGSEGV, SIGILL, SIGABRT, SIGFPE, SIGBUS}) std::signal(sig, on_signal);
   const std::filesystem::path root = argv[1];
-  const long generated = argc > 2 ? std::atol(argv[2]) : 300;
+  const long generated = argc > 2 ? std::atol(argv[2]) : 2000;
   int failures = 0;
   for (const Target& t : kTargets) {
     const std::filesystem::path dir = root / t.name;
