@@ -757,3 +757,25 @@ TEST_CASE("results CSV: read back what --dump-results writes", "[io]") {
   CHECK_THROWS_WITH(tigris::parse_results_csv(text.data(), text.size(), "r.csv", 2),
                     Catch::Contains("query 2 beyond the 2 queries"));
 }
+
+TEST_CASE("ply and pcd: large headers and data stay linear", "[io]") {
+  // 200000 elements before the vertex element, 200000 properties in it: parsed in well under a
+  // second (name checks are hash lookups, not scans).
+  std::string ply = "ply\nformat binary_little_endian 1.0\n";
+  for (int i = 0; i < 200000; ++i) ply += "element e" + std::to_string(i) + " 0\n";
+  ply += "element vertex 1\n";
+  for (int i = 0; i < 200000; ++i) ply += "property uchar p" + std::to_string(i) + "\n";
+  ply += "property float x\nproperty float y\nproperty float z\nend_header\n";
+  ply += std::string(200000, '\0') + Body{}.xyz(1, 2, 3).bytes;
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(same_bits(parse("wide.ply", ply), {Point3{1, 2, 3}}));
+  std::string pcd = "FIELDS";
+  for (int i = 0; i < 200000; ++i) pcd += " f" + std::to_string(i);
+  pcd += " x y z\nSIZE";
+  for (int i = 0; i < 200003; ++i) pcd += " 4";
+  pcd += "\nTYPE";
+  for (int i = 0; i < 200003; ++i) pcd += " F";
+  pcd += "\nPOINTS 1\nDATA binary\n" + std::string(800000, '\0') + Body{}.xyz(4, 5, 6).bytes;
+  CHECK(same_bits(parse("wide.pcd", pcd), {Point3{4, 5, 6}}));
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(5));
+}

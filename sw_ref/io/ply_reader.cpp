@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
 #include <vector>
 
 #include "reader_util.hpp"
@@ -77,6 +78,8 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
       !line.terminated)
     fail(label, "not a PLY file (it does not start with a 'ply' line)");
   bool have_format = false, have_end = false;
+  // Names seen (hash sets: a header of a million elements or properties stays linear).
+  std::unordered_set<std::string> element_names, property_names;
   while (lines.next(line)) {
     const std::size_t n = line.number;
     if (!line.terminated) break;  // the file ends inside the header
@@ -112,9 +115,9 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
         fail_line(label, n, "corrupt PLY header: expected 'element NAME COUNT' (COUNT a whole number)");
       e.name = std::string(line.words[1]);
       e.line = n;
-      for (const Element& other : h.elements)
-        if (other.name == e.name)
-          fail_line(label, n, "corrupt PLY header: a second element '" + printable(e.name) + "'");
+      if (!element_names.insert(e.name).second)
+        fail_line(label, n, "corrupt PLY header: a second element '" + printable(e.name) + "'");
+      property_names.clear();
       h.elements.push_back(std::move(e));
     } else if (key == "property") {
       if (h.elements.empty()) fail_line(label, n, "corrupt PLY header: a property before any element");
@@ -141,10 +144,9 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
         fail_line(label, n, "corrupt PLY header: expected 'property TYPE NAME' or 'property list "
                             "COUNT_TYPE ITEM_TYPE NAME'");
       }
-      for (const Property& other : e.props)
-        if (other.name == p.name)
-          fail_line(label, n, "corrupt PLY header: property '" + printable(p.name) +
-                                  "' appears twice in element '" + printable(e.name) + "'");
+      if (!property_names.insert(p.name).second)
+        fail_line(label, n, "corrupt PLY header: property '" + printable(p.name) +
+                                "' appears twice in element '" + printable(e.name) + "'");
       e.props.push_back(std::move(p));
     } else if (key == "end_header") {
       if (nw != 1) fail_line(label, n, "corrupt PLY header: words after end_header");
