@@ -42,7 +42,8 @@ std::string shown(const json& v) {
   if (v.is_array()) return "an array";
   if (v.is_number_float() && !std::isfinite(v.get<double>()))
     return config_table::number_text(v.get<double>());
-  std::string s = v.dump();
+  // A --set value may hold any bytes: invalid UTF-8 is shown replaced, never thrown over.
+  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
   return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
 
@@ -181,16 +182,22 @@ void apply_config_file(AcceleratorConfig& cfg, const std::string& path) {
     throw std::invalid_argument(path + ": cannot open configuration file: " + std::strerror(errno));
   std::ostringstream text;
   text << in.rdbuf();
+  apply_config_text(cfg, text.str(), path);
+}
+
+void apply_config_text(AcceleratorConfig& cfg, const std::string& text, const std::string& source) {
   json j;
   try {
-    j = json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();  // "[json.exception.parse_error.101] parse error at line 3, ..."
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    // parse_error (syntax, with line and column) and out_of_range (a number beyond double,
+    // e.g. 1e999): "[json.exception.parse_error.101] parse error at line 3, ..."
+    std::string what = e.what();
     const auto bracket = what.find("] ");
     if (bracket != std::string::npos) what.erase(0, bracket + 2);
-    throw std::invalid_argument(path + ": JSON " + what);
+    throw std::invalid_argument(source + ": JSON " + what);
   }
-  apply_config_json(cfg, j, path);
+  apply_config_json(cfg, j, source);
 }
 
 void apply_setting(AcceleratorConfig& cfg, const std::string& assignment) {

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <fstream>
+#include <istream>
 #include <ostream>
 
 namespace tigris {
@@ -36,6 +37,10 @@ bool parse_row(const std::string& line, std::uint64_t (&v)[3]) {
 Schedule read_schedule_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the schedule file");
+  return read_schedule_csv(in, path);
+}
+
+Schedule read_schedule_csv(std::istream& in, const std::string& path) {
   std::string line;
   if (!std::getline(in, line) || (line != "seq,query,leaf" && line != "seq,query,leaf\r"))
     throw InputError(path + ":1: expected the header 'seq,query,leaf'");

@@ -16,4 +16,7 @@ void write_schedule_csv(std::ostream& out, const Schedule& schedule);
 // does not count up from 0.
 Schedule read_schedule_csv(const std::string& path);
 
+// The same from a stream; `label` stands for the path in messages (the fuzz target uses it).
+Schedule read_schedule_csv(std::istream& in, const std::string& label);
+
 }  // namespace tigris
