@@ -29,6 +29,13 @@ namespace tigris_fuzz {
   __builtin_trap();
 }
 
+// A float's bit pattern: "read back exactly" means bit for bit (NaN, -0 included).
+inline std::uint32_t float_bits(float f) {
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
 // A clean error names its source first ("label: ..." or "label:LINE: ...").
 inline bool names_source(const std::string& message, const std::string& label) {
   return message.compare(0, label.size(), label) == 0 && message.size() > label.size() &&

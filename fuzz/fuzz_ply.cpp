@@ -7,8 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cloud_gen.hpp"
-#include "fuzz_common.hpp"
+#include "cloud_checks.hpp"
 #include "sw_ref/io/ply_reader.hpp"
 
 namespace {
@@ -16,28 +15,6 @@ namespace {
 using namespace tigris_fuzz;
 const char* const kTarget = "ply";
 const std::string kLabel = "fuzz.ply";
-
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-
-// "" when equal bit for bit, else the first difference.
-std::string difference(const tigris::PointCloud& got, const tigris::PointCloud& want) {
-  if (got.size() != want.size())
-    return std::to_string(got.size()) + " points read, " + std::to_string(want.size()) + " expected";
-  for (std::size_t i = 0; i < got.size(); ++i)
-    if (bits(got[i].x) != bits(want[i].x) || bits(got[i].y) != bits(want[i].y) ||
-        bits(got[i].z) != bits(want[i].z)) {
-      std::ostringstream m;
-      m.precision(9);
-      m << "point " << i << " read as (" << got[i].x << ", " << got[i].y << ", " << got[i].z
-        << "), expected (" << want[i].x << ", " << want[i].y << ", " << want[i].z << ")";
-      return m.str();
-    }
-  return "";
-}
 
 // The vertex count of the header, by a scan that shares nothing with the reader; -1 if none.
 long long announced_vertices(const std::string& file) {
@@ -53,48 +30,15 @@ long long announced_vertices(const std::string& file) {
   return -1;
 }
 
-void check_raw(const std::uint8_t* data, std::size_t size) {
-  tigris::PointCloud cloud;
-  try {
-    cloud = tigris::parse_ply(reinterpret_cast<const char*>(data), size, kLabel);
-  } catch (const tigris::InputError& e) {
-    if (!names_source(e.what(), kLabel)) wrong_read(kTarget, std::string("error without the file name: ") + e.what());
-    return;
-  }
-  const std::string file(reinterpret_cast<const char*>(data), size);
-  const long long n = announced_vertices(file);
-  if (n < 0 || static_cast<unsigned long long>(n) != cloud.size())
-    wrong_read(kTarget, std::to_string(cloud.size()) + " points read, the header announces " + std::to_string(n));
-  const std::string again = tigris::ply_bytes(cloud);
-  const std::string diff = difference(tigris::parse_ply(again.data(), again.size(), kLabel), cloud);
-  if (!diff.empty()) wrong_read(kTarget, "write and re-read: " + diff);
-  try {
-    tigris::validate_cloud(cloud, kLabel);
-  } catch (const tigris::InputError& e) {
-    if (!names_source(e.what(), kLabel)) wrong_read(kTarget, std::string("error without the file name: ") + e.what());
-  }
-}
-
-void check_generated(const std::uint8_t* data, std::size_t size) {
-  ByteSource src(data + 1, size - 1);
-  const Generated g = generate_ply(src);
-  tigris::PointCloud cloud;
-  try {
-    cloud = tigris::parse_ply(g.bytes.data(), g.bytes.size(), kLabel);
-  } catch (const tigris::InputError& e) {
-    wrong_read(kTarget, "a valid file (" + g.variant + ") rejected: " + e.what() + "\n" + g.bytes.substr(0, 600));
-  }
-  const std::string diff = difference(cloud, g.points);
-  if (!diff.empty()) wrong_read(kTarget, g.variant + ": " + diff + "\n" + g.bytes.substr(0, 600));
-}
-
 }  // namespace
 
 extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
-  if (size > 0 && data[0] == 0)
-    check_generated(data, size);
-  else
-    check_raw(data, size);
+  if (size > 0 && data[0] == 0) {
+    ByteSource src(data + 1, size - 1);
+    check_generated(generate_ply(src), kTarget, kLabel, &tigris::parse_ply);
+  } else {
+    check_file(data, size, kTarget, kLabel, &tigris::parse_ply, &tigris::ply_bytes, &announced_vertices);
+  }
   return 0;
 }
 

@@ -20,16 +20,10 @@ using namespace tigris_fuzz;
 const char* const kTarget = "results_csv";
 const std::string kLabel = "fuzz.csv";
 
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-
 std::string difference(const tigris::Results& a, const tigris::Results& b) {
   if (a.offset != b.offset) return "queries or neighbour counts differ";
   for (std::size_t i = 0; i < a.neighbors.size(); ++i)
-    if (a.neighbors[i].index != b.neighbors[i].index || bits(a.neighbors[i].dist2) != bits(b.neighbors[i].dist2))
+    if (a.neighbors[i].index != b.neighbors[i].index || float_bits(a.neighbors[i].dist2) != float_bits(b.neighbors[i].dist2))
       return "neighbour " + std::to_string(i) + " differs";
   return "";
 }
@@ -94,7 +88,7 @@ void check_raw(const std::uint8_t* data, std::size_t size) {
                              index = std::stoull(line.substr(c2 + 1, c3 - c2 - 1));
     const float d = std::strtof(line.c_str() + c3 + 1, nullptr);
     if (row >= r.neighbors.size() || q >= r.num_queries() || rank >= r.count(q) ||
-        r.offset[q] + rank != row || r.neighbors[row].index != index || bits(r.neighbors[row].dist2) != bits(d))
+        r.offset[q] + rank != row || r.neighbors[row].index != index || float_bits(r.neighbors[row].dist2) != float_bits(d))
       wrong_read(kTarget, "row " + std::to_string(row) + " read differently: " + line);
     ++row;
   }

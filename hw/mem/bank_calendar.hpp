@@ -10,6 +10,7 @@
 // whenever a booking would overwrite a row that is still ahead of it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -62,13 +63,7 @@ class BankCalendar {
       last = base + 63 - static_cast<std::uint64_t>(__builtin_clzll(take));
       break;
     }
-    // [asked, last] is now all booked.
-    if (asked <= run.to && run.from <= last + 1) {
-      run.from = std::min(run.from, asked);
-      run.to = std::max(run.to, last + 1);
-    } else if (last + 1 > run.to) {
-      run = {asked, last + 1};
-    }
+    run.note(asked, last + 1);  // [asked, last] is now all booked
     return last;
   }
   // `bank`'s first free cycle at or after `cycle`, not booked.
@@ -84,13 +79,7 @@ class BankCalendar {
       }
       cycle = (cycle / 64 + 1) * 64;
     }
-    // [asked, cycle) is all busy: remember it, joined to the known run when they touch.
-    if (asked <= run.to && run.from <= cycle) {
-      run.from = std::min(run.from, asked);
-      run.to = std::max(run.to, cycle);
-    } else if (cycle > run.to) {
-      run = {asked, cycle};
-    }
+    run.note(asked, cycle);  // [asked, cycle) is all busy
     return cycle;
   }
   void book(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
@@ -159,6 +148,16 @@ class BankCalendar {
   // access). Bookings are never taken back at or after the current cycle, so a run stays true.
   struct Run {
     std::uint64_t from = 0, to = 0;
+    // [a, b) is all busy: joined to the run when they touch, else kept if it reaches further.
+    void note(std::uint64_t a, std::uint64_t b) {
+      if (a <= to && from <= b) {
+        from = std::min(from, a);
+        to = std::max(to, b);
+      } else if (b > to) {
+        from = a;
+        to = b;
+      }
+    }
   };
   std::vector<Run> runs_;
 };

@@ -376,12 +376,6 @@ PointCloud read_compressed(const Header& h, const char* data, std::size_t size, 
   return read_records(h, out.data(), true, 0, label);
 }
 
-void put_le32(std::string& out, float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((u >> (8 * i)) & 0xFFu));
-}
-
 }  // namespace
 
 PointCloud parse_pcd(const char* data, std::size_t size, const std::string& label) {
@@ -403,12 +397,7 @@ std::string pcd_bytes(const PointCloud& cloud) {
       "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
       "TYPE F F F\nCOUNT 1 1 1\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n +
       "\nDATA binary\n";
-  out.reserve(out.size() + 12 * cloud.size());
-  for (const Point3& p : cloud) {
-    put_le32(out, p.x);
-    put_le32(out, p.y);
-    put_le32(out, p.z);
-  }
+  io_detail::append_xyz_le32(out, cloud);
   return out;
 }
 

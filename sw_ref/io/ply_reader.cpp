@@ -395,12 +395,6 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
   return cloud;
 }
 
-void put_le32(std::string& out, float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((u >> (8 * i)) & 0xFFu));
-}
-
 }  // namespace
 
 PointCloud parse_ply(const char* data, std::size_t size, const std::string& label) {
@@ -413,12 +407,7 @@ std::string ply_bytes(const PointCloud& cloud) {
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by tigris\nelement vertex " +
                     std::to_string(cloud.size()) +
                     "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  out.reserve(out.size() + 12 * cloud.size());
-  for (const Point3& p : cloud) {
-    put_le32(out, p.x);
-    put_le32(out, p.y);
-    put_le32(out, p.z);
-  }
+  io_detail::append_xyz_le32(out, cloud);
   return out;
 }
 

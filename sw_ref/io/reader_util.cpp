@@ -15,6 +15,16 @@ void fail_line(const std::string& label, std::size_t line, const std::string& wh
   throw InputError(label + ":" + std::to_string(line) + ": " + what);
 }
 
+void append_xyz_le32(std::string& out, const PointCloud& cloud) {
+  out.reserve(out.size() + 12 * cloud.size());
+  for (const Point3& p : cloud)
+    for (const float f : {p.x, p.y, p.z}) {
+      std::uint32_t u;
+      std::memcpy(&u, &f, 4);
+      for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((u >> (8 * i)) & 0xFFu));
+    }
+}
+
 std::string printable(std::string_view word) {
   std::string out(word.substr(0, 32));
   for (char& c : out)

@@ -20,6 +20,9 @@ namespace tigris::io_detail {
 // "label:LINE: what" (the compiler's style, as the schedule reader reports).
 [[noreturn]] void fail_line(const std::string& label, std::size_t line, const std::string& what);
 
+// Appends each point's x, y, z as little-endian float32 (the writers' binary data).
+void append_xyz_le32(std::string& out, const PointCloud& cloud);
+
 // A word from a file, fit for an error message: at most 32 characters, bytes outside printable
 // ASCII shown as '?'.
 std::string printable(std::string_view word);
