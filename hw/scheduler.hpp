@@ -11,7 +11,7 @@
 
 #include <cstdint>
 #include <limits>
-#include <queue>
+#include <algorithm>
 #include <vector>
 
 #include <systemc>
@@ -35,6 +35,7 @@ class Scheduler : public sc_core::sc_module {
    private:
     friend class Scheduler;
     std::uint64_t key_;
+    std::uint32_t order_ = 0;  // position in (rank, id) order among the clients
     std::uint64_t pending_ = kNever;
   };
 
@@ -48,42 +49,100 @@ class Scheduler : public sc_core::sc_module {
   // Wakes `c` at `cycle` (not before now).
   void at(Client& c, std::uint64_t cycle) {
     if (c.pending_ <= cycle) return;
+    cycle = std::max(cycle, clock_.now());
+    if (c.pending_ != kNever) unmark(c.order_, c.pending_);
+    c.pending_ = kNever;  // so a resize in mark() does not book it twice
+    mark(c.order_, cycle);
     c.pending_ = cycle;
-    queue_.push({cycle, c.key_, &c});
     if (!running_) tick_.notify(clock_.until(cycle));  // inside the loop, run() re-arms itself
   }
   void now(Client& c) { at(c, clock_.now()); }
   // A job starts: forget every pending wake-up.
   void reset() {
-    queue_ = {};
-    for (Client* c : woken_) c->pending_ = kNever;
-    woken_.clear();
+    for (Client* c : clients_) c->pending_ = kNever;
+    resize(kInitialCycles);
   }
-  void add(Client& c) { woken_.push_back(&c); }
+  // Registers a unit (at construction); keeps the clients in (rank, id) order.
+  void add(Client& c) {
+    clients_.insert(std::upper_bound(clients_.begin(), clients_.end(), &c,
+                                     [](const Client* a, const Client* b) { return a->key_ < b->key_; }),
+                    &c);
+    for (std::uint32_t i = 0; i < clients_.size(); ++i) clients_[i]->order_ = i;
+    words_ = (clients_.size() + 63) / 64;
+    resize(kInitialCycles);
+  }
 
  private:
-  struct Entry {
-    std::uint64_t cycle, key;
-    Client* client;
-    bool operator>(const Entry& o) const { return cycle != o.cycle ? cycle > o.cycle : key > o.key; }
-  };
+  // Pending wake-ups: a ring of cycles, each a bit set over the clients in (rank, id) order, so
+  // the loop takes a cycle's clients lowest first; `cycles_` marks the ring's non-empty cycles.
+  // Every pending cycle c has now <= c < now + ring (the ring doubles when a wake-up is further).
+  static constexpr std::size_t kInitialCycles = 1024;
+  std::uint64_t* set_of(std::uint64_t cycle) { return bits_.data() + (cycle & (ring_ - 1)) * words_; }
+  void mark(std::uint32_t order, std::uint64_t cycle) {
+    while (cycle - clock_.now() >= ring_) resize(ring_ * 2);
+    ++waiting_;
+    set_of(cycle)[order / 64] |= std::uint64_t{1} << (order % 64);
+    const std::size_t r = static_cast<std::size_t>(cycle & (ring_ - 1));
+    cycles_[r / 64] |= std::uint64_t{1} << (r % 64);
+  }
+  void unmark(std::uint32_t order, std::uint64_t cycle) {
+    std::uint64_t* set = set_of(cycle);
+    set[order / 64] &= ~(std::uint64_t{1} << (order % 64));
+    --waiting_;
+    for (std::size_t w = 0; w < words_; ++w)
+      if (set[w]) return;
+    const std::size_t r = static_cast<std::size_t>(cycle & (ring_ - 1));
+    cycles_[r / 64] &= ~(std::uint64_t{1} << (r % 64));
+  }
+  // The earliest cycle with a pending wake-up at or after `from` (some client is pending).
+  std::uint64_t next_cycle(std::uint64_t from) const {
+    const std::size_t mask = ring_ - 1;
+    std::size_t r = static_cast<std::size_t>(from & mask);
+    for (std::size_t scanned = 0;;) {
+      const std::uint64_t w = cycles_[r / 64] >> (r % 64);
+      if (w != 0) return from + scanned + static_cast<std::uint64_t>(__builtin_ctzll(w));
+      const std::size_t step = 64 - r % 64;
+      scanned += step;
+      r = (r + step) & mask;
+    }
+  }
+  void resize(std::size_t cycles) {
+    ring_ = cycles;
+    bits_.assign(ring_ * words_, 0);
+    cycles_.assign((ring_ + 63) / 64, 0);
+    waiting_ = 0;
+    for (Client* c : clients_)
+      if (c->pending_ != kNever) mark(c->order_, c->pending_);
+  }
   void run() {
     const std::uint64_t now = clock_.now();
     running_ = true;
-    while (!queue_.empty() && queue_.top().cycle <= now) {
-      const Entry e = queue_.top();
-      queue_.pop();
-      if (e.client->pending_ != e.cycle) continue;  // replaced by an earlier request
-      e.client->pending_ = kNever;
-      e.client->wake();
+    if (waiting_ > 0) {
+      std::uint64_t* set = set_of(now);
+      for (std::size_t w = 0; w < words_;) {  // lowest order first; a wake may add lower ones
+        if (set[w] == 0) {
+          ++w;
+          continue;
+        }
+        const std::uint32_t order = static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(set[w]));
+        Client* c = clients_[order];
+        unmark(order, now);
+        c->pending_ = kNever;
+        c->wake();
+        set = set_of(now);  // a wake-up far ahead may have grown the ring
+        w = 0;
+      }
     }
     running_ = false;
-    if (!queue_.empty()) tick_.notify(clock_.until(queue_.top().cycle));
+    if (waiting_ > 0) tick_.notify(clock_.until(next_cycle(now)));
   }
 
   Clock clock_;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue_;
-  std::vector<Client*> woken_;  // every client, for reset()
+  std::vector<Client*> clients_;  // in (rank, id) order
+  std::size_t words_ = 0;         // 64-bit words per cycle's set
+  std::size_t ring_ = 0;          // cycles in the ring (a power of two)
+  std::vector<std::uint64_t> bits_, cycles_;
+  std::size_t waiting_ = 0;       // clients with a wake-up
   sc_core::sc_event tick_;
   bool running_ = false;
 };

@@ -30,8 +30,20 @@ class BankCalendar {
   // Marks `bank`'s first free cycle at or after `cycle` busy and returns it; `now` is the
   // current cycle (rows wholly before it are free to reuse).
   std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
-    cycle = next_free(bank, cycle, now);
-    book(bank, cycle, now);
+    Run& run = runs_[bank];
+    const std::uint64_t asked = cycle;
+    if (run.from <= cycle && cycle < run.to) cycle = run.to;
+    for (;;) {  // every row passed over is full (so already claimed); the last one is booked in
+      std::uint64_t& busy = word(bank, cycle / 64, now);
+      const std::uint64_t free = ~busy >> (cycle % 64);
+      if (free != 0) {
+        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
+        busy |= std::uint64_t{1} << (cycle % 64);
+        break;
+      }
+      cycle = (cycle / 64 + 1) * 64;
+    }
+    run.note(asked, cycle + 1);  // [asked, cycle] is now all booked
     return cycle;
   }
   // Books `bank`'s first `m` (> 0) free cycles at or after `cycle` and returns the last: what m
