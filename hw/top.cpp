@@ -22,7 +22,7 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
       fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, reverse_construction),
       policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
-  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_};
+  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_};
   const int n = config_.be.search_units;
   sus_.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
@@ -197,6 +197,7 @@ void TigrisAccelerator::do_start() {
   for (BankedSram* b : {&points_, &queries_, &query_stack_}) b->start();
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();
+  leaf_bounds_.build(TreeView(to_points_.data(), job_), job_.num_leaves);
   for (auto& su : sus_) su->start();
   node_cache_.start();
   observers_.job_started(job_.num_queries);

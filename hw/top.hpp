@@ -15,6 +15,7 @@
 #include <tlm_utils/simple_target_socket.h>
 
 #include "hw/be/issue_policy.hpp"
+#include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
@@ -39,6 +40,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   ObserverList observers_;
   StatGroup stats_{"tigris"};
   StatGroup be_stats_{"be"};
+  LeafBounds leaf_bounds_;  // host-side speed-up for the PEs' scans (hw/be/leaf_bounds.hpp)
 
  public:
   SC_HAS_PROCESS(TigrisAccelerator);

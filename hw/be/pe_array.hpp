@@ -7,6 +7,11 @@
 #include <cstdint>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "hw/be/leaf_bounds.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "hw/tree_view.hpp"
@@ -39,38 +44,43 @@ class PeArray {
   // NN/kNN results go to its Result Buffer slot, radius hits to `hits`. With `local`, the PE
   // also keeps the query's local result list as a new leader (DESIGN.md section 13): its
   // in-radius entries (radius) or its job.leader_width best in (dist2, index) order (NN/kNN).
+  // `box` (optional) holds every entry scanned: a scan it proves fruitless is skipped.
   void scan(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-            std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr) {
+            std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr,
+            const LeafBounds::Box* box = nullptr) {
     if (job_->radius())
-      scan_radius(token, set, count, hits, local);
+      scan_radius(token, set, count, hits, local, box);
     else if (local)
       scan_leader(token, set, count, *local);
     else
-      scan_nearest(token, set, count);
+      scan_nearest(token, set, count, box);
   }
 
  private:
-  static constexpr std::uint32_t kBlock = 16;  // entries whose distances are computed together
-  // The distances of `n` <= kBlock entries, in a loop the compiler vectorizes (a host speed-up:
-  // the same dist2, bit for bit, as the PEs compute one by one).
-  static void distances(const Point3& q, const tlm_if::PointEntry* e, std::uint32_t n, float* d) {
-    for (std::uint32_t i = 0; i < n; ++i) d[i] = dist2(q, Point3{e[i].x, e[i].y, e[i].z});
-  }
-
   // NN/kNN. The PE holds its query's k-th best distance: a point farther than it cannot enter
-  // the list (equal ones still may, by index), so only closer ones go through the insert. A
-  // block none of whose points is within the bound is passed over at once (the bound only falls).
-  void scan_nearest(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count) {
+  // the list (equal ones still may, by index), so only closer ones go through the insert.
+  void scan_nearest(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
+                    const LeafBounds::Box* box) {
     float bound = slots_.bound(token.slot);
-    float d[kBlock];
-    for (std::uint32_t b = 0; b < count; b += kBlock) {
-      const std::uint32_t n = std::min(kBlock, count - b);
-      distances(token.point, set + b, n, d);
-      bool any = false;
-      for (std::uint32_t i = 0; i < n; ++i) any |= d[i] <= bound;
-      if (!any) continue;
-      for (std::uint32_t i = 0; i < n; ++i)
-        if (d[i] <= bound && slots_.insert(token.slot, {set[b + i].tag, d[i]})) bound = slots_.bound(token.slot);
+    if (box && LeafBounds::min_dist2(token.point, *box) > bound) return;
+    std::uint32_t i = 0;
+#if defined(__SSE2__)
+    const Lanes q(token.point);
+    __m128 vbound = _mm_set1_ps(bound);
+    for (; i + 4 <= count; i += 4) {
+      const __m128 d = q.dist2(set + i);
+      const int m = _mm_movemask_ps(_mm_cmple_ps(d, vbound));
+      if (m == 0) continue;
+      alignas(16) float ds[4];
+      _mm_store_ps(ds, d);
+      for (int l = 0; l < 4; ++l)
+        if (((m >> l) & 1) && ds[l] <= bound && slots_.insert(token.slot, {set[i + l].tag, ds[l]}))
+          bound = slots_.bound(token.slot), vbound = _mm_set1_ps(bound);
+    }
+#endif
+    for (; i < count; ++i) {
+      const float d = dist2(token.point, Point3{set[i].x, set[i].y, set[i].z});
+      if (d <= bound && slots_.insert(token.slot, {set[i].tag, d})) bound = slots_.bound(token.slot);
     }
   }
   // NN/kNN for a new leader: also keeps its job.leader_width best as its local list.
@@ -87,19 +97,52 @@ class PeArray {
   }
   // Radius: every hit is streamed out; a new leader keeps its in-radius entries.
   void scan_radius(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-                   std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local) {
+                   std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local,
+                   const LeafBounds::Box* box) {
     const float r2 = job_->r2;
-    float d[kBlock];
-    for (std::uint32_t b = 0; b < count; b += kBlock) {
-      const std::uint32_t n = std::min(kBlock, count - b);
-      distances(token.point, set + b, n, d);
-      for (std::uint32_t i = 0; i < n; ++i) {
-        if (!(d[i] <= r2)) continue;
-        hits.push_back({token.query, set[b + i].tag, d[i]});
-        if (local) local->push_back(set[b + i]);
-      }
+    if (box && LeafBounds::min_dist2(token.point, *box) > r2) return;
+    const auto hit = [&](std::uint32_t i, float d) {
+      hits.push_back({token.query, set[i].tag, d});
+      if (local) local->push_back(set[i]);
+    };
+    std::uint32_t i = 0;
+#if defined(__SSE2__)
+    const Lanes q(token.point);
+    const __m128 vr2 = _mm_set1_ps(r2);
+    for (; i + 4 <= count; i += 4) {
+      const __m128 d = q.dist2(set + i);
+      const int m = _mm_movemask_ps(_mm_cmple_ps(d, vr2));
+      if (m == 0) continue;
+      alignas(16) float ds[4];
+      _mm_store_ps(ds, d);
+      for (int l = 0; l < 4; ++l)
+        if ((m >> l) & 1) hit(i + l, ds[l]);
+    }
+#endif
+    for (; i < count; ++i) {
+      const float d = dist2(token.point, Point3{set[i].x, set[i].y, set[i].z});
+      if (d <= r2) hit(i, d);
     }
   }
+
+#if defined(__SSE2__)
+  // A host speed-up: dist2 of four entries at once, lane by lane the same float operations in
+  // the same order as sw_ref/arith.hpp (SSE arithmetic is IEEE single precision), so bit-exact.
+  struct Lanes {
+    __m128 x, y, z;
+    explicit Lanes(const Point3& q) : x(_mm_set1_ps(q.x)), y(_mm_set1_ps(q.y)), z(_mm_set1_ps(q.z)) {}
+    __m128 dist2(const tlm_if::PointEntry* e) const {
+      const __m128 r0 = _mm_loadu_ps(&e[0].x), r1 = _mm_loadu_ps(&e[1].x);
+      const __m128 r2 = _mm_loadu_ps(&e[2].x), r3 = _mm_loadu_ps(&e[3].x);
+      const __m128 xy01 = _mm_unpacklo_ps(r0, r1), xy23 = _mm_unpacklo_ps(r2, r3);  // x0 x1 y0 y1
+      const __m128 zw01 = _mm_unpackhi_ps(r0, r1), zw23 = _mm_unpackhi_ps(r2, r3);  // z0 z1 w0 w1
+      const __m128 dx = _mm_sub_ps(x, _mm_movelh_ps(xy01, xy23));
+      const __m128 dy = _mm_sub_ps(y, _mm_movehl_ps(xy23, xy01));
+      const __m128 dz = _mm_sub_ps(z, _mm_movelh_ps(zw01, zw23));
+      return _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+    }
+  };
+#endif
 
   // The leader_width best so far, closest first (insertion into a short sorted list).
   void keep_best(Neighbor n, const tlm_if::PointEntry& e) {

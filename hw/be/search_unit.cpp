@@ -162,10 +162,11 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
+  const LeafBounds::Box* box = &links_.bounds.box(leaf);  // holds the Node Set and its leaders' lists
   for (const QueryToken& t : tokens) {
     LeafVisit v;
     if (!job_.approximate) {
-      pe_array_.scan(t, set, n, hits_);
+      pe_array_.scan(t, set, n, hits_, nullptr, box);
       v.leaf_points = n;
       ++plan.exact;
     } else {
@@ -175,7 +176,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
       plan.max_checks = std::max<std::uint64_t>(plan.max_checks, d.checks);
       if (d.kind == LeafVisit::Kind::Follower) {
         const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, d.leader);
-        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits_);
+        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits_, nullptr, box);
         v.follower_points = l.list_length;
         if (std::find(plan.followed.begin(), plan.followed.end(), d.leader) == plan.followed.end())
           plan.followed.push_back(d.leader);
@@ -186,7 +187,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
         v.leaf_points = n;
         ++plan.exact;
       } else {
-        pe_array_.scan(t, set, n, hits_);
+        pe_array_.scan(t, set, n, hits_, nullptr, box);
         v.leaf_points = n;
         ++plan.exact;
       }

@@ -11,6 +11,7 @@
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/leader_buffer.hpp"
 #include "hw/be/leader_check.hpp"
+#include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/pe_array.hpp"
 #include "hw/clock.hpp"
@@ -44,6 +45,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
     EnergyMeter& meter;
     JobObserver& observer;
     Scheduler& scheduler;
+    const LeafBounds& bounds;
   };
   SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
              const JobDescriptor& job, Links links);

@@ -30,6 +30,11 @@ class BankCalendar {
   // Marks `bank`'s first free cycle at or after `cycle` busy and returns it; `now` is the
   // current cycle (rows wholly before it are free to reuse).
   std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    std::uint64_t& first = word(bank, cycle / 64, now);  // most often free: book it at once
+    if (!((first >> (cycle % 64)) & 1)) {
+      first |= std::uint64_t{1} << (cycle % 64);
+      return cycle;
+    }
     Run& run = runs_[bank];
     const std::uint64_t asked = cycle;
     if (run.from <= cycle && cycle < run.to) cycle = run.to;
@@ -45,6 +50,23 @@ class BankCalendar {
     }
     run.note(asked, cycle + 1);  // [asked, cycle] is now all booked
     return cycle;
+  }
+  // Books one word in each of `count` (<= banks) banks from `bank` on (wrapping), each at its
+  // first free cycle at or after `cycle`; returns the cycle after the last one booked. What
+  // `count` reserve() calls do, with the row looked up once while the banks are free.
+  std::uint64_t reserve_span(std::uint32_t bank, std::uint32_t count, std::uint64_t cycle, std::uint64_t now) {
+    std::uint64_t finish = cycle + 1;
+    const std::uint64_t bit = std::uint64_t{1} << (cycle % 64);
+    std::uint64_t* row = &word(bank, cycle / 64, now) - bank;
+    for (std::uint32_t i = 0; i < count; ++i, bank = bank + 1 == banks_ ? 0 : bank + 1) {
+      if (!(row[bank] & bit)) {
+        row[bank] |= bit;
+        continue;
+      }
+      finish = std::max(finish, reserve(bank, cycle, now) + 1);
+      row = &word(bank, cycle / 64, now) - bank;  // the ring may have grown
+    }
+    return finish;
   }
   // Books `bank`'s first `m` (> 0) free cycles at or after `cycle` and returns the last: what m
   // reserve() calls, each from the cycle after the previous one, book; a row at a time.

@@ -51,14 +51,18 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
                                          std::uint64_t now) {
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
+  if (!ports_bind_ && words <= num_banks_)  // one word a bank
+    return words == 0 ? cycle : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle, now));
+  // The first `words mod banks` banks take one word more than the others.
   const std::uint64_t touched = std::min(words, num_banks_);
+  const std::uint64_t base_share = words / num_banks_, extra = words % num_banks_;
   std::uint32_t b = bank_of(first);
   std::uint64_t finish = cycle;
   for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1) {
-    const std::uint64_t share = (words - i + num_banks_ - 1) / num_banks_;
+    const std::uint64_t share = base_share + (i < extra ? 1 : 0);
     std::uint64_t t = cycle;
     if (!ports_bind_)
-      t = banks_.reserve_n(b, t, share, now) + 1;
+      t = (share == 1 ? banks_.reserve(b, t, now) : banks_.reserve_n(b, t, share, now)) + 1;
     else
       for (std::uint64_t w = 0; w < share; ++w) t = reserve(b, t, now) + 1;
     finish = std::max(finish, t);
@@ -91,7 +95,7 @@ void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
 }
 
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
-  const std::uint64_t now = sc_core::sc_time_stamp().value(), period = clock_.period.value();
+  const std::uint64_t now = Clock::time_value(), period = clock_.period.value();
   const std::uint64_t start = (now + delay.value()) / period;
   if (trans.get_command() == tlm::TLM_IGNORE_COMMAND) {
     tlm_if::AccessProfile* a = nullptr;

@@ -8,6 +8,7 @@
 #include <tlm>
 #include <tlm_utils/simple_initiator_socket.h>
 
+#include "hw/clock.hpp"
 #include "tlm/access_profile.hpp"
 
 namespace tigris::hw {
@@ -45,7 +46,7 @@ class BufferPort {
     trans_.set_data_length(0);
     trans_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
     // Integer time values: every time here is a whole number of periods (see hw/clock.hpp).
-    const std::uint64_t now = sc_core::sc_time_stamp().value(), p = period.value();
+    const std::uint64_t now = Clock::time_value(), p = period.value();
     sc_core::sc_time delay = sc_core::sc_time::from_value(start * p - now);
     socket->b_transport(trans_, delay);
     return (now + delay.value()) / p;
