@@ -14,18 +14,25 @@
 namespace tigris::hw {
 
 struct IssueDecision {
-  // The batches to start now: each a list of BE Query Buffer positions (ascending) whose
-  // queries stream one Node Set past their PEs together. No position is in two batches.
-  std::vector<std::vector<std::size_t>> batches;
+  // The batches to start now, one after another in `positions`: each a list of BE Query Buffer
+  // positions (ascending) whose queries stream one Node Set past their PEs together; batch b
+  // ends before positions[ends[b]]. No position is in two batches. (Flat, so that the Search
+  // Unit reuses one decision's storage.)
+  std::vector<std::size_t> positions, ends;
   std::uint64_t search_cycles = 0;  // the associative search before the batches can start
+
+  std::size_t batches() const { return ends.size(); }
+  void clear() { positions.clear(), ends.clear(), search_cycles = 0; }
+  void end_batch() { ends.push_back(positions.size()); }
 };
 
 class IssuePolicy {
  public:
   virtual ~IssuePolicy() = default;
-  // Chooses among the buffer's entries that have arrived by `now`, given `free_pes` of `pes`.
-  virtual IssueDecision pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes,
-                             std::uint32_t pes, std::uint64_t now) const = 0;
+  // Chooses among the buffer's entries that have arrived by `now`, given `free_pes` of `pes`,
+  // into `d` (cleared first).
+  virtual void pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
+                    std::uint64_t now, IssueDecision& d) const = 0;
 };
 
 std::unique_ptr<IssuePolicy> make_issue_policy(const AcceleratorConfig& config);

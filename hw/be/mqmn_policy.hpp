@@ -8,8 +8,8 @@ namespace tigris::hw {
 
 class MqmnPolicy final : public IssuePolicy {
  public:
-  IssueDecision pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
-                     std::uint64_t now) const override;
+  void pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
+            std::uint64_t now, IssueDecision& d) const override;
 };
 
 }  // namespace tigris::hw

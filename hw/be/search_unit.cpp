@@ -25,7 +25,7 @@ SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
 void SearchUnit::start() {
   stall_.start();
   bqb_.clear();
-  running_.clear();
+  active_ = 0;
   free_pes_ = pes_;
   busy_until_ = 0;
   tree_ = TreeView(points.data(), job_);
@@ -49,7 +49,7 @@ void SearchUnit::accept(const QueryToken& token) {
 void SearchUnit::step() {
   const std::uint64_t now = clock_.now();
   // Retire batches whose stream has drained: their queries go back to the front-end.
-  for (std::size_t i = 0; i < running_.size();) {
+  for (std::size_t i = 0; i < active_;) {
     if (running_[i].end > now) {
       ++i;
       continue;
@@ -64,19 +64,19 @@ void SearchUnit::step() {
     const std::uint64_t back = now + static_cast<std::uint64_t>(config_.cost.be_to_fe) + stall_.draw();
     for (const QueryToken& t : running_[i].tokens) links_.fe.reinsert(t, back);
     free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
-    running_[i] = std::move(running_.back());
-    running_.pop_back();
+    std::swap(running_[i], running_[--active_]);  // the last running batch takes its place
   }
   // Issue while the policy finds batches for the free PEs.
   bool issued = false;
   for (;;) {
-    const IssueDecision d = links_.policy.pick(bqb_, free_pes_, pes_, now);
-    if (d.batches.empty()) break;
-    std::vector<std::vector<QueryToken>> batches;
+    const IssueDecision& d = decision_;
+    links_.policy.pick(bqb_, free_pes_, pes_, now, decision_);
+    if (d.batches() == 0) break;
+    const std::size_t first_new = active_;
     taken_.assign(bqb_.size(), 0);
-    for (const auto& positions : d.batches) {
-      batches.emplace_back();
-      for (std::size_t i : positions) batches.back().push_back(bqb_[i]), taken_[i] = 1;
+    for (std::size_t b = 0, p = 0; b < d.batches(); ++b) {
+      Batch& batch = add_batch();
+      for (; p < d.ends[b]; ++p) batch.tokens.push_back(bqb_[d.positions[p]]), taken_[d.positions[p]] = 1;
     }
     std::size_t kept = 0;  // the rest keep their order
     for (std::size_t i = 0; i < bqb_.size(); ++i)
@@ -84,7 +84,7 @@ void SearchUnit::step() {
     bqb_.resize(kept);
     const std::uint64_t setup = d.search_cycles + static_cast<std::uint64_t>(config_.cost.issue_cycle);
     issue_stall_ += setup;
-    for (auto& b : batches) issue(std::move(b), now, setup);
+    for (std::size_t b = first_new; b < active_; ++b) issue(running_[b], now, setup);
     issued = true;
   }
   if (issued) links_.qdn.space_freed(id_);
@@ -92,13 +92,21 @@ void SearchUnit::step() {
   pes_wave_.set(pes_ - free_pes_);
   // Sleep until a batch drains or a queued query arrives.
   std::uint64_t next = std::numeric_limits<std::uint64_t>::max();
-  for (const Batch& b : running_) next = std::min(next, b.end);
+  for (std::size_t b = 0; b < active_; ++b) next = std::min(next, running_[b].end);
   for (const QueryToken& t : bqb_)
     if (t.ready > now) next = std::min(next, t.ready);
   if (next != std::numeric_limits<std::uint64_t>::max()) links_.scheduler.at(*this, next);
 }
 
-void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup) {
+SearchUnit::Batch& SearchUnit::add_batch() {
+  if (active_ == running_.size()) running_.emplace_back();
+  Batch& b = running_[active_++];
+  b.tokens.clear(), b.hits.clear(), b.end = 0, b.written = false;
+  return b;
+}
+
+void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
+  const std::vector<QueryToken>& tokens = batch.tokens;
   const std::uint64_t start = now + setup;  // buffers are read during the issue search
   const std::uint32_t leaf = tokens.front().leaf;
   const std::uint64_t n = tree_.leaf_size(leaf);
@@ -111,7 +119,7 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
 
   // Function, one query at a time in BQB order (the recorded order): the Leader Check decides
   // how each is served, then its PE scans the Node Set or its leader's local list.
-  const Plan plan = serve(tokens, leaf, now);
+  const Plan plan = serve(tokens, leaf, now, batch.hits);
 
   // Timing. The batch's stream: the Leader Check (the leaf's leaders past the PEs), then the
   // Node Set for the exact scans, then each followed leader's list, back to back through the
@@ -154,11 +162,11 @@ void SearchUnit::issue(std::vector<QueryToken> tokens, std::uint64_t now, std::u
   sram_stall_ += end - compute_end;
   pe_busy_cycles_ += b * (compute_end - start);
   links_.observer.su_batch(id_, leaf, tokens.data(), tokens.size(), now, end, stream);
-  running_.push_back({std::move(tokens), std::move(hits_), end, false});
-  hits_.clear();
+  batch.end = end;
 }
 
-SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now) {
+SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
+                                   std::vector<tlm_if::ResultRecord>& hits) {
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
@@ -166,7 +174,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
   for (const QueryToken& t : tokens) {
     LeafVisit v;
     if (!job_.approximate) {
-      pe_array_.scan(t, set, n, hits_, nullptr, box);
+      pe_array_.scan(t, set, n, hits, nullptr, box);
       v.leaf_points = n;
       ++plan.exact;
     } else {
@@ -176,18 +184,18 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
       plan.max_checks = std::max<std::uint64_t>(plan.max_checks, d.checks);
       if (d.kind == LeafVisit::Kind::Follower) {
         const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, d.leader);
-        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits_, nullptr, box);
+        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits, nullptr, box);
         v.follower_points = l.list_length;
         if (std::find(plan.followed.begin(), plan.followed.end(), d.leader) == plan.followed.end())
           plan.followed.push_back(d.leader);
       } else if (d.kind == LeafVisit::Kind::Leader) {
         local_.clear();
-        pe_array_.scan(t, set, n, hits_, &local_);
+        pe_array_.scan(t, set, n, hits, &local_);
         plan.new_leaders.push_back(leader_buffer_.append(leaf, t.point, local_));
         v.leaf_points = n;
         ++plan.exact;
       } else {
-        pe_array_.scan(t, set, n, hits_, nullptr, box);
+        pe_array_.scan(t, set, n, hits, nullptr, box);
         v.leaf_points = n;
         ++plan.exact;
       }

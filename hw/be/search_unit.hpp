@@ -75,14 +75,16 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   };
   void wake() override { step(); }
   void step();  // retire finished batches, issue new ones
-  void issue(std::vector<QueryToken> tokens, std::uint64_t now, std::uint64_t setup);
+  void issue(Batch& batch, std::uint64_t now, std::uint64_t setup);
+  Batch& add_batch();  // a cleared batch at the end of the running ones (storage reused)
   // How a batch is served: its exact scans, the leaders it followed and the ones it appended.
   struct Plan {
     std::uint64_t exact = 0;       // queries scanning the Node Set
     std::uint64_t max_checks = 0;  // leaders the last Leader Check compared against
     std::vector<std::size_t> followed, new_leaders;  // leader indices at the batch's leaf
   };
-  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now);
+  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
+             std::vector<tlm_if::ResultRecord>& hits);
   // A leader's list written (at its leader's scan end) or read, from cycle `at`; returns when done.
   std::uint64_t list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
@@ -98,10 +100,11 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   std::uint32_t pes_, free_pes_;
   std::uint64_t busy_until_ = 0;
   std::vector<QueryToken> bqb_;
-  std::vector<Batch> running_;
+  std::vector<Batch> running_;  // the first `active_` are streaming; the rest keep their storage
+  std::size_t active_ = 0;
+  IssueDecision decision_;
   PeArray pe_array_;
   LeaderBuffer leader_buffer_;
-  std::vector<tlm_if::ResultRecord> hits_;      // the batch being issued: its radius hits
   std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
   std::vector<char> taken_;                     // BQB positions issued this step
   TreeView tree_;

@@ -23,9 +23,20 @@ class BankCalendar {
 
   // Forgets every booking.
   void clear() {
+    last_id_ = kNoRow;
     rows_.assign(kRows, Row{});
     busy_.assign(std::size_t{kRows} * banks_, 0);
     runs_.assign(banks_, Run{});
+  }
+  // The fast path of reserve(): books `cycle` in `bank` if the row looked up last holds that
+  // cycle and the bank is free in it; false if reserve() must look further.
+  bool try_book(std::uint32_t bank, std::uint64_t cycle) {
+    if (cycle / 64 != last_id_) return false;
+    std::uint64_t& w = last_bits_[bank];
+    const std::uint64_t bit = std::uint64_t{1} << (cycle % 64);
+    if (w & bit) return false;
+    w |= bit;
+    return true;
   }
   // Marks `bank`'s first free cycle at or after `cycle` busy and returns it; `now` is the
   // current cycle (rows wholly before it are free to reuse).
@@ -55,17 +66,22 @@ class BankCalendar {
   // first free cycle at or after `cycle`; returns the cycle after the last one booked. What
   // `count` reserve() calls do, with the row looked up once while the banks are free.
   std::uint64_t reserve_span(std::uint32_t bank, std::uint32_t count, std::uint64_t cycle, std::uint64_t now) {
-    std::uint64_t finish = cycle + 1;
     const std::uint64_t bit = std::uint64_t{1} << (cycle % 64);
     std::uint64_t* row = &word(bank, cycle / 64, now) - bank;
-    for (std::uint32_t i = 0; i < count; ++i, bank = bank + 1 == banks_ ? 0 : bank + 1) {
-      if (!(row[bank] & bit)) {
-        row[bank] |= bit;
-        continue;
-      }
-      finish = std::max(finish, reserve(bank, cycle, now) + 1);
-      row = &word(bank, cycle / 64, now) - bank;  // the ring may have grown
+    // The common case, all of them free at `cycle`: two runs of neighbouring words (the span
+    // may wrap past the last bank), tested and booked in loops the compiler vectorizes.
+    const std::uint32_t head = std::min(count, banks_ - bank), tail = count - head;
+    std::uint64_t busy = 0;
+    for (std::uint32_t i = 0; i < head; ++i) busy |= row[bank + i];
+    for (std::uint32_t i = 0; i < tail; ++i) busy |= row[i];
+    if (!(busy & bit)) {
+      for (std::uint32_t i = 0; i < head; ++i) row[bank + i] |= bit;
+      for (std::uint32_t i = 0; i < tail; ++i) row[i] |= bit;
+      return cycle + 1;
     }
+    std::uint64_t finish = cycle + 1;
+    for (std::uint32_t i = 0; i < count; ++i, bank = bank + 1 == banks_ ? 0 : bank + 1)
+      finish = std::max(finish, reserve(bank, cycle, now) + 1);
     return finish;
   }
   // Books `bank`'s first `m` (> 0) free cycles at or after `cycle` and returns the last: what m
@@ -136,6 +152,7 @@ class BankCalendar {
   };
   // `bank`'s busy bits for cycles id * 64 .. id * 64 + 63, without claiming a row for them.
   std::uint64_t peek(std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
+    if (id == last_id_) return last_bits_[bank];
     for (;;) {
       const std::size_t r = static_cast<std::size_t>(id & (rows_.size() - 1));
       const Row& row = rows_[r];
@@ -144,8 +161,10 @@ class BankCalendar {
       grow();
     }
   }
-  // The same, to book in (recycling a row wholly in the past).
+  // The same, to book in (recycling a row wholly in the past). The last row looked up is kept:
+  // one work item's accesses mostly fall in the same 64 cycles.
   std::uint64_t& word(std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
+    if (id == last_id_) return last_bits_[bank];
     for (;;) {
       const std::size_t r = static_cast<std::size_t>(id & (rows_.size() - 1));
       Row& row = rows_[r];
@@ -159,10 +178,12 @@ class BankCalendar {
         if (row.used) std::fill(bits, bits + banks_, 0);
       }
       row.used = true;
+      last_id_ = id, last_bits_ = bits;
       return bits[bank];
     }
   }
   void grow() {
+    last_id_ = kNoRow;
     std::vector<Row> old_rows = std::move(rows_);
     std::vector<std::uint64_t> old_busy = std::move(busy_);
     rows_.assign(old_rows.size() * 2, Row{});
@@ -174,7 +195,10 @@ class BankCalendar {
       std::copy(old_busy.begin() + r * banks_, old_busy.begin() + (r + 1) * banks_, busy_.begin() + to * banks_);
     }
   }
+  static constexpr std::uint64_t kNoRow = ~std::uint64_t{0};
   std::uint32_t banks_;
+  std::uint64_t last_id_ = kNoRow;    // the row word() looked up last ...
+  std::uint64_t* last_bits_ = nullptr;  // ... and its busy bits
   std::vector<Row> rows_;
   std::vector<std::uint64_t> busy_;  // rows_.size() x banks_
   // Per bank, cycles known to be all booked, so a search skips a long backlog at once (a bank

@@ -73,10 +73,22 @@ std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words
 std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
   std::uint64_t stall = 0, last = start, n = 0;
+  // Accesses within one word (a walk's nodes and stack entries) take a short path that books
+  // most of them in the calendar's current row.
+  const bool pow2 = !ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0;
   for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
     // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + a.issue_offset[i] + stall;
-    const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
+    const std::uint32_t size = a.size_of(i);
+    if (pow2 && size > 0 && (a.scatter[i] & (word_bytes_ - 1)) + size <= word_bytes_) {
+      const auto bank = static_cast<std::uint32_t>((a.scatter[i] >> word_shift_) & bank_mask_);
+      const std::uint64_t served = banks_.try_book(bank, t) ? t : banks_.reserve(bank, t, now);
+      stall += served - t;
+      last = served + 1;
+      ++n;
+      continue;
+    }
+    const auto [first, words] = words_of(a.scatter[i], size);
     std::uint64_t served = t;
     for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(bank_of(w), t, now));
     stall += served - t;
