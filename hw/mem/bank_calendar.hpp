@@ -42,25 +42,12 @@ class BankCalendar {
   // current cycle (rows wholly before it are free to reuse).
   std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
     std::uint64_t& first = word(bank, cycle / 64, now);  // most often free: book it at once
-    if (!((first >> (cycle % 64)) & 1)) {
-      first |= std::uint64_t{1} << (cycle % 64);
+    const std::uint64_t bit = std::uint64_t{1} << (cycle % 64);
+    if (!(first & bit)) {
+      first |= bit;
       return cycle;
     }
-    Run& run = runs_[bank];
-    const std::uint64_t asked = cycle;
-    if (run.from <= cycle && cycle < run.to) cycle = run.to;
-    for (;;) {  // every row passed over is full (so already claimed); the last one is booked in
-      std::uint64_t& busy = word(bank, cycle / 64, now);
-      const std::uint64_t free = ~busy >> (cycle % 64);
-      if (free != 0) {
-        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
-        busy |= std::uint64_t{1} << (cycle % 64);
-        break;
-      }
-      cycle = (cycle / 64 + 1) * 64;
-    }
-    run.note(asked, cycle + 1);  // [asked, cycle] is now all booked
-    return cycle;
+    return reserve_later(bank, cycle, now);
   }
   // Books one word in each of `count` (<= banks) banks from `bank` on (wrapping), each at its
   // first free cycle at or after `cycle`; returns the cycle after the last one booked. What
@@ -80,8 +67,14 @@ class BankCalendar {
       return cycle + 1;
     }
     std::uint64_t finish = cycle + 1;
-    for (std::uint32_t i = 0; i < count; ++i, bank = bank + 1 == banks_ ? 0 : bank + 1)
-      finish = std::max(finish, reserve(bank, cycle, now) + 1);
+    for (std::uint32_t i = 0; i < count; ++i, bank = bank + 1 == banks_ ? 0 : bank + 1) {
+      if (!(row[bank] & bit)) {
+        row[bank] |= bit;
+        continue;
+      }
+      finish = std::max(finish, reserve_later(bank, cycle, now) + 1);
+      row = &word(bank, cycle / 64, now) - bank;  // the ring may have grown
+    }
     return finish;
   }
   // Books `bank`'s first `m` (> 0) free cycles at or after `cycle` and returns the last: what m
@@ -138,6 +131,24 @@ class BankCalendar {
   }
 
  private:
+  // reserve() when `cycle` itself is booked: the first free cycle after it.
+  __attribute__((noinline)) std::uint64_t reserve_later(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    Run& run = runs_[bank];
+    const std::uint64_t asked = cycle;
+    if (run.from <= cycle && cycle < run.to) cycle = run.to;
+    for (;;) {  // every row passed over is full (so already claimed); the last one is booked in
+      std::uint64_t& busy = word(bank, cycle / 64, now);
+      const std::uint64_t free = ~busy >> (cycle % 64);
+      if (free != 0) {
+        cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
+        busy |= std::uint64_t{1} << (cycle % 64);
+        break;
+      }
+      cycle = (cycle / 64 + 1) * 64;
+    }
+    run.note(asked, cycle + 1);  // [asked, cycle] is now all booked
+    return cycle;
+  }
   // Portable (no -mpopcnt: the builtin would be a libgcc call).
   static std::uint64_t popcount(std::uint64_t x) {
     x = x - ((x >> 1) & 0x5555555555555555ULL);
@@ -164,7 +175,9 @@ class BankCalendar {
   // The same, to book in (recycling a row wholly in the past). The last row looked up is kept:
   // one work item's accesses mostly fall in the same 64 cycles.
   std::uint64_t& word(std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
-    if (id == last_id_) return last_bits_[bank];
+    return (id == last_id_ ? last_bits_ : lookup(id, now))[bank];
+  }
+  __attribute__((noinline)) std::uint64_t* lookup(std::uint64_t id, std::uint64_t now) {
     for (;;) {
       const std::size_t r = static_cast<std::size_t>(id & (rows_.size() - 1));
       Row& row = rows_[r];
@@ -179,7 +192,7 @@ class BankCalendar {
       }
       row.used = true;
       last_id_ = id, last_bits_ = bits;
-      return bits[bank];
+      return bits;
     }
   }
   void grow() {
