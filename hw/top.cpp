@@ -220,6 +220,13 @@ void TigrisAccelerator::do_finish() {
   irq_changed_.notify(sc_core::SC_ZERO_TIME);
 }
 
+void TigrisAccelerator::time_through_transport_for_test() {
+  for (auto& ru : fe_.rus)
+    for (BufferPort* p : {&ru->points, &ru->queries, &ru->stacks, &ru->results}) p->use_transport_for_timing();
+  for (auto& su : sus_)
+    for (BufferPort* p : {&su->points, &su->results}) p->use_transport_for_timing();
+}
+
 void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
   const std::string scope = name();
   // Declared first, so a viewer lists them first: the whole machine at a glance.

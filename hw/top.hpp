@@ -69,6 +69,9 @@ class TigrisAccelerator : public sc_core::sc_module {
   // Records unit busy flags, queue occupancies and query ids into `vcd` from now on.
   void attach_waves(VcdWriter& vcd);
   FrontEnd& front_end_for_test() { return fe_; }
+  // Test hook: every unit times its buffer accesses with b_transport instead of the buffers'
+  // TimingTarget (tlm/access_profile.hpp); the figures must not change.
+  void time_through_transport_for_test();
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
 
  private:

@@ -548,11 +548,13 @@ TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as 
 }
 
 TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, identical figures", "[hw][timing]") {
+  // The fourth copy times its buffer accesses through b_transport instead of the buffers'
+  // direct TimingTarget: the two ways must give the same figures too.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 4000, 65);
   const PointCloud queries = make_queries(cloud, 1500, 65);
   const KdTree tree = build_kdtree(cloud, 6);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  // Per mode, three copies of one accelerator in one SystemC run, the second built in reverse.
+  // Per mode, four copies of one accelerator in one SystemC run, the second built in reverse.
   std::vector<SimSetup> setups;
   for (const SearchParams& p : {mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)}) {
     hw::AcceleratorConfig c = units(16, 8, 8, 6);
@@ -560,12 +562,14 @@ TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, iden
     SimSetup s = one_setup(image, queries, cloud.size(), c, p);
     SimSetup reversed = s;
     reversed.reverse_construction = true;
-    setups.insert(setups.end(), {s, reversed, s});
+    SimSetup transport = s;
+    transport.test_hook = [](hw::TigrisAccelerator& a) { a.time_through_transport_for_test(); };
+    setups.insert(setups.end(), {s, reversed, s, transport});
   }
   const auto out = simulate(setups);
   for (const SimOutcome& o : out) REQUIRE(o.finished);
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const SimOutcome& first = out[i / 3 * 3];
+    const SimOutcome& first = out[i / 4 * 4];
     INFO("setup " << i);
     CHECK(out[i].cycles == first.cycles);
     CHECK(out[i].units == first.units);
@@ -573,7 +577,7 @@ TEST_CASE("same-cycle arbitration: side by side, alone or built in reverse, iden
     CHECK(out[i].latency == first.latency);
     CHECK(out[i].visits.schedule == first.visits.schedule);
   }
-  CHECK(out[0].cycles != out[3].cycles);  // the two modes are different jobs
+  CHECK(out[0].cycles != out[4].cycles);  // the two modes are different jobs
 }
 
 TEST_CASE("top-level replicas: bit-exact, their node reads leave the Point Buffer for RU registers", "[hw][timing]") {

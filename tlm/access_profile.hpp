@@ -3,6 +3,11 @@
 // extension, and the buffer adds the cycles its banks, ports and latency cost to the annotated
 // delay (DESIGN.md section 7: never one b_transport per point). Accesses are given in bytes;
 // the buffer maps them onto its own words (sram.<buffer>.word_bytes) and banks.
+//
+// A buffer may also hand out its TimingTarget along with its DMI pointer (a TimingHandle
+// extension on the DMI request): the same charge without the generic payload, whose set-up,
+// sc_time conversions and socket indirections cost more than the booking itself when a frame
+// makes millions of accesses. Both ways reach the same calendar and give the same cycles.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +15,27 @@
 #include <tlm>
 
 namespace tigris::tlm_if {
+
+struct AccessProfile;
+
+// What a buffer's timing offers directly: charge an access from cycle `start`, returning the
+// cycle its data is complete (what the b_transport path returns as the annotated delay).
+class TimingTarget {
+ public:
+  virtual std::uint64_t charge(std::uint64_t start, const AccessProfile& access) = 0;
+
+ protected:
+  ~TimingTarget() = default;
+};
+
+// Set on a get_direct_mem_ptr request; a buffer that has a TimingTarget fills it in.
+struct TimingHandle : tlm::tlm_extension<TimingHandle> {
+  TimingTarget* target = nullptr;
+  tlm::tlm_extension_base* clone() const override { return new TimingHandle(*this); }
+  void copy_from(const tlm::tlm_extension_base& other) override {
+    target = static_cast<const TimingHandle&>(other).target;
+  }
+};
 
 struct AccessProfile : tlm::tlm_extension<AccessProfile> {
   bool write = false;

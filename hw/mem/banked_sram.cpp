@@ -140,7 +140,10 @@ void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_t
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
-bool BankedSram::get_direct_mem_ptr(int, tlm::tlm_generic_payload&, tlm::tlm_dmi& dmi) {
+bool BankedSram::get_direct_mem_ptr(int, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi) {
+  tlm_if::TimingHandle* handle = nullptr;
+  trans.get_extension(handle);
+  if (handle) handle->target = this;
   dmi.allow_read_write();
   dmi.set_dmi_ptr(data_.data());
   dmi.set_start_address(0);

@@ -26,7 +26,7 @@
 
 namespace tigris::hw {
 
-class BankedSram : public sc_core::sc_module {
+class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
  public:
   tlm_utils::multi_passthrough_target_socket<BankedSram> socket;
 
@@ -47,7 +47,7 @@ class BankedSram : public sc_core::sc_module {
     stall_.start();
   }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
-  std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access);
+  std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access) override;
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);

@@ -1,5 +1,6 @@
-// A unit's port onto one global buffer: DMI for the data, one timing-only TLM transaction per
-// work item for the cost (see tlm/access_profile.hpp).
+// A unit's port onto one global buffer: DMI for the data, one timing-only charge per work item
+// for the cost (see tlm/access_profile.hpp): straight to the buffer's TimingTarget when it
+// offers one with its DMI pointer, else as a TLM_IGNORE_COMMAND b_transport.
 #pragma once
 
 #include <cstdint>
@@ -22,23 +23,31 @@ class BufferPort {
 
   tlm_utils::simple_initiator_socket<BufferPort> socket;
 
-  // The buffer's storage, fetched once through DMI.
+  // The buffer's storage (and its TimingTarget, if it has one), fetched once through DMI.
   std::uint8_t* data() {
     if (!dmi_ptr_) {
       tlm::tlm_generic_payload t;
       t.set_address(0);
       t.set_command(tlm::TLM_READ_COMMAND);
+      tlm_if::TimingHandle handle;
+      t.set_extension(&handle);
       tlm::tlm_dmi dmi;
-      if (!socket->get_direct_mem_ptr(t, dmi)) SC_REPORT_FATAL("tigris", "buffer refused DMI");
+      const bool granted = socket->get_direct_mem_ptr(t, dmi);
+      t.clear_extension(&handle);
+      if (!granted) SC_REPORT_FATAL("tigris", "buffer refused DMI");
       dmi_ptr_ = dmi.get_dmi_ptr();
+      timing_ = use_transport_ ? nullptr : handle.target;
     }
     return dmi_ptr_;
   }
+  // Test hook: time every access with a b_transport, even where a TimingTarget is offered.
+  void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr; }
 
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access,
                        const sc_core::sc_time& period) {
     if (access.bytes == 0 && access.scatter_count == 0) return start;  // nothing to access
+    if (timing_) return timing_->charge(start, access);
     profile_ = access;
     trans_.set_command(tlm::TLM_IGNORE_COMMAND);
     trans_.set_address(access.scatter ? 0 : access.first_byte);
@@ -57,6 +66,8 @@ class BufferPort {
   tlm_if::AccessProfile profile_;
   unsigned char dummy_ = 0;
   std::uint8_t* dmi_ptr_ = nullptr;
+  tlm_if::TimingTarget* timing_ = nullptr;
+  bool use_transport_ = false;
 };
 
 }  // namespace tigris::hw
