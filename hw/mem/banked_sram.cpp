@@ -11,6 +11,8 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       word_bytes_(static_cast<std::uint64_t>(config.word_bytes)), num_banks_(static_cast<std::uint64_t>(config.banks)),
       word_shift_((word_bytes_ & (word_bytes_ - 1)) == 0 ? __builtin_ctzll(word_bytes_) : -1),
       bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0),
+      lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
+      lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
       ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
@@ -25,7 +27,6 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
 
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
-  const std::uint32_t banks = static_cast<std::uint32_t>(config_.banks);
   if (a.scatter && a.issue_offset) return charge_in_order(start, a);
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
@@ -40,9 +41,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     finish = std::max(finish, reserve_words(word_index(a.first_byte), n, start, now));
   }
   if (n == 0) return start;
-  const std::uint64_t ports = static_cast<std::uint64_t>(config_.ports);
-  const std::uint64_t lanes = std::min<std::uint64_t>(banks, ports);
-  const std::uint64_t ideal = start + (n + lanes - 1) / lanes;
+  const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
   conflict_cycles_ += finish - ideal;
   count(a.write, n, a.bytes);
   return finish + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
@@ -51,6 +50,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
                                          std::uint64_t now) {
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
+  if (!ports_bind_ && words == 1) return std::max(cycle, banks_.reserve(bank_of(first), cycle, now) + 1);
   if (!ports_bind_ && words <= num_banks_)  // one word a bank
     return words == 0 ? cycle : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle, now));
   // The first `words mod banks` banks take one word more than the others.

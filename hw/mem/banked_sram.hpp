@@ -90,6 +90,8 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   std::uint64_t word_bytes_, num_banks_;
   int word_shift_;          // log2(word_bytes_), or -1
   std::uint64_t bank_mask_;  // num_banks_ - 1 for a power of two, else 0
+  std::uint64_t lanes_;      // words served a cycle at best: min(banks, ports)
+  int lanes_shift_;          // log2(lanes_), or -1
   BankCalendar banks_;
   bool ports_bind_;
   PortCalendar ports_;
