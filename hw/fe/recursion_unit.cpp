@@ -102,65 +102,79 @@ std::uint64_t RecursionUnit::walk() {
     if (!job_.radius()) slots_.clear(token_.slot);
     if (tree_.node_nonempty(0)) stack[token_.sp++] = {0, 0.0f};
   }
-  while (token_.sp > 0) {
+  // The walk keeps its state in locals (written back on leaving): the pruning bound changes
+  // only when an insert took a point, and the statistics are added once per activation.
+  const bool radius = job_.radius();
+  const std::uint32_t slot = token_.slot, top_nodes = tree_.num_top_nodes();
+  float bound = radius ? job_.r2 : slots_.bound(slot);
+  std::uint32_t sp = token_.sp;
+  std::uint64_t prune_cycles = 0, stall_cycles = 0, replica_reads = 0;
+  const auto leave = [&] {
+    token_.sp = static_cast<std::uint16_t>(sp);
+    prune_cycles_ += prune_cycles;
+    pi_rs_stall_ += stall_cycles;
+    replica_bytes_ += replica_reads * sizeof(tlm_if::PointEntry);
+    node_energy_ += top;
+    links_.observer.walked(token_.query, top, pruned);
+  };
+  while (sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
-    const StackEntry tos = stack[--token_.sp];
-    stack_pops_.add(stack_base + token_.sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
-    const float bound = job_.radius() ? job_.r2 : slots_.bound(token_.slot);
+    const StackEntry tos = stack[--sp];
+    stack_pops_.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
     if (tos.plane2 > bound) {
       ++pruned;
-      const int c = bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass;
-      cycles += static_cast<std::uint64_t>(c);
-      prune_cycles_ += static_cast<std::uint64_t>(c);
+      const auto c = static_cast<std::uint64_t>(bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass);
+      cycles += c;
+      prune_cycles += c;
       continue;
     }
     std::uint32_t node = tos.node;
-    while (node < tree_.num_top_nodes()) {
+    while (node < top_nodes) {
       // RN: read the node; CD: its distance to the query; PI: insert into the result, push
       // the far child with its plane distance, go on with the near child.
       const tlm_if::PointEntry& e = tree_.node(node);
       if (node < replicated_nodes_)  // the RU's own copy of the first levels
-        replica_bytes_ += sizeof(tlm_if::PointEntry);
+        ++replica_reads;
       else
         node_reads_.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
       ++top;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
       if (!forwarding) {
         cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
-        pi_rs_stall_ += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
+        stall_cycles += static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
       }
       const Point3 p{e.x, e.y, e.z};
-      const std::uint32_t index = e.tag & tlm_if::kIndexMask;
       const float d = dist2(q, p);
-      if (job_.radius()) {
-        if (d <= job_.r2) hits_.push_back({token_.query, index, d});
-      } else {
-        slots_.insert(token_.slot, {index, d});
+      // A point beyond the bound cannot enter the list (an equal one still may, by index).
+      if (d <= bound) {
+        const std::uint32_t index = e.tag & tlm_if::kIndexMask;
+        if (radius)
+          hits_.push_back({token_.query, index, d});
+        else if (slots_.insert(slot, {index, d}))
+          bound = slots_.bound(slot);
       }
       const int axis = static_cast<int>(e.tag >> tlm_if::kAxisShift);
       const bool left = q[axis] < p[axis];
       const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
       if (tree_.node_nonempty(far_child)) {
-        stack_pushes_.add(stack_base + token_.sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
-        stack[token_.sp++] = {far_child, plane_dist2(q, p, axis)};
+        stack_pushes_.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
+        stack[sp++] = {far_child, plane_dist2(q, p, axis)};
       }
       if (!tree_.node_nonempty(near_child)) break;
       node = near_child;
     }
-    if (node >= tree_.num_top_nodes() && tree_.node_nonempty(node)) {
+    if (node >= top_nodes && tree_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
-      token_.leaf = node - tree_.num_top_nodes();
+      token_.leaf = node - top_nodes;
       node_reads_.add(tree_.dir_address(token_.leaf), sizeof(tlm_if::LeafDirEntry), cycles);  // its size
       cycles += static_cast<std::uint64_t>(cost_.ru_drain);
-      node_energy_ += top;
-      links_.observer.walked(token_.query, top, pruned);
+      leave();
       return cycles;
     }
   }
   finished_ = true;  // the stack is empty: the query's results leave the RU
-  node_energy_ += top;
-  links_.observer.walked(token_.query, top, pruned);
+  leave();
   return cycles + static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
 }
 
