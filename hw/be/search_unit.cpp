@@ -34,11 +34,6 @@ void SearchUnit::start() {
 }
 
 void SearchUnit::accept(const QueryToken& token) {
-  // Host speed-up only: the query's Node Set and slot are fetched into the host's cache while
-  // it waits in the BQB (a simulator of thousands of queries in flight misses it otherwise).
-  const auto* set = reinterpret_cast<const char*>(pe_array_.node_set(token.leaf));
-  const auto* end = reinterpret_cast<const char*>(pe_array_.node_set(token.leaf) + tree_.leaf_size(token.leaf));
-  for (const char* p = set; p < end; p += 64) __builtin_prefetch(p);
   bqb_.push_back(token);
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
@@ -93,8 +88,11 @@ void SearchUnit::step() {
   // Sleep until a batch drains or a queued query arrives.
   std::uint64_t next = std::numeric_limits<std::uint64_t>::max();
   for (std::size_t b = 0; b < active_; ++b) next = std::min(next, running_[b].end);
-  for (const QueryToken& t : bqb_)
-    if (t.ready > now) next = std::min(next, t.ready);
+  // Queries arrive in order (the QDN port to this SU serialises them): the first one still on
+  // its way arrives next.
+  const auto on_way = std::upper_bound(bqb_.begin(), bqb_.end(), now,
+                                       [](std::uint64_t c, const QueryToken& t) { return c < t.ready; });
+  if (on_way != bqb_.end()) next = std::min(next, on_way->ready);
   if (next != std::numeric_limits<std::uint64_t>::max()) links_.scheduler.at(*this, next);
 }
 
