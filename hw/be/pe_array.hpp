@@ -66,16 +66,24 @@ class PeArray {
     std::uint32_t i = 0;
 #if defined(__SSE2__)
     const Lanes q(token.point);
-    __m128 vbound = _mm_set1_ps(bound);
-    for (; i + 4 <= count; i += 4) {
-      const __m128 d = q.dist2(set + i);
-      const int m = _mm_movemask_ps(_mm_cmple_ps(d, vbound));
-      if (m == 0) continue;
+    while (i + 4 <= count) {
+      // Four entries at a time up to the first within the bound (a loop without calls, so its
+      // operands stay in registers), then that block's inserts one by one.
+      const __m128 vbound = _mm_set1_ps(bound);
+      __m128 d = _mm_setzero_ps();
+      int m = 0;
+      for (; i + 4 <= count; i += 4) {
+        d = q.dist2(set + i);
+        m = _mm_movemask_ps(_mm_cmple_ps(d, vbound));
+        if (m != 0) break;
+      }
+      if (m == 0) break;
       alignas(16) float ds[4];
       _mm_store_ps(ds, d);
       for (int l = 0; l < 4; ++l)
         if (((m >> l) & 1) && ds[l] <= bound && slots_.insert(token.slot, {set[i + l].tag, ds[l]}))
-          bound = slots_.bound(token.slot), vbound = _mm_set1_ps(bound);
+          bound = slots_.bound(token.slot);
+      i += 4;
     }
 #endif
     for (; i < count; ++i) {
