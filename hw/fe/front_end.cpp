@@ -10,7 +10,7 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
                    bool reverse_construction)
     : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job), observer_(observer),
       clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
-  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler};
+  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler, walk_log_};
   const int n = config.fe.recursion_units;
   rus.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {

@@ -63,6 +63,7 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
 
   const JobDescriptor& job_;
   JobObserver& observer_;
+  RecursionUnit::WalkLog walk_log_;  // the RUs' shared scratch
   Clock clock_;
   std::deque<QueryToken> fqq_;
   std::vector<RecursionUnit*> idle_rus_;

@@ -53,10 +53,10 @@ void RecursionUnit::start(const QueryToken& token) {
   a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord);
   a.bytes = sizeof(tlm_if::QueryRecord);
   done = std::max(done, queries.charge(now, a, clock_.period));
-  done = std::max(done, points.charge(now, node_reads_.profile(), clock_.period));
+  done = std::max(done, points.charge(now, links_.log.node_reads.profile(), clock_.period));
   // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
-  done = std::max(done, stacks.charge(now, stack_pops_.profile(), clock_.period));
-  tlm_if::AccessProfile pushes = stack_pushes_.profile();
+  done = std::max(done, stacks.charge(now, links_.log.stack_pops.profile(), clock_.period));
+  tlm_if::AccessProfile pushes = links_.log.stack_pushes.profile();
   pushes.write = true;
   done = std::max(done, stacks.charge(now, pushes, clock_.period));
   if (!job_.radius()) {  // the result slot, read and written back
@@ -81,9 +81,9 @@ void RecursionUnit::start(const QueryToken& token) {
 }
 
 std::uint64_t RecursionUnit::walk() {
-  node_reads_.clear();
-  stack_pops_.clear();
-  stack_pushes_.clear();
+  links_.log.node_reads.clear();
+  links_.log.stack_pops.clear();
+  links_.log.stack_pushes.clear();
   hits_.clear();
   finished_ = false;
   std::uint32_t top = 0, pruned = 0;
@@ -120,7 +120,7 @@ std::uint64_t RecursionUnit::walk() {
   while (sp > 0) {
     // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
     const StackEntry tos = stack[--sp];
-    stack_pops_.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
+    links_.log.stack_pops.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
     if (tos.plane2 > bound) {
       ++pruned;
       const auto c = static_cast<std::uint64_t>(bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass);
@@ -136,7 +136,7 @@ std::uint64_t RecursionUnit::walk() {
       if (node < replicated_nodes_)  // the RU's own copy of the first levels
         ++replica_reads;
       else
-        node_reads_.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
+        links_.log.node_reads.add(tree_.node_address(node), sizeof(tlm_if::PointEntry), cycles);
       ++top;
       cycles += static_cast<std::uint64_t>(cost_.ru_node);
       if (!forwarding) {
@@ -158,7 +158,7 @@ std::uint64_t RecursionUnit::walk() {
       const std::uint32_t near_child = 2 * node + (left ? 1 : 2);
       const std::uint32_t far_child = left ? near_child + 1 : near_child - 1;
       if (tree_.node_nonempty(far_child)) {
-        stack_pushes_.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
+        links_.log.stack_pushes.add(stack_base + sp * sizeof(StackEntry), sizeof(StackEntry), cycles);
         stack[sp++] = {far_child, plane_dist2(q, p, axis)};
       }
       if (!tree_.node_nonempty(near_child)) break;
@@ -167,7 +167,7 @@ std::uint64_t RecursionUnit::walk() {
     if (node >= top_nodes && tree_.node_nonempty(node)) {
       // CL: the query leaves for the back-end with the leaf set it must scan.
       token_.leaf = node - top_nodes;
-      node_reads_.add(tree_.dir_address(token_.leaf), sizeof(tlm_if::LeafDirEntry), cycles);  // its size
+      links_.log.node_reads.add(tree_.dir_address(token_.leaf), sizeof(tlm_if::LeafDirEntry), cycles);  // its size
       cycles += static_cast<std::uint64_t>(cost_.ru_drain);
       leave();
       return cycles;

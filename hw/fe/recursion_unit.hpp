@@ -32,6 +32,32 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
  public:
   BufferPort points, queries, stacks, results;
 
+  // A walk's accesses, charged before start() returns: one log shared by a front-end's RUs
+  // (64 private copies would only crowd the host's caches).
+  // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
+  struct AccessLog {
+    std::vector<std::uint64_t> addrs;
+    std::vector<std::uint32_t> sizes, offsets;
+    std::uint64_t bytes = 0;
+    void clear() { addrs.clear(), sizes.clear(), offsets.clear(), bytes = 0; }
+    void add(std::uint64_t addr, std::uint32_t size, std::uint64_t cycle) {
+      addrs.push_back(addr);
+      sizes.push_back(size);
+      offsets.push_back(static_cast<std::uint32_t>(cycle));
+      bytes += size;
+    }
+    tlm_if::AccessProfile profile() const {
+      tlm_if::AccessProfile a;
+      a.scatter = addrs.data(), a.scatter_bytes = sizes.data(), a.issue_offset = offsets.data();
+      a.scatter_count = static_cast<std::uint32_t>(addrs.size());
+      a.bytes = bytes;
+      return a;
+    }
+  };
+  struct WalkLog {
+    AccessLog node_reads, stack_pops, stack_pushes;
+  };
+
   // What a Recursion Unit works with: the blocks it hands queries and results to.
   struct Links {
     FrontEnd& fe;
@@ -40,6 +66,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     EnergyMeter& meter;
     JobObserver& observer;
     Scheduler& scheduler;
+    WalkLog& log;
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                 const JobDescriptor& job, Links links);
@@ -100,27 +127,6 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   std::uint32_t replicated_nodes_ = 0;  // heap nodes below this id are in the copy
   StallInjector stall_;  // the hand-off to the QDN (or the finish)
   Probe busy_wave_, stalled_wave_, query_wave_;
-  // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
-  struct AccessLog {
-    std::vector<std::uint64_t> addrs;
-    std::vector<std::uint32_t> sizes, offsets;
-    std::uint64_t bytes = 0;
-    void clear() { addrs.clear(), sizes.clear(), offsets.clear(), bytes = 0; }
-    void add(std::uint64_t addr, std::uint32_t size, std::uint64_t cycle) {
-      addrs.push_back(addr);
-      sizes.push_back(size);
-      offsets.push_back(static_cast<std::uint32_t>(cycle));
-      bytes += size;
-    }
-    tlm_if::AccessProfile profile() const {
-      tlm_if::AccessProfile a;
-      a.scatter = addrs.data(), a.scatter_bytes = sizes.data(), a.issue_offset = offsets.data();
-      a.scatter_count = static_cast<std::uint32_t>(addrs.size());
-      a.bytes = bytes;
-      return a;
-    }
-  };
-  AccessLog node_reads_, stack_pops_, stack_pushes_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
 };
 
