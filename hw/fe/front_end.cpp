@@ -98,7 +98,6 @@ void FrontEnd::dispatch() {
     const QueryToken t = fqq_.front();
     fqq_.pop_front();
     fqq_wave_.set(fqq_.size());
-    for (std::size_t i = 0; i < std::min<std::size_t>(kWarmAhead, fqq_.size()); ++i) ru->warm(fqq_[i]);
     ru->start(t);
   }
 }

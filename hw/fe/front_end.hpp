@@ -57,7 +57,6 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
  private:
   void wake() override { dispatch(); }
   void dispatch();  // idle RUs take ready queries from the FQQ
-  static constexpr std::size_t kWarmAhead = 4;  // FQQ entries whose data the host prefetches
   void push(const QueryToken& token);
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 

@@ -31,12 +31,6 @@ void RecursionUnit::start_job() {
   stacks_ = reinterpret_cast<StackEntry*>(stacks.data());
 }
 
-void RecursionUnit::warm(const QueryToken& token) const {
-  __builtin_prefetch(query_records_ + token.query);
-  if (token.sp > 0) __builtin_prefetch(stacks_ + std::uint64_t{token.slot} * job_.stack_entries + token.sp - 1);
-  __builtin_prefetch(slots_.entries(token.slot));
-}
-
 void RecursionUnit::start(const QueryToken& token) {
   token_ = token;
   state_ = State::Walking;

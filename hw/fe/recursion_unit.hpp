@@ -75,10 +75,6 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   void start_job();                     // views onto the new job's data through the ports
   void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
   void retry_dispatch();                // the BE Query Buffer it waits for has room again
-  // Host speed-up only: fetches what start(token) reads first (its query record, stack top and
-  // result slot) into the host's cache; the FE calls it for the queries next in the FQQ.
-  // (Out of line: GCC takes a function of prefetches only for a pure one and drops its calls.)
-  void warm(const QueryToken& token) const;
   StatGroup& stats() { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }
   std::uint32_t current_query() const { return token_.query; }
