@@ -279,14 +279,16 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
   }
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const ScheduleEntry& e = schedule[s];
-    const std::string row = "schedule row " + std::to_string(s) + " (query " +
-                            std::to_string(e.query) + ", leaf " + std::to_string(e.leaf) + "): ";
+    const auto row = [&] {  // built only for an error: a frame has hundreds of thousands of rows
+      return "schedule row " + std::to_string(s) + " (query " + std::to_string(e.query) + ", leaf " +
+             std::to_string(e.leaf) + "): ";
+    };
     if (e.query >= queries.size())
-      throw ScheduleError(row + "there are only " + std::to_string(queries.size()) + " queries");
+      throw ScheduleError(row() + "there are only " + std::to_string(queries.size()) + " queries");
     if (pending[e.query] == kDone)
-      throw ScheduleError(row + "the query has already finished its search");
+      throw ScheduleError(row() + "the query has already finished its search");
     if (pending[e.query] != e.leaf)
-      throw ScheduleError(row + "the query's next leaf visit is leaf " +
+      throw ScheduleError(row() + "the query's next leaf visit is leaf " +
                           std::to_string(pending[e.query]));
     engine.visit_leaf(walkers[e.query], e.leaf);
     pending[e.query] = engine.advance(walkers[e.query]);

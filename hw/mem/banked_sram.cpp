@@ -50,7 +50,12 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
                                          std::uint64_t now) {
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
-  if (!ports_bind_ && words == 1) return std::max(cycle, banks_.reserve(bank_of(first), cycle, now) + 1);
+  if (!ports_bind_ && words <= 4 && words <= num_banks_) {  // a slot or a record: word by word
+    std::uint64_t finish = cycle;
+    for (std::uint64_t w = first; w < first + words; ++w)
+      finish = std::max(finish, banks_.reserve(bank_of(w), cycle, now) + 1);
+    return finish;
+  }
   if (!ports_bind_ && words <= num_banks_)  // one word a bank
     return words == 0 ? cycle : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle, now));
   // The first `words mod banks` banks take one word more than the others.
