@@ -1,5 +1,5 @@
-// The buffers' bookkeeping against naive models: the bank calendar (its rows, runs and
-// many-word bookings are for speed only, so they must book exactly what one-at-a-time
+// The buffers' bookkeeping against naive models: the bank calendar (its rows, runs, row cache,
+// fast path and many-word bookings are for speed only, so they must book exactly what one-at-a-time
 // reservation on a plain set of busy cycles books) and the Result Buffer's heap-ordered slots.
 #include <catch2/catch.hpp>
 
@@ -42,9 +42,22 @@ TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy c
       const std::uint32_t bank = static_cast<std::uint32_t>(rng() % banks);
       const std::uint64_t at = now + rng() % (seed % 2 ? 300 : 9000);
       INFO("seed " << seed << " op " << op << " bank " << bank << " at " << at);
-      switch (rng() % 4) {
+      switch (rng() % 6) {
         case 0:
           REQUIRE(cal.reserve(bank, at, now) == ref.reserve(bank, at));
+          break;
+        case 4: {  // one word in each of `count` banks from `bank` on, wrapping
+          const auto count = static_cast<std::uint32_t>(1 + rng() % banks);
+          std::uint64_t finish = at + 1;
+          for (std::uint32_t i = 0; i < count; ++i) finish = std::max(finish, ref.reserve((bank + i) % banks, at) + 1);
+          REQUIRE(cal.reserve_span(bank, count, at, now) == finish);
+          break;
+        }
+        case 5:  // the fast path books exactly when the bank is free at `at` (if it can tell)
+          if (cal.try_book(bank, at)) {
+            REQUIRE(ref.next_free(bank, at) == at);
+            ref.busy[bank].insert(at);
+          }
           break;
         case 1: {
           const std::uint64_t m = 1 + rng() % 150;
