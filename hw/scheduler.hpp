@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <limits>
 #include <algorithm>
+#include <queue>
 #include <vector>
 
 #include <systemc>
@@ -37,6 +38,7 @@ class Scheduler : public sc_core::sc_module {
     std::uint64_t key_;
     std::uint32_t order_ = 0;  // position in (rank, id) order among the clients
     std::uint64_t pending_ = kNever;
+    bool in_ring_ = false;  // its wake-up is in the ring (else in the far heap)
   };
 
   SC_HAS_PROCESS(Scheduler);
@@ -49,100 +51,123 @@ class Scheduler : public sc_core::sc_module {
   // Wakes `c` at `cycle` (not before now).
   void at(Client& c, std::uint64_t cycle) {
     if (c.pending_ <= cycle) return;
-    cycle = std::max(cycle, clock_.now());
-    if (c.pending_ != kNever) unmark(c.order_, c.pending_);
-    c.pending_ = kNever;  // so a resize in mark() does not book it twice
-    mark(c.order_, cycle);
+    prepare();
+    const std::uint64_t now = clock_.now();
+    cycle = std::max(cycle, now);
+    if (c.pending_ != kNever && c.in_ring_) unmark(c.order_, c.pending_);  // a far one goes stale
     c.pending_ = cycle;
+    place(c, now);
     if (!running_) tick_.notify(clock_.until(cycle));  // inside the loop, run() re-arms itself
   }
   void now(Client& c) { at(c, clock_.now()); }
   // A job starts: forget every pending wake-up.
   void reset() {
-    for (Client* c : clients_) c->pending_ = kNever;
-    resize(kInitialCycles);
+    prepare();
+    for (Client* c : clients_) c->pending_ = kNever, c->in_ring_ = false;
+    std::fill(bits_.begin(), bits_.end(), 0);
+    std::fill(cycles_.begin(), cycles_.end(), 0);
+    far_ = {};
   }
-  // Registers a unit (at construction); keeps the clients in (rank, id) order.
+  // Registers a unit (at construction).
   void add(Client& c) {
-    clients_.insert(std::upper_bound(clients_.begin(), clients_.end(), &c,
-                                     [](const Client* a, const Client* b) { return a->key_ < b->key_; }),
-                    &c);
-    for (std::uint32_t i = 0; i < clients_.size(); ++i) clients_[i]->order_ = i;
-    words_ = (clients_.size() + 63) / 64;
-    resize(kInitialCycles);
+    clients_.push_back(&c);
+    sorted_ = false;
   }
 
  private:
-  // Pending wake-ups: a ring of cycles, each a bit set over the clients in (rank, id) order, so
-  // the loop takes a cycle's clients lowest first; `cycles_` marks the ring's non-empty cycles.
-  // Every pending cycle c has now <= c < now + ring (the ring doubles when a wake-up is further).
-  static constexpr std::size_t kInitialCycles = 1024;
-  std::uint64_t* set_of(std::uint64_t cycle) { return bits_.data() + (cycle & (ring_ - 1)) * words_; }
-  void mark(std::uint32_t order, std::uint64_t cycle) {
-    while (cycle - clock_.now() >= ring_) resize(ring_ * 2);
-    ++waiting_;
-    set_of(cycle)[order / 64] |= std::uint64_t{1} << (order % 64);
-    const std::size_t r = static_cast<std::size_t>(cycle & (ring_ - 1));
+  // Pending wake-ups: a ring of the next kRing cycles, each a bit set over the clients in (rank,
+  // id) order, so the loop takes a cycle's clients lowest first (`cycles_` marks the ring's
+  // non-empty cycles); a wake-up further ahead waits in a heap and moves into the ring once its
+  // cycle comes within reach. A replaced far wake-up is left in the heap and skipped as stale.
+  static constexpr std::uint64_t kRing = 1024;
+  struct Far {
+    std::uint64_t cycle;
+    Client* client;
+    bool operator>(const Far& o) const { return cycle > o.cycle; }
+  };
+  // Sorts the clients into (rank, id) order once they are all added.
+  void prepare() {
+    if (sorted_) return;
+    std::sort(clients_.begin(), clients_.end(), [](const Client* a, const Client* b) { return a->key_ < b->key_; });
+    for (std::uint32_t i = 0; i < clients_.size(); ++i) clients_[i]->order_ = i;
+    words_ = (clients_.size() + 63) / 64;
+    bits_.assign(kRing * words_, 0);
+    cycles_.assign(kRing / 64, 0);
+    sorted_ = true;
+    far_ = {};
+    for (Client* c : clients_)  // a unit added after wake-ups were asked for: place them again
+      if (c->pending_ != kNever) place(*c, clock_.now());
+  }
+  std::uint64_t* set_of(std::uint64_t cycle) { return bits_.data() + (cycle % kRing) * words_; }
+  void place(Client& c, std::uint64_t now) {
+    c.in_ring_ = c.pending_ - now < kRing;
+    if (!c.in_ring_) {
+      far_.push({c.pending_, &c});
+      return;
+    }
+    set_of(c.pending_)[c.order_ / 64] |= std::uint64_t{1} << (c.order_ % 64);
+    const std::size_t r = static_cast<std::size_t>(c.pending_ % kRing);
     cycles_[r / 64] |= std::uint64_t{1} << (r % 64);
   }
   void unmark(std::uint32_t order, std::uint64_t cycle) {
     std::uint64_t* set = set_of(cycle);
     set[order / 64] &= ~(std::uint64_t{1} << (order % 64));
-    --waiting_;
     for (std::size_t w = 0; w < words_; ++w)
       if (set[w]) return;
-    const std::size_t r = static_cast<std::size_t>(cycle & (ring_ - 1));
+    const std::size_t r = static_cast<std::size_t>(cycle % kRing);
     cycles_[r / 64] &= ~(std::uint64_t{1} << (r % 64));
   }
-  // The earliest cycle with a pending wake-up at or after `from` (some client is pending).
-  std::uint64_t next_cycle(std::uint64_t from) const {
-    const std::size_t mask = ring_ - 1;
-    std::size_t r = static_cast<std::size_t>(from & mask);
-    for (std::size_t scanned = 0;;) {
+  // Moves the far wake-ups now within the ring's reach into it; drops replaced ones.
+  void pull_far(std::uint64_t now) {
+    while (!far_.empty() && far_.top().cycle < now + kRing) {
+      const Far f = far_.top();
+      far_.pop();
+      if (f.client->pending_ == f.cycle && !f.client->in_ring_) place(*f.client, now);
+    }
+    while (!far_.empty() && far_.top().client->pending_ != far_.top().cycle) far_.pop();
+  }
+  // The earliest pending cycle at or after `now`, or kNever.
+  std::uint64_t next_cycle(std::uint64_t now) const {
+    std::size_t r = static_cast<std::size_t>(now % kRing);
+    for (std::uint64_t scanned = 0; scanned < kRing;) {
       const std::uint64_t w = cycles_[r / 64] >> (r % 64);
-      if (w != 0) return from + scanned + static_cast<std::uint64_t>(__builtin_ctzll(w));
+      if (w != 0) return now + scanned + static_cast<std::uint64_t>(__builtin_ctzll(w));
       const std::size_t step = 64 - r % 64;
       scanned += step;
-      r = (r + step) & mask;
+      r = (r + step) % kRing;
     }
-  }
-  void resize(std::size_t cycles) {
-    ring_ = cycles;
-    bits_.assign(ring_ * words_, 0);
-    cycles_.assign((ring_ + 63) / 64, 0);
-    waiting_ = 0;
-    for (Client* c : clients_)
-      if (c->pending_ != kNever) mark(c->order_, c->pending_);
+    return far_.empty() ? kNever : far_.top().cycle;
   }
   void run() {
     const std::uint64_t now = clock_.now();
     running_ = true;
-    if (waiting_ > 0) {
-      std::uint64_t* set = set_of(now);
-      for (std::size_t w = 0; w < words_;) {  // lowest order first; a wake may add lower ones
-        if (set[w] == 0) {
-          ++w;
-          continue;
-        }
-        const std::uint32_t order = static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(set[w]));
-        Client* c = clients_[order];
-        unmark(order, now);
-        c->pending_ = kNever;
-        c->wake();
-        set = set_of(now);  // a wake-up far ahead may have grown the ring
-        w = 0;
+    pull_far(now);
+    std::uint64_t* set = set_of(now);
+    for (std::size_t w = 0; w < words_;) {  // lowest order first; a wake may add lower ones
+      if (set[w] == 0) {
+        ++w;
+        continue;
       }
+      const std::uint32_t order = static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(set[w]));
+      Client* c = clients_[order];
+      unmark(order, now);
+      c->pending_ = kNever;
+      c->in_ring_ = false;
+      c->wake();
+      w = 0;
     }
     running_ = false;
-    if (waiting_ > 0) tick_.notify(clock_.until(next_cycle(now)));
+    pull_far(now);
+    const std::uint64_t next = next_cycle(now);
+    if (next != kNever) tick_.notify(clock_.until(next));
   }
 
   Clock clock_;
-  std::vector<Client*> clients_;  // in (rank, id) order
+  std::vector<Client*> clients_;  // in (rank, id) order once prepared
+  bool sorted_ = false;
   std::size_t words_ = 0;         // 64-bit words per cycle's set
-  std::size_t ring_ = 0;          // cycles in the ring (a power of two)
   std::vector<std::uint64_t> bits_, cycles_;
-  std::size_t waiting_ = 0;       // clients with a wake-up
+  std::priority_queue<Far, std::vector<Far>, std::greater<Far>> far_;
   sc_core::sc_event tick_;
   bool running_ = false;
 };

@@ -7,7 +7,8 @@
 #include <cstdlib>
 #include <map>
 #include <set>
-#include <set>
+
+#include <sys/resource.h>
 
 #include "hw/be/replacement_policy.hpp"
 #include "hw/area_model.hpp"
@@ -612,4 +613,22 @@ TEST_CASE("top-level replicas: bit-exact, their node reads leave the Point Buffe
   CHECK(hw::area_of(cases[2].config).of("top_level_replicas") ==
         Approx(8 * 15 * 16 / 1024.0 * cases[2].config.area.register_mm2_per_kib));
   CHECK(hw::area_of(cases[0].config).of("top_level_replicas") == 0.0);
+}
+
+TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not grow with the distance", "[hw][timing]") {
+  // A node costing a million cycles puts every RU's wake-up tens of millions of cycles ahead,
+  // far past the scheduler's ring of near cycles (hw/scheduler.hpp): they wait in its heap.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 67);
+  const PointCloud queries = make_queries(cloud, 300, 67);
+  hw::AcceleratorConfig slow = units(8, 4, 4, 6), fast = slow;
+  slow.cost.ru_node = 1000000;
+  rusage before{};
+  getrusage(RUSAGE_SELF, &before);
+  const auto out = run_and_check(cloud, queries, {{"slow nodes", slow, mode(Mode::KNN, 4)}, {"default", fast, mode(Mode::KNN, 4)}});
+  rusage after{};
+  getrusage(RUSAGE_SELF, &after);
+  CHECK(out[0].cycles > 1000000 * out[0].visits.visits.top / 8);  // the RUs' walks alone
+  CHECK(out[0].visits.visits.top == out[1].visits.visits.top);    // the same searches
+  // A ring sized to the furthest wake-up would hold tens of millions of cycles (hundreds of MB).
+  CHECK(after.ru_maxrss - before.ru_maxrss < 64 * 1024);  // KiB
 }
