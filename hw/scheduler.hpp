@@ -9,9 +9,9 @@
 // accelerator runs the loop, waking only at cycles with work.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <algorithm>
 #include <queue>
 #include <vector>
 
