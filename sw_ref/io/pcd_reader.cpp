@@ -17,11 +17,11 @@ using io_detail::fail;
 using io_detail::fail_line;
 using io_detail::Line;
 using io_detail::LineReader;
+using io_detail::kMaxPoints;
 using io_detail::printable;
 using io_detail::Scalar;
 using io_detail::Value;
 
-constexpr std::uint64_t kMaxPoints = 0xFFFFFFFEu;  // point indices are uint32
 constexpr std::uint64_t kMaxCount = 0xFFFFFFFFu;   // COUNT of one field
 
 struct Field {

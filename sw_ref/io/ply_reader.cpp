@@ -17,13 +17,12 @@ using io_detail::fail;
 using io_detail::fail_line;
 using io_detail::Line;
 using io_detail::LineReader;
+using io_detail::kMaxPoints;
 using io_detail::printable;
 using io_detail::Scalar;
 using io_detail::scalar_name;
 using io_detail::scalar_size;
 using io_detail::Value;
-
-constexpr std::uint64_t kMaxPoints = 0xFFFFFFFEu;  // point indices are uint32
 
 bool ply_type(std::string_view name, Scalar& t) {
   static const struct {

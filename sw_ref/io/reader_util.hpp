@@ -16,6 +16,8 @@
 
 namespace tigris::io_detail {
 
+constexpr std::uint64_t kMaxPoints = 0xFFFFFFFEu;  // a cloud's points: indices are uint32
+
 [[noreturn]] void fail(const std::string& label, const std::string& what);
 // "label:LINE: what" (the compiler's style, as the schedule reader reports).
 [[noreturn]] void fail_line(const std::string& label, std::size_t line, const std::string& what);
