@@ -1,13 +1,16 @@
 // The buffers' bookkeeping against naive models: the bank calendar (its rows, runs, row cache,
 // fast path and many-word bookings are for speed only, so they must book exactly what one-at-a-time
-// reservation on a plain set of busy cycles books) and the Result Buffer's heap-ordered slots.
+// reservation on a plain set of busy cycles books), the Result Buffer's heap-ordered slots and the
+// FE Query Queue's ring.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <deque>
 #include <random>
 #include <set>
 #include <vector>
 
+#include "hw/fifo_ring.hpp"
 #include "hw/mem/bank_calendar.hpp"
 #include "hw/mem/result_slots.hpp"
 
@@ -111,4 +114,34 @@ TEST_CASE("Result Buffer slots: the k best in canonical order, bound = k-th best
       }
     }
   }
+}
+
+TEST_CASE("FifoRing: first in, first out across wrap-arounds and growth, as a std::deque", "[hw][memory]") {
+  hw::FifoRing<std::uint32_t> ring;
+  std::deque<std::uint32_t> model;
+  std::mt19937 rng(7);
+  ring.reserve(5);  // rounded up; pushes beyond it grow the ring
+  std::uint32_t next = 0;
+  for (int step = 0; step < 20000; ++step) {
+    // Phases that fill (growing past every capacity) and drain (wrapping the head around).
+    const bool fill = (step / 2500) % 2 == 0;
+    if (model.empty() || rng() % 4 < (fill ? 3u : 1u)) {
+      ring.push_back(next);
+      model.push_back(next++);
+    } else {
+      REQUIRE(ring.front() == model.front());
+      ring.pop_front();
+      model.pop_front();
+    }
+    REQUIRE(ring.size() == model.size());
+    REQUIRE(ring.empty() == model.empty());
+    if (!model.empty()) {
+      const std::size_t i = rng() % model.size();
+      REQUIRE(ring[i] == model[i]);
+    }
+  }
+  ring.clear();
+  CHECK(ring.empty());
+  ring.push_back(42);
+  CHECK(ring.front() == 42);
 }

@@ -35,6 +35,7 @@ void SearchUnit::start() {
 
 void SearchUnit::accept(const QueryToken& token) {
   bqb_.push_back(token);
+  if (!job_.radius()) pe_array_.prefetch_slot(token.slot);  // read when its batch issues
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
   const std::uint64_t now = clock_.now();

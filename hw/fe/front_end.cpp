@@ -26,6 +26,7 @@ void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
   on_all_done_ = std::move(on_all_done);
   stall_.start();
   fqq_.clear();
+  fqq_.reserve(job_.slots);  // a slot holds one token at a time: the FQQ never holds more
   next_query_ = finished_ = 0;
   in_flight_.set(job_.slots);
   idle_rus_.clear();
@@ -97,6 +98,10 @@ void FrontEnd::dispatch() {
     idle_rus_.pop_back();
     const QueryToken t = fqq_.front();
     fqq_.pop_front();
+    // The FQQ is served in order: warm the host's cache for the query a few dispatches ahead
+    // (its token itself a few more ahead, as the query's data is found through it).
+    if (fqq_.size() > 2 * kPrefetchAhead) __builtin_prefetch(&fqq_[2 * kPrefetchAhead]);
+    if (fqq_.size() > kPrefetchAhead) ru->prefetch(fqq_[kPrefetchAhead]);
     fqq_wave_.set(fqq_.size());
     ru->start(t);
   }

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -14,6 +13,7 @@
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/fe/recursion_unit.hpp"
+#include "hw/fifo_ring.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
@@ -60,11 +60,12 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   void push(const QueryToken& token);
   bool admit(std::uint64_t cycle);  // a new query takes a free slot, if there is one
 
+  static constexpr std::size_t kPrefetchAhead = 8;  // dispatches ahead; see dispatch()
   const JobDescriptor& job_;
   JobObserver& observer_;
   RecursionUnit::WalkLog walk_log_;  // the RUs' shared scratch
   Clock clock_;
-  std::deque<QueryToken> fqq_;
+  FifoRing<QueryToken> fqq_;
   std::vector<RecursionUnit*> idle_rus_;
   std::vector<std::uint32_t> free_slots_;
   std::uint32_t next_query_ = 0, finished_ = 0;

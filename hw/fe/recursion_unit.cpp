@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "hw/fe/front_end.hpp"
+#include "hw/host_prefetch.hpp"
 #include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 
@@ -170,6 +171,14 @@ std::uint64_t RecursionUnit::walk() {
   finished_ = true;  // the stack is empty: the query's results leave the RU
   leave();
   return cycles + static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
+}
+
+void RecursionUnit::prefetch(const QueryToken& token) const {
+  prefetch_span(query_records_ + token.query, sizeof(tlm_if::QueryRecord));
+  if (token.started)
+    prefetch_span(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
+  if (!job_.radius()) slots_.prefetch(token.slot);
+  links_.observer.prefetch(token.query);
 }
 
 void RecursionUnit::on_done() {
