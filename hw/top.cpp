@@ -19,10 +19,10 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
       query_stack_("query_stack", config_.sram.query_stack, clock_, meter_, config_.stall),
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
       qdn_("qdn", config_, observers_),
-      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, reverse_construction),
+      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, scans_, reverse_construction),
       policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
-  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_};
+  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_, scans_};
   const int n = config_.be.search_units;
   sus_.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
@@ -198,6 +198,7 @@ void TigrisAccelerator::do_start() {
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();
   leaf_bounds_.build(TreeView(to_points_.data(), job_), job_.num_leaves);
+  scans_.start(job_.slots, scan_thread_);
   for (auto& su : sus_) su->start();
   node_cache_.start();
   observers_.job_started(job_.num_queries);

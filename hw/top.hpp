@@ -17,6 +17,7 @@
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
+#include "hw/be/scan_worker.hpp"
 #include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -41,6 +42,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   StatGroup stats_{"tigris"};
   StatGroup be_stats_{"be"};
   LeafBounds leaf_bounds_;  // host-side speed-up for the PEs' scans (hw/be/leaf_bounds.hpp)
+  ScanWorker scans_;        // host-side: NN/kNN scans on a second thread (hw/be/scan_worker.hpp)
 
  public:
   SC_HAS_PROCESS(TigrisAccelerator);
@@ -50,6 +52,11 @@ class TigrisAccelerator : public sc_core::sc_module {
   // `reverse_construction` builds the RUs and SUs in reverse id order: the figures must not
   // depend on it (a test checks), since same-cycle work runs in unit order (hw/scheduler.hpp).
   TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, bool reverse_construction = false);
+  ~TigrisAccelerator() override { scans_.drain(); }  // no scan may outlive its Search Unit
+
+  // Host setting, no hardware: exact NN/kNN scans run on a second host thread (from the next
+  // START on). The figures are the same either way; a test checks.
+  void use_scan_thread(bool on) { scan_thread_ = on; }
 
   const AcceleratorConfig& config() const { return config_; }
   const JobDescriptor& job() const { return job_; }  // the last job started
@@ -101,6 +108,7 @@ class TigrisAccelerator : public sc_core::sc_module {
   sc_core::sc_event start_, finish_, irq_changed_;
   std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
   bool done_ = false;
+  bool scan_thread_ = false;
   std::string error_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   AggregateProbes waves_;

@@ -18,6 +18,7 @@ struct RunOptions {
   std::string vcd;
   std::string timeline;                 // Chrome trace-event JSON
   std::uint32_t timeline_queries = 2000;  // about this many queries appear in it
+  int sim_threads = 0;                    // 0: default_sim_threads()
 };
 
 void add_run_options(CLI::App& app, RunOptions& o);

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "hw/top.hpp"
 #include "latency.hpp"
@@ -14,6 +15,8 @@ namespace tigris {
 std::string gtkw_path(const std::string& vcd_path) {
   return std::filesystem::path(vcd_path).replace_extension(".gtkw").string();
 }
+
+int default_sim_threads() { return std::thread::hardware_concurrency() >= 2 ? 2 : 1; }
 
 std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimProgress& progress) {
   struct Bench {
@@ -31,6 +34,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     const std::string tag = setups.size() == 1 ? "" : std::to_string(i);
     Bench b;
     b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config, s.reverse_construction);
+    b.accel->use_scan_thread(s.sim_threads >= 2);
     b.host = std::make_unique<HostDriver>(("host" + tag).c_str(), *s.image, *s.queries, s.num_points, s.job);
     b.irq = std::make_unique<sc_core::sc_signal<bool>>(("irq" + tag).c_str());
     b.accel->irq(*b.irq);

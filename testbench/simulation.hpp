@@ -20,6 +20,9 @@
 
 namespace tigris {
 
+// 2 on a machine with two or more cores, else 1.
+int default_sim_threads();
+
 struct SimSetup {
   hw::AcceleratorConfig config;
   const tlm_if::TreeImage* image = nullptr;
@@ -27,9 +30,12 @@ struct SimSetup {
   std::uint32_t num_points = 0;
   HostJob job;
   std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
-  std::function<void(hw::TigrisAccelerator&)> test_hook;
+  std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
   bool reverse_construction = false;  // tests: RUs and SUs built in reverse id order
-  std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)  // tests: faults injected before the run
+  std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)
+  // Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread
+  // (hw/be/scan_worker.hpp); the figures do not depend on it.
+  int sim_threads = default_sim_threads();
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.

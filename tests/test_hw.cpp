@@ -632,3 +632,43 @@ TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not g
   // A ring sized to the furthest wake-up would hold tens of millions of cycles (hundreds of MB).
   CHECK(after.ru_maxrss - before.ru_maxrss < 64 * 1024);  // KiB
 }
+
+TEST_CASE("scan thread: one or two host threads give the same results and figures", "[hw][timing]") {
+  // NN/kNN scans of an exact search may run on a second host thread (hw/be/scan_worker.hpp).
+  // A query stack of a few slots brings each query back to an RU right after its scan, so the
+  // walk often has to wait for the worker; a large one lets the worker fall far behind.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 68);
+  const PointCloud queries = make_queries(cloud, 800, 68);
+  const KdTree tree = build_kdtree(cloud, 6);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  std::vector<SimSetup> setups;  // pairs side by side in one SystemC run: 1 thread, 2 threads
+  std::vector<std::string> names;
+  for (const SearchParams& p : {mode(Mode::NN), mode(Mode::KNN, 6)}) {
+    for (std::uint64_t stack_bytes : {std::uint64_t{3 * 6 * 8}, std::uint64_t{1} << 20}) {
+      hw::AcceleratorConfig c = units(16, 8, 8, 6);
+      c.sram.query_stack.bytes = stack_bytes;  // 3 slots of 6 entries, or thousands
+      SimSetup one = one_setup(image, queries, cloud.size(), c, p), two = one;
+      one.sim_threads = 1;
+      two.sim_threads = 2;
+      setups.insert(setups.end(), {one, two});
+      names.push_back("k " + std::to_string(p.k) + ", query stack " + std::to_string(stack_bytes) + " bytes");
+    }
+  }
+  const auto out = simulate(setups);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const SimOutcome& a = out[2 * i];
+    const SimOutcome& b = out[2 * i + 1];
+    const SearchOutput golden = search(tree, queries, setups[2 * i].job.k == 1 ? mode(Mode::NN) : mode(Mode::KNN, 6));
+    INFO(names[i]);
+    REQUIRE(a.finished);
+    REQUIRE(b.finished);
+    CHECK(first_difference(golden.results, a.results).value_or("") == "");
+    CHECK(first_difference(a.results, b.results).value_or("") == "");
+    CHECK(a.cycles == b.cycles);
+    CHECK(a.units == b.units);
+    CHECK(a.buffers == b.buffers);
+    CHECK(a.latency == b.latency);
+    CHECK(a.visits.schedule == b.visits.schedule);
+  }
+  CHECK(out[0].cycles != out[2].cycles);  // the query stack's size matters
+}

@@ -57,7 +57,6 @@ class PeArray {
       scan_nearest(token, set, count, box);
   }
 
- private:
   // NN/kNN. The PE holds its query's k-th best distance: a point farther than it cannot enter
   // the list (equal ones still may, by index), so only closer ones go through the insert.
   void scan_nearest(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
@@ -92,6 +91,7 @@ class PeArray {
       if (d <= bound && slots_.insert(token.slot, {set[i].tag, d})) bound = slots_.bound(token.slot);
     }
   }
+ private:
   // NN/kNN for a new leader: also keeps its job.leader_width best as its local list.
   void scan_leader(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
                    std::vector<tlm_if::PointEntry>& local) {

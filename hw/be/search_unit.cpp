@@ -35,7 +35,7 @@ void SearchUnit::start() {
 
 void SearchUnit::accept(const QueryToken& token) {
   bqb_.push_back(token);
-  if (!job_.radius()) pe_array_.prefetch_slot(token.slot);  // read when its batch issues
+  if (!job_.radius() && !links_.scans.threaded()) pe_array_.prefetch_slot(token.slot);  // read at issue
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
   const std::uint64_t now = clock_.now();
@@ -173,7 +173,10 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
   for (const QueryToken& t : tokens) {
     LeafVisit v;
     if (!job_.approximate) {
-      pe_array_.scan(t, set, n, hits, nullptr, box);
+      if (job_.radius())
+        pe_array_.scan(t, set, n, hits, nullptr, box);
+      else  // the slot is next read by the query's next walk (which waits for it)
+        links_.scans.submit(pe_array_, t, set, n, box);
       v.leaf_points = n;
       ++plan.exact;
     } else {

@@ -14,6 +14,7 @@
 #include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/pe_array.hpp"
+#include "hw/be/scan_worker.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -46,6 +47,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
     JobObserver& observer;
     Scheduler& scheduler;
     const LeafBounds& bounds;
+    ScanWorker& scans;
   };
   SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
              const JobDescriptor& job, Links links);

@@ -30,7 +30,7 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   // the figures do not depend on it); their links point at this front-end.
   FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
            DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter,
-           JobObserver& observer, Scheduler& scheduler, bool reverse_construction = false);
+           JobObserver& observer, Scheduler& scheduler, ScanWorker& scans, bool reverse_construction = false);
 
   // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
   void start(std::function<void(std::uint64_t)> on_all_done);

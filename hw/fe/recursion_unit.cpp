@@ -39,6 +39,7 @@ void RecursionUnit::start(const QueryToken& token) {
   query_wave_.set(token.query);
   ++activations_;
   const std::uint64_t now = clock_.now();
+  links_.scans.wait_slot(token.slot);
   const std::uint64_t pipeline = walk();
   busy_cycles_ += pipeline;
 
@@ -179,6 +180,7 @@ void RecursionUnit::prefetch(const QueryToken& token) const {
     prefetch_span(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
   if (!job_.radius()) slots_.prefetch(token.slot);
   links_.observer.prefetch(token.query);
+  links_.scans.prefetch(token.slot);
 }
 
 void RecursionUnit::on_done() {

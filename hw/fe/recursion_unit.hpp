@@ -9,6 +9,7 @@
 
 #include <systemc>
 
+#include "hw/be/scan_worker.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -67,6 +68,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     JobObserver& observer;
     Scheduler& scheduler;
     WalkLog& log;
+    ScanWorker& scans;  // the query's slot may still be written by its last scan
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                 const JobDescriptor& job, Links links);
