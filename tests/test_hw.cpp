@@ -209,6 +209,12 @@ TEST_CASE("SRAM banks: bursts spread over banks, overlapping accesses queue, por
   scatter.scatter_size = 32;                            // two words each: banks 0 and 1
   CHECK(sram.charge(200, scatter) == 200 + 4 + 2);
   CHECK(sram.stats().counters_json()["reads"] == 8 + 8 + 4 + 8);
+  // An in-order pipeline: the second access waits a cycle for bank 0, and so does every later one.
+  const tlm_if::PipelineAccess walk[] = {{0, 16, 0}, {64, 16, 0}, {16, 4, 1}};
+  tlm_if::AccessProfile ordered;
+  ordered.pipeline = walk, ordered.pipeline_count = 3, ordered.bytes = 36;
+  CHECK(sram.charge(300, ordered) == 300 + 1 + 1 + 1 + 2);  // offset 1, stalled 1, then the latency
+  CHECK(sram.stats().counters_json()["conflict_cycles"] == 2 + 3 + 2 + 1);  // + the stall
   hw::SramConfig narrow{4096, 4, 1, 0, 16};
   hw::BankedSram port("port", narrow, clock, meter);
   CHECK(port.charge(0, burst) == 8);                    // one port: a word per cycle

@@ -37,22 +37,28 @@ struct TimingHandle : tlm::tlm_extension<TimingHandle> {
   }
 };
 
+// One access of an in-order pipeline: `bytes` bytes at byte `byte`, issued `issue_offset`
+// cycles after the work item's start.
+struct PipelineAccess {
+  std::uint64_t byte = 0;
+  std::uint32_t bytes = 0;
+  std::uint32_t issue_offset = 0;
+};
+
 struct AccessProfile : tlm::tlm_extension<AccessProfile> {
   bool write = false;
   // Either a contiguous burst of `bytes` bytes starting at byte `first_byte` ...
   std::uint64_t first_byte = 0;
-  // ... or `scatter_count` accesses at these byte addresses, of `scatter_bytes[i]` bytes each
-  // (or `scatter_size` each when scatter_bytes is null).
+  // ... or `scatter_count` accesses of `scatter_size` bytes at these byte addresses, in any
+  // order (a batch's result slots) ...
   const std::uint64_t* scatter = nullptr;
-  const std::uint32_t* scatter_bytes = nullptr;
   std::uint32_t scatter_size = 0;
   std::uint32_t scatter_count = 0;
-  // With scatter: the cycle (after the start) at which an in-order pipeline issues each access;
-  // a busy bank then delays that access and every later one (the pipeline stalls).
-  const std::uint32_t* issue_offset = nullptr;
+  // ... or `pipeline_count` accesses an in-order pipeline issues at their offsets (an RU
+  // walk's nodes or stack entries): a busy bank delays that access and every later one.
+  const PipelineAccess* pipeline = nullptr;
+  std::uint32_t pipeline_count = 0;
   std::uint64_t bytes = 0;  // payload bytes moved, for traffic and energy statistics
-
-  std::uint32_t size_of(std::uint32_t i) const { return scatter_bytes ? scatter_bytes[i] : scatter_size; }
 
   tlm::tlm_extension_base* clone() const override { return new AccessProfile(*this); }
   void copy_from(const tlm::tlm_extension_base& other) override {

@@ -37,20 +37,17 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   // (64 private copies would only crowd the host's caches).
   // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
   struct AccessLog {
-    std::vector<std::uint64_t> addrs;
-    std::vector<std::uint32_t> sizes, offsets;
+    std::vector<tlm_if::PipelineAccess> accesses;
     std::uint64_t bytes = 0;
-    void clear() { addrs.clear(), sizes.clear(), offsets.clear(), bytes = 0; }
+    void clear() { accesses.clear(), bytes = 0; }
     void add(std::uint64_t addr, std::uint32_t size, std::uint64_t cycle) {
-      addrs.push_back(addr);
-      sizes.push_back(size);
-      offsets.push_back(static_cast<std::uint32_t>(cycle));
+      accesses.push_back({addr, size, static_cast<std::uint32_t>(cycle)});
       bytes += size;
     }
     tlm_if::AccessProfile profile() const {
       tlm_if::AccessProfile a;
-      a.scatter = addrs.data(), a.scatter_bytes = sizes.data(), a.issue_offset = offsets.data();
-      a.scatter_count = static_cast<std::uint32_t>(addrs.size());
+      a.pipeline = accesses.data();
+      a.pipeline_count = static_cast<std::uint32_t>(accesses.size());
       a.bytes = bytes;
       return a;
     }

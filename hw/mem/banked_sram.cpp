@@ -27,12 +27,12 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
 
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
   const std::uint64_t now = std::min(start, clock_.now());
-  if (a.scatter && a.issue_offset) return charge_in_order(start, a);
+  if (a.pipeline) return charge_in_order(start, a);
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
   if (a.scatter) {
     for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
-      const auto [first, words] = words_of(a.scatter[i], a.size_of(i));
+      const auto [first, words] = words_of(a.scatter[i], a.scatter_size);
       finish = std::max(finish, reserve_words(first, words, start, now));
       n += words;
     }
@@ -81,19 +81,19 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   // Accesses within one word (a walk's nodes and stack entries) take a short path that books
   // most of them in the calendar's current row.
   const bool pow2 = !ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0;
-  for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
+  for (const tlm_if::PipelineAccess* p = a.pipeline, *end = p + a.pipeline_count; p != end; ++p) {
     // The access's words issue together; the pipeline goes on once the last one is served.
-    const std::uint64_t t = start + a.issue_offset[i] + stall;
-    const std::uint32_t size = a.size_of(i);
-    if (pow2 && size > 0 && (a.scatter[i] & (word_bytes_ - 1)) + size <= word_bytes_) {
-      const auto bank = static_cast<std::uint32_t>((a.scatter[i] >> word_shift_) & bank_mask_);
+    const std::uint64_t t = start + p->issue_offset + stall;
+    const std::uint32_t size = p->bytes;
+    if (pow2 && size > 0 && (p->byte & (word_bytes_ - 1)) + size <= word_bytes_) {
+      const auto bank = static_cast<std::uint32_t>((p->byte >> word_shift_) & bank_mask_);
       const std::uint64_t served = banks_.try_book(bank, t) ? t : banks_.reserve(bank, t, now);
       stall += served - t;
       last = served + 1;
       ++n;
       continue;
     }
-    const auto [first, words] = words_of(a.scatter[i], size);
+    const auto [first, words] = words_of(p->byte, size);
     std::uint64_t served = t;
     for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(bank_of(w), t, now));
     stall += served - t;
@@ -102,7 +102,7 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   }
   conflict_cycles_ += stall;
   count(a.write, n, a.bytes);
-  return a.scatter_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
+  return a.pipeline_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
 }
 
 void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {

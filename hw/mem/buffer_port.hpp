@@ -46,11 +46,11 @@ class BufferPort {
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access,
                        const sc_core::sc_time& period) {
-    if (access.bytes == 0 && access.scatter_count == 0) return start;  // nothing to access
+    if (access.bytes == 0 && access.scatter_count == 0 && access.pipeline_count == 0) return start;  // nothing
     if (timing_) return timing_->charge(start, access);
     profile_ = access;
     trans_.set_command(tlm::TLM_IGNORE_COMMAND);
-    trans_.set_address(access.scatter ? 0 : access.first_byte);
+    trans_.set_address(access.scatter || access.pipeline ? 0 : access.first_byte);
     trans_.set_data_ptr(&dummy_);
     trans_.set_data_length(0);
     trans_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
