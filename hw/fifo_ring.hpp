@@ -26,7 +26,9 @@ class FifoRing {
   const T& operator[](std::size_t i) const { return items_[(head_ + i) & (items_.size() - 1)]; }
   void push_back(const T& t) {
     if (size_ == items_.size()) regrow(items_.empty() ? 16 : 2 * items_.size());
-    items_[(head_ + size_++) & (items_.size() - 1)] = t;
+    const std::size_t mask = items_.size() - 1;
+    items_[(head_ + size_++) & mask] = t;
+    __builtin_prefetch(&items_[(head_ + size_ + 8) & mask], 1);  // last touched a whole lap ago
   }
   void pop_front() {
     head_ = (head_ + 1) & (items_.size() - 1);

@@ -7,6 +7,7 @@ namespace tigris {
 void LatencyRecorder::job_started(std::uint32_t num_queries) {
   admitted_.assign(num_queries, 0);
   latency_.clear();
+  latency_.reserve(num_queries);
   bqb_waits_.clear();
 }
 

@@ -35,7 +35,10 @@ void SearchUnit::start() {
 
 void SearchUnit::accept(const QueryToken& token) {
   bqb_.push_back(token);
-  if (!job_.radius() && !links_.scans.threaded()) pe_array_.prefetch_slot(token.slot);  // read at issue
+  // Host speed-ups: what the batch's issue reads of the query (its slot, when scanned here, and
+  // the observers' records of it).
+  if (!job_.radius() && !links_.scans.threaded()) pe_array_.prefetch_slot(token.slot);
+  links_.observer.prefetch(token.query);
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
   const std::uint64_t now = clock_.now();

@@ -14,6 +14,7 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
+      fast_words_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
       ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
@@ -35,6 +36,15 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
       const auto [first, words] = words_of(a.scatter[i], a.scatter_size);
       finish = std::max(finish, reserve_words(first, words, start, now));
       n += words;
+    }
+  } else if (fast_words_ && a.bytes > 0 && (a.first_byte & (word_bytes_ - 1)) + a.bytes <= 4 * word_bytes_) {
+    // A slot or a record (at most four words): each word in its bank's first free cycle, most
+    // often in the calendar's current row.
+    const std::uint64_t first = a.first_byte >> word_shift_, last = (a.first_byte + a.bytes - 1) >> word_shift_;
+    n = last - first + 1;
+    for (std::uint64_t w = first; w <= last; ++w) {
+      const auto bank = static_cast<std::uint32_t>(w & bank_mask_);
+      finish = std::max(finish, (banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now)) + 1);
     }
   } else {
     n = words_of(a.first_byte, a.bytes).second;
@@ -80,7 +90,7 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   std::uint64_t stall = 0, last = start, n = 0;
   // Accesses within one word (a walk's nodes and stack entries) take a short path that books
   // most of them in the calendar's current row.
-  const bool pow2 = !ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0;
+  const bool pow2 = fast_words_;
   for (const tlm_if::PipelineAccess* p = a.pipeline, *end = p + a.pipeline_count; p != end; ++p) {
     // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + p->issue_offset + stall;
