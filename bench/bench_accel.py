@@ -7,7 +7,7 @@ Runs `tigris run` on the built-in synthetic pair and, when present, the KITTI pa
 invocation. Usage: bench/bench_accel.py [--tigris build/testbench/tigris] [--kitti DIR] [--runs 3]
 
 --instructions also counts instructions with valgrind's callgrind (one run per search, about a
-minute each): the simulation (tigris::simulate) against the golden model's search (its call of
+minute each, with --sim-threads 1): the simulation (tigris::simulate) against the golden model's search (its call of
 tigris::search, without the scoreboard's replay). Unlike wall times they do not move with the machine's load.
 """
 import argparse, json, os, re, shutil, statistics, subprocess, sys, tempfile
@@ -24,7 +24,10 @@ def run(tigris, args, out):
 def instructions(tigris, args, tmp):
     """Inclusive instruction counts of the simulation and of the golden model's search loop."""
     out = os.path.join(tmp, "callgrind.out")
-    cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, tigris, "run", "--out", tmp] + args
+    # One simulation thread: tigris::simulate then holds all of the simulation's instructions
+    # (with two, the scans on the second thread would be counted apart).
+    cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, tigris, "run", "--sim-threads", "1",
+           "--out", tmp] + args
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit("failed: " + " ".join(cmd) + "\n" + p.stderr[-2000:])

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 
 #include <systemc>
 #include <tlm>
@@ -47,6 +48,7 @@ class HostDriver : public sc_core::sc_module {
   bool finished() const { return finished_; }
   const std::string& error() const { return error_; }  // empty when the job completed
   const Results& results() const { return results_; }
+  Results take_results() { return std::move(results_); }  // after the run: no copy of a frame's lists
   std::uint64_t cycles() const { return cycles_; }
 
  private:

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hw/observer.hpp"
@@ -26,6 +27,7 @@ class VisitRecorder final : public hw::JobObserver {
   void leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) override;
   // Per-query counts, their totals and the schedule (results left empty).
   const SearchOutput& visits() const { return out_; }
+  SearchOutput take_visits() { return std::move(out_); }  // after the run
 
  private:
   SearchOutput out_;

@@ -64,14 +64,14 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
   sc_core::sc_start();
   for (std::size_t i = 0; i < setups.size(); ++i) {
     const hw::TigrisAccelerator& a = *benches[i].accel;
-    const HostDriver& h = *benches[i].host;
+    HostDriver& h = *benches[i].host;
     SimOutcome& o = out[i];
     o.finished = h.finished();
     o.error = !a.error().empty() ? "the accelerator rejected the job: " + a.error() : h.error();
     if (!o.finished && o.error.empty()) o.deadlock = a.describe_state();
-    o.results = h.results();
+    o.results = h.take_results();
     o.cycles = h.cycles();
-    o.visits = benches[i].recorder->visits();
+    o.visits = benches[i].recorder->take_visits();
     nlohmann::json stats = run_stats_json(a, o.cycles);
     o.units = std::move(stats["units"]);
     o.buffers = std::move(stats["buffers"]);
