@@ -22,7 +22,7 @@ namespace tigris {
 class VisitRecorder final : public hw::JobObserver {
  public:
   void job_started(std::uint32_t num_queries) override;
-  void prefetch(std::uint32_t query) override { __builtin_prefetch(out_.per_query.data() + query); }
+  void prefetch(std::uint32_t query) override { __builtin_prefetch(out_.per_query.data() + query, 1); }
   void walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) override;
   void leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) override;
   // Per-query counts, their totals and the schedule (results left empty).

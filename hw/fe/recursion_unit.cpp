@@ -177,7 +177,7 @@ std::uint64_t RecursionUnit::walk() {
 void RecursionUnit::prefetch(const QueryToken& token) const {
   prefetch_span(query_records_ + token.query, sizeof(tlm_if::QueryRecord));
   if (token.started)
-    prefetch_span(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
+    prefetch_span_to_write(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
   if (!job_.radius()) slots_.prefetch(token.slot);
   links_.observer.prefetch(token.query);
   links_.scans.prefetch(token.slot);

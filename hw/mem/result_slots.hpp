@@ -53,7 +53,7 @@ class ResultSlots {
     return true;
   }
   // Host speed-up: starts loading the slot into the host's cache (hw/host_prefetch.hpp).
-  void prefetch(std::uint32_t slot) const { prefetch_span(at(slot), slot_bytes(k_)); }
+  void prefetch(std::uint32_t slot) const { prefetch_span_to_write(at(slot), slot_bytes(k_)); }
   // The query is done: its list in canonical order, closest first (entries() then reads it).
   void finish(std::uint32_t slot) {
     Neighbor* e = mutable_entries(slot);
