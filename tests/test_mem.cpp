@@ -12,6 +12,7 @@
 
 #include "hw/fifo_ring.hpp"
 #include "hw/mem/bank_calendar.hpp"
+#include "hw/mem/fast_divider.hpp"
 #include "hw/mem/result_slots.hpp"
 
 using namespace tigris;
@@ -144,4 +145,21 @@ TEST_CASE("FifoRing: first in, first out across wrap-arounds and growth, as a st
   CHECK(ring.empty());
   ring.push_back(42);
   CHECK(ring.front() == 42);
+}
+
+TEST_CASE("FastDivider: n / d exactly, by multiplications below 2^32 and a division beyond", "[hw][memory]") {
+  std::mt19937_64 rng(11);
+  std::vector<std::uint64_t> divisors = {1, 2, 3, 7, 12, 24, 96, 1000, 65535, 65536, 4294967295ULL, 4294967296ULL};
+  for (int i = 0; i < 200; ++i) divisors.push_back(1 + rng() % 4294967295ULL);
+  for (int i = 0; i < 50; ++i) divisors.push_back(1 + rng() % 5000);
+  for (std::uint64_t d : divisors) {
+    const hw::FastDivider div(d);
+    std::vector<std::uint64_t> ns = {0, 1, d - 1, d, d + 1, 2 * d - 1, 4294967295ULL, 4294967296ULL, ~std::uint64_t{0}};
+    for (int i = 0; i < 2000; ++i) ns.push_back(rng() % 4294967296ULL);
+    for (int i = 0; i < 200; ++i) ns.push_back(rng());
+    for (std::uint64_t n : ns) {
+      INFO(n << " / " << d);
+      REQUIRE(div(n) == n / d);
+    }
+  }
 }

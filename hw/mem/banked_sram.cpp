@@ -10,7 +10,8 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
       word_bytes_(static_cast<std::uint64_t>(config.word_bytes)), num_banks_(static_cast<std::uint64_t>(config.banks)),
       word_shift_((word_bytes_ & (word_bytes_ - 1)) == 0 ? __builtin_ctzll(word_bytes_) : -1),
-      bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0),
+      bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0), word_div_(word_bytes_),
+      bank_div_(num_banks_),
       lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
@@ -37,18 +38,19 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
       finish = std::max(finish, reserve_words(first, words, start, now));
       n += words;
     }
-  } else if (fast_words_ && a.bytes > 0 && (a.first_byte & (word_bytes_ - 1)) + a.bytes <= 4 * word_bytes_) {
-    // A slot or a record (at most four words): each word in its bank's first free cycle, most
-    // often in the calendar's current row.
-    const std::uint64_t first = a.first_byte >> word_shift_, last = (a.first_byte + a.bytes - 1) >> word_shift_;
-    n = last - first + 1;
-    for (std::uint64_t w = first; w <= last; ++w) {
-      const auto bank = static_cast<std::uint32_t>(w & bank_mask_);
-      finish = std::max(finish, (banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now)) + 1);
-    }
   } else {
-    n = words_of(a.first_byte, a.bytes).second;
-    finish = std::max(finish, reserve_words(word_index(a.first_byte), n, start, now));
+    const auto [first, words] = words_of(a.first_byte, a.bytes);
+    n = words;
+    if (!ports_bind_ && words <= 4 && words <= num_banks_) {
+      // A slot or a record: each word in its bank's first free cycle, most often in the
+      // calendar's current row.
+      for (std::uint64_t w = first; w < first + words; ++w) {
+        const std::uint32_t bank = bank_of(w);
+        finish = std::max(finish, (banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now)) + 1);
+      }
+    } else {
+      finish = std::max(finish, reserve_words(first, words, start, now));
+    }
   }
   if (n == 0) return start;
   const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);

@@ -19,6 +19,7 @@
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/mem/bank_calendar.hpp"
+#include "hw/mem/fast_divider.hpp"
 #include "hw/mem/port_calendar.hpp"
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
@@ -75,10 +76,10 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
     return {first, word_index(first_byte + bytes - 1) - first + 1};
   }
   // Word and bank arithmetic with shifts and masks when the sizes are powers of two (the
-  // defaults): a division per word costs more than the booking itself.
-  std::uint64_t word_index(std::uint64_t byte) const { return word_shift_ >= 0 ? byte >> word_shift_ : byte / word_bytes_; }
+  // defaults), else by multiplications (hw/mem/fast_divider.hpp).
+  std::uint64_t word_index(std::uint64_t byte) const { return word_shift_ >= 0 ? byte >> word_shift_ : word_div_(byte); }
   std::uint32_t bank_of(std::uint64_t word) const {
-    return static_cast<std::uint32_t>(bank_mask_ ? word & bank_mask_ : word % num_banks_);
+    return static_cast<std::uint32_t>(bank_mask_ ? word & bank_mask_ : word - bank_div_(word) * num_banks_);
   }
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   bool get_direct_mem_ptr(int id, tlm::tlm_generic_payload& trans, tlm::tlm_dmi& dmi);
@@ -90,6 +91,7 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   std::uint64_t word_bytes_, num_banks_;
   int word_shift_;          // log2(word_bytes_), or -1
   std::uint64_t bank_mask_;  // num_banks_ - 1 for a power of two, else 0
+  FastDivider word_div_, bank_div_;
   std::uint64_t lanes_;      // words served a cycle at best: min(banks, ports)
   int lanes_shift_;          // log2(lanes_), or -1
   BankCalendar banks_;
