@@ -15,7 +15,7 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
-      fast_words_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
+      word_in_row_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
       ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
@@ -41,16 +41,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   } else {
     const auto [first, words] = words_of(a.first_byte, a.bytes);
     n = words;
-    if (!ports_bind_ && words <= 4 && words <= num_banks_) {
-      // A slot or a record: each word in its bank's first free cycle, most often in the
-      // calendar's current row.
-      for (std::uint64_t w = first; w < first + words; ++w) {
-        const std::uint32_t bank = bank_of(w);
-        finish = std::max(finish, (banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now)) + 1);
-      }
-    } else {
-      finish = std::max(finish, reserve_words(first, words, start, now));
-    }
+    finish = std::max(finish, reserve_words(first, words, start, now));
   }
   if (n == 0) return start;
   const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
@@ -62,10 +53,13 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
                                          std::uint64_t now) {
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
-  if (!ports_bind_ && words <= 4 && words <= num_banks_) {  // a slot or a record: word by word
+  if (!ports_bind_ && words <= 4 && words <= num_banks_) {
+    // A slot or a record: word by word, most often in the calendar's current row.
     std::uint64_t finish = cycle;
-    for (std::uint64_t w = first; w < first + words; ++w)
-      finish = std::max(finish, banks_.reserve(bank_of(w), cycle, now) + 1);
+    for (std::uint64_t w = first; w < first + words; ++w) {
+      const std::uint32_t bank = bank_of(w);
+      finish = std::max(finish, (banks_.try_book(bank, cycle) ? cycle : banks_.reserve(bank, cycle, now)) + 1);
+    }
     return finish;
   }
   if (!ports_bind_ && words <= num_banks_)  // one word a bank
@@ -92,12 +86,11 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   std::uint64_t stall = 0, last = start, n = 0;
   // Accesses within one word (a walk's nodes and stack entries) take a short path that books
   // most of them in the calendar's current row.
-  const bool pow2 = fast_words_;
   for (const tlm_if::PipelineAccess* p = a.pipeline, *end = p + a.pipeline_count; p != end; ++p) {
     // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + p->issue_offset + stall;
     const std::uint32_t size = p->bytes;
-    if (pow2 && size > 0 && (p->byte & (word_bytes_ - 1)) + size <= word_bytes_) {
+    if (word_in_row_ && size > 0 && (p->byte & (word_bytes_ - 1)) + size <= word_bytes_) {
       const auto bank = static_cast<std::uint32_t>((p->byte >> word_shift_) & bank_mask_);
       const std::uint64_t served = banks_.try_book(bank, t) ? t : banks_.reserve(bank, t, now);
       stall += served - t;

@@ -96,9 +96,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   int lanes_shift_;          // log2(lanes_), or -1
   BankCalendar banks_;
   bool ports_bind_;
-  // Words and banks (two or more) are powers of two and ports never bind: small accesses book
-  // word by word with shifts and masks.
-  bool fast_words_;
+  // Words and banks (two or more) are powers of two and ports never bind: a pipeline access
+  // within one word finds its bank with a shift and a mask (charge_in_order's short path).
+  bool word_in_row_;
   PortCalendar ports_;
   StatGroup stats_;
   Counter reads_{stats_, "reads"}, writes_{stats_, "writes"};
