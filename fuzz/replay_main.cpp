@@ -27,6 +27,7 @@ int tigris_fuzz_ply(const std::uint8_t*, std::size_t);
 int tigris_fuzz_config(const std::uint8_t*, std::size_t);
 int tigris_fuzz_schedule_csv(const std::uint8_t*, std::size_t);
 int tigris_fuzz_results_csv(const std::uint8_t*, std::size_t);
+int tigris_fuzz_register_config(const std::uint8_t*, std::size_t);
 }
 
 namespace {
@@ -42,7 +43,8 @@ const Target kTargets[] = {{"kitti_bin", tigris_fuzz_kitti_bin, false},
                            {"ply", tigris_fuzz_ply, true},
                            {"config", tigris_fuzz_config, true},
                            {"schedule_csv", tigris_fuzz_schedule_csv, false},
-                           {"results_csv", tigris_fuzz_results_csv, true}};
+                           {"results_csv", tigris_fuzz_results_csv, true},
+                           {"register_config", tigris_fuzz_register_config, true}};
 
 char g_current[4096] = "";
 

@@ -68,9 +68,11 @@ struct EnergyTable {
     v("sram_ref_bank_bytes", sram_ref_bank_bytes,
       {"bytes", in(1, 1e12), "bank size of the sram_ref_pj_per_byte reference point (8 KB)"});
     v("sram_size_exponent", sram_size_exponent,
-      {"-", at_least(0),
+      {"-", in(0, 2),
        "how SRAM energy per access grows with the bank's size: 0.5 (CACTI-like square root; "
-       "Horowitz: 8 KB 10 pJ, 32 KB 20 pJ, 1 MB 100 pJ); 0: one price for every buffer"});
+       "Horowitz: 8 KB 10 pJ, 32 KB 20 pJ, 1 MB 100 pJ); 0: one price for every buffer; at most 2 "
+       "(energy growing with the square of the bank is already beyond any SRAM, and large exponents "
+       "overflow)"});
     pj("sram_write_factor", sram_write_factor, "-",
        "SRAM write / read energy per byte (no published 16 nm split: taken equal)");
     pj("leader_buffer_pj_per_byte", leader_buffer_pj_per_byte, "pJ/byte",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace tigris {
@@ -27,8 +28,11 @@ float default_approx_thd(const SearchParams& p) {
 
 void validate(const SearchParams& p) {
   if (p.mode == Mode::KNN && p.k < 1) throw std::invalid_argument("k must be >= 1, got " + std::to_string(p.k));
-  if (p.mode == Mode::Radius && !(p.radius > 0.0f && std::isfinite(p.radius)))
-    throw std::invalid_argument("radius must be a finite number > 0, got " + std::to_string(p.radius));
+  if (p.mode == Mode::Radius && !(p.radius > 0.0f && std::isfinite(p.radius))) {
+    char b[64];
+    std::snprintf(b, sizeof b, "radius must be a finite number > 0, got %g", double(p.radius));
+    throw std::invalid_argument(b);
+  }
   if (p.approximate) {
     if (!(p.approx_thd >= 0.0f && std::isfinite(p.approx_thd)))
       throw std::invalid_argument("approximation threshold must be a finite number >= 0");

@@ -16,6 +16,8 @@
 
 #include "config.hpp"
 #include "config_keys.hpp"
+#include "sw_ref/json_file.hpp"
+#include "sw_ref/visible_text.hpp"
 
 namespace tigris {
 namespace {
@@ -28,7 +30,7 @@ using nlohmann::json;
 
 [[noreturn]] void unknown_key(const std::string& source, const std::string& name) {
   const std::string best = config_table::nearest_name(name);
-  throw std::invalid_argument(source + ": unknown key '" + name + "'" +
+  throw std::invalid_argument(source + ": unknown key '" + visible_text(name) + "'" +
                               (best.empty() ? " (tigris run --list-config lists every key)"
                                             : " (did you mean '" + best + "'?)"));
 }
@@ -122,7 +124,8 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
       const double x = text.empty() || std::isspace(static_cast<unsigned char>(text[0]))
                            ? 0.0
                            : std::strtod(first, &end);
-      if (end != last || errno == ERANGE) return fail("a number");
+      // ERANGE on underflow still gives the nearest number (a denormal, or 0): the range decides.
+      if (end != last || (errno == ERANGE && std::abs(x) == HUGE_VAL)) return fail("a number");
       return x;
     }
     case Type::Integer:
@@ -174,30 +177,11 @@ void apply_config_json(AcceleratorConfig& cfg, const json& j, const std::string&
 }
 
 void apply_config_file(AcceleratorConfig& cfg, const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": cannot read configuration file: is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw std::invalid_argument(path + ": cannot open configuration file: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  apply_config_text(cfg, text.str(), path);
+  apply_config_json(cfg, read_json_file(path), path);
 }
 
 void apply_config_text(AcceleratorConfig& cfg, const std::string& text, const std::string& source) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {
-    // parse_error (syntax, with line and column) and out_of_range (a number beyond double,
-    // e.g. 1e999): "[json.exception.parse_error.101] parse error at line 3, ..."
-    std::string what = e.what();
-    const auto bracket = what.find("] ");
-    if (bracket != std::string::npos) what.erase(0, bracket + 2);
-    throw std::invalid_argument(source + ": JSON " + what);
-  }
-  apply_config_json(cfg, j, source);
+  apply_config_json(cfg, parse_json_text(text, source), source);
 }
 
 void apply_setting(AcceleratorConfig& cfg, const std::string& assignment) {

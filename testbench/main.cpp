@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "arg_checks.hpp"
 #include "python_tools.hpp"
 #include "ref_command.hpp"
 #include "register_command.hpp"
@@ -95,6 +96,12 @@ int main(int argc, char** argv) {
   app.add_subcommand("reproduce", "The paper's section 6 experiments as sweeps, with figures and REPORT.md "
                                   "(sweep/reproduce.py; tigris reproduce --help)");
 
+  try {
+    tigris::reject_empty_arguments(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "tigris: error: " << printable(e.what()) << '\n';
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,33 +1,33 @@
 #include "options.hpp"
 
+#include <cfloat>
+#include <cmath>
+
 #include <cstdio>
 #include <stdexcept>
+
+#include "arg_checks.hpp"
 
 namespace tigris {
 
 void add_search_options(CLI::App& app, SearchOptions& o) {
   app.add_option("--cloud", o.cloud,
-                 "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply "
-                 "(default: the built-in synthetic frame 0)");
+                 "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply (default: the "
+                 "built-in synthetic frame 0; without --queries the cloud is searched in itself)");
   app.add_option("--queries", o.queries,
-                 "Query points, same formats (default: the built-in synthetic frame 1, the same "
-                 "street scanned 1 m further on and turned 1 degree)");
+                 "Query points, same formats; needs --cloud (default: the cloud itself, or with "
+                 "neither flag the built-in synthetic frame 1, the same street scanned 1 m further "
+                 "on and turned 1 degree)");
   app.add_option("--seed", o.seed, "Seed of the built-in synthetic frames (0 .. 2^64-1)")
       ->capture_default_str()
-      ->check(CLI::Validator(
-          [](std::string& s) -> std::string {
-            // CLI11 would wrap "-1" and round "1e23" to 2^64-1: digits only, in range.
-            if (s.empty() || s.size() > 20 || s.find_first_not_of("0123456789") != std::string::npos ||
-                (s.size() == 20 && s > "18446744073709551615"))
-              return "must be a whole number from 0 to 18446744073709551615, got '" + s + "'";
-            return {};
-          },
-          "UINT64"));
+      ->check(uint64_text());
   app.add_option("--mode", o.mode, "Search: nn, knn or radius")
       ->check(CLI::IsMember({"nn", "knn", "radius"}))
       ->capture_default_str();
   app.add_option("--k", o.k, "Neighbours per query for --mode knn")->capture_default_str();
-  app.add_option("--radius", o.radius, "Radius in metres for --mode radius")->capture_default_str();
+  app.add_option("--radius", o.radius, "Radius in metres for --mode radius")
+      ->check(finite_range(0.0, 1e30))
+      ->capture_default_str();
   app.add_option("--max-nn", o.max_nn,
                  "Radius search keeps only the max-nn nearest (0: all); visits are unchanged")
       ->capture_default_str();
@@ -54,12 +54,12 @@ void add_search_options(CLI::App& app, SearchOptions& o) {
   app.add_option("--max-work", o.limits.max_work,
                  "Refuse a run estimated (from a sample of queries) to compute more node and point "
                  "distances than this; 0: no limit")
-      ->check(CLI::Range(0.0, 1e18))
+      ->check(finite_range(0.0, 1e18))
       ->capture_default_str();
   app.add_option("--max-results", o.limits.max_results,
                  "Refuse a run estimated to return more neighbours than this (radius: before "
                  "--max-nn); 0: no limit")
-      ->check(CLI::Range(0.0, 1e18))
+      ->check(finite_range(0.0, 1e18))
       ->capture_default_str();
   app.add_option("--out", o.out, "Output folder for stats.json")
       ->capture_default_str()
@@ -106,22 +106,24 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
   if ((app.count("--radius") || app.count("--max-nn")) && p.mode != Mode::Radius)
     throw std::invalid_argument("--radius and --max-nn apply to --mode radius only");
   p.k = p.mode == Mode::KNN ? o.k : 1;
-  p.radius = o.radius;
+  // A radius below the smallest normal float would search with 0 (or a denormal) in the model.
+  if (p.mode == Mode::Radius && o.radius < FLT_MIN) {
+    char b[96];
+    std::snprintf(b, sizeof b, "--radius must be > 0 metres (at least %g), got %g", double(FLT_MIN), o.radius);
+    throw std::invalid_argument(b);
+  }
+  p.radius = static_cast<float>(o.radius);
   p.max_nn = o.max_nn;
   if (!o.approx_thd.empty()) {
     p.approximate = true;
     if (o.approx_thd == "default") {
       p.approx_thd = default_approx_thd(p);
     } else {
-      std::size_t used = 0;
-      try {
-        p.approx_thd = std::stof(o.approx_thd, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != o.approx_thd.size())
-        throw std::invalid_argument("--approx-thd must be a number in metres or 'default', got '" +
+      std::string text = o.approx_thd;
+      if (!finite_range(0.0, 1e30)(text).empty())
+        throw std::invalid_argument("--approx-thd must be a number of metres from 0 to 1e30, or 'default', got '" +
                                     o.approx_thd + "'");
+      p.approx_thd = static_cast<float>(std::strtod(o.approx_thd.c_str(), nullptr));
     }
   } else if (app.count("--leader-capacity") || app.count("--leader-width")) {
     throw std::invalid_argument("--leader-capacity and --leader-width need --approx-thd");

@@ -18,7 +18,7 @@ struct SearchOptions {
   std::uint64_t seed = 1;
   std::string mode = "nn";
   int k = 10;
-  float radius = 0.30f;
+  double radius = 0.30;  // checked against float's range in search_params
   std::uint32_t max_nn = 0;
   std::string height = "10";
   std::string split_axis = "widest";

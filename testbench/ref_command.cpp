@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "arg_checks.hpp"
 #include "progress.hpp"
 #include "report.hpp"
 #include "sw_ref/stats.hpp"
@@ -21,6 +22,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int run_ref_command(const CLI::App& app, const SearchOptions& o) {
+  check_distinct_paths({{"--cloud", o.cloud}, {"--queries", o.queries}, {"--schedule", o.schedule}},
+                       {{"--out (stats.json)", o.out + "/stats.json"},
+                        {"--dump-results", o.dump_results},
+                        {"--dump-schedule", o.dump_schedule}});
   const SearchParams params = search_params(app, o);
   int height = parse_height(o.height);
   const SplitRule split = parse_split_rule(o.split_axis);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <pcl/console/print.h>
 
+#include "arg_checks.hpp"
 #include "options.hpp"
 #include "report.hpp"
 #include "sw_ref/io/cloud_io.hpp"
@@ -139,7 +140,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
   app.add_option("--target", o.target,
                  "Target (earlier) frame, same formats (default: synthetic frame 0)");
-  app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair")->capture_default_str();
+  app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair (0 .. 2^64-1)")
+      ->capture_default_str()
+      ->check(uint64_text());
   app.add_option("--preset", o.preset, "Pipeline preset: dp4 (performance) or dp7 (accuracy)")
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
@@ -167,6 +170,11 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)");
   app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")
       ->capture_default_str();
+  app.add_option("--max-work", o.max_work,
+                 "Stop the registration when its KD-tree searches have computed and returned more than "
+                 "this many distances and neighbours (a KITTI pair takes 4e8 with dp4, 1.3e9 with dp7); 0: no limit")
+      ->check(finite_range(0.0, 1e18))
+      ->capture_default_str();
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
 }
@@ -185,15 +193,17 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
       throw std::invalid_argument("--approx-thd needs --search approx (got --search " + o.search + ")");
     const double t = parse_number("--approx-thd", o.approx_thd);
     config.search.backend = "approx";
-    config.search.nn_thd = t;
+    // Through the keys, so the flag has the key's range and registration.json reads back.
+    registration::apply_set(config, "search.nn_thd=" + o.approx_thd, "--approx-thd");
     config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
   }
   const bool injecting = !o.inject_kth.empty() || !o.inject_shell.empty();
   if (!o.inject_kth.empty()) config.inject.rpce_kth = parse_kth(o.inject_kth);
   if (!o.inject_shell.empty()) {
-    const auto [r1, r2] = parse_shell(o.inject_shell, config.normals.radius);
-    config.inject.normals_shell_inner = r1;
-    config.inject.normals_shell_outer = r2;
+    parse_shell(o.inject_shell, config.normals.radius);  // the form R1,R2 and R1 < r < R2
+    const std::size_t at = o.inject_shell.find(',');
+    registration::apply_set(config, "inject.normals_shell_inner=" + o.inject_shell.substr(0, at), "--inject-shell");
+    registration::apply_set(config, "inject.normals_shell_outer=" + o.inject_shell.substr(at + 1), "--inject-shell");
   }
   if (injecting && config.search.backend == "approx")
     throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
@@ -210,6 +220,11 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     throw std::invalid_argument("--source and --target go together (neither: the built-in synthetic pair)");
   if (!o.ground_truth.empty() && !o.kitti_poses.empty())
     throw std::invalid_argument("give --ground-truth or --kitti-poses, not both");
+  if (app.count("--kitti-frames") && o.kitti_poses.empty())
+    throw std::invalid_argument("--kitti-frames " + o.kitti_frames + " picks lines of --kitti-poses, which is not given");
+  check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
+                        {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses}},
+                       {{"--out (registration.json)", o.out + "/registration.json"}});
 
   PointCloud source, target;
   std::string source_name, target_name;
@@ -259,8 +274,24 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
                source_name.c_str(), source.size(), target_name.c_str(), target.size(), o.preset.c_str(),
                config.search.backend.c_str(), injection.c_str());
-  const registration::RegistrationResult r = registration::register_clouds(
-      source, target, config, [](const std::string& stage) { std::fprintf(stderr, "tigris register: %s...\n", stage.c_str()); });
+  auto budget = std::make_shared<registration::WorkBudget>();
+  budget->limit = o.max_work;
+  std::string stage_now;
+  budget->progress = [&](const registration::WorkBudget& b) {
+    std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
+                 stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
+  };
+  registration::RegistrationResult r;
+  try {
+    r = registration::register_clouds(source, target, config, [&](const std::string& stage) {
+          stage_now = stage;
+          std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
+        }, budget);
+  } catch (const registration::WorkLimitExceeded& e) {
+    throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
+                                "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
+                                "check the injection, radii and k of the configuration");
+  }
 
   ordered_json doc;
   doc["command"] = "register";
@@ -275,7 +306,9 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                                                    config.inject.normals_shell_outer})
                                             : ordered_json()},
                       {"normals_radius", config.normals.radius}};
-  doc["transform"] = matrix_json(r.transform);
+  doc["status"] = r.status;
+  if (!r.problem.empty()) doc["problem"] = r.problem;
+  doc["transform"] = r.status == "degenerate" ? ordered_json() : matrix_json(r.transform);
   doc["initial_transform"] = matrix_json(r.initial);
   doc["seconds"] = r.total_seconds;
   double kd_seconds = 0.0;
@@ -286,9 +319,10 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   }
   doc["stages"] = stages;
   doc["kdtree_seconds"] = kd_seconds;
+  doc["kdtree_work"] = {{"distances_and_neighbors", budget->spent}, {"max_work", o.max_work}};
   doc["kdtree_share"] = r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0;
   std::optional<registration::PoseError> err;
-  if (truth) {
+  if (truth && r.status != "degenerate") {
     err = registration::pose_error(*truth, r.transform);
     const registration::PoseError initial = registration::pose_error(*truth, r.initial);
     doc["ground_truth"] = {{"source", truth_name}, {"transform", matrix_json(*truth)}};
@@ -312,15 +346,26 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                 static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
   std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
               100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
-  std::printf("  transform (target <- source):\n");
-  for (int i = 0; i < 3; ++i)
-    std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
-                r.transform(i, 3));
-  if (err)
+  if (r.status != "degenerate") {
+    std::printf("  transform (target <- source)%s:\n", r.status == "converged" ? "" : ", NOT CONVERGED");
+    for (int i = 0; i < 3; ++i)
+      std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
+                  r.transform(i, 3));
+  }
+  if (err && err->travelled_m > 0)
     std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
                 err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
                 err->travelled_m);
+  else if (err)
+    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
+                "does not move)\n", err->translation_m, err->rotation_deg);
   std::printf("  wrote %s\n", path.c_str());
+  if (r.status != "converged") {
+    std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
+                 r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),
+                 r.status.c_str(), path.c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -1,7 +1,8 @@
 // `tigris register`: the registration pipeline (sw_ref/registration, DESIGN.md section 15) on two
 // frames, searching through the golden model (exact or approximate) or FLANN; writes
 // DIR/registration.json (transform, per-stage seconds and KD-tree work, accuracy against ground
-// truth when given).
+// truth when given). Exit 0 when ICP converged; 1 when it did not or the problem is degenerate
+// (registration.json still written, with "status" and a warning on stderr); 2 bad input.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +26,7 @@ struct RegisterOptions {
   std::string inject_shell;  // "R1,R2"; empty: inject.normals_shell_inner/_outer
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
+  double max_work = 1e10;  // distances computed + neighbours returned by all searches; 0: none
   std::string out = "tigris-out";
 };
 

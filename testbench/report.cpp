@@ -1,8 +1,11 @@
 #include "report.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include "sw_ref/accuracy.hpp"
 #include "sw_ref/stats.hpp"
@@ -104,15 +107,48 @@ nlohmann::json search_config_json(const SearchParams& p, const KdTree& tree) {
   return j;
 }
 
+std::string non_finite_field(const nlohmann::json& j, const std::string& prefix) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) return prefix.empty() ? "(value)" : prefix;
+  if (j.is_object())
+    for (const auto& [k, v] : j.items())
+      if (std::string f = non_finite_field(v, prefix.empty() ? k : prefix + "." + k); !f.empty()) return f;
+  if (j.is_array())
+    for (std::size_t i = 0; i < j.size(); ++i)
+      if (std::string f = non_finite_field(j[i], prefix + "[" + std::to_string(i) + "]"); !f.empty()) return f;
+  return "";
+}
+
 void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  namespace fs = std::filesystem;
+  const fs::path parent = fs::path(path).parent_path();
   std::error_code ec;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error(path + ": cannot open for writing");
-  write(f);
-  f.flush();
-  if (!f) throw std::runtime_error(path + ": write failed");
+  if (!parent.empty()) fs::create_directories(parent, ec);
+  // A device or pipe (/dev/null, /dev/stdout) is written as it is. A file is written beside its
+  // path and renamed over it: a failed write leaves the old file whole, and a symbolic link is
+  // replaced, never written through (it could point at an input).
+  const fs::file_status st = fs::symlink_status(path, ec);
+  const bool special = fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st);
+  if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
+  const std::string tmp = special ? path : path + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error(path + ": cannot open for writing");
+    write(f);
+    f.flush();
+    if (!f) {
+      f.close();
+      if (!special) fs::remove(tmp, ec);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  if (!special) {
+    fs::rename(tmp, path, ec);
+    if (ec) {
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      throw std::runtime_error(path + ": cannot write: " + ec.message());
+    }
+  }
 }
 
 }  // namespace tigris

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include "arg_checks.hpp"
 #include "config.hpp"
 #include "hw/job.hpp"
+#include "hw/mem/result_slots.hpp"
 #include "simulation.hpp"
 #include "timeline.hpp"
 #include "traces/schedule_csv.hpp"
@@ -42,7 +44,8 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                  "walk, hop, BQB wait and batch, flow arrows per query");
   app.add_option("--timeline-queries", o.timeline_queries,
                  "About how many queries the timeline shows (every n-th query; 0: all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_range(0, 4294967295LL))
+      ->capture_default_str();
   app.add_option("--sim-threads", o.sim_threads,
                  "Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread, 1 "
                  "keeps everything on one (the figures are the same). Default: 2 on a machine with "
@@ -56,9 +59,16 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     std::cout << config_reference();
     return 0;
   }
-  SearchParams params = search_params(app, o.search);
   if (!o.search.schedule.empty())
     throw std::invalid_argument("--schedule replays a schedule in the golden model: use tigris ref");
+  check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
+                       {{"--out (stats.json)", o.search.out + "/stats.json"},
+                        {"--vcd", o.vcd},
+                        {"--vcd (GTKWave save file)", o.vcd.empty() ? "" : gtkw_path(o.vcd)},
+                        {"--timeline", o.timeline},
+                        {"--dump-results", o.search.dump_results},
+                        {"--dump-schedule", o.search.dump_schedule}});
+  SearchParams params = search_params(app, o.search);
   hw::AcceleratorConfig cfg;
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
   for (const std::string& s : o.settings) apply_setting(cfg, s);
@@ -78,7 +88,11 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const HostJob job = host_job(params);
   const std::string fit = hw::job_fit_error(cfg, image.bytes.size(), w.queries.size(), tree.top_height, job.mode, job.k);
   if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
-  check_work(estimate_work(tree, w.queries, params), o.search.limits, w.queries.size());
+  WorkEstimate estimate = estimate_work(tree, w.queries, params);
+  if (params.mode != Mode::Radius)
+    add_slot_traffic(estimate, w.queries.size(), hw::ResultSlots::slot_bytes(job.k),
+                     cfg.sram.results.word_bytes);
+  check_work(estimate, o.search.limits, w.queries.size());
 
   // Golden model first: exact search in query order. Its results and visit counts are what an
   // exact run must reproduce; an approximate run is checked against the replay of its own
@@ -156,6 +170,10 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["config"]["search"] = search_config_json(params, tree)["search"];
   stats["tree"] = tree_json(tree);
   stats["wall_seconds"] = {{"golden", golden_s}, {"simulation", sim_s}};
+  if (const std::string bad = non_finite_field(stats); !bad.empty())
+    throw std::invalid_argument("the model computed a non-finite " + bad +
+                                " (NaN or infinity) from this configuration; check the energy.*, area.* and "
+                                "cost.* keys that feed it (tigris run --list-config)");
   const std::string stats_path = o.search.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
   if (!o.timeline.empty())
@@ -166,6 +184,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
+  std::printf("  cloud   %s\n  queries %s\n", w.cloud_name.c_str(), w.queries_name.c_str());
   std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
               hw::to_string(cfg.node_cache.policy),

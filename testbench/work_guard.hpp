@@ -24,11 +24,21 @@ struct WorkEstimate {
   double visits_per_query = 0.0;  // top-tree nodes + leaf points + leader-list entries
   double hits_per_query = 0.0;    // neighbours found (radius: before --max-nn, as the stream is)
   double visits = 0.0, hits = 0.0;  // extrapolated to every query
+  double leaf_visits_per_query = 0.0;
+  // tigris run, NN/kNN: the Result Buffer words its result slots move. An RU walk and an SU
+  // batch each read and write a query's whole k-wide slot, and the model books every word, so a
+  // k far beyond the cloud (k = 100,000 on 2,000 points) costs minutes though the distances
+  // are few. Set by add_slot_traffic; counts against --max-work with the distances.
+  double slot_words = 0.0;
 };
 
 // Searches up to `sample` queries spread evenly over `queries` (exact search, one at a time).
 WorkEstimate estimate_work(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
                            std::uint32_t sample = 128);
+
+// Adds the slot traffic of a run with slots of `slot_bytes` in words of `word_bytes`: per query,
+// one RU walk per leaf visit plus the last, one SU batch per leaf visit, each a read and a write.
+void add_slot_traffic(WorkEstimate& estimate, std::size_t num_queries, std::uint64_t slot_bytes, int word_bytes);
 
 // Throws std::invalid_argument naming the limit when the estimate exceeds it.
 void check_work(const WorkEstimate& estimate, const WorkLimits& limits, std::size_t num_queries);

@@ -49,7 +49,7 @@ expect 2 "exceeds the full height 2" -- ref --cloud "$tmp/three.bin" --queries "
 expect 2 "--height" -- ref --height ten
 expect 2 "k must be >= 1" -- ref --mode knn --k 0
 expect 2 "radius must be" -- ref --mode radius --radius 0
-expect 2 "radius must be" -- ref --mode radius --radius -1
+expect 2 "--radius: must be from 0" -- ref --mode radius --radius -1
 expect 2 "--k applies to --mode knn" -- ref --k 5
 expect 2 "--radius and --max-nn apply" -- ref --radius 0.5
 expect 2 "need --approx-thd" -- ref --leader-capacity 4
@@ -95,7 +95,7 @@ expect 0 "the default top height 10 is clamped to 2" -- ref --cloud "$tmp/three.
 expect 0 "MATCH" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
 expect 2 "$tmp/three.bin: top height 10" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 10
 # Output paths: empty, a full disk, dots in folder names.
-expect 2 "--out: must name a folder" -- run --out ""
+expect 2 "--out was given an empty value" -- run --out ""
 expect 2 "/dev/full: writing the waveforms failed" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out "$tmp/full" --vcd /dev/full
 expect 0 "gtkwave $tmp/o/dir.v2/waves.gtkw" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out "$tmp/dots" --vcd "$tmp/o/dir.v2/waves"
 [ -f "$tmp/o/dir.v2/waves.gtkw" ] && passes=$((passes + 1)) || { echo "FAIL: the save file is not beside the waves"; failures=$((failures + 1)); }
@@ -172,7 +172,7 @@ expect 2 "above --max-work 1e+06; raise --max-work" -- ref --cloud "$tmp/same.bi
 expect 2 "above --max-work 1e+06" -- run --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 1e6 --out "$tmp/guard"
 expect 0 "" -- ref --cloud "$tmp/same.bin" --queries "$tmp/same.bin" --max-work 0 --out "$tmp/guard"
 expect 2 "above --max-results 1e+03" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --mode radius --radius 1 --max-results 1000 --out "$tmp/guard"
-expect 2 "--max-work: Value -1 not in range" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --max-work -1 --out "$tmp/guard"
+expect 2 "--max-work: must be from 0 to 1e+18" -- ref --cloud "$tmp/same.bin" --queries "$tmp/three.bin" --max-work -1 --out "$tmp/guard"
 
 # The README's Point Buffer capacity: 130,815 points fit at height 10, 130,816 do not.
 python3 -c "

@@ -120,6 +120,7 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
       v = key == "result_buffer.slot_fraction" ? 0.25
           : key == "result_buffer.leader_fraction" ? 0.125
           : key == "stall.rate"                    ? 0.375
+          : key == "energy.sram_size_exponent"     ? 1.5
                                                    : v.get<double>() * 2 + 0.25 * i;
     else if (v == "widest")
       v = "round-robin";

@@ -21,8 +21,9 @@ Cloud::Ptr to_pcl(const PointCloud& c) {
 
 // The search settings of a stage: approximate search only where the paper approximates
 // (normals, RPCE); elsewhere the approx back-end searches exactly on the golden model.
-SearchSettings settings_for(const PipelineConfig& c, bool approximable) {
+SearchSettings settings_for(const PipelineConfig& c, bool approximable, const std::shared_ptr<WorkBudget>& budget) {
   SearchSettings s;
+  s.budget = budget;
   s.backend = parse_backend(c.search.backend);
   if (s.backend == Backend::Approx && !approximable) s.backend = Backend::Exact;
   s.top_height = c.search.top_height;
@@ -60,11 +61,13 @@ class StageRun {
 }  // namespace
 
 RegistrationResult register_clouds(const PointCloud& source_points, const PointCloud& target_points,
-                                   const PipelineConfig& c, const StageCallback& on_stage) {
+                                   const PipelineConfig& c, const StageCallback& on_stage,
+                                   std::shared_ptr<WorkBudget> budget) {
   const auto t_all = Clock::now();
   RegistrationResult r;
   validate(c, "registration configuration");
-  const SearchSettings exact = settings_for(c, false), approximable = settings_for(c, true);
+  const SearchSettings exact = settings_for(c, false, budget),
+                       approximable = settings_for(c, true, budget);
   // Error injection only on the paper's injected searches: normal estimation (radius) and RPCE.
   SearchSettings normals_s = approximable, rpce_s = approximable;
   normals_s.shell_inner = static_cast<float>(c.inject.normals_shell_inner);
@@ -145,7 +148,16 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
     StageRun st(r, "icp", on_stage, &rpce_s);
     const IcpOutcome icp = run_icp(src, src_n, tgt, tgt_n, r.initial, c, rpce_s, st.counters());
     r.transform = icp.transform;
-    st.info() = {{"iterations", icp.iterations}, {"converged", icp.converged}, {"stop", icp.stop},
+    if (!icp.degenerate.empty()) {
+      r.status = "degenerate";
+      r.problem = "ICP iteration " + std::to_string(icp.iterations + 1) + ": " + icp.degenerate;
+    } else if (!icp.converged) {
+      r.status = "not_converged";
+      r.problem = "ICP stopped without converging (" + icp.stop + ", " + std::to_string(icp.last_correspondences) +
+                  " correspondences in its last iteration): the clouds may not overlap, or the initial estimate "
+                  "is too far off for icp.max_correspondence_distance";
+    }
+    st.info() = {{"iterations", icp.iterations}, {"converged", icp.converged && icp.degenerate.empty()}, {"stop", icp.stop},
                  {"last_correspondences", icp.last_correspondences}};
     if (rpce_s.injects_kth()) st.info()["injected"] = {{"error", "kth_nearest"}, {"k", c.inject.rpce_kth}};
     st.done();

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,14 +41,21 @@ struct RegistrationResult {
   Eigen::Matrix4d initial = Eigen::Matrix4d::Identity();    // after rejection, ICP's guess
   std::vector<StageReport> stages;
   double total_seconds = 0.0;
+  // "converged"; "not_converged" (ICP ran out of correspondences or failed: the transform is
+  // its last estimate, not a registration); "degenerate" (no rigid transform is determined,
+  // e.g. a flat scene: the transform is NaN). `problem` says why when not converged.
+  std::string status = "converged";
+  std::string problem;
 };
 
 // Called at the start of each stage with its name (for progress on stderr).
 using StageCallback = std::function<void(const std::string& stage)>;
 
 // Runs the pipeline. Throws std::runtime_error when a stage cannot go on (e.g. no key point
-// survives). `config` must have been validated (apply_json / preset).
+// survives), WorkLimitExceeded when the searches exceed `budget` (shared by every tree; null:
+// no bound). `config` must have been validated (apply_json / preset).
 RegistrationResult register_clouds(const PointCloud& source, const PointCloud& target,
-                                   const PipelineConfig& config, const StageCallback& on_stage = {});
+                                   const PipelineConfig& config, const StageCallback& on_stage = {},
+                                   std::shared_ptr<WorkBudget> budget = nullptr);
 
 }  // namespace tigris::registration

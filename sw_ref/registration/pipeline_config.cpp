@@ -11,6 +11,8 @@
 #include <type_traits>
 
 #include "sw_ref/edit_distance.hpp"
+#include "sw_ref/json_file.hpp"
+#include "sw_ref/visible_text.hpp"
 
 namespace tigris::registration {
 namespace {
@@ -119,8 +121,10 @@ std::string allowed_text(const Spec& s, bool is_bool, bool is_string) {
 }
 
 std::string shown(const json& v) {
+  if (v.is_object()) return "an object";
+  if (v.is_array()) return "an array";
   if (v.is_number_float()) return number_text(v.get<double>());
-  std::string s = v.dump();
+  std::string s = visible_text(v.dump(-1, ' ', false, json::error_handler_t::replace));
   return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
 
@@ -144,7 +148,7 @@ bool is_block(const std::string& name) {
     const std::size_t d = edit_distance(name, k);
     if (d < best_d) best_d = d, best = k;
   }
-  throw std::invalid_argument(source + ": unknown key '" + name + "'" +
+  throw std::invalid_argument(source + ": unknown key '" + visible_text(name) + "'" +
                               (best.empty() ? " (tigris register --list-config lists every key)"
                                             : " (did you mean '" + best + "'?)"));
 }
@@ -169,8 +173,11 @@ bool set_key(PipelineConfig& c, const std::string& name, const json& v, const st
         fail("must be one of " + allowed_text(spec, false, true) + ", got " + shown(v));
     } else {
       const bool is_int = std::is_same_v<T, int>;
-      if (!v.is_number() || (is_int && !v.is_number_integer()))
-        fail(std::string("must be ") + (is_int ? "an integer" : "a number") + ", got " + shown(v));
+      if (!v.is_number() || (is_int && !v.is_number_integer())) {
+        std::string got = shown(v);  // 10.0 for an integer key: say 10.0, not 10
+        if (v.is_number_float() && got.find_first_of(".eEn") == std::string::npos) got += ".0";
+        fail(std::string("must be ") + (is_int ? "an integer" : "a number") + ", got " + got);
+      }
       const double x = v.get<double>();
       if (!std::isfinite(x) || x < spec.lo || (spec.lo_open && x == spec.lo) || x > spec.hi)
         fail("= " + shown(v) + " is out of range (" + allowed_text(spec, false, false) + ")");
@@ -188,8 +195,7 @@ void apply_object(PipelineConfig& c, const json& obj, const std::string& prefix,
   for (const auto& [key, v] : obj.items()) {
     if (key.rfind("//", 0) == 0) continue;
     const std::string name = prefix.empty() ? key : prefix + "." + key;
-    if (v.is_object()) {
-      if (!is_block(name)) unknown_key(source, name);
+    if (v.is_object() && is_block(name)) {
       apply_object(c, v, name, source);
     } else if (!set_key(c, name, v, source)) {
       if (is_block(name))
@@ -259,19 +265,11 @@ void validate(const PipelineConfig& c, const std::string& source) {
 }
 
 void apply_file(PipelineConfig& config, const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw std::invalid_argument(path + ": cannot open the configuration file");
-  json doc;
-  try {
-    doc = json::parse(f, nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw std::invalid_argument(path + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
-  apply_json(config, doc, path);
+  apply_json(config, read_json_file(path, /*ignore_comments=*/true), path);
 }
 
-void apply_set(PipelineConfig& config, const std::string& assignment) {
-  const std::string source = "--set " + assignment;
+void apply_set(PipelineConfig& config, const std::string& assignment, const std::string& flag) {
+  const std::string source = flag.empty() ? "--set " + assignment : flag + " (" + assignment + ")";
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw std::invalid_argument(source + ": expected key=value, e.g. normals.radius=0.5");
@@ -292,7 +290,9 @@ void apply_set(PipelineConfig& config, const std::string& assignment) {
       char* end = nullptr;
       errno = 0;
       const double x = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
-      if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
+      // Decimal only (strtod also takes hex, inf, nan); underflow gives the nearest number.
+      if (text.empty() || end != text.c_str() + text.size() || (errno == ERANGE && std::abs(x) == HUGE_VAL) ||
+          text.find_first_not_of("0123456789.eE+-") != std::string::npos)
         throw std::invalid_argument(source + ": '" + name + "' must be a number, got '" + text + "'");
       if (std::is_same_v<T, int> && x == std::floor(x) && std::abs(x) < 9e15)
         v = static_cast<std::int64_t>(x);

@@ -84,8 +84,9 @@ void apply_json(PipelineConfig& config, const nlohmann::json& doc, const std::st
 void validate(const PipelineConfig& config, const std::string& source);
 // Reads a JSON file and applies it; errors name the file (missing, unreadable, invalid JSON).
 void apply_file(PipelineConfig& config, const std::string& path);
-// Applies `key=value` as given to --set (the value parsed per the key's type).
-void apply_set(PipelineConfig& config, const std::string& assignment);
+// Applies `key=value` as given to --set (the value parsed per the key's type); errors start
+// with "--set key=value", or with `flag` and the key when a flag sets the key.
+void apply_set(PipelineConfig& config, const std::string& assignment, const std::string& flag = "");
 // The full configuration as JSON, nested by stage (the file format; apply_json reads it back).
 nlohmann::json to_json(const PipelineConfig& config);
 

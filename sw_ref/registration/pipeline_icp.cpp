@@ -1,4 +1,5 @@
 // Pipeline back end: key-point correspondence rejection (the initial estimate) and ICP.
+#include <cmath>
 #include <stdexcept>
 
 #include <pcl/registration/correspondence_rejection_distance.h>
@@ -54,6 +55,47 @@ const char* stop_reason(pcl::registration::DefaultConvergenceCriteria<float>::Co
   }
   return "unknown";
 }
+
+// A transformation estimate that does not constrain all six degrees of freedom (a flat or
+// linear cloud: point-to-plane's normal equations are singular) comes out NaN or enormous.
+// PCL would apply it to the source cloud and search NaN points (FLANN asserts); this wrapper
+// stops ICP at the first such estimate instead.
+class Degenerate : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class GuardedEstimation : public pcl::registration::TransformationEstimation<PN, PN> {
+ public:
+  explicit GuardedEstimation(Ptr inner) : inner_(std::move(inner)) {}
+  void estimateRigidTransformation(const PNCloud& s, const PNCloud& t, Matrix4& m) const override {
+    inner_->estimateRigidTransformation(s, t, m);
+    check(m);
+  }
+  void estimateRigidTransformation(const PNCloud& s, const pcl::Indices& is, const PNCloud& t,
+                                   Matrix4& m) const override {
+    inner_->estimateRigidTransformation(s, is, t, m);
+    check(m);
+  }
+  void estimateRigidTransformation(const PNCloud& s, const pcl::Indices& is, const PNCloud& t,
+                                   const pcl::Indices& it, Matrix4& m) const override {
+    inner_->estimateRigidTransformation(s, is, t, it, m);
+    check(m);
+  }
+  void estimateRigidTransformation(const PNCloud& s, const PNCloud& t, const pcl::Correspondences& c,
+                                   Matrix4& m) const override {
+    inner_->estimateRigidTransformation(s, t, c, m);
+    check(m);
+  }
+
+ private:
+  static void check(const Matrix4& m) {
+    if (!m.allFinite() || m.topRightCorner<3, 1>().cwiseAbs().maxCoeff() > 1e6f)
+      throw Degenerate("the correspondences do not determine a rigid transform (the estimate is not finite): "
+                       "the clouds do not constrain all six degrees of freedom, e.g. a flat or linear scene");
+  }
+  Ptr inner_;
+};
 
 }  // namespace
 
@@ -112,7 +154,7 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
   else if (plane) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlaneLLS<PN, PN>>();
   else if (lm) te = std::make_shared<pcl::registration::TransformationEstimationLM<PN, PN>>();
   else te = std::make_shared<pcl::registration::TransformationEstimationSVD<PN, PN>>();
-  icp.setTransformationEstimation(te);
+  icp.setTransformationEstimation(std::make_shared<GuardedEstimation>(te));
   icp.setMaximumIterations(c.icp.max_iterations);
   icp.setMaxCorrespondenceDistance(c.icp.max_correspondence_distance);
   icp.setTransformationEpsilon(c.icp.transformation_epsilon);
@@ -126,8 +168,17 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
     icp.addCorrespondenceRejector(rej);
   }
   PNCloud aligned;
-  icp.align(aligned, guess.cast<float>());
   IcpOutcome out;
+  try {
+    icp.align(aligned, guess.cast<float>());
+  } catch (const Degenerate& e) {
+    out.transform.setConstant(NAN);
+    out.iterations = icp.iterations();
+    out.stop = "degenerate";
+    out.degenerate = e.what();
+    out.last_correspondences = icp.last_correspondences();
+    return out;
+  }
   out.transform = icp.getFinalTransformation().cast<double>();
   out.iterations = icp.iterations();
   out.converged = icp.hasConverged();

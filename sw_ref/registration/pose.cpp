@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "sw_ref/cloud.hpp"
+#include "sw_ref/visible_text.hpp"
 
 namespace tigris::registration {
 namespace {
@@ -28,7 +29,7 @@ std::vector<double> numbers_of(std::string text, const std::string& label) {
       used = 0;
     }
     if (used != word.size() || !std::isfinite(x))
-      throw InputError(label + ": '" + word + "' is not a finite number");
+      throw InputError(label + ": '" + visible_text(word, 40) + "' is not a finite number");
     v.push_back(x);
   }
   return v;
@@ -41,6 +42,8 @@ std::string read_text(const std::string& path) {
   s << f.rdbuf();
   return s.str();
 }
+
+constexpr double kMaxTranslation = 1e6;  // m
 
 Pose from_rows(const std::vector<double>& v, std::size_t at) {
   Pose t = Pose::Identity();
@@ -57,6 +60,9 @@ void check_rigid(const Pose& t, const std::string& label) {
       (t.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9)
     throw InputError(label + ": not a rigid transform (the rotation part is not orthonormal with "
                              "determinant 1, or the last row is not 0 0 0 1)");
+  // Beyond this the error arithmetic overflows; no sensor moves 1,000 km between two frames.
+  if (t.topRightCorner<3, 1>().cwiseAbs().maxCoeff() > kMaxTranslation)
+    throw InputError(label + ": a translation beyond 1e6 m (1,000 km) is not a registration's ground truth");
 }
 
 }  // namespace
@@ -132,10 +138,9 @@ PoseError pose_error(const Pose& ground_truth, const Pose& estimate) {
   out.translation_m = e.topRightCorner<3, 1>().norm();
   out.rotation_deg = rotation_angle_deg(e);
   out.travelled_m = ground_truth.topRightCorner<3, 1>().norm();
-  if (out.travelled_m > 0.0) {
-    out.translation_per_m = out.translation_m / out.travelled_m;
-    out.rotation_deg_per_m = out.rotation_deg / out.travelled_m;
-  }
+  // Per metre needs motion: a ground truth that does not move leaves them NaN (null, "n/a").
+  out.translation_per_m = out.travelled_m > 0.0 ? out.translation_m / out.travelled_m : NAN;
+  out.rotation_deg_per_m = out.travelled_m > 0.0 ? out.rotation_deg / out.travelled_m : NAN;
   return out;
 }
 

@@ -4,6 +4,7 @@
 // maps source-frame points into the target frame (p_target = T * p_source).
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -34,11 +35,12 @@ Pose kitti_relative_velo_pose(const Pose& cam_pose_source, const Pose& cam_pose_
 Pose kitti_relative_velo_pose(const std::string& poses_path, int source, int target);
 
 // Relative pose error E = inv(T_gt) * T_est: |t_E| in metres and the rotation angle of E in
-// degrees; per metre travelled divides both by |t_gt| (0 when the ground truth does not move).
+// degrees; per metre travelled divides both by |t_gt| (NaN when the ground truth does not move:
+// a per-metre error of a standstill is undefined, not 0).
 struct PoseError {
   double translation_m = 0.0, rotation_deg = 0.0;
   double travelled_m = 0.0;
-  double translation_per_m = 0.0, rotation_deg_per_m = 0.0;
+  double translation_per_m = NAN, rotation_deg_per_m = NAN;
 };
 PoseError pose_error(const Pose& ground_truth, const Pose& estimate);
 

@@ -27,6 +27,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <functional>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -45,6 +47,24 @@ enum class Backend { Flann, Exact, Approx };
 Backend parse_backend(const std::string& name);  // "flann" | "exact" | "approx"
 const char* to_string(Backend backend);
 
+// The work bound of a whole registration (issue 18): every search adds the distances it
+// computed (golden back-ends: top-tree nodes, leaf and follower points) and the neighbours it
+// returned (all back-ends; FLANN counts only these). Above `limit` (0: none) the search throws
+// WorkLimitExceeded, so an injected K of 100,000 or a 100 m shell stops with a message instead
+// of running for minutes; `progress` is called about every 2 s of searching.
+struct WorkBudget {
+  double limit = 0.0;
+  double spent = 0.0;
+  std::uint64_t searches = 0;
+  std::function<void(const WorkBudget&)> progress;
+  std::chrono::steady_clock::time_point last_report = std::chrono::steady_clock::now();
+};
+
+class WorkLimitExceeded : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct SearchSettings {
   Backend backend = Backend::Exact;
   int top_height = 10;          // clamped to each cloud's full height
@@ -56,6 +76,7 @@ struct SearchSettings {
   int inject_kth = 1;           // k-nearest searches return ranks K .. K+k-1 (>= 1)
   float shell_inner = 0.0f;     // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
   float shell_outer = 0.0f;     // 0: no shell
+  std::shared_ptr<WorkBudget> budget;  // shared by every tree of a registration; null: none
 
   bool injects_kth() const { return inject_kth > 1; }
   bool injects_shell() const { return shell_outer > 0.0f; }
@@ -110,6 +131,7 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   int nearestKSearch(const PointT& point, int k, pcl::Indices& k_indices,
                      std::vector<float>& k_sqr_distances) const override {
     const auto t0 = Clock::now();
+    if (!finite(point)) return none(k_indices, k_sqr_distances, t0);
     // Injection: search k + K - 1 and keep ranks K .. K+k-1 (the farthest when fewer than K).
     const int skip = settings_.injects_kth() && k >= 1 ? settings_.inject_kth - 1 : 0;
     const int want = k + skip;
@@ -138,6 +160,7 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices,
                    std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override {
     const auto t0 = Clock::now();
+    if (!finite(point)) return none(k_indices, k_sqr_distances, t0);
     // Injection: the ball of R2, all of it (max_nn applies to the shell), minus d < R1.
     const bool shell = settings_.injects_shell();
     const double search_radius = shell ? static_cast<double>(settings_.shell_outer) : radius;
@@ -174,10 +197,35 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   static double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
   }
+  // A point with a NaN or infinite coordinate has no neighbours; PCL's FLANN would assert on it.
+  static bool finite(const PointT& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+  int none(pcl::Indices& k_indices, std::vector<float>& k_sqr_distances, Clock::time_point t0) const {
+    k_indices.clear();
+    k_sqr_distances.clear();
+    charge(0, t0);
+    return 0;
+  }
   void charge(int n, Clock::time_point t0) const {
     ++counters_->searches;
     counters_->neighbors += static_cast<std::uint64_t>(n > 0 ? n : 0);
     counters_->search_seconds += seconds_since(t0);
+    if (WorkBudget* b = settings_.budget.get()) {
+      b->spent += static_cast<double>(n > 0 ? n : 0) + last_distances_;
+      last_distances_ = 0.0;
+      if (++b->searches % 4096 == 0 && b->progress &&
+          Clock::now() - b->last_report >= std::chrono::seconds(2)) {
+        b->last_report = Clock::now();
+        b->progress(*b);
+      }
+      if (b->limit > 0.0 && b->spent > b->limit) {
+        char msg[320];
+        std::snprintf(msg, sizeof msg,
+                      "the registration's KD-tree searches have computed and returned more than %.3g "
+                      "distances and neighbours (%llu searches), above --max-work %.3g",
+                      b->spent, static_cast<unsigned long long>(b->searches), b->limit);
+        throw WorkLimitExceeded(msg);
+      }
+    }
   }
 
   // The golden tree over the finite points of the input (PCL's FLANN skips the others too);
@@ -221,6 +269,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     const LeaderTotals lead_before = s->leaders();
     s->search({point.x, point.y, point.z}, found_);
     counters_->visits.add(s->last_visits());
+    last_distances_ = static_cast<double>(s->last_visits().top + s->last_visits().leaf_points +
+                                          s->last_visits().follower_points);
     counters_->leaders.leaders += s->leaders().leaders - lead_before.leaders;
     counters_->leaders.followers += s->leaders().followers - lead_before.followers;
     counters_->leaders.leader_buffer_full += s->leaders().leader_buffer_full - lead_before.leader_buffer_full;
@@ -237,6 +287,7 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   std::vector<pcl::index_t> map_;
   mutable std::map<std::tuple<int, int, float, std::uint32_t>, std::unique_ptr<Searcher>> searchers_;
   mutable std::vector<Neighbor> found_;
+  mutable double last_distances_ = 0.0;  // the golden search's distances, for the budget
 };
 
 }  // namespace tigris::registration

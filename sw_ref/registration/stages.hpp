@@ -60,6 +60,7 @@ struct IcpOutcome {
   bool converged = false;
   std::string stop;      // why ICP stopped (PCL's convergence state)
   std::size_t last_correspondences = 0;  // pairs the last iteration used
+  std::string degenerate;  // why no transform could be estimated (transform NaN); "" when fine
 };
 IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& source_normals,
                    const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals,
