@@ -409,9 +409,15 @@ def claims_units(sw):
         def gain(ru):
             a = ed.find(grid, ru=ru, su=lo_cfg[0], pe=lo_cfg[1], **s)
             b = ed.find(grid, ru=ru, su=hi_cfg[0], pe=hi_cfg[1], **s)
+            if a is None or b is None or not num(a, "cycles") or not num(b, "cycles"):
+                return None, None
             return num(a, "cycles") / num(b, "cycles"), b
         g_lo, row_lo = gain(rus[0])
         g_64, _ = gain(64)
+        if g_lo is None or g_64 is None:         # e.g. a small cloud: no row at top height 10
+            c.missing(f"the grid's {lo_cfg[0]}x{lo_cfg[1]} and {hi_cfg[0]}x{hi_cfg[1]} rows at "
+                      f"{rus[0]} and 64 RU at the default top height 10")
+            continue
         c.set(f"{xf(g_lo)} at {rus[0]} RU vs {xf(g_64)} at 64 RU "
               f"({lo_cfg[0]}x{lo_cfg[1]} -> {hi_cfg[0]}x{hi_cfg[1]})", up(g_64 / g_lo), None,
               f"{rus[0]} RU with {hi_cfg[0]} SU x {hi_cfg[1]} PE: {short_bound(row_lo)}")
@@ -613,10 +619,39 @@ CLAIM_GROUPS = [claims_redundancy, claims_acc_kd, claims_optimizations, claims_n
                 claims_units, claims_height, claims_approx, claims_energy]
 
 
+def why_not_measured(sw):
+    """What may keep claims from their rows: failed runs (one example error) and a cloud too
+    small for the default top height 10 (its rows are then the canonical tree)."""
+    why = []
+    full = sorted({int(num(r, "tree.full_height")) for r in sw.ok if num(r, "tree.full_height") is not None})
+    if full and full[0] <= 10:
+        why.append(f"the cloud's full tree height is {full[0]} (`tree.full_height`), so the default top "
+                   "height 10 builds the canonical tree: there are no Acc-2SKD rows at height 10")
+    if sw.not_ok:
+        r = sw.not_ok[0]
+        err = (r.get("error") or r.get("status") or "").strip()
+        why.append(f"{len(sw.not_ok)} of {len(sw.rows)} runs failed (e.g. `{r.get('point', '')}`: "
+                   f"{err[:150] + ('...' if len(err) > 150 else '')})")
+    return "n/a: " + "; ".join(why) if why else ""
+
+
 def all_claims(sw):
     out = []
     for g in CLAIM_GROUPS:
-        out += g(sw)
+        try:
+            out += g(sw)
+        except (ArithmeticError, AttributeError, KeyError, TypeError, ValueError) as e:
+            # Rows the group did not expect (failed or partial runs) cost its claims, not the
+            # report: they are listed as not evaluated, with the reason.
+            name = g.__name__[len("claims_"):]
+            c = Claim(name, "14" if g is claims_energy else "9", f"the {name} claims", "-", "-")
+            c.explanation = f"n/a: could not be evaluated ({type(e).__name__}: {e})"
+            out.append(c)
+            ed.note(f"report: the {name} claims could not be evaluated: {type(e).__name__}: {e}")
+    why = why_not_measured(sw)
+    for c in out:
+        if c.measured == "not measured" and why:
+            c.explanation = f"{c.explanation}; {why}"
     return out
 
 

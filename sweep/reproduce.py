@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Reproduces the paper's evaluation (section 6) as sweeps, then the figures and REPORT.md.
 
-    sweep/reproduce.py [--out DIR] [--cloud FILE --queries FILE] [--quick] [--jobs N]
+    sweep/reproduce.py [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
                        [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
                        [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                                 [--sbatch-arg ARG ...] [--no-wait]]
@@ -11,11 +11,19 @@ beside this script (tigris_sweep.py SPEC --out DIR/sweeps/<exp>), locally (--job
 job arrays (--slurm and its options are passed through), then plots.py's figures into
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
-once the Slurm jobs are done). Default workload: the built-in synthetic frame pair.
+once the Slurm jobs are done). Default workload: the built-in synthetic frame pair; a cloud
+without --queries is searched in itself. DIR/workload.json records the workload of DIR's
+results: a rerun without --cloud reuses it, one with another workload is refused.
+Exit codes: 0 REPORT.md written, 1 every point failed (REPORT.md lists them) or no sweep.csv,
+2 bad arguments, workload or DIR (or the driver's exit 2), 3 sbatch failed, 128 + the signal
+when interrupted (the running sweep is stopped the same way, its finished points kept).
 """
 import argparse
+import csv
+import glob
 import json
 import os
+import signal
 import subprocess
 import sys
 
@@ -25,6 +33,18 @@ sys.path.insert(0, HERE)
 DRIVER = os.path.join(HERE, "tigris_sweep.py")
 NC_DEFAULT = 131072
 RADIUS = 0.30
+WORKLOAD = "workload.json"
+
+
+class Refused(Exception):
+    """Bad arguments, workload or output folder: printed, exit 2."""
+
+
+def note(msg):
+    try:
+        print(f"reproduce: {msg}", file=sys.stderr, flush=True)
+    except OSError:                              # a hung-up terminal
+        pass
 
 
 def experiments(quick=False):
@@ -81,20 +101,71 @@ def with_workload(spec, cloud, queries):
     return spec
 
 
+def show(w):
+    return (f"cloud {w['cloud'] or 'synthetic frame 0'}, queries "
+            f"{w['queries'] or ('the cloud itself' if w['cloud'] else 'synthetic frame 1')}")
+
+
+def workload(out, cloud, queries):
+    """The workload to run or report on. The results in DIR are of one workload, recorded in
+    DIR/workload.json (or, for a DIR made before that file, in its specs): a rerun without
+    --cloud reuses it; another one is refused, so specs and results never mix."""
+    given = {"cloud": os.path.abspath(cloud) if cloud else None,
+             "queries": os.path.abspath(queries) if queries else None}
+    path = os.path.join(out, WORKLOAD)
+    results = glob.glob(os.path.join(glob.escape(out), "sweeps", "*", "plan.json"))
+    rec = None
+    try:
+        with open(path) as f:
+            rec = json.load(f)
+        if not (isinstance(rec, dict) and all(isinstance(rec.get(k), (str, type(None))) for k in given)):
+            raise ValueError("not {\"cloud\": path or null, \"queries\": path or null}")
+        rec = {k: rec.get(k) for k in given}
+    except FileNotFoundError:
+        specs = sorted(glob.glob(os.path.join(glob.escape(out), "specs", "*.json")))
+        if results and specs:
+            try:
+                with open(specs[0]) as f:
+                    base = json.load(f).get("base", {})
+                rec = {k: base.get(k) for k in given}
+            except (OSError, ValueError, AttributeError, RecursionError):
+                rec = None
+    except (OSError, ValueError, RecursionError) as e:
+        raise Refused(f"{path}: unreadable ({e}); it records the workload of {out}'s results: "
+                      "repair or delete it, or use another --out")
+    if rec is None or not results:
+        return given
+    if cloud is None and queries is None:
+        if rec != given:
+            note(f"{out} holds results of {show(rec)} ({path}): reusing that workload")
+        return rec
+    if rec != given:
+        raise Refused(f"{out} holds results of {show(rec)} ({path}); this run asks for {show(given)}: "
+                      "the results would mix. Rerun without --cloud/--queries to use the recorded "
+                      "workload, or use another --out")
+    return rec
+
+
 def write_specs(out, names, quick, cloud, queries):
-    """Writes DIR/specs/<exp>.json; returns [(name, spec path, sweep folder)]."""
+    """Writes DIR/specs/<exp>.json and DIR/workload.json; returns [(name, spec path, sweep folder)]."""
     exps = experiments(quick)
-    os.makedirs(os.path.join(out, "specs"), exist_ok=True)
     made = []
-    for name in names:
-        what, spec = exps[name]
-        spec = with_workload(spec, cloud, queries)
-        spec["comment"] = f"sweep/reproduce.py{' --quick' if quick else ''}: {what}"
-        path = os.path.join(out, "specs", name + ".json")
-        with open(path, "w") as f:
-            json.dump(spec, f, indent=1)
+    try:
+        os.makedirs(os.path.join(out, "specs"), exist_ok=True)
+        with open(os.path.join(out, WORKLOAD), "w") as f:
+            json.dump({"cloud": cloud, "queries": queries}, f, indent=1)
             f.write("\n")
-        made.append((name, path, os.path.join(out, "sweeps", name)))
+        for name in names:
+            what, spec = exps[name]
+            spec = with_workload(spec, cloud, queries)
+            spec["comment"] = f"sweep/reproduce.py{' --quick' if quick else ''}: {what}"
+            path = os.path.join(out, "specs", name + ".json")
+            with open(path, "w") as f:
+                json.dump(spec, f, indent=1)
+                f.write("\n")
+            made.append((name, path, os.path.join(out, "sweeps", name)))
+    except OSError as e:
+        raise Refused(f"cannot write {e.filename or out}: {e.strerror or e}")
     return made
 
 
@@ -124,11 +195,13 @@ def parse_args(argv):
         fixed.append(f"--sbatch-arg={argv.pop(0)}" if a == "--sbatch-arg" and argv else a)
     argv = fixed
     names = list(experiments(False)) + [n for n in experiments(True) if n not in experiments(False)]
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+    ap = argparse.ArgumentParser(prog="reproduce", description=__doc__.split("\n\n")[0],
                                  epilog="experiments: " + ", ".join(names))
     ap.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
-    ap.add_argument("--cloud", help="tree cloud (KITTI .bin, .pcd, .ply); default: synthetic frame 0")
-    ap.add_argument("--queries", help="query points; default: synthetic frame 1")
+    ap.add_argument("--cloud", help="tree cloud (KITTI .bin, .pcd, .ply); default: synthetic frame 0, "
+                    "or the one OUT/workload.json records")
+    ap.add_argument("--queries", help="query points (needs --cloud); default: the cloud itself, "
+                    "synthetic frame 1 without --cloud")
     ap.add_argument("--quick", action="store_true", help="small grids (a few minutes on 2 cores)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="local points at once")
     ap.add_argument("--tigris", help="tigris binary (passed to the driver)")
@@ -153,11 +226,14 @@ def parse_args(argv):
         ap.error("--jobs must be at least 1")
     if not a.slurm and (a.partition or a.time or a.mem or a.chunk or a.sbatch_arg or a.no_wait):
         ap.error("--partition, --time, --mem, --chunk, --sbatch-arg and --no-wait need --slurm")
-    for f in (a.cloud, a.queries):
-        if f and not os.path.isfile(f):
-            ap.error(f"no such file: {f}")
-    if a.cloud and not a.queries:
-        ap.error("--cloud needs --queries (tigris would search the synthetic frame 1 in it)")
+    if not a.out.strip():
+        ap.error("--out is empty: give the output folder (an empty path would be the current folder)")
+    for flag, f in (("--cloud", a.cloud), ("--queries", a.queries)):
+        if f is not None and not os.path.isfile(f):
+            ap.error(f"{flag}: no such file: {f!r}")
+    if a.queries and not a.cloud:
+        ap.error("--queries needs --cloud (the cloud its points are searched in; a cloud alone is "
+                 "searched in itself)")
     exps = experiments(a.quick)
     a.names = [n for n in (a.only or list(exps)) if n in exps]
     bad = [n for n in (a.only or []) if n not in exps]
@@ -167,11 +243,55 @@ def parse_args(argv):
     return a
 
 
+interrupted_by = [signal.SIGINT]
+
+
+def _interrupt(signum, frame):
+    interrupted_by[0] = signum
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def call_driver(cmd):
+    """Runs the driver; a signal here stops it the way the driver stops its points (it kills
+    them and keeps the finished ones), never by SIGKILL, which would orphan its tigris runs."""
+    p = subprocess.Popen(cmd)
+    try:
+        return p.wait()
+    except KeyboardInterrupt:
+        if p.poll() is None:
+            p.send_signal(signal.SIGTERM)
+        try:
+            p.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            p.kill()
+        raise
+
+
 def main(argv=None):
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(s) != signal.SIG_IGN:
+            signal.signal(s, _interrupt)
     a = parse_args(argv)
     out = os.path.abspath(a.out)
-    plan = write_specs(out, a.names, a.quick, a.cloud, a.queries)
-    print(f"reproduce: {len(plan)} sweep specs in {os.path.join(out, 'specs')}", file=sys.stderr)
+    try:
+        if os.path.exists(out) and not os.path.isdir(out):
+            raise Refused(f"--out {out}: exists and is not a folder")
+        w = workload(out, a.cloud, a.queries)
+        plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
+    except Refused as e:
+        print(f"reproduce: error: {e}", file=sys.stderr)
+        return 2
+    try:
+        return run(a, out, plan)
+    except KeyboardInterrupt:
+        note(f"interrupted ({signal.Signals(interrupted_by[0]).name}); finished points are kept")
+        return 128 + interrupted_by[0]
+
+
+def run(a, out, plan):
+    note(f"{len(plan)} sweep specs in {os.path.join(out, 'specs')}")
     if a.specs_only:
         return 0
     if not os.path.isfile(a.driver):
@@ -186,8 +306,8 @@ def main(argv=None):
             cmd = [sys.executable, a.driver, "collect", folder]
         else:
             cmd = driver_command(spec, folder, a)
-        print(f"reproduce: {name}: {' '.join(cmd)}", file=sys.stderr, flush=True)
-        rc = subprocess.call(cmd)
+        note(f"{name}: {' '.join(cmd)}")
+        rc = call_driver(cmd)
         if rc == 2 or rc == 3 or rc >= 128:
             print(f"reproduce: {name}: the driver failed (exit {rc})", file=sys.stderr)
             return rc
@@ -212,13 +332,25 @@ def main(argv=None):
               "with /usr/bin/python3): REPORT.md without figures", file=sys.stderr)
         draw = False
     title = "Tigris TLM: the paper's evaluation, reproduced" + (" (--quick)" if a.quick else "")
-    path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title)
+    try:
+        path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title)
+    except (OSError, ValueError) as e:
+        print(f"reproduce: error: the report: {e}", file=sys.stderr)
+        return 2
     measured = [c for c in claims if c.measured != "not measured"]
     print(f"reproduce: {path}: {len(measured)} of {len(claims)} claims measured; direction holds "
           f"for {sum(1 for c in measured if c.direction)} of "
           f"{sum(1 for c in measured if c.direction is not None)}, within 2x for "
           f"{sum(1 for c in measured if c.within)} of {sum(1 for c in measured if c.within is not None)}"
           + (f"; sweeps with failed points: {', '.join(failed)}" if failed else ""), file=sys.stderr)
+    statuses = []
+    for p in csvs:
+        with open(p, newline="") as f:
+            statuses += [r.get("status") for r in csv.DictReader(f)]
+    if "ok" not in statuses:
+        print(f"reproduce: every point failed ({len(statuses)} points in {len(csvs)} sweep{'s' if len(csvs) > 1 else ''}): no claim "
+              f"could be measured; the errors are in {path}, section \"Rows not ok\"", file=sys.stderr)
+        return 1
     return 0
 
 

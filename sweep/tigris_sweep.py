@@ -2,7 +2,7 @@
 """tigris_sweep: runs a sweep spec of `tigris run` points locally or as one Slurm job array,
 and collects one CSV (DESIGN.md section 17; README.md "Sweeps").
 
-  tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH]
+  tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
                   [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                            [--sbatch-arg ARG ...] [--no-wait]]
   tigris_sweep.py collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
@@ -10,10 +10,11 @@ and collects one CSV (DESIGN.md section 17; README.md "Sweeps").
 One self-contained file (Python 3 standard library only), so a copy anywhere (CMake puts one at
 build/testbench/tigris-sweep) works; Slurm tasks run this same file as `_task TASKFILE INDEX`.
 Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
-2 bad spec or arguments, 3 Slurm submission failed, 130 interrupted (finished points kept).
+2 bad spec, arguments or sweep folder, 3 Slurm submission failed, 128 + the signal when
+interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM; finished points kept).
 """
 import argparse, csv, datetime, difflib, fcntl, hashlib, io, itertools, json, math, os, re, shlex
-import shutil, signal, socket, subprocess, sys, time
+import shutil, signal, socket, subprocess, sys, tempfile, time
 from decimal import Decimal
 
 PROG = "tigris_sweep"
@@ -27,35 +28,61 @@ NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "",
                  "dump-schedule": "per-run output files are not swept"}
 FIXED_BASE = ("cloud", "queries", "mode")           # always a column, so a CSV tells what ran
 WALL = "wall_seconds"
+# Run flags that tigris run applies over a configuration key: a spec giving both would run the
+# flag's value while the CSV shows the key's, so one spelling only.
+FLAG_KEYS = {"height": "tree.top_height", "split-axis": "tree.split_axis",
+             "leader-capacity": "leader.capacity_per_leaf"}
+MAX_POINTS = 100_000                                 # a spec's points, counted before expanding
+MAX_SPEC_BYTES = 16 << 20
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
 class SpecError(Exception):
     """A bad spec, argument or sweep folder: printed, exit 2."""
 
 
+def say(line):
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except OSError:                              # a hung-up terminal must not stop the clean-up
+        pass
+
+
 def die(msg, code=2):
-    print(f"{PROG}: error: {msg}", file=sys.stderr)
+    say(f"{PROG}: error: {msg}")
     sys.exit(code)
 
 
 def note(msg):
-    print(f"{PROG}: {msg}", file=sys.stderr, flush=True)
+    say(f"{PROG}: {msg}")
+
+
+def write_text(path, text):
+    tmp = f"{path}.tmp{os.getpid()}"
+    try:
+        with open(tmp, "w", encoding="utf-8", errors="backslashreplace") as f:
+            f.write(text)
+        os.replace(tmp, path)                   # never a half-written file
+    except OSError as e:
+        try:
+            os.remove(tmp)
+        except OSError:
+            pass
+        raise SpecError(f"cannot write {path}: {e.strerror or e}")
 
 
 def write_json(path, obj):
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w") as f:
-        json.dump(obj, f, indent=1)
-        f.write("\n")
-    os.replace(tmp, path)                       # never a half-written file
+    write_text(path, json.dumps(obj, indent=1) + "\n")
 
 
 def read_json(path):
+    """A JSON object from a file; None when missing, unreadable or not an object."""
     try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
+        with open(path, encoding="utf-8") as f:
+            obj = json.load(f)
+    except (OSError, ValueError, RecursionError):
         return None
+    return obj if isinstance(obj, dict) else None
 
 
 def now():
@@ -99,6 +126,14 @@ def default_tigris():
         return os.environ["TIGRIS"]
     repo = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
     return os.path.join(repo, "build", "testbench", "tigris")
+
+
+def tigris_at(path, _seen={}):
+    """The Tigris of a binary, asked once per process (the spec fuzz test validates thousands)."""
+    path = os.path.abspath(path)
+    if path not in _seen:
+        _seen[path] = Tigris(path)
+    return _seen[path]
 
 
 class Tigris:
@@ -149,22 +184,35 @@ class Spec:
         self.names = {}                          # canonical key -> spelling in the spec
         self.where = {}                          # canonical key -> spec locations
         try:
-            with open(self.path) as f:
-                text = f.read()
+            with open(self.path, "rb") as f:
+                data = f.read(MAX_SPEC_BYTES + 1)
         except OSError as e:
             raise SpecError(f"cannot read the spec {path}: {e.strerror}")
+        if len(data) > MAX_SPEC_BYTES:
+            raise SpecError(f"{path}: larger than {MAX_SPEC_BYTES >> 20} MiB: not a sweep spec")
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as e:
+            raise SpecError(f"{path}: not UTF-8 text (byte {e.start}): a spec is JSON text")
         try:
             raw = json.loads(text, object_pairs_hook=_no_duplicates)
         except json.JSONDecodeError as e:
             raise SpecError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}")
         except SpecError as e:
             raise SpecError(f"{path}: {e}")
+        except RecursionError:
+            raise SpecError(f"{path}: not a sweep spec: nested too deeply")
+        except ValueError as e:                  # e.g. an integer of more than 4300 digits
+            what = "a number with too many digits" if "digits" in str(e) else str(e)
+            raise SpecError(f"{path}: not a sweep spec: {what}")
         self.raw = raw
         if not isinstance(raw, dict):
             raise SpecError(f"{path}: the spec must be a JSON object with base, grid, points")
         for k in raw:
             if k not in TOP_KEYS:
                 raise SpecError(self._at(k, f"unknown top-level key (allowed: {', '.join(TOP_KEYS)})"))
+        if not isinstance(raw.get("comment", ""), str):
+            raise SpecError(self._at("comment", "must be text"))
         self.base = self._settings(raw.get("base", {}), "base")
         grid = raw.get("grid", {})
         if not isinstance(grid, dict):
@@ -179,24 +227,46 @@ class Spec:
                 raise SpecError(self._at(loc, "must be a list of values"))
             if not values:
                 raise SpecError(self._at(loc, "is an empty list: the grid would have no points"))
+            if len(values) > MAX_POINTS:
+                raise SpecError(self._at(loc, f"has {len(values):,} values, more than a sweep's "
+                                         f"{MAX_POINTS:,} points: split the sweep"))
             self.grid[canon] = [self._value(canon, v, f"{loc}[{i}]") for i, v in enumerate(values)]
         points = raw.get("points", [])
         if not isinstance(points, list):
             raise SpecError(self._at("points", "must be a list of objects"))
+        if len(points) > MAX_POINTS:
+            raise SpecError(self._at("points", f"has {len(points):,} points, more than the limit of "
+                                     f"{MAX_POINTS:,}: split the sweep"))
         self.points = [self._settings(p, f"points[{i}]") for i, p in enumerate(points)]
         if "points" in raw and not points and not grid:
             raise SpecError(self._at("points", "is empty and there is no grid: nothing to run"))
+        # Counted before the cross product is built: a big grid is refused, not expanded.
+        self.count = (math.prod(len(v) for v in self.grid.values()) if self.grid else 0) + len(self.points)
+        if self.count > MAX_POINTS:
+            shape = " x ".join(str(len(v)) for v in self.grid.values())
+            more = f" + {len(self.points):,} points" if self.grid and self.points else ""
+            raise SpecError(f"{path}: {self.count:,} points ({f'grid {shape}' if shape else 'points'}{more}), "
+                            f"more than the limit of {MAX_POINTS:,}: split the sweep")
+        for flag, key in FLAG_KEYS.items():
+            if flag in self.where and key in self.where:
+                raise SpecError(f"{path}: '{self.names[flag]}' ({', '.join(self.where[flag])}) and "
+                                f"'{self.names[key]}' ({', '.join(self.where[key])}) set one thing "
+                                f"two ways (tigris run's --{flag} overrides {key}, so the CSV would "
+                                "show values that did not run): use one spelling")
         self.swept = list(self.grid)             # grid keys, then the points' keys
         for p in self.points:
             self.swept += [k for k in p if k not in self.swept]
 
     def _at(self, loc, msg):
+        loc = loc if len(loc) <= 200 else loc[:200] + "..."
         return f"{self.given}: {loc}: {msg}"
 
     def _key(self, key, loc):
-        """A spec key as ('flag' | 'config', canonical name); unknown keys are errors."""
+        """A spec key's canonical name (run flag or configuration key); unknown keys are errors."""
         if not isinstance(key, str) or not key:
             raise SpecError(self._at(loc, "empty key"))
+        if len(key) > 200:
+            raise SpecError(self._at(loc, "unknown key (longer than 200 characters)"))
         flag = key.replace("_", "-")
         if "." not in key and flag in NOT_SWEEPABLE:
             raise SpecError(self._at(loc, f"'{key}' cannot be set in a sweep spec"
@@ -223,11 +293,21 @@ class Spec:
             raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a number, text or boolean, got {got}"))
         if isinstance(v, float) and not math.isfinite(v):
             raise SpecError(self._at(loc, "needs a finite number"))
+        if isinstance(v, str):                   # it becomes an argument and a CSV cell
+            if len(v) > 4096:
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' is longer than 4096 characters"))
+            if "\0" in v:
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' contains a NUL character"))
+            try:
+                v.encode("utf-8")
+            except UnicodeEncodeError:
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' is not valid Unicode text "
+                                         "(a lone surrogate escape)"))
         if canon in self.tig.flags and isinstance(v, bool):
             raise SpecError(self._at(loc, f"run flag '{self.names[canon]}' takes a number or text, not a boolean"))
         if canon in PATH_FLAGS:
-            if not isinstance(v, str) or not v:
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a file name"))
+            if not isinstance(v, str) or not v.strip():
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a file name, got {json.dumps(v)}"))
             full = os.path.join(self.dir, v)
             if not os.path.isfile(full):
                 raise SpecError(self._at(loc, f"no such file: {full} (relative paths are relative to "
@@ -278,6 +358,10 @@ class Spec:
         for o in own:
             params = dict(self.base)
             params.update(o)
+            if "queries" in params and "cloud" not in params:
+                raise SpecError(f"{self.given}: 'queries' ({', '.join(self.where['queries'])}) without "
+                                "'cloud': tigris run refuses --queries without --cloud (a cloud alone "
+                                "is searched in itself)")
             args = self.args(params)
             if tuple(args) in seen:
                 continue
@@ -332,12 +416,24 @@ def pool(tasks, jobs, launch, done):
             running = still
             if running:
                 time.sleep(0.02)
-    finally:                                     # Ctrl-C, SIGTERM or an error: no orphans
+    finally:                                     # a signal or an error: no orphans
+        for _, p in running:                     # all groups told at once, then each waited for
+            try:
+                os.killpg(p.pid, signal.SIGTERM)
+            except (ProcessLookupError, PermissionError):
+                pass
         for _, p in running:
             kill_group(p)
 
 
+interrupted_by = [signal.SIGINT]
+
+
 def _interrupt(signum, frame):
+    """SIGINT, SIGTERM and SIGHUP alike: stop; the clean-up that follows is not interrupted."""
+    interrupted_by[0] = signum
+    for s in STOP_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
     raise KeyboardInterrupt
 
 
@@ -426,6 +522,7 @@ def dry_check(spec, tig, pts, out, jobs):
     with a cloud that does not exist: the expected 'no such file' error means all was accepted."""
     missing = os.path.join(out, ".dry-check-no-such-folder", "cloud.bin")
     problems = {}
+    n, k, t0, shown = len(pts), [0], time.monotonic(), [time.monotonic()]
 
     def launch(pt):
         a = list(pt["args"])
@@ -436,6 +533,11 @@ def dry_check(spec, tig, pts, out, jobs):
                                 stdin=subprocess.DEVNULL, start_new_session=True)
 
     def done(pt, p, rc):
+        k[0] += 1
+        if time.monotonic() - shown[0] >= 5:     # ~0.1 s a point: a big grid takes minutes
+            shown[0] = time.monotonic()
+            left = (shown[0] - t0) / k[0] * (n - k[0])
+            note(f"dry check: checked {k[0]:,} of {n:,} points (about {left:.0f} s left)")
         err = p.stderr.read().strip()
         if rc == 2 and missing in err or rc in (0, 1):
             return
@@ -491,14 +593,36 @@ def check_folder(out, plan):
              f"of the CSV (e.g. {stale[0]})")
 
 
-def lock_folder(out):
-    os.makedirs(os.path.join(out, "points"), exist_ok=True)
-    fd = os.open(os.path.join(out, ".lock"), os.O_CREAT | os.O_RDWR, 0o644)
+def lock_folder(out, make=True):
+    """Holds DIR/.lock (flock): one driver, or one collect, in a folder at a time."""
+    path = os.path.join(out, ".lock")
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        if make:
+            os.makedirs(os.path.join(out, "points"), exist_ok=True)
+        while True:
+            fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                raise SpecError(f"another {PROG} is running in {out} (it holds {path}); wait until "
+                                "it has finished")
+            try:
+                if os.path.samestat(os.fstat(fd), os.stat(path)):
+                    return fd
+            except FileNotFoundError:
+                pass
+            os.close(fd)                         # its holder removed it as we opened it: again
+    except OSError as e:
+        raise SpecError(f"cannot use the sweep folder {out}: {e.filename or path}: {e.strerror or e}")
+
+
+def unlock_folder(out, fd):
+    try:
+        os.remove(os.path.join(out, ".lock"))    # while held: a waiter sees another inode, retries
     except OSError:
-        raise SpecError(f"another {PROG} is running into {out}")
-    return fd
+        pass
+    os.close(fd)
 
 
 def flatten(obj, prefix=""):
@@ -525,8 +649,11 @@ def ordered_union(cols, keys):
 def param_value(plan, pt, key, stats):
     if key in pt["params"]:
         return pt["params"][key]
-    if key == "height" and isinstance(stats, dict) and "top_height" in (stats.get("tree") or {}):
-        return stats["tree"]["top_height"]       # the effective height (a small cloud clamps 10)
+    tree = stats.get("tree") if isinstance(stats, dict) else None
+    if key == "height" and isinstance(tree, dict) and "top_height" in tree:
+        return tree["top_height"]                # the effective height (a small cloud clamps 10)
+    if key == "queries" and "cloud" in pt["params"]:
+        return pt["params"]["cloud"]             # a cloud alone is searched in itself
     if key in plan["config_keys"] and isinstance(stats, dict):
         node = stats.get("config")
         for part in key.split("."):
@@ -536,11 +663,46 @@ def param_value(plan, pt, key, stats):
     return plan["defaults"].get(key)
 
 
-def collect(out):
+def read_plan(out):
+    """DIR/plan.json as this driver writes it; a damaged one is an error naming it."""
     plan = read_json(os.path.join(out, "plan.json"))
     if not plan:
         raise SpecError(f"{out}/plan.json is missing or unreadable: not a sweep folder")
+    strs = lambda v: isinstance(v, list) and all(isinstance(x, str) for x in v)  # noqa: E731
+    names = plan.get("names")
+    bad = next((k for k, ok in (
+        ("names", isinstance(names, dict) and all(isinstance(v, str) for v in names.values())),
+        ("swept", strs(plan.get("swept"))), ("base_columns", strs(plan.get("base_columns"))),
+        ("config_keys", strs(plan.get("config_keys"))), ("defaults", isinstance(plan.get("defaults"), dict)),
+        ("points", isinstance(plan.get("points"), list))) if not ok), None)
+    if bad is None and any(k not in names for k in plan["swept"] + plan["base_columns"]):
+        bad = "names"
+    for p in plan.get("points") if bad is None else []:
+        if not (isinstance(p, dict) and isinstance(p.get("id"), str) and strs(p.get("args"))
+                and isinstance(p.get("params"), dict) and isinstance(p.get("own"), dict)
+                and re.fullmatch(r"[A-Za-z0-9._+=,~-]+", p["id"]) and p["id"].strip(".")):
+            bad = f"point {json.dumps(p)[:100]}"
+            break
+    if bad is not None:
+        raise SpecError(f"{out}/plan.json is damaged (its {bad} is not what this driver writes); run "
+                        "the sweep's command again to rewrite it")
+    return plan
+
+
+def collect_command(out):
+    """`collect DIR`: not while a driver sweeps into DIR (it rewrites sweep.csv when it ends)."""
+    read_plan(out)
+    lock = lock_folder(out, make=False)
+    try:
+        return collect(out)
+    finally:
+        unlock_folder(out, lock)
+
+
+def collect(out):
+    plan = read_plan(out)
     job = read_json(os.path.join(out, "slurm", "job.json")) or {}
+    chunks = [c if isinstance(c, list) else [] for c in job.get("chunks")] if isinstance(job.get("chunks"), list) else []
     names = plan["names"]
     param_cols = [names[k] for k in plan["swept"]] + [names[k] for k in plan["base_columns"]]
     fixed = {"point", "status", "error", WALL} | set(param_cols)
@@ -554,14 +716,15 @@ def collect(out):
         if pj and pj.get("finished") and not isinstance(stats, dict):
             pj = dict(pj, status="error", error="stats.json missing or unreadable")
         if pj is None:
-            task = next((i for i, c in enumerate(job.get("chunks", [])) if pt["id"] in c), None)
-            why = (f"no result: Slurm job {job['job']} task {task} did not finish it (log "
-                   f"{out}/slurm/{job['job']}_{task}.out)" if task is not None else "not run (yet)")
+            task = next((i for i, c in enumerate(chunks) if pt["id"] in c), None)
+            why = (f"no result: Slurm job {job.get('job')} task {task} did not finish it (log "
+                   f"{out}/slurm/{job.get('job')}_{task}.out)" if task is not None else "not run (yet)")
             pj = {"status": "error", "error": why, "wall_seconds": None}
+        status = pj.get("status") if pj.get("status") in ("ok", "mismatch") and pj.get("finished") else "error"
         row = {"point": pt["id"]}
         for k in plan["swept"]:
             row[names[k]] = param_value(plan, pt, k, stats)
-        row.update(status=pj["status"], error=pj.get("error", ""), wall_seconds=pj.get("wall_seconds"))
+        row.update(status=status, error=pj.get("error", ""), wall_seconds=pj.get("wall_seconds"))
         for k in plan["base_columns"]:
             row[names[k]] = param_value(plan, pt, k, stats)
         keys = []
@@ -570,7 +733,7 @@ def collect(out):
             row[col] = v
             keys.append(col)
         ordered_union(stat_cols, keys)
-        counts[pj["status"]] = counts.get(pj["status"], 0) + 1
+        counts[status] += 1
         rows.append(row)
     columns = ["point"] + [names[k] for k in plan["swept"]] + ["status", "error", WALL] + \
               [names[k] for k in plan["base_columns"]] + stat_cols
@@ -579,12 +742,9 @@ def collect(out):
     w.writerow(columns)
     for r in rows:
         w.writerow([csv_value(r.get(c)) for c in columns])
-    tmp = os.path.join(out, f".sweep.csv.tmp{os.getpid()}")
-    with open(tmp, "w") as f:
-        f.write(buf.getvalue())
-    os.replace(tmp, os.path.join(out, "sweep.csv"))
+    write_text(os.path.join(out, "sweep.csv"), buf.getvalue())
     write_json(os.path.join(out, "sweep.json"),
-               {"spec_file": plan["spec_file"], "spec": plan["spec"], "tigris": plan["tigris"],
+               {"spec_file": plan.get("spec_file"), "spec": plan.get("spec"), "tigris": plan.get("tigris"),
                 "columns": columns, "swept_keys": [names[k] for k in plan["swept"]],
                 "base_keys": [names[k] for k in plan["base_columns"]],
                 "rows": [{c: r.get(c) for c in columns} for r in rows]})
@@ -607,7 +767,7 @@ def run_local(plan, todo, out, jobs, names):
     def done(pt, p, rc):
         rec = runs.pop(pt["id"]).finish(rc)
         k[0] += 1
-        print(progress_line(names, pt, rec, k[0], n), file=sys.stderr, flush=True)
+        say(progress_line(names, pt, rec, k[0], n))
 
     runs = {}
     pool(todo, jobs, launch, done)
@@ -670,7 +830,7 @@ def run_slurm(a, plan, todo, out, names):
                 rec = read_json(os.path.join(point_dir(out, pid), "point.json"))
                 if rec and rec.get("args") == left[pid]["args"]:
                     k += 1
-                    print(progress_line(names, left.pop(pid), rec, k, len(todo)), file=sys.stderr, flush=True)
+                    say(progress_line(names, left.pop(pid), rec, k, len(todo)))
             if active == []:
                 break
             misses = misses + 1 if active is None else 0
@@ -694,7 +854,6 @@ def run_task(tasks_file, index):
         die(f"_task: cannot read {tasks_file} or its plan.json")
     by_id = {p["id"]: p for p in plan["points"]}
     chunk = t["chunks"][int(index)]
-    signal.signal(signal.SIGTERM, _interrupt)
     for k, pid in enumerate(chunk, 1):
         pt = by_id[pid]
         if finished(t["dir"], pt):
@@ -706,7 +865,7 @@ def run_task(tasks_file, index):
             rc = proc.wait()
         except KeyboardInterrupt:
             kill_group(proc)
-            sys.exit(143)
+            sys.exit(128 + interrupted_by[0])
         print(progress_line(plan["names"], pt, r.finish(rc), k, len(chunk)), flush=True)
     return 0
 
@@ -727,11 +886,13 @@ def parse_args(argv):
         prog=os.path.basename(sys.argv[0]), description="Runs the `tigris run` points of a sweep spec "
         "and collects DIR/sweep.csv and DIR/sweep.json (README.md, \"Sweeps\").",
         epilog="`%(prog)s collect DIR` collects a folder again (after --no-wait). Exit codes: 0 every "
-        "point ok, 1 a point mismatched or failed, 2 bad spec or arguments, 3 sbatch failed, 130 "
-        "interrupted.")
+        "point ok, 1 a point mismatched or failed, 2 bad spec, arguments or folder, 3 sbatch failed, "
+        "128 + the signal when interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM).")
     ap.add_argument("spec", metavar="SPEC.json", help="sweep spec: {\"base\", \"grid\", \"points\"}")
-    ap.add_argument("--out", required=True, metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
+    ap.add_argument("--out", metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
                     "sweep.json); rerunning into it resumes")
+    ap.add_argument("--check", action="store_true", help="validate the spec and dry-check its points, "
+                    "run nothing, make no folder (with --out: also that DIR would resume it)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                     help="points run at once locally (and dry checks) (default: %(default)s)")
     ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
@@ -746,6 +907,10 @@ def parse_args(argv):
     ap.add_argument("--no-wait", action="store_true", help="return after submitting; print the job id "
                     "and the collect command")
     a = ap.parse_args(fixed)
+    if a.out is None and not a.check:
+        ap.error("the following arguments are required: --out")
+    if a.out is not None and not a.out.strip():
+        ap.error("--out is empty: give the sweep folder (an empty path would be the current folder)")
     if a.jobs < 1:
         ap.error("--jobs must be at least 1")
     if a.chunk < 1:
@@ -759,15 +924,48 @@ def parse_args(argv):
     return a
 
 
+def check_out(out):
+    """DIR is a folder, or can be made: found before a long dry check, not after it."""
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise SpecError(f"--out {out}: exists and is not a folder")
+    up = out
+    while not os.path.exists(up):
+        up = os.path.dirname(up)
+    if not os.path.isdir(up):
+        raise SpecError(f"--out {out}: cannot be made, {up} is not a folder")
+    if not os.access(up, os.W_OK | os.X_OK):
+        raise SpecError(f"--out {out}: {up} is not writable")
+
+
 def run(a):
-    tig = Tigris(a.tigris or default_tigris())
+    tig = tigris_at(a.tigris or default_tigris())
     spec = Spec(a.spec, tig)
     pts = spec.expand()
-    out = os.path.abspath(a.out)
+    out = os.path.abspath(a.out) if a.out else None
     plan = make_plan(spec, tig, pts)
-    check_folder(out, plan)
-    dry_check(spec, tig, [p for p in pts if not finished(out, p)], out, a.jobs)
+    if out:
+        check_out(out)
+        check_folder(out, plan)
+    todo = [p for p in pts if not (out and finished(out, p))]
+    dry_check(spec, tig, todo, out or tempfile.gettempdir(), a.jobs)
+    if a.check:
+        note(f"{spec.given}: {len(pts)} points, valid" + (f"; {len(pts) - len(todo)} finished in {out}" if out else ""))
+        return 0
+    made = not os.path.isdir(out)
     lock = lock_folder(out)                      # the folder is made only for a valid spec
+    try:
+        return sweep_into(a, out, spec, tig, plan, pts)
+    finally:
+        unlock_folder(out, lock)
+        if made:                                 # failed before writing anything: no folder left
+            for d in (os.path.join(out, "points"), out):
+                try:
+                    os.rmdir(d)
+                except OSError:
+                    pass
+
+
+def sweep_into(a, out, spec, tig, plan, pts):
     job = read_json(os.path.join(out, "slurm", "job.json"))
     if job and shutil.which("squeue") and squeue_active(job["job"]):
         raise SpecError(f"Slurm job {job['job']} of an earlier submission is still running into {out}; "
@@ -783,7 +981,6 @@ def run(a):
     if todo:
         if a.slurm:
             if not run_slurm(a, plan, todo, out, spec.names):
-                os.close(lock)
                 return 0
         else:
             run_local(plan, todo, out, a.jobs, spec.names)
@@ -791,21 +988,25 @@ def run(a):
 
 
 def main(argv):
-    signal.signal(signal.SIGTERM, _interrupt)
+    for s in STOP_SIGNALS:                       # a hang-up or kill stops the points like Ctrl-C
+        if signal.getsignal(s) != signal.SIG_IGN:    # nohup's choice is kept
+            signal.signal(s, _interrupt)
     try:
         if argv[:1] == ["_task"] and len(argv) == 3:
             return run_task(argv[1], argv[2])
         if argv[:1] == ["collect"]:
-            if len(argv) != 2 or argv[1].startswith("-"):
+            if len(argv) != 2 or argv[1].startswith("-") or not argv[1].strip():
                 die("usage: tigris_sweep.py collect DIR")
-            return collect(os.path.abspath(argv[1]))
+            return collect_command(os.path.abspath(argv[1]))
         return run(parse_args(argv))
     except SpecError as e:
         die(str(e))
+    except OSError as e:                         # a full disk, a folder gone: named, no traceback
+        die(f"{e.filename + ': ' if isinstance(e.filename, str) else ''}{e.strerror or e}")
     except KeyboardInterrupt:
-        note("interrupted: running points stopped; finished points are kept (rerun the same "
-             "command to resume)")
-        return 130
+        note(f"interrupted ({signal.Signals(interrupted_by[0]).name}): running points stopped; "
+             "finished points are kept (rerun the same command to resume)")
+        return 128 + interrupted_by[0]
 
 
 if __name__ == "__main__":

@@ -164,7 +164,7 @@ expect 0 "" -- sweep "$tmp/spec.json" --out "$tmp/sw" --jobs 1
 if [ "$(grep -c ',ok,' "$tmp/sw/sweep.csv")" = 2 ] && head -1 "$tmp/sw/sweep.csv" | grep -q '^point,height,status'; then passes=$((passes + 1))
 else echo "FAIL: tigris sweep's sweep.csv"; cat "$tmp/sw/sweep.csv"; failures=$((failures + 1)); fi
 expect 2 "--jobs must be at least 1" -- sweep "$tmp/spec.json" --out "$tmp/sw2" --jobs 0
-expect 0 "usage: reproduce.py" -- reproduce --help
+expect 0 "usage: reproduce [" -- reproduce --help
 
 # The work guard: estimated from a sample before the search, exit 2 naming the limit to raise.
 python3 -c "import sys; sys.stdout.buffer.write(open('$tmp/one.bin','rb').read() * 3000)" > "$tmp/same.bin"
