@@ -205,6 +205,25 @@ struct AcceleratorConfig {
     }
   } dram;
 
+  // The host link a job's tree image and queries cross to the accelerator, and its results
+  // back (tigris run --trace: each transfer modeled as latency + bytes / bandwidth, apart from
+  // the simulated search; no energy).
+  struct Host {
+    double link_gb_per_s = 15.75;  // PCIe 3.0 x16: 8 GT/s x 16 lanes x 128b/130b = 15.75 GB/s
+    double link_latency_us = 1.0;  // per transfer: a PCIe DMA round trip is about 1 us
+
+    template <class V>
+    void visit(V&& v) {
+      v("link_gb_per_s", link_gb_per_s,
+        {"GB/s", in(1e-3, 1e6),
+         "host link bandwidth for loading a job (tree image, queries) and reading its results: "
+         "PCIe 3.0 x16, 8 GT/s x 16 lanes x 128b/130b = 15.75 GB/s (an AXI4 port of 128 bits at "
+         "500 MHz would be 8 GB/s)"});
+      v("link_latency_us", link_latency_us,
+        {"us", in(0, 1e6), "host link latency per transfer (a PCIe DMA round trip, about 1 us)"});
+    }
+  } host;
+
   struct Stall {
     double rate = 0.0;
     std::uint64_t seed = 1;
@@ -239,6 +258,7 @@ struct AcceleratorConfig {
     sram.visit(in_block(v, "sram"));
     result_buffer.visit(in_block(v, "result_buffer"));
     dram.visit(in_block(v, "dram"));
+    host.visit(in_block(v, "host"));
     stall.visit(in_block(v, "stall"));
     cost.visit(in_block(v, "cost"));
     energy.visit(in_block(v, "energy"));

@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages the build needs, if any is missing (needs root or sudo).
 set -euo pipefail
 packages=(cmake g++ make pkg-config libsystemc-dev libeigen3-dev libpcl-dev catch2
-          nlohmann-json3-dev libcli11-dev libnanoflann-dev libflann-dev liblz4-dev
+          nlohmann-json3-dev libcli11-dev libnanoflann-dev libflann-dev liblz4-dev libzstd-dev
           libbenchmark-dev python3 python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do

@@ -24,6 +24,22 @@ void reject_empty_arguments(int argc, const char* const* argv) {
   }
 }
 
+std::string command_line(int argc, const char* const* argv) {
+  std::string out;
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (i) out += ' ';
+    if (!a.empty() && a.find_first_of(" \t\n'\"\\$`*?;&|<>()") == std::string::npos) {
+      out += a;
+      continue;
+    }
+    out += '\'';
+    for (char c : a) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    out += '\'';
+  }
+  return out;
+}
+
 namespace {
 
 // The path as the file system will resolve it: absolute, symbolic links of the existing part

@@ -26,6 +26,9 @@ struct PathUse {
 // (hard links); empty paths are skipped.
 void check_distinct_paths(const std::vector<PathUse>& inputs, const std::vector<PathUse>& outputs);
 
+// The command line as a shell would take it back (arguments with spaces or quotes quoted).
+std::string command_line(int argc, const char* const* argv);
+
 // Validators shared by the commands: a whole number 0 .. 2^64-1 (CLI11 alone wraps "-1" and
 // rounds "1e23"); a finite number in [lo, hi] (CLI::Range lets NaN through); a whole number in
 // [lo, hi] with a readable message.

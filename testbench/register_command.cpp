@@ -16,6 +16,7 @@
 #include "sw_ref/registration/pipeline.hpp"
 #include "sw_ref/registration/pose.hpp"
 #include "sw_ref/synthetic.hpp"
+#include "traces/workload_trace.hpp"
 
 namespace tigris {
 namespace {
@@ -175,6 +176,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "this many distances and neighbours (a KITTI pair takes 4e8 with dp4, 1.3e9 with dp7); 0: no limit")
       ->check(finite_range(0.0, 1e18))
       ->capture_default_str();
+  app.add_option("--record-trace", o.record_trace,
+                 "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
+                 "traces/README.md) for tigris run --trace");
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
 }
@@ -224,7 +228,8 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     throw std::invalid_argument("--kitti-frames " + o.kitti_frames + " picks lines of --kitti-poses, which is not given");
   check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
                         {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses}},
-                       {{"--out (registration.json)", o.out + "/registration.json"}});
+                       {{"--out (registration.json)", o.out + "/registration.json"},
+                        {"--record-trace", o.record_trace}});
 
   PointCloud source, target;
   std::string source_name, target_name;
@@ -281,12 +286,16 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
                  stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
   };
+  registration::PipelineHooks hooks;
+  hooks.on_stage = [&](const std::string& stage) {
+    stage_now = stage;
+    std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
+  };
+  hooks.budget = budget;
+  if (!o.record_trace.empty()) hooks.recorder = std::make_shared<registration::TraceRecorder>();
   registration::RegistrationResult r;
   try {
-    r = registration::register_clouds(source, target, config, [&](const std::string& stage) {
-          stage_now = stage;
-          std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
-        }, budget);
+    r = registration::register_clouds(source, target, config, hooks);
   } catch (const registration::WorkLimitExceeded& e) {
     throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
                                 "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
@@ -335,6 +344,22 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                     {"initial_rotation_deg", initial.rotation_deg}};
   }
   doc["config"] = ordered_json::parse(registration::to_json(config).dump());
+  if (hooks.recorder) {
+    trace::Trace t = hooks.recorder->finish();
+    t.meta = nlohmann::json::parse(doc.dump());  // the registration's report, without its stages' details
+    t.meta.erase("stages");
+    t.meta["command_line"] = o.command_line;
+    t.total_seconds = r.total_seconds;
+    for (const auto& s : r.stages) {  // the time spent recording is not the registration's
+      const double overhead = hooks.recorder->overhead(s.name);
+      t.stages.push_back({s.name, s.seconds - overhead, s.kdtree.search_seconds, s.kdtree.build_seconds});
+      t.total_seconds -= overhead;
+    }
+    write_trace(o.record_trace, t);
+    doc["trace"] = {{"path", o.record_trace}, {"jobs", t.jobs.size()}, {"clouds", t.clouds.size()}};
+    std::fprintf(stderr, "tigris register: trace %s: %zu jobs, %zu clouds\n", o.record_trace.c_str(), t.jobs.size(),
+                 t.clouds.size());
+  }
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& f) { f << doc.dump(2) << '\n'; });
 

@@ -26,7 +26,9 @@ struct RegisterOptions {
   std::string inject_shell;  // "R1,R2"; empty: inject.normals_shell_inner/_outer
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
-  double max_work = 1e10;  // distances computed + neighbours returned by all searches; 0: none
+  double max_work = 1e10;
+  std::string record_trace;
+  std::string command_line;  // as typed, for the trace's record (set by main)  // workload trace of every 3D search (traces/README.md)  // distances computed + neighbours returned by all searches; 0: none
   std::string out = "tigris-out";
 };
 

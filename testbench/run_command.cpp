@@ -12,6 +12,7 @@
 #include "hw/mem/result_slots.hpp"
 #include "simulation.hpp"
 #include "timeline.hpp"
+#include "trace_replay.hpp"
 #include "traces/schedule_csv.hpp"
 #include "progress.hpp"
 #include "report.hpp"
@@ -51,6 +52,16 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                  "keeps everything on one (the figures are the same). Default: 2 on a machine with "
                  "two or more cores, else 1")
       ->check(CLI::Range(1, 2));
+  app.add_option("--trace", o.trace,
+                 "Replay a registration's workload trace (tigris register --record-trace): every job through the "
+                 "model as the host would run it, each query checked; per job, stage and total figures and the "
+                 "end-to-end time with the accelerator");
+  app.add_option("--trace-stages", o.trace_stages,
+                 "With --trace: replay only these stages, comma-separated (e.g. normals,icp; default: all)");
+  app.add_option("--jobs", o.jobs, "With --trace: jobs simulated at a time, each in a process of its own (the "
+                                   "figures do not depend on it)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   app.add_flag("--list-config", o.list_config, "Print every configuration key with its default and exit");
 }
 
@@ -61,6 +72,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   }
   if (!o.search.schedule.empty())
     throw std::invalid_argument("--schedule replays a schedule in the golden model: use tigris ref");
+  if (!o.trace.empty()) return run_trace_replay(app, o);
+  if (app.count("--trace-stages") || app.count("--jobs"))
+    throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
   check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
                        {{"--out (stats.json)", o.search.out + "/stats.json"},
                         {"--vcd", o.vcd},

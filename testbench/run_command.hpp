@@ -19,6 +19,9 @@ struct RunOptions {
   std::string timeline;                 // Chrome trace-event JSON
   std::uint32_t timeline_queries = 2000;  // about this many queries appear in it
   int sim_threads = 0;                    // 0: default_sim_threads()
+  std::string trace;                      // replay a registration's workload trace
+  std::string trace_stages;               // comma-separated stages to replay (empty: all)
+  int jobs = 1;                           // trace jobs simulated at a time
 };
 
 void add_run_options(CLI::App& app, RunOptions& o);

@@ -434,7 +434,7 @@ TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each po
   CHECK(hits[0] != hits[1]);
 }
 
-TEST_CASE("latency: one per query, within the job's cycles; BQB waits one per leaf visit", "[hw]") {
+TEST_CASE("latency: one per query, within the job's cycles, and BQB waits one per leaf visit", "[hw]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 61);
   const PointCloud queries = make_queries(cloud, 200, 61);
   const PointCloud one_query = {{0.5f, 0.25f, 0.0f}};

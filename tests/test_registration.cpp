@@ -235,7 +235,7 @@ TEST_CASE("plug-in error injection: a radius search returns exactly the shell R1
   }
 }
 
-TEST_CASE("plug-in error injection: K = 1 and no shell search as without injection; bad values rejected",
+TEST_CASE("plug-in error injection: K = 1 and no shell search as without injection and bad values are rejected",
           "[registration]") {
   const auto cloud = to_pcl(test::make_cloud(test::CloudKind::Uniform, 1000, 47));
   auto plain = plugin<pcl::PointXYZ>(Backend::Exact, std::make_shared<SearchCounters>());

@@ -21,9 +21,10 @@ Cloud::Ptr to_pcl(const PointCloud& c) {
 
 // The search settings of a stage: approximate search only where the paper approximates
 // (normals, RPCE); elsewhere the approx back-end searches exactly on the golden model.
-SearchSettings settings_for(const PipelineConfig& c, bool approximable, const std::shared_ptr<WorkBudget>& budget) {
+SearchSettings settings_for(const PipelineConfig& c, bool approximable, const PipelineHooks& hooks) {
   SearchSettings s;
-  s.budget = budget;
+  s.budget = hooks.budget;
+  s.recorder = hooks.recorder;
   s.backend = parse_backend(c.search.backend);
   if (s.backend == Backend::Approx && !approximable) s.backend = Backend::Exact;
   s.top_height = c.search.top_height;
@@ -61,13 +62,17 @@ class StageRun {
 }  // namespace
 
 RegistrationResult register_clouds(const PointCloud& source_points, const PointCloud& target_points,
-                                   const PipelineConfig& c, const StageCallback& on_stage,
-                                   std::shared_ptr<WorkBudget> budget) {
+                                   const PipelineConfig& c, const PipelineHooks& hooks) {
   const auto t_all = Clock::now();
   RegistrationResult r;
   validate(c, "registration configuration");
-  const SearchSettings exact = settings_for(c, false, budget),
-                       approximable = settings_for(c, true, budget);
+  const SearchSettings exact = settings_for(c, false, hooks),
+                       approximable = settings_for(c, true, hooks);
+  // Every stage announces itself to the caller and to the trace recorder.
+  const StageCallback on_stage = [&hooks](const std::string& stage) {
+    if (hooks.recorder) hooks.recorder->begin_stage(stage);
+    if (hooks.on_stage) hooks.on_stage(stage);
+  };
   // Error injection only on the paper's injected searches: normal estimation (radius) and RPCE.
   SearchSettings normals_s = approximable, rpce_s = approximable;
   normals_s.shell_inner = static_cast<float>(c.inject.normals_shell_inner);

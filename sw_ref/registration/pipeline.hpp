@@ -51,11 +51,18 @@ struct RegistrationResult {
 // Called at the start of each stage with its name (for progress on stderr).
 using StageCallback = std::function<void(const std::string& stage)>;
 
+// What a caller hooks into a registration: progress, a work bound shared by every tree, a
+// trace recorder (each may be empty).
+struct PipelineHooks {
+  StageCallback on_stage;
+  std::shared_ptr<WorkBudget> budget;
+  std::shared_ptr<TraceRecorder> recorder;
+};
+
 // Runs the pipeline. Throws std::runtime_error when a stage cannot go on (e.g. no key point
-// survives), WorkLimitExceeded when the searches exceed `budget` (shared by every tree; null:
-// no bound). `config` must have been validated (apply_json / preset).
+// survives), WorkLimitExceeded when the searches exceed the hooks' budget. `config` must have
+// been validated (apply_json / preset).
 RegistrationResult register_clouds(const PointCloud& source, const PointCloud& target,
-                                   const PipelineConfig& config, const StageCallback& on_stage = {},
-                                   std::shared_ptr<WorkBudget> budget = nullptr);
+                                   const PipelineConfig& config, const PipelineHooks& hooks = {});
 
 }  // namespace tigris::registration

@@ -1,5 +1,6 @@
 // Pipeline back end: key-point correspondence rejection (the initial estimate) and ICP.
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include <pcl/registration/correspondence_rejection_distance.h>
@@ -167,6 +168,15 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
     rej->setRefineModel(false);
     icp.addCorrespondenceRejector(rej);
   }
+  // After each iteration's searches (PCL calls its "visualizer"): the next iteration's jobs are
+  // new. PCL also calls it once when it is registered, before any search: that call is skipped.
+  std::function<void(const PNCloud&, const pcl::Indices&, const PNCloud&, const pcl::Indices&)> next =
+      [rec = s.recorder, registered = false](const PNCloud&, const pcl::Indices&, const PNCloud&,
+                                             const pcl::Indices&) mutable {
+        if (registered) rec->next_iteration();
+        registered = true;
+      };
+  if (s.recorder) icp.registerVisualizationCallback(next);
   PNCloud aligned;
   IcpOutcome out;
   try {

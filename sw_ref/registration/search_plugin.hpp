@@ -40,6 +40,7 @@
 
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
+#include "trace_recorder.hpp"
 
 namespace tigris::registration {
 
@@ -77,6 +78,7 @@ struct SearchSettings {
   float shell_inner = 0.0f;     // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
   float shell_outer = 0.0f;     // 0: no shell
   std::shared_ptr<WorkBudget> budget;  // shared by every tree of a registration; null: none
+  std::shared_ptr<TraceRecorder> recorder;  // records every tree and search; null: none
 
   bool injects_kth() const { return inject_kth > 1; }
   bool injects_shell() const { return shell_outer > 0.0f; }
@@ -124,8 +126,21 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       this->indices_ = indices;
       build_golden();
     }
+    const double seconds = seconds_since(t0);
     ++counters_->builds;
-    counters_->build_seconds += seconds_since(t0);
+    counters_->build_seconds += seconds;
+    if (settings_.recorder) {
+      // The trace stores the points the golden tree is built on; FLANN's results are mapped
+      // into the same numbering.
+      const auto t1 = Clock::now();
+      const PointCloud pts = finite_points();
+      if (settings_.backend == Backend::Flann) {
+        local_of_.assign(this->input_->size(), -1);
+        for (std::size_t i = 0; i < map_.size(); ++i) local_of_[static_cast<std::size_t>(map_[i])] = static_cast<int>(i);
+      }
+      serial_ = settings_.recorder->tree_built(pts, to_string(settings_.backend), settings_.top_height, seconds);
+      settings_.recorder->add_overhead(seconds_since(t1));
+    }
   }
 
   int nearestKSearch(const PointT& point, int k, pcl::Indices& k_indices,
@@ -143,6 +158,13 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       p.mode = want == 1 ? Mode::NN : Mode::KNN;
       p.k = want;
       n = golden(p, point, k_indices, k_sqr_distances);
+    }
+    if (settings_.recorder) {
+      trace::Job shape;
+      shape.mode = want == 1 ? "nn" : "knn";
+      shape.k = want;
+      shape.inject_kth = settings_.inject_kth;
+      record(shape, point, k_indices, n, t0);
     }
     if (skip > 0 && n > 0) {
       const int drop = std::min(skip, n - 1);
@@ -175,6 +197,15 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       p.max_nn = search_max_nn;
       n = golden(p, point, k_indices, k_sqr_distances);
     }
+    if (settings_.recorder) {
+      trace::Job shape;
+      shape.mode = "radius";
+      shape.radius = static_cast<float>(search_radius);
+      shape.max_nn = search_max_nn;
+      shape.shell_inner = shell ? settings_.shell_inner : 0.0f;
+      shape.shell_outer = shell ? settings_.shell_outer : 0.0f;
+      record(shape, point, k_indices, n, t0);
+    }
     if (shell) {
       const float r1_2 = settings_.shell_inner * settings_.shell_inner;
       std::size_t kept = 0;
@@ -205,10 +236,12 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     charge(0, t0);
     return 0;
   }
+  // Counts a search; `t0` its start, less the time spent recording it (not the search's cost).
   void charge(int n, Clock::time_point t0) const {
     ++counters_->searches;
     counters_->neighbors += static_cast<std::uint64_t>(n > 0 ? n : 0);
-    counters_->search_seconds += seconds_since(t0);
+    counters_->search_seconds += seconds_since(t0) - recording_seconds_;
+    recording_seconds_ = 0.0;
     if (WorkBudget* b = settings_.budget.get()) {
       b->spent += static_cast<double>(n > 0 ? n : 0) + last_distances_;
       last_distances_ = 0.0;
@@ -228,10 +261,9 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     }
   }
 
-  // The golden tree over the finite points of the input (PCL's FLANN skips the others too);
-  // map_ takes a golden point index back to the input cloud's.
-  void build_golden() {
-    searchers_.clear();
+  // The finite points of the input in index order (PCL's FLANN skips the others too); map_
+  // takes such a point's index back to the input cloud's.
+  PointCloud finite_points() {
     map_.clear();
     PointCloud pts;
     const auto add = [&](pcl::index_t i) {
@@ -245,6 +277,33 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       for (pcl::index_t i : *this->indices_) add(i);
     else
       for (std::size_t i = 0; i < this->input_->size(); ++i) add(static_cast<pcl::index_t>(i));
+    return pts;
+  }
+
+  // One search into the trace: its results in the trace's numbering (the finite points).
+  void record(trace::Job& shape, const PointT& point, const pcl::Indices& k_indices, int n, Clock::time_point t0) const {
+    if (settings_.backend == Backend::Approx) {
+      shape.approximate = true;
+      shape.approx_thd = shape.mode == "radius" ? settings_.radius_thd * shape.radius : settings_.nn_thd;
+      shape.leader_capacity = settings_.leader_capacity;
+      shape.leader_width = settings_.leader_width;
+    }
+    if (settings_.backend == Backend::Flann) {
+      local_.clear();
+      for (int i = 0; i < n; ++i) local_.push_back(static_cast<std::uint32_t>(local_of_[static_cast<std::size_t>(k_indices[static_cast<std::size_t>(i)])]));
+    }
+    const std::uint32_t* idx = settings_.backend == Backend::Flann ? local_.data() : golden_local_.data();
+    const auto t1 = Clock::now();
+    settings_.recorder->searched(serial_, shape, {point.x, point.y, point.z}, idx, static_cast<std::size_t>(n > 0 ? n : 0),
+                                 std::chrono::duration<double>(t1 - t0).count());
+    recording_seconds_ = seconds_since(t1);
+    settings_.recorder->add_overhead(recording_seconds_);
+  }
+
+  // The golden tree over finite_points().
+  void build_golden() {
+    searchers_.clear();
+    const PointCloud pts = finite_points();
     tree_.reset();
     if (pts.empty()) return;
     const int height = std::min(settings_.top_height, full_height_for(pts.size()));
@@ -274,9 +333,11 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     counters_->leaders.leaders += s->leaders().leaders - lead_before.leaders;
     counters_->leaders.followers += s->leaders().followers - lead_before.followers;
     counters_->leaders.leader_buffer_full += s->leaders().leader_buffer_full - lead_before.leader_buffer_full;
+    golden_local_.clear();
     for (const Neighbor& n : found_) {
       k_indices.push_back(map_[n.index]);
       k_sqr_distances.push_back(n.dist2);
+      if (settings_.recorder) golden_local_.push_back(n.index);
     }
     return static_cast<int>(found_.size());
   }
@@ -288,6 +349,11 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   mutable std::map<std::tuple<int, int, float, std::uint32_t>, std::unique_ptr<Searcher>> searchers_;
   mutable std::vector<Neighbor> found_;
   mutable double last_distances_ = 0.0;  // the golden search's distances, for the budget
+  // Recording: the tree's serial in the trace, FLANN's input index -> trace index, scratch.
+  int serial_ = -1;
+  std::vector<int> local_of_;
+  mutable std::vector<std::uint32_t> local_, golden_local_;
+  mutable double recording_seconds_ = 0.0;  // of the last search, kept out of its search seconds
 };
 
 }  // namespace tigris::registration

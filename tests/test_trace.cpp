@@ -1,0 +1,192 @@
+// Workload traces (traces/workload_trace.hpp, sw_ref/registration/trace_recorder.hpp): a
+// registration of the (thinned) synthetic pair recorded at test time; every stage's searches in
+// its jobs; recorded results equal the golden model's; recording changes nothing; the file reads
+// back equal; truncated, corrupt, foreign and newer-version files are refused naming the byte.
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <map>
+#include <set>
+
+#include "sw_ref/registration/pipeline.hpp"
+#include "sw_ref/synthetic.hpp"
+#include "traces/workload_trace.hpp"
+
+using namespace tigris;
+using namespace tigris::registration;
+
+namespace {
+
+struct Recorded {
+  RegistrationResult plain, recorded;
+  trace::Trace trace;
+};
+
+// DP4 (or `preset`) on the synthetic pair thinned to 900 azimuth steps, with and without a recorder.
+const Recorded& recorded(const std::string& preset_name = "dp4", const std::string& backend = "exact") {
+  static std::map<std::string, Recorded> cache;
+  const std::string key = preset_name + "/" + backend;
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  SyntheticConfig sc;
+  sc.azimuth_steps = 900;
+  const SyntheticPair p = make_synthetic_pair(sc);
+  PipelineConfig c = preset(preset_name);
+  c.search.backend = backend;
+  Recorded r;
+  r.plain = register_clouds(p.frame1, p.frame0, c);
+  PipelineHooks hooks;
+  hooks.recorder = std::make_shared<TraceRecorder>();
+  r.recorded = register_clouds(p.frame1, p.frame0, c, hooks);
+  r.trace = hooks.recorder->finish();
+  r.trace.meta = {{"test", key}};
+  r.trace.total_seconds = r.recorded.total_seconds;
+  for (const auto& s : r.recorded.stages)
+    r.trace.stages.push_back({s.name, s.seconds, s.kdtree.search_seconds, s.kdtree.build_seconds});
+  return cache.emplace(key, std::move(r)).first->second;
+}
+
+bool same_job(const trace::Job& a, const trace::Job& b) {
+  return a.stage == b.stage && a.iteration == b.iteration && a.backend == b.backend && a.tree == b.tree &&
+         a.queries == b.queries && a.tree_serial == b.tree_serial && a.top_height == b.top_height && a.mode == b.mode &&
+         a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn && a.approximate == b.approximate &&
+         a.approx_thd == b.approx_thd && a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width &&
+         a.inject_kth == b.inject_kth && a.shell_inner == b.shell_inner && a.shell_outer == b.shell_outer &&
+         a.search_seconds == b.search_seconds && a.build_seconds == b.build_seconds && a.counts == b.counts &&
+         a.indices == b.indices;
+}
+
+std::string error_of(const std::vector<std::uint8_t>& bytes) {
+  try {
+    trace::decode(bytes.data(), bytes.size(), "t.trace");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("trace: a recorded registration holds every search grouped into jobs", "[trace]") {
+  const Recorded& r = recorded();
+  // Recording observes: the transform is the same bit for bit.
+  CHECK(r.recorded.transform == r.plain.transform);
+  std::map<std::string, std::uint64_t> queries;
+  std::map<std::string, int> iterations;
+  for (const trace::Job& j : r.trace.jobs) {
+    queries[j.stage] += j.counts.size();
+    if (j.stage == "icp") iterations[j.stage] = std::max(iterations[j.stage], j.iteration + 1);
+    CHECK(j.counts.size() == r.trace.cloud(j.queries).points.size());
+  }
+  for (const StageReport& s : r.recorded.stages) {
+    INFO("stage " << s.name);
+    CHECK(queries[s.name] == s.kdtree.searches);
+  }
+  // DP4: one-way RPCE, one job per ICP iteration on the target tree.
+  const int icp_iterations = r.recorded.stages.back().info["iterations"].get<int>();
+  CHECK(iterations["icp"] == icp_iterations);
+  int icp_jobs = 0;
+  for (const trace::Job& j : r.trace.jobs) icp_jobs += j.stage == "icp";
+  CHECK(icp_jobs == icp_iterations);
+}
+
+TEST_CASE("trace: reciprocal RPCE records two interleaved jobs per iteration", "[trace]") {
+  const Recorded& r = recorded("dp7");
+  std::map<int, std::set<int>> trees;  // iteration -> trees searched
+  for (const trace::Job& j : r.trace.jobs)
+    if (j.stage == "icp") trees[j.iteration].insert(j.tree_serial);
+  REQUIRE(!trees.empty());
+  for (const auto& [it, t] : trees) {
+    INFO("iteration " << it);
+    CHECK(t.size() == 2);
+  }
+}
+
+TEST_CASE("trace: recorded results are the golden model's search of the job", "[trace]") {
+  const Recorded& r = recorded();
+  for (const trace::Job& j : r.trace.jobs) {
+    INFO("job " << j.stage << " iteration " << j.iteration << " mode " << j.mode);
+    const PointCloud& cloud = r.trace.cloud(j.tree).points;
+    const PointCloud& queries = r.trace.cloud(j.queries).points;
+    SearchParams p;
+    p.mode = j.mode == "nn" ? Mode::NN : j.mode == "knn" ? Mode::KNN : Mode::Radius;
+    p.k = j.k;
+    p.radius = j.radius;
+    p.max_nn = j.max_nn;
+    const KdTree tree = build_kdtree(cloud, std::min(j.top_height, full_height_for(cloud.size())));
+    const SearchOutput out = search(tree, queries, p);
+    const trace::JobResults rec = trace::results(r.trace, j);
+    REQUIRE(out.results.neighbors.size() == rec.index.size());
+    bool same = true;
+    for (std::size_t i = 0; i < rec.index.size() && same; ++i)
+      same = out.results.neighbors[i].index == rec.index[i] &&
+             std::memcmp(&out.results.neighbors[i].dist2, &rec.dist2[i], 4) == 0;
+    CHECK(same);
+    CHECK(std::vector<std::uint64_t>(out.results.offset.begin(), out.results.offset.end()) == rec.offset);
+  }
+}
+
+TEST_CASE("trace: the file reads back equal and damaged files are refused naming the byte", "[trace]") {
+  const Recorded& r = recorded();
+  const std::vector<std::uint8_t> bytes = trace::encode(r.trace);
+  const trace::Trace back = trace::decode(bytes.data(), bytes.size(), "t.trace");
+  CHECK(back.meta == r.trace.meta);
+  CHECK(back.total_seconds == r.trace.total_seconds);
+  REQUIRE(back.stages.size() == r.trace.stages.size());
+  REQUIRE(back.clouds.size() == r.trace.clouds.size());
+  for (std::size_t i = 0; i < back.clouds.size(); ++i) {
+    CHECK(back.clouds[i].hash == r.trace.clouds[i].hash);
+    CHECK(std::memcmp(back.clouds[i].points.data(), r.trace.clouds[i].points.data(),
+                      back.clouds[i].points.size() * sizeof(Point3)) == 0);
+  }
+  REQUIRE(back.jobs.size() == r.trace.jobs.size());
+  for (std::size_t i = 0; i < back.jobs.size(); ++i) CHECK(same_job(back.jobs[i], r.trace.jobs[i]));
+  // Each cloud stored once: normal estimation's queries are its tree's points.
+  for (std::size_t i = 0; i < back.clouds.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k) CHECK(back.clouds[i].hash != back.clouds[k].hash);
+
+  SECTION("truncated") {
+    for (std::size_t n : {std::size_t{0}, std::size_t{7}, std::size_t{39}, std::size_t{40}, std::size_t{100},
+                          bytes.size() / 2, bytes.size() - 1}) {
+      INFO("first " << n << " bytes");
+      const std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(n));
+      CHECK_THAT(error_of(cut), Catch::StartsWith("t.trace: byte "));
+    }
+  }
+  SECTION("corrupt") {
+    for (std::size_t at : {std::size_t{30}, std::size_t{60}, std::size_t{200}, bytes.size() / 3, bytes.size() - 5}) {
+      INFO("byte " << at << " flipped");
+      std::vector<std::uint8_t> bad = bytes;
+      bad[at] ^= 0x5a;
+      CHECK_THAT(error_of(bad), Catch::StartsWith("t.trace: byte ") && Catch::Contains("corrupt"));
+    }
+  }
+  SECTION("foreign") {
+    std::vector<std::uint8_t> bad = bytes;
+    std::memcpy(bad.data(), "PK\3\4", 4);
+    CHECK_THAT(error_of(bad), Catch::Contains("byte 0: not a Tigris workload trace"));
+  }
+  SECTION("newer version") {
+    std::vector<std::uint8_t> bad = bytes;
+    bad[8] = 2;
+    CHECK_THAT(error_of(bad), Catch::Contains("byte 8: trace format version 2 is newer"));
+  }
+  SECTION("appended") {
+    std::vector<std::uint8_t> bad = bytes;
+    bad.push_back(0);
+    CHECK_THAT(error_of(bad), Catch::StartsWith("t.trace: byte "));
+  }
+}
+
+TEST_CASE("trace: approximate and FLANN registrations record what they searched", "[trace]") {
+  const Recorded& a = recorded("dp4", "approx");
+  bool approximate = false;
+  for (const trace::Job& j : a.trace.jobs) approximate |= j.approximate;
+  CHECK(approximate);
+  CHECK(a.recorded.transform == a.plain.transform);
+  const Recorded& f = recorded("dp4", "flann");
+  for (const trace::Job& j : f.trace.jobs) {
+    CHECK(j.backend == "flann");
+    for (std::uint32_t i : j.indices) REQUIRE(i < f.trace.cloud(j.tree).points.size());
+  }
+  CHECK(f.recorded.transform == f.plain.transform);
+}
