@@ -315,7 +315,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                      {"reduction_percent", 100.0 * (1.0 - e2e_accel / std::max(1e-12, e2e_cpu))},
                      {"kdtree_speedup", cpu_kd / std::max(1e-12, modeled)},
                      {"tree_builds", "on the CPU, as recorded (not modeled on the accelerator)"},
-                     {"cpu_backend", t.jobs.empty() ? "" : t.jobs.front().backend}};
+                     {"cpu_backend", t.meta.value("search", t.jobs.empty() ? "" : t.jobs.front().backend)}};
   json stats;
   stats["command"] = "run --trace";
   stats["trace"] = {{"path", o.trace}, {"jobs", t.jobs.size()}, {"replayed", plan.size()},
@@ -341,7 +341,8 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                 s["cpu_search_seconds"].get<double>() /
                     std::max(1e-12, s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>()));
   };
-  for (const auto& [name, s] : per_stage.items()) row(name, s);
+  for (const trace::Stage& st : t.stages)  // in the pipeline's order
+    if (per_stage.contains(st.name)) row(st.name, per_stage[st.name]);
   if (!total.empty()) row("total", total);
   std::printf("  end to end: CPU %.3f s (KD-tree search %.3f s on %s) -> %.3f s with the accelerator: %.2fx, %.1f%% less "
               "(tree builds stay on the CPU)\n",
