@@ -28,6 +28,7 @@ int tigris_fuzz_config(const std::uint8_t*, std::size_t);
 int tigris_fuzz_schedule_csv(const std::uint8_t*, std::size_t);
 int tigris_fuzz_results_csv(const std::uint8_t*, std::size_t);
 int tigris_fuzz_register_config(const std::uint8_t*, std::size_t);
+int tigris_fuzz_workload_trace(const std::uint8_t*, std::size_t);
 }
 
 namespace {
@@ -44,7 +45,8 @@ const Target kTargets[] = {{"kitti_bin", tigris_fuzz_kitti_bin, false},
                            {"config", tigris_fuzz_config, true},
                            {"schedule_csv", tigris_fuzz_schedule_csv, false},
                            {"results_csv", tigris_fuzz_results_csv, true},
-                           {"register_config", tigris_fuzz_register_config, true}};
+                           {"register_config", tigris_fuzz_register_config, true},
+                           {"workload_trace", tigris_fuzz_workload_trace, true}};
 
 char g_current[4096] = "";
 

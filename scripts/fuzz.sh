@@ -4,6 +4,7 @@
 # / crashes / wrong reads. Exits 1 when any target crashed or read wrongly.
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: kitti_bin pcd ply config schedule_csv results_csv
+#                                             register_config workload_trace
 #
 # Each target starts from its seeds in fuzz/corpus/<target>/ and keeps what it finds in
 # build-fuzz/corpus/<target>/ (reused by the next run); crashing inputs go to
@@ -16,7 +17,7 @@ cd "$(dirname "$0")/.."
 root=$PWD
 seconds=${1:-60}
 shift || true
-all_targets=(kitti_bin pcd ply config schedule_csv results_csv)
+all_targets=(kitti_bin pcd ply config schedule_csv results_csv register_config workload_trace)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
 build=${TIGRIS_FUZZ_BUILD_DIR:-build-fuzz}

@@ -61,7 +61,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
                        {"leaf_visits", out.visits.leaf_visits}};
   stats["wall_seconds"] = {{"build", build_s}, {"search", search_s}};
   const std::string stats_path = o.out + "/stats.json";
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
   if (!o.dump_results.empty())
     write_file(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
   if (!o.dump_schedule.empty())

@@ -346,7 +346,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   doc["config"] = ordered_json::parse(registration::to_json(config).dump());
   if (hooks.recorder) {
     trace::Trace t = hooks.recorder->finish();
-    t.meta = nlohmann::json::parse(doc.dump());  // the registration's report, without its stages' details
+    t.meta = nlohmann::json::parse(doc.dump(-1, ' ', false, ordered_json::error_handler_t::replace));  // the registration's report, without its stages' details
     t.meta.erase("stages");
     t.meta["command_line"] = o.command_line;
     t.total_seconds = r.total_seconds;
@@ -361,7 +361,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                  t.clouds.size());
   }
   const std::string path = o.out + "/registration.json";
-  write_file(path, [&](std::ostream& f) { f << doc.dump(2) << '\n'; });
+  write_file(path, [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });  // paths: any bytes
 
   std::printf("tigris register: preset %s, search %s, %zu -> %zu points%s\n", o.preset.c_str(),
               config.search.backend.c_str(), source.size(), target.size(), injection.c_str());

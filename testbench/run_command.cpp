@@ -189,7 +189,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
                                 " (NaN or infinity) from this configuration; check the energy.*, area.* and "
                                 "cost.* keys that feed it (tigris run --list-config)");
   const std::string stats_path = o.search.out + "/stats.json";
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2) << '\n'; });
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
   if (!o.timeline.empty())
     write_file(o.timeline, [&](std::ostream& f) { f << timeline.trace().dump() << '\n'; });
   if (!o.search.dump_results.empty())

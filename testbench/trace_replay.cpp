@@ -244,7 +244,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
           code = 2;
         }
         try {
-          write_file(job_path(o.search.out, plan[next].index), [&](std::ostream& f) { f << r.dump(1) << '\n'; });
+          write_file(job_path(o.search.out, plan[next].index), [&](std::ostream& f) { f << r.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
         } catch (const std::exception& e) {
           std::fprintf(stderr, "tigris run: %s\n", e.what());
           code = 2;
@@ -315,7 +315,9 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                      {"reduction_percent", 100.0 * (1.0 - e2e_accel / std::max(1e-12, e2e_cpu))},
                      {"kdtree_speedup", cpu_kd / std::max(1e-12, modeled)},
                      {"tree_builds", "on the CPU, as recorded (not modeled on the accelerator)"},
-                     {"cpu_backend", t.meta.value("search", t.jobs.empty() ? "" : t.jobs.front().backend)}};
+                     {"cpu_backend", t.meta.contains("search") && t.meta["search"].is_string()
+                                         ? t.meta["search"].get<std::string>()
+                                         : t.jobs.empty() ? std::string() : t.jobs.front().backend}};
   json stats;
   stats["command"] = "run --trace";
   stats["trace"] = {{"path", o.trace}, {"jobs", t.jobs.size()}, {"replayed", plan.size()},
@@ -327,7 +329,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   stats["jobs"] = jobs;
   stats["end_to_end"] = end_to_end;
   stats["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(1) << '\n'; });
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
 
   std::printf("tigris run --trace %s: %zu of %zu jobs replayed: %s\n", o.trace.c_str(), plan.size(), t.jobs.size(),
               all_match ? "MATCH (every query of every job bit-exact)" : "MISMATCH");

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -22,9 +23,13 @@ namespace {
 constexpr char kMagic[8] = {'T', 'I', 'G', 'R', 'I', 'S', 'W', 'T'};
 constexpr std::size_t kHeaderBytes = 40, kSectionHeaderBytes = 32;
 enum Kind : std::uint32_t { kMeta = 1, kCloud = 2, kJob = 3 };
-// A section may expand at most this much (zstd reaches ~1000x only on constant data; a trace's
-// clouds and results compress 1.5-4x), so a forged size cannot make the reader allocate wildly.
+// A section may expand at most this much (a trace's clouds and results compress 1.5-4x; zstd
+// goes past 1000x only on constant data, which encode pads to fit), so a forged size cannot make
+// the reader allocate wildly.
 constexpr std::uint64_t kMaxExpansion = 1024, kMaxRawSlack = 1 << 20;
+// The metadata and job headers nest a few levels; nlohmann's copies and dumps recurse, so a file
+// of 300,000 '[' would overflow the stack after parsing.
+constexpr int kMaxJsonDepth = 64;
 
 std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
   std::uint64_t h = 14695981039346656037ull;
@@ -84,6 +89,7 @@ struct In {
     std::uint64_t v = 0;
     for (int shift = 0; shift < 64; shift += 7) {
       const std::uint8_t c = *take(1);
+      if (shift == 63 && c > 1) break;  // the 10th byte holds bit 63 only
       v |= std::uint64_t{c & 0x7fu} << shift;
       if (!(c & 0x80)) return v;
     }
@@ -92,8 +98,16 @@ struct In {
   nlohmann::json json() {
     const std::uint32_t n = u32();
     const auto* t = take(n);
+    struct TooDeep {};
     try {
-      return nlohmann::json::parse(t, t + n);
+      return nlohmann::json::parse(t, t + n, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+        if ((event == nlohmann::json::parse_event_t::object_start || event == nlohmann::json::parse_event_t::array_start) &&
+            depth >= kMaxJsonDepth)
+          throw TooDeep{};
+        return true;
+      });
+    } catch (const TooDeep&) {
+      fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     } catch (const nlohmann::json::exception& e) {
       fail(std::string("bad JSON: ") + visible_text(e.what()));
     }
@@ -113,6 +127,34 @@ nlohmann::json job_json(const Job& j) {
           {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}};
 }
 
+// A JSON integer in T's range, nothing else: nlohmann's get<int>() truncates 1.5, wraps 2^32 + 1
+// to 1 and converts 1e300 with undefined behaviour.
+template <typename T>
+T integer(const In& in, const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = j.at(key);
+  if (v.is_number_unsigned()) {
+    const std::uint64_t u = v.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return static_cast<T>(u);
+  } else if (v.is_number_integer()) {
+    const std::int64_t i = v.get<std::int64_t>();
+    if (i >= static_cast<std::int64_t>(std::numeric_limits<T>::min()) &&
+        i <= static_cast<std::int64_t>(std::numeric_limits<T>::max()))
+      return static_cast<T>(i);
+  }
+  in.fail(std::string("job header: '") + key + "' is not an integer in range: " + visible_text(v.dump(), 40));
+}
+
+// A JSON number a float32 holds (|x| <= FLT_MAX; rounded to the nearest float32): beyond it the
+// conversion is undefined (in practice infinity, which encode would write as null).
+float float32(const In& in, const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = j.at(key);
+  if (v.is_number()) {
+    const double d = v.get<double>();
+    if (std::fabs(d) <= static_cast<double>(std::numeric_limits<float>::max())) return static_cast<float>(d);
+  }
+  in.fail(std::string("job header: '") + key + "' is not a float32 number: " + visible_text(v.dump(), 40));
+}
+
 std::uint64_t parse_hash(const In& in, const nlohmann::json& v, const char* key) {
   const std::string s = v.get<std::string>();
   if (s.size() != 16 || s.find_first_not_of("0123456789abcdef") != std::string::npos)
@@ -124,34 +166,38 @@ Job job_from(In& in, const nlohmann::json& j) {
   Job out;
   try {
     out.stage = j.at("stage").get<std::string>();
-    out.iteration = j.at("iteration").get<int>();
+    out.iteration = integer<int>(in, j, "iteration");
     out.backend = j.at("backend").get<std::string>();
     out.tree = parse_hash(in, j.at("tree"), "tree");
     out.queries = parse_hash(in, j.at("queries"), "queries");
-    out.tree_serial = j.at("tree_serial").get<int>();
-    out.top_height = j.at("top_height").get<int>();
+    out.tree_serial = integer<int>(in, j, "tree_serial");
+    out.top_height = integer<int>(in, j, "top_height");
     out.mode = j.at("mode").get<std::string>();
-    out.k = j.at("k").get<int>();
-    out.radius = j.at("radius").get<float>();
-    out.max_nn = j.at("max_nn").get<std::uint32_t>();
+    out.k = integer<int>(in, j, "k");
+    out.radius = float32(in, j, "radius");
+    out.max_nn = integer<std::uint32_t>(in, j, "max_nn");
     out.approximate = j.at("approximate").get<bool>();
-    out.approx_thd = j.at("approx_thd").get<float>();
-    out.leader_capacity = j.at("leader_capacity").get<int>();
-    out.leader_width = j.at("leader_width").get<int>();
-    out.inject_kth = j.at("inject_kth").get<int>();
-    out.shell_inner = j.at("shell_inner").get<float>();
-    out.shell_outer = j.at("shell_outer").get<float>();
+    out.approx_thd = float32(in, j, "approx_thd");
+    out.leader_capacity = integer<int>(in, j, "leader_capacity");
+    out.leader_width = integer<int>(in, j, "leader_width");
+    out.inject_kth = integer<int>(in, j, "inject_kth");
+    out.shell_inner = float32(in, j, "shell_inner");
+    out.shell_outer = float32(in, j, "shell_outer");
     out.search_seconds = j.at("search_seconds").get<double>();
     out.build_seconds = j.at("build_seconds").get<double>();
   } catch (const nlohmann::json::exception& e) {
     in.fail(std::string("job header: ") + visible_text(e.what()));
   }
   if (out.mode != "nn" && out.mode != "knn" && out.mode != "radius") in.fail("unknown mode '" + visible_text(out.mode, 20) + "'");
-  if (out.k < 1 || out.top_height < 0 || out.top_height > 30 || out.leader_capacity < 0 || out.leader_width < 0 ||
+  // (tree_serial -1 would read as "no tree sent yet" in the replay; the recorder numbers trees from 0)
+  if (out.iteration < -1 || out.tree_serial < 0 || out.k < 1 || out.top_height < 0 || out.top_height > 30 ||
+      out.leader_capacity < 0 || out.leader_width < 0 ||
       out.inject_kth < 1 || !std::isfinite(out.radius) || !std::isfinite(out.approx_thd) ||
+      !std::isfinite(out.shell_inner) || !std::isfinite(out.shell_outer) ||
       (out.mode == "radius" && !(out.radius > 0.0f)) || !std::isfinite(out.search_seconds) ||
       !std::isfinite(out.build_seconds))
-    in.fail("job parameters out of range (k, top_height, radius, leader settings, injection or seconds)");
+    in.fail("job parameters out of range (iteration, tree_serial, k, top_height, radius, leader settings, injection "
+            "or seconds)");
   return out;
 }
 
@@ -206,7 +252,7 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
                              {"kdtree_search_seconds", s.kdtree_search_seconds},
                              {"kdtree_build_seconds", s.kdtree_build_seconds}});
     Out o;
-    o.text(m.dump());
+    o.text(m.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));  // a non-UTF-8 path
     raw.push_back(std::move(o.b));
     kinds.push_back(kMeta);
   }
@@ -220,7 +266,7 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
   }
   for (const Job& j : trace.jobs) {
     Out o;
-    o.text(job_json(j).dump());
+    o.text(job_json(j).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     o.u64(j.counts.size());
     for (std::uint32_t c : j.counts) o.u32(c);
     // Indices as zig-zag deltas from the previous one: a query's neighbours, and the next
@@ -242,8 +288,23 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
   file.u64(0);  // header checksum, set below
   for (std::size_t s = 0; s < raw.size(); ++s) {
     std::vector<std::uint8_t> z(ZSTD_compressBound(raw[s].size()));
-    const std::size_t n = ZSTD_compress(z.data(), z.size(), raw[s].data(), raw[s].size(), 3);
+    std::size_t n = ZSTD_compress(z.data(), z.size(), raw[s].data(), raw[s].size(), 3);
     if (ZSTD_isError(n)) throw std::runtime_error(std::string("trace: zstd: ") + ZSTD_getErrorName(n));
+    // The reader refuses a section that expands more than kMaxExpansion times (plus
+    // kMaxRawSlack); constant data (a cloud of 200,000 equal points) compresses further, so such
+    // a section gets zstd skippable frames of padding after its data, which decompression skips.
+    const std::uint64_t need =
+        raw[s].size() > kMaxRawSlack ? (raw[s].size() - kMaxRawSlack + kMaxExpansion - 1) / kMaxExpansion : 0;
+    z.resize(n);
+    while (z.size() < need) {
+      const std::uint32_t pad = static_cast<std::uint32_t>(
+          std::min<std::uint64_t>(need - std::min<std::uint64_t>(need, z.size() + 8), 0xffffffffu));
+      const std::uint32_t magic = 0x184D2A50;  // skippable frame: magic, size, that many bytes
+      z.insert(z.end(), reinterpret_cast<const std::uint8_t*>(&magic), reinterpret_cast<const std::uint8_t*>(&magic) + 4);
+      z.insert(z.end(), reinterpret_cast<const std::uint8_t*>(&pad), reinterpret_cast<const std::uint8_t*>(&pad) + 4);
+      z.resize(z.size() + pad, 0);
+    }
+    n = z.size();
     file.u32(kinds[s]);
     file.u32(0);
     file.u64(n);
@@ -317,7 +378,8 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
     std::memcpy(&rbytes, data + at + 16, 8);
     std::memcpy(&zcheck, data + at + 24, 8);
     const std::uint64_t body = at + kSectionHeaderBytes;
-    if (kind < kMeta || kind > kJob || reserved != 0) fail(at, "unknown section kind " + std::to_string(kind));
+    if (kind < kMeta || kind > kJob) fail(at, "unknown section kind " + std::to_string(kind));
+    if (reserved != 0) fail(at + 4, "section " + std::to_string(s) + "'s reserved field is not 0");
     if ((s == 0) != (kind == kMeta)) fail(at, "the first section, and only it, must be the metadata");
     if (zbytes > size - body) fail(body, "truncated: section " + std::to_string(s) + " needs " + std::to_string(zbytes) + " bytes");
     if (rbytes > zbytes * kMaxExpansion + kMaxRawSlack) fail(at + 16, "corrupt: implausible decompressed size");
@@ -332,8 +394,12 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
       const nlohmann::json m = in.json();
       try {
         t.meta = m.at("meta");
+        if (!t.meta.is_object()) in.fail("metadata: 'meta' is not an object");
         t.total_seconds = m.at("total_seconds").get<double>();
-        for (const auto& st : m.at("stages"))
+        const nlohmann::json& stages = m.at("stages");
+        // (nlohmann iterates null as empty and an object as its values)
+        if (!stages.is_array()) in.fail("metadata: 'stages' is not an array");
+        for (const auto& st : stages)
           t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
                               st.at("kdtree_search_seconds").get<double>(), st.at("kdtree_build_seconds").get<double>()});
       } catch (const nlohmann::json::exception& e) {
@@ -345,7 +411,8 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
       const std::uint64_t n_points = in.u64();
       if (n_points > (in.size - in.pos) / sizeof(Point3)) in.fail("truncated: " + std::to_string(n_points) + " points announced");
       c.points.resize(n_points);
-      std::memcpy(c.points.data(), in.take(n_points * sizeof(Point3)), n_points * sizeof(Point3));
+      const std::uint8_t* bytes = in.take(n_points * sizeof(Point3));
+      if (n_points > 0) std::memcpy(c.points.data(), bytes, n_points * sizeof(Point3));  // an empty vector's data() may be null
       if (content_hash(c.points) != c.hash) in.fail("corrupt: the points do not match their hash " + hash_text(c.hash));
       for (const Point3& p : c.points)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) in.fail("a point is not finite");
@@ -366,11 +433,16 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
       if (total > in.size - in.pos) in.fail("truncated: " + std::to_string(total) + " result indices announced");
       j.indices.resize(total);
       const std::uint64_t points = t.clouds[tree->second].points.size();
-      std::int64_t prev = 0;
+      // Indices are uint32: a cloud of more points still takes only the first 2^32.
+      const std::uint64_t limit = std::min<std::uint64_t>(points, std::uint64_t{1} << 32);
+      std::uint64_t prev = 0;  // the previous index, < limit: prev + delta is checked without overflowing
       for (auto& i : j.indices) {
-        prev += unzigzag(in.varint());
-        if (prev < 0 || static_cast<std::uint64_t>(prev) >= points)
-          in.fail("a result index " + std::to_string(prev) + " beyond its cloud of " + std::to_string(points) + " points");
+        const std::int64_t delta = unzigzag(in.varint());
+        const std::uint64_t step = delta < 0 ? 0 - static_cast<std::uint64_t>(delta) : static_cast<std::uint64_t>(delta);
+        if (delta < 0 ? step > prev : step >= limit - prev)
+          in.fail("a result index " + std::to_string(prev) + (delta < 0 ? " - " : " + ") + std::to_string(step) +
+                  " beyond its cloud of " + std::to_string(points) + " points");
+        prev = delta < 0 ? prev - step : prev + step;
         i = static_cast<std::uint32_t>(prev);
       }
       t.jobs.push_back(std::move(j));
