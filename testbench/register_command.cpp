@@ -355,7 +355,10 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
       t.stages.push_back({s.name, s.seconds - overhead, s.kdtree.search_seconds, s.kdtree.build_seconds});
       t.total_seconds -= overhead;
     }
-    write_trace(o.record_trace, t);
+    const std::vector<std::uint8_t> bytes = trace::encode(t);
+    write_file(o.record_trace, [&](std::ostream& f) {
+      f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    });
     doc["trace"] = {{"path", o.record_trace}, {"jobs", t.jobs.size()}, {"clouds", t.clouds.size()}};
     std::fprintf(stderr, "tigris register: trace %s: %zu jobs, %zu clouds\n", o.record_trace.c_str(), t.jobs.size(),
                  t.clouds.size());

@@ -1,6 +1,5 @@
 #include "traces/workload_trace.hpp"
 
-#include <unistd.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -317,28 +316,6 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
   const std::uint64_t check = fnv1a(file.b.data(), 32);
   std::memcpy(file.b.data() + 32, &check, 8);
   return std::move(file.b);
-}
-
-void write_trace(const std::string& path, const Trace& trace) {
-  const std::vector<std::uint8_t> bytes = encode(trace);
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    f.flush();
-    if (!f) {
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(path + ": cannot write the trace");
-    }
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write the trace");
-  }
 }
 
 Trace decode(const std::uint8_t* data, std::size_t size, const std::string& label) {

@@ -87,10 +87,9 @@ struct JobResults {
 };
 JobResults results(const Trace& trace, const Job& job);
 
-// The file's bytes; write_trace writes them (beside the path, renamed over it), throwing
-// std::runtime_error naming the path.
+// The file's bytes (the caller writes them; tigris register through write_file, which writes
+// beside the path and renames over it).
 std::vector<std::uint8_t> encode(const Trace& trace);
-void write_trace(const std::string& path, const Trace& trace);
 
 // Throws InputError "LABEL: byte N: what" on a truncated, foreign, corrupt or newer-version
 // file, or one whose contents contradict themselves (a job naming a missing cloud, result
