@@ -9,8 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <pcl/console/print.h>
 
+#include "accel_in_loop.hpp"
 #include "arg_checks.hpp"
+#include "config.hpp"
 #include "options.hpp"
+#include "simulation.hpp"
 #include "report.hpp"
 #include "sw_ref/io/cloud_io.hpp"
 #include "sw_ref/registration/pipeline.hpp"
@@ -34,7 +37,13 @@ ordered_json matrix_json(const Eigen::Matrix4d& t) {
   return rows;
 }
 
-ordered_json stage_json(const registration::StageReport& s) {
+// A stage's KD-tree time with the accelerator in the loop: its jobs as modeled (search and host
+// transfers) plus the searches it could not batch, at their CPU time.
+double modeled_kdtree_seconds(const registration::SearchCounters& k) {
+  return k.accel.modeled_search_seconds + k.accel.modeled_host_seconds + k.accel.fallback_seconds;
+}
+
+ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
   ordered_json j;
   j["seconds"] = s.seconds;
   const registration::SearchCounters& k = s.kdtree;
@@ -54,10 +63,31 @@ ordered_json stage_json(const registration::StageReport& s) {
                      {"leaf_points", k.visits.leaf_points},
                      {"follower_points", k.visits.follower_points},
                      {"leader_checks", k.visits.leader_checks}};
-    if (s.search == "approx")
+    if (s.search == "approx" && !in_loop)
       j["leaders"] = {{"leaders", k.leaders.leaders},
                       {"followers", k.leaders.followers},
                       {"leader_buffer_full", k.leaders.leader_buffer_full}};
+    if (in_loop) {
+      // search_seconds above holds the jobs' simulation: the stage's figures on the hardware are these.
+      const auto& a = k.accel;
+      j["visits_note"] = "visits: the golden model's, of the fallback searches only";
+      j["accelerator"] = {{"jobs", a.jobs},
+                          {"queries", a.queries},
+                          {"fallback_searches", a.fallback_searches},
+                          {"fallback_cpu_seconds", a.fallback_seconds},
+                          {"cycles", a.cycles},
+                          {"modeled_search_seconds", a.modeled_search_seconds},
+                          {"modeled_host_seconds", a.modeled_host_seconds},
+                          {"modeled_kdtree_seconds", modeled_kdtree_seconds(k)},
+                          {"modeled_stage_seconds", s.seconds - k.search_seconds + modeled_kdtree_seconds(k)},
+                          {"energy_pj", a.energy_pj},
+                          {"visits", {{"top", a.visits.top},
+                                      {"pruned", a.visits.pruned},
+                                      {"leaf_visits", a.visits.leaf_visits},
+                                      {"leaf_points", a.visits.leaf_points},
+                                      {"follower_points", a.visits.follower_points},
+                                      {"leader_checks", a.visits.leader_checks}}}};
+    }
   } else {
     j["search"] = "none";
     j["searches"] = 0;
@@ -151,8 +181,10 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
   app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)");
   app.add_option("--search", o.search,
                  "3D KD-tree back-end: flann (PCL's, the CPU baseline), exact or approx (golden "
-                 "model); default: search.backend (exact)")
-      ->check(CLI::IsMember({"flann", "exact", "approx"}));
+                 "model on the CPU), accel or accel-approx (the accelerator model in the loop: each "
+                 "stage's query set runs as one simulated job, checked against the golden model); "
+                 "default: search.backend (exact)")
+      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (default: search.top_height, 10)");
   app.add_option("--approx-thd", o.approx_thd,
                  "Approximate NN threshold in metres (sets search.nn_thd; search.radius_thd becomes "
@@ -179,6 +211,12 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
   app.add_option("--record-trace", o.record_trace,
                  "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
                  "traces/README.md) for tigris run --trace");
+  app.add_option("--accel-config", o.accel_config,
+                 "With --search accel*: the accelerator's configuration JSON (as tigris run --config; "
+                 "default: the built-in paper configuration)");
+  app.add_option("--accel-set", o.accel_sets,
+                 "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
+                 "(repeatable; tigris run --list-config lists them)");
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
 }
@@ -187,14 +225,22 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   registration::PipelineConfig config = registration::preset(o.preset);
   if (!o.config.empty()) registration::apply_file(config, o.config);
   for (const std::string& s : o.sets) registration::apply_set(config, s);
-  if (!o.search.empty()) config.search.backend = o.search;
+  // accel / accel-approx: the golden back-end's searches (exact / approx) on the model.
+  const bool in_loop = o.search == "accel" || o.search == "accel-approx";
+  if (!o.search.empty()) config.search.backend = o.search == "accel" ? "exact" : o.search == "accel-approx" ? "approx" : o.search;
+  if (!in_loop && (!o.accel_config.empty() || !o.accel_sets.empty()))
+    throw std::invalid_argument(std::string(o.accel_config.empty() ? "--accel-set" : "--accel-config") +
+                                " configures the accelerator in the loop: it needs --search accel or accel-approx");
+  if (in_loop && !o.record_trace.empty())
+    throw std::invalid_argument("--record-trace records the CPU's searches: use --search flann, exact or approx "
+                                "(then tigris run --trace replays them on the accelerator)");
   if (!o.height.empty()) {
     const int h = parse_height(o.height);
     config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
   }
   if (!o.approx_thd.empty()) {
-    if (!o.search.empty() && o.search != "approx")
-      throw std::invalid_argument("--approx-thd needs --search approx (got --search " + o.search + ")");
+    if (!o.search.empty() && o.search != "approx" && o.search != "accel-approx")
+      throw std::invalid_argument("--approx-thd needs --search approx or accel-approx (got --search " + o.search + ")");
     const double t = parse_number("--approx-thd", o.approx_thd);
     config.search.backend = "approx";
     // Through the keys, so the flag has the key's range and registration.json reads back.
@@ -211,8 +257,8 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   }
   if (injecting && config.search.backend == "approx")
     throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
-                                " needs --search exact or flann (error injection measures exact search; "
-                                "got search approx)");
+                                " needs --search exact, flann or accel (error injection measures exact search; "
+                                "got search " + (in_loop ? o.search : std::string("approx")) + ")");
   registration::validate(config, "tigris register");
   if (o.list_config) {
     std::printf("%-42s %-16s %s\n", "key", o.preset.c_str(), "allowed: meaning");
@@ -226,10 +272,20 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     throw std::invalid_argument("give --ground-truth or --kitti-poses, not both");
   if (app.count("--kitti-frames") && o.kitti_poses.empty())
     throw std::invalid_argument("--kitti-frames " + o.kitti_frames + " picks lines of --kitti-poses, which is not given");
+  // The accelerator in the loop: its configuration checked before any work.
+  hw::AcceleratorConfig accel_cfg;
+  if (!o.accel_config.empty()) apply_config_file(accel_cfg, o.accel_config);
+  for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s);
+  if (in_loop) validate_config(accel_cfg);
   check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
-                        {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses}},
+                        {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses},
+                        {"--accel-config", o.accel_config}},
                        {{"--out (registration.json)", o.out + "/registration.json"},
                         {"--record-trace", o.record_trace}});
+
+  // The model server starts while the process is small (accel_in_loop.hpp).
+  std::shared_ptr<ModelInTheLoop> model;
+  if (in_loop) model = std::make_shared<ModelInTheLoop>(accel_cfg, WorkLimits{}, default_sim_threads());
 
   PointCloud source, target;
   std::string source_name, target_name;
@@ -293,9 +349,39 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   };
   hooks.budget = budget;
   if (!o.record_trace.empty()) hooks.recorder = std::make_shared<registration::TraceRecorder>();
+  ordered_json accel_jobs = ordered_json::array();
+  if (in_loop) {
+    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
+      const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
+      std::fprintf(stderr, "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %.3g ms modeled, %.1f s simulated\n",
+                   stage_now.c_str(), static_cast<unsigned long long>(n),
+                   job.params.mode == Mode::Radius ? "radius" : job.params.mode == Mode::KNN ? "knn" : "nn",
+                   job.queries->size(), job.points->size(), rep.value("verdict", "?").c_str(), 1e3 * modeled,
+                   rep.value("wall_seconds", 0.0));
+      ordered_json j;
+      j["job"] = n;
+      j["stage"] = stage_now;
+      j["mode"] = job.params.mode == Mode::Radius ? "radius" : job.params.mode == Mode::KNN ? "knn" : "nn";
+      j["k"] = job.params.effective_k();
+      j["radius"] = job.params.radius;
+      j["approximate"] = job.params.approximate;
+      j["queries"] = job.queries->size();
+      j["points"] = job.points->size();
+      j["verdict"] = rep.value("verdict", "");
+      j["cycles"] = rep.value("cycles", 0);
+      j["modeled_seconds"] = rep.value("modeled_seconds", nlohmann::json());
+      j["energy_pj"] = rep.value("energy_pj", 0.0);
+      accel_jobs.push_back(std::move(j));
+    };
+    hooks.accelerator = model;
+    model.reset();
+  }
   registration::RegistrationResult r;
   try {
     r = registration::register_clouds(source, target, config, hooks);
+  } catch (const registration::AcceleratorFailure& e) {
+    std::fprintf(stderr, "tigris register: MISMATCH in stage %s: %s\n", stage_now.c_str(), e.what());
+    return 1;
   } catch (const registration::WorkLimitExceeded& e) {
     throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
                                 "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
@@ -307,7 +393,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   doc["source"] = {{"name", source_name}, {"points", source.size()}};
   doc["target"] = {{"name", target_name}, {"points", target.size()}};
   doc["preset"] = o.preset;
-  doc["search"] = config.search.backend;
+  doc["search"] = in_loop ? o.search : config.search.backend;
   // The injected error (also in config.inject): null when none.
   doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
                       {"normals_shell", config.inject.normals_shell_outer > 0
@@ -323,13 +409,37 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   double kd_seconds = 0.0;
   ordered_json stages = ordered_json::object();
   for (const auto& s : r.stages) {
-    stages[s.name] = stage_json(s);
+    stages[s.name] = stage_json(s, in_loop);
     kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
   }
   doc["stages"] = stages;
   doc["kdtree_seconds"] = kd_seconds;
   doc["kdtree_work"] = {{"distances_and_neighbors", budget->spent}, {"max_work", o.max_work}};
   doc["kdtree_share"] = r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0;
+  double modeled_e2e = r.total_seconds, modeled_kd = 0.0, energy_pj = 0.0;
+  if (in_loop) {
+    std::uint64_t jobs = 0, fallbacks = 0;
+    for (const auto& s : r.stages) {
+      modeled_e2e += modeled_kdtree_seconds(s.kdtree) - s.kdtree.search_seconds;
+      modeled_kd += modeled_kdtree_seconds(s.kdtree);
+      energy_pj += s.kdtree.accel.energy_pj;
+      jobs += s.kdtree.accel.jobs;
+      fallbacks += s.kdtree.accel.fallback_searches;
+    }
+    doc["accelerator"] = {
+        {"jobs", jobs},
+        {"fallback_searches", fallbacks},
+        {"modeled_kdtree_seconds", modeled_kd},
+        {"kdtree_energy_pj", energy_pj},
+        {"modeled_end_to_end_seconds", modeled_e2e},
+        {"wall_seconds", r.total_seconds},
+        {"how", "modeled end to end = the stages' CPU time without their KD-tree searches + the accelerator's "
+                "modeled search and host-transfer time + the CPU time of the searches it could not batch (golden "
+                "model); tree builds stay on the CPU; wall_seconds includes simulating the jobs"},
+        {"every_job", "checked against the golden model, bit for bit"},
+        {"config", ordered_json::parse(config_to_json(accel_cfg).dump())},
+        {"job_list", accel_jobs}};
+  }
   std::optional<registration::PoseError> err;
   if (truth && r.status != "degenerate") {
     err = registration::pose_error(*truth, r.transform);
@@ -372,8 +482,25 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   for (const auto& s : r.stages)
     std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,
                 static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
-  std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
-              100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
+  if (in_loop) {
+    std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
+    std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles",
+                "kd s", "stage s", "energy uJ");
+    for (const auto& s : r.stages) {
+      if (s.search.empty()) continue;
+      const auto& a = s.kdtree.accel;
+      std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
+                  static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
+                  static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
+                  modeled_kdtree_seconds(s.kdtree), s.seconds - s.kdtree.search_seconds + modeled_kdtree_seconds(s.kdtree),
+                  a.energy_pj * 1e-6);
+    }
+    std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
+                modeled_e2e, modeled_kd, energy_pj * 1e-6, r.total_seconds);
+  } else {
+    std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
+                100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
+  }
   if (r.status != "degenerate") {
     std::printf("  transform (target <- source)%s:\n", r.status == "converged" ? "" : ", NOT CONVERGED");
     for (int i = 0; i < 3; ++i)

@@ -1,5 +1,6 @@
 // `tigris register`: the registration pipeline (sw_ref/registration, DESIGN.md section 15) on two
-// frames, searching through the golden model (exact or approximate) or FLANN; writes
+// frames, searching through the golden model (exact or approximate), FLANN, or the accelerator
+// model in the loop (accel, accel-approx: accel_in_loop.hpp); writes
 // DIR/registration.json (transform, per-stage seconds and KD-tree work, accuracy against ground
 // truth when given). Exit 0 when ICP converged; 1 when it did not or the problem is degenerate
 // (registration.json still written, with "status" and a warning on stderr); 2 bad input.
@@ -27,8 +28,10 @@ struct RegisterOptions {
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
   double max_work = 1e10;
-  std::string record_trace;
-  std::string command_line;  // as typed, for the trace's record (set by main)  // workload trace of every 3D search (traces/README.md)  // distances computed + neighbours returned by all searches; 0: none
+  std::string record_trace;  // workload trace of every 3D search (traces/README.md)
+  std::string accel_config;             // --search accel*: the accelerator's configuration file
+  std::vector<std::string> accel_sets;  // --search accel*: its KEY=VALUE settings
+  std::string command_line;  // as typed, for the trace's record (set by main)
   std::string out = "tigris-out";
 };
 

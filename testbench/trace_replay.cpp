@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "accel_job.hpp"
 #include "arg_checks.hpp"
 #include "config.hpp"
 #include "report.hpp"
@@ -68,11 +69,6 @@ std::uint64_t differing_queries(const Results& a, const Results& b) {
   return n;
 }
 
-// Host link time of one transfer of `bytes`.
-double link_seconds(const hw::AcceleratorConfig& cfg, double bytes) {
-  return cfg.host.link_latency_us * 1e-6 + bytes / (cfg.host.link_gb_per_s * 1e9);
-}
-
 struct JobPlan {
   std::size_t index;  // in the trace
   bool send_tree;     // the previous replayed job searched another tree
@@ -87,72 +83,24 @@ json replay_job(const trace::Trace& t, const trace::Job& j, const JobPlan& plan,
             {"k", j.k}, {"radius", j.radius}, {"max_nn", j.max_nn}, {"approximate", j.approximate},
             {"queries", queries.size()}, {"points", cloud.size()},
             {"cpu", {{"backend", j.backend}, {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}}}};
-  const SearchParams params = params_of(j);
-  if (!height_chosen) cfg.tree.top_height = j.top_height;
-  cfg.tree.top_height = std::min(cfg.tree.top_height, full_height_for(cloud.size()));
-  if (j.approximate) cfg.leader.capacity_per_leaf = j.leader_capacity;
-  validate_config(cfg);
-  const KdTree tree = build_kdtree(cloud, cfg.tree.top_height, cfg.tree.split_axis);
-  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  const HostJob job = host_job(params);
-  const std::string fit =
-      hw::job_fit_error(cfg, image.bytes.size(), queries.size(), tree.top_height, job.mode, job.k);
-  if (!fit.empty()) throw std::invalid_argument("does not fit the accelerator: " + fit);
-  check_work(estimate_work(tree, queries, params), limits, queries.size());
-
-  SearchParams exact = params;
-  exact.approximate = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  const SearchOutput golden = search(tree, queries, exact);
-  SimSetup setup;
-  setup.config = cfg;
-  setup.image = &image;
-  setup.queries = &queries;
-  setup.num_points = static_cast<std::uint32_t>(cloud.size());
-  setup.job = job;
-  setup.sim_threads = sim_threads;
-  SimOutcome sim;
-  std::exception_ptr failure;
-  std::thread([&] {  // SystemC on a thread of its own, as tigris run does (sanitizer stacks)
-    try {
-      sim = simulate({setup}).front();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-  }).join();
-  if (failure) std::rethrow_exception(failure);
-  if (!sim.error.empty()) throw std::invalid_argument(sim.error);
-  if (!sim.finished) {
-    r["verdict"] = "deadlock";
-    r["deadlock"] = sim.deadlock;
+  ModelJob mj;
+  mj.points = &cloud;
+  mj.queries = &queries;
+  mj.params = params_of(j);
+  mj.top_height = height_chosen ? cfg.tree.top_height : j.top_height;
+  mj.send_tree = plan.send_tree;
+  ModelJobRun run = run_model_job(mj, cfg, limits, sim_threads);
+  r.update(run.report);
+  if (run.report["verdict"] == "deadlock") {
     code = 1;
     return r;
   }
-  const Verdict v = check_against_golden(tree, queries, params, golden, sim.results, sim.visits);
   const Results recorded = recorded_results(t, j);
-  const std::uint64_t differ = differing_queries(recorded, sim.results);
-  r["verdict"] = v.match ? "match" : "mismatch";
-  r["mismatches"] = {{"results", v.result_mismatches}, {"visits", v.visit_mismatches}, {"first", v.first}};
+  const std::uint64_t differ = differing_queries(recorded, run.results);
   json vs_recorded = {{"queries_differing", differ}};
-  if (differ > 0) vs_recorded["accuracy"] = accuracy_json(measure_accuracy(params.mode, recorded, sim.results));
+  if (differ > 0) vs_recorded["accuracy"] = accuracy_json(measure_accuracy(mj.params.mode, recorded, run.results));
   r["vs_recorded"] = vs_recorded;
-  const double search_s = static_cast<double>(sim.cycles) / (cfg.clock_mhz * 1e6);
-  const double tree_bytes = plan.send_tree ? static_cast<double>(image.bytes.size()) : 0.0;
-  const double query_bytes = 12.0 * static_cast<double>(queries.size());
-  const double result_bytes = 4.0 * static_cast<double>(queries.size()) + 8.0 * static_cast<double>(sim.results.neighbors.size());
-  const double host_s = (plan.send_tree ? link_seconds(cfg, tree_bytes) : 0.0) + link_seconds(cfg, query_bytes) +
-                        link_seconds(cfg, result_bytes);
-  r["cycles"] = sim.cycles;
-  r["top_height"] = tree.top_height;
-  r["modeled_seconds"] = {{"search", search_s}, {"host", host_s}, {"total", search_s + host_s}};
-  r["host_bytes"] = {{"tree", tree_bytes}, {"queries", query_bytes}, {"results", result_bytes}};
-  r["energy_pj"] = sim.energy.at("total");
-  r["neighbors"] = sim.results.neighbors.size();
-  r["visits"] = visits_json(sim.visits);
-  r["units"] = {{"ru_utilization", sim.units["recursion_units"]["utilization"]},
-                {"su_utilization", sim.units["search_units"]["utilization"]}};
-  r["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  code = v.match ? 0 : 1;
+  code = run.match ? 0 : 1;
   return r;
 }
 

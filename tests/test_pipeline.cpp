@@ -330,3 +330,65 @@ TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward, and DP4 regi
   CHECK(e.rotation_deg < 0.5);
   CHECK(r.transform(0, 3) > 0.5);
 }
+
+// The accelerator in the loop (issue 19) with a port that answers each job with the golden
+// model in this process: the batching itself, without SystemC. Each job is searched in its
+// order, so the approximate leader state evolves as on the CPU and every back-end must give
+// the CPU's transform bit for bit; the announced stages batch every search (key points by
+// Harris may fall back in refinement).
+namespace {
+class GoldenPort : public AcceleratorPort {
+ public:
+  AccelAnswer run(const AccelJob& job) override {
+    const KdTree tree = build_kdtree(*job.points, job.top_height);
+    AccelAnswer a;
+    a.results = search(tree, *job.queries, job.params).results;
+    a.cycles = job.queries->size();  // one per query: a count the test can check
+    a.search_seconds = 1e-9 * static_cast<double>(job.queries->size());
+    ++jobs;
+    if (job.tree_id == 0) ++zero_ids;
+    return a;
+  }
+  int jobs = 0, zero_ids = 0;
+};
+}  // namespace
+
+TEST_CASE("pipeline: the accelerator in the loop batches the announced stages and gives the CPU's transform",
+          "[pipeline][accel]") {
+  const Pair& p = synthetic(900);
+  for (const char* preset_name : {"dp4", "dp7"}) {
+    for (const char* backend : {"exact", "approx"}) {
+      INFO(preset_name << " " << backend);
+      PipelineConfig c = preset(preset_name);
+      c.search.backend = backend;
+      const RegistrationResult cpu = register_clouds(p.source, p.target, c);
+      auto port = std::make_shared<GoldenPort>();
+      PipelineHooks hooks;
+      hooks.accelerator = port;
+      const RegistrationResult loop = register_clouds(p.source, p.target, c, hooks);
+      CHECK(loop.transform == cpu.transform);
+      CHECK(port->zero_ids == 0);
+      std::uint64_t jobs = 0;
+      for (const StageReport& s : loop.stages) {
+        INFO(s.name);
+        const auto& a = s.kdtree.accel;
+        jobs += a.jobs;
+        CHECK(a.queries + a.fallback_searches == s.kdtree.searches);  // every search is one or the other
+        CHECK(a.cycles == a.queries);
+        if (s.name == "outlier_removal" || s.name == "normals" || s.name == "icp" || s.name == "descriptors") {
+          CHECK(a.fallback_searches == 0);
+          CHECK(a.jobs >= 2);  // both clouds; ICP: one (or two when reciprocal) per iteration
+        }
+      }
+      CHECK(jobs == static_cast<std::uint64_t>(port->jobs));
+      const auto& icp = stage(loop, "icp");
+      const int per_iteration = c.icp.reciprocal ? 2 : 1;
+      CHECK(icp.kdtree.accel.jobs == static_cast<std::uint64_t>(per_iteration * icp.info["iterations"].get<int>()));
+    }
+  }
+  PipelineConfig flann = preset("dp4");
+  flann.search.backend = "flann";
+  PipelineHooks hooks;
+  hooks.accelerator = std::make_shared<GoldenPort>();
+  CHECK_THROWS_WITH(register_clouds(p.source, p.target, flann, hooks), Catch::Contains("not flann"));
+}

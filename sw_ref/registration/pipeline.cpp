@@ -27,6 +27,10 @@ SearchSettings settings_for(const PipelineConfig& c, bool approximable, const Pi
   s.recorder = hooks.recorder;
   s.backend = parse_backend(c.search.backend);
   if (s.backend == Backend::Approx && !approximable) s.backend = Backend::Exact;
+  if (s.backend == Backend::Flann && hooks.accelerator)
+    throw std::invalid_argument("the accelerator in the loop runs the golden model's searches: search.backend must be "
+                                "exact or approx, not flann");
+  s.accelerator = hooks.accelerator;
   s.top_height = c.search.top_height;
   s.nn_thd = static_cast<float>(c.search.nn_thd);
   s.radius_thd = static_cast<float>(c.search.radius_thd);

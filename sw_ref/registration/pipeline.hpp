@@ -52,11 +52,12 @@ struct RegistrationResult {
 using StageCallback = std::function<void(const std::string& stage)>;
 
 // What a caller hooks into a registration: progress, a work bound shared by every tree, a
-// trace recorder (each may be empty).
+// trace recorder, the accelerator in the loop (golden back-ends only; each may be empty).
 struct PipelineHooks {
   StageCallback on_stage;
   std::shared_ptr<WorkBudget> budget;
   std::shared_ptr<TraceRecorder> recorder;
+  std::shared_ptr<AcceleratorPort> accelerator;
 };
 
 // Runs the pipeline. Throws std::runtime_error when a stage cannot go on (e.g. no key point

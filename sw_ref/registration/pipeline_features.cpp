@@ -69,7 +69,18 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     est.setInputCloud(keypoints);
     est.setSearchSurface(surface);
     est.setInputNormals(normals);
-    est.setSearchMethod(make_tree<pcl::PointXYZ>(s, counters));
+    // In the loop, PCL's three passes are three jobs: the key points; the SPFH pass over every
+    // neighbour the first pass found (PCL's std::set: ascending surface indices); the key
+    // points again.
+    const auto tree = make_tree<pcl::PointXYZ>(s, counters);
+    tree->expect_queries(*keypoints);
+    TigrisKdTree<pcl::PointXYZ>* t = tree.get();  // not the shared pointer: the tree keeps these
+    tree->then_expect([t, surface] {
+      const pcl::Indices neighbors = t->last_job_neighbors();
+      t->expect_queries(*surface, &neighbors);
+    });
+    tree->then_expect([t, keypoints] { t->expect_queries(*keypoints); });
+    est.setSearchMethod(tree);
     est.setRadiusSearch(r);
     pcl::PointCloud<pcl::FPFHSignature33> all;
     est.compute(all);
@@ -78,6 +89,7 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     // SHOT's own reference-frame estimation would make its own search object: the frames are
     // computed here with the plug-in and handed over.
     auto tree = make_tree<pcl::PointXYZ>(s, counters);
+    tree->expect_queries(*keypoints);  // in the loop: the frames' searches, then SHOT's: two jobs
     pcl::SHOTLocalReferenceFrameEstimation<pcl::PointXYZ, pcl::ReferenceFrame> lrf;
     lrf.setInputCloud(keypoints);
     lrf.setSearchSurface(surface);

@@ -31,6 +31,7 @@ Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c
                            const Counters& counters) {
   auto tree = make_tree<pcl::PointXYZ>(s, counters);
   tree->setInputCloud(cloud);
+  tree->expect_queries(*cloud);  // in the loop: every point, in order, is one job
   const int k = c.outlier_removal.mean_k + 1;  // the query point itself comes first
   pcl::Indices nn(static_cast<std::size_t>(k));
   std::vector<float> d2(static_cast<std::size_t>(k));
@@ -64,7 +65,9 @@ std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const Pip
                              const SearchSettings& s, const Counters& counters) {
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;  // never NormalEstimationOMP
   ne.setInputCloud(cloud);
-  ne.setSearchMethod(make_tree<pcl::PointXYZ>(s, counters));
+  const auto tree = make_tree<pcl::PointXYZ>(s, counters);
+  tree->expect_queries(*cloud);  // in the loop: PCL searches every point in order (one job)
+  ne.setSearchMethod(tree);
   ne.setRadiusSearch(c.normals.radius);
   ne.setViewPoint(0.0f, 0.0f, 0.0f);  // the sensor: normals face it
   Normals all;
@@ -112,7 +115,9 @@ Cloud::Ptr harris(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals
   detector.setNumberOfThreads(1);  // its OpenMP loops would search the plug-in concurrently
   detector.setInputCloud(cloud);
   detector.setNormals(normals);  // after the input: setInputCloud drops normals of another cloud
-  detector.setSearchMethod(make_tree<pcl::PointXYZ>(s, counters));
+  const auto tree = make_tree<pcl::PointXYZ>(s, counters);
+  tree->expect_queries(*cloud);  // in the loop: the response pass is one job; refinement falls back
+  detector.setSearchMethod(tree);
   detector.setRadius(static_cast<float>(c.keypoints.harris3d.radius));
   detector.setThreshold(static_cast<float>(c.keypoints.harris3d.threshold));
   detector.setNonMaxSupression(c.keypoints.harris3d.non_max_suppression);

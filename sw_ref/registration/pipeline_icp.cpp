@@ -98,6 +98,63 @@ class GuardedEstimation : public pcl::registration::TransformationEstimation<PN,
   Ptr inner_;
 };
 
+// RPCE with its searches batched for the accelerator in the loop (issue 19). PCL's reciprocal
+// estimation interleaves the two directions (a source point's search in the target tree, then
+// its match's search in the source tree); here every forward search comes first, then the
+// reciprocal searches of the matches within the distance, so each direction of an iteration is
+// one job whose queries are known before its first search. Each tree sees the same searches in
+// the same order as in PCL's loop, so the correspondences are PCL's, bit for bit, on every
+// back-end (approximate search included: leader state is per tree).
+class BatchedCorrespondences : public pcl::registration::CorrespondenceEstimation<PN, PN, float> {
+  using Base = pcl::registration::CorrespondenceEstimation<PN, PN, float>;
+  using Plugin = TigrisKdTree<PN>;
+
+ public:
+  void determineCorrespondences(pcl::Correspondences& out, double max_distance) override {
+    if (initCompute())
+      if (auto* t = dynamic_cast<Plugin*>(tree_.get())) t->expect_queries(*input_, indices_.get());
+    Base::determineCorrespondences(out, max_distance);
+  }
+
+  void determineReciprocalCorrespondences(pcl::Correspondences& out, double max_distance) override {
+    if (!initCompute() || !initComputeReciprocal()) return;
+    const double max_dist_sqr = max_distance * max_distance;
+    auto* forward = dynamic_cast<Plugin*>(tree_.get());
+    auto* backward = dynamic_cast<Plugin*>(tree_reciprocal_.get());
+    if (forward) forward->expect_queries(*input_, indices_.get());
+    pcl::Indices index(1), index_back(1);
+    std::vector<float> distance(1), distance_back(1);
+    // Forward: each source point's nearest target point within the distance.
+    std::vector<pcl::Correspondence> candidates;
+    candidates.reserve(indices_->size());
+    for (const auto& idx : *indices_) {
+      if (tree_->nearestKSearch((*input_)[idx], 1, index, distance) < 1 || distance[0] > max_dist_sqr) continue;
+      candidates.emplace_back(idx, index[0], distance[0]);
+    }
+    // Backward: each match's nearest source point must be the one it was matched from.
+    if (backward) {
+      pcl::Indices matched;
+      matched.reserve(candidates.size());
+      for (const auto& c : candidates) matched.push_back(c.index_match);
+      backward->expect_queries(*target_, &matched);
+    }
+    out.clear();
+    out.reserve(candidates.size());
+    for (const auto& c : candidates) {
+      if (tree_reciprocal_->nearestKSearch((*target_)[static_cast<std::size_t>(c.index_match)], 1, index_back,
+                                           distance_back) < 1 ||
+          distance_back[0] > max_dist_sqr || c.index_query != index_back[0])
+        continue;
+      out.push_back(c);
+    }
+    deinitCompute();
+  }
+
+  pcl::registration::CorrespondenceEstimationBase<PN, PN, float>::Ptr clone() const override {
+    return std::make_shared<BatchedCorrespondences>(*this);
+  }
+};
+
 }  // namespace
 
 Rejection reject(const Descriptors& source, const Descriptors& target, const pcl::Correspondences& all,
@@ -148,6 +205,7 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
   // on the estimator itself); the source tree serves the reciprocal direction.
   icp.setSearchMethodTarget(make_tree<PN>(s, counters));
   icp.setSearchMethodSource(make_tree<PN>(s, counters));
+  icp.setCorrespondenceEstimation(std::make_shared<BatchedCorrespondences>());
   const bool plane = c.icp.error == "point_to_plane", lm = c.icp.solver == "lm";
   using TE = pcl::registration::TransformationEstimation<PN, PN>;
   std::shared_ptr<TE> te;

@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -39,6 +40,7 @@
 #include <pcl/search/kdtree.h>
 
 #include "sw_ref/kdtree.hpp"
+#include "accelerator_port.hpp"
 #include "sw_ref/search.hpp"
 #include "trace_recorder.hpp"
 
@@ -79,6 +81,8 @@ struct SearchSettings {
   float shell_outer = 0.0f;     // 0: no shell
   std::shared_ptr<WorkBudget> budget;  // shared by every tree of a registration; null: none
   std::shared_ptr<TraceRecorder> recorder;  // records every tree and search; null: none
+  // In the loop (see "Accelerator in the loop" below): golden back-ends only; null: none.
+  std::shared_ptr<AcceleratorPort> accelerator;
 
   bool injects_kth() const { return inject_kth > 1; }
   bool injects_shell() const { return shell_outer > 0.0f; }
@@ -94,6 +98,15 @@ struct SearchCounters {
   double search_seconds = 0.0, build_seconds = 0.0;
   VisitTotals visits;    // golden back-ends only
   LeaderTotals leaders;  // approximate only
+  // With the accelerator in the loop: the jobs it ran and what they cost in the model, and the
+  // searches it could not batch (answered by the golden model on the CPU, their seconds kept).
+  // search_seconds then holds the jobs' simulation wall time too: not a CPU cost.
+  struct Accelerated {
+    std::uint64_t jobs = 0, queries = 0, cycles = 0, fallback_searches = 0;
+    double modeled_search_seconds = 0.0, modeled_host_seconds = 0.0, energy_pj = 0.0;
+    double fallback_seconds = 0.0;
+    VisitTotals visits;  // the accelerator's
+  } accel;
 };
 
 template <typename PointT>
@@ -117,6 +130,49 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   void set_counters(std::shared_ptr<SearchCounters> counters) { counters_ = std::move(counters); }
   const std::shared_ptr<SearchCounters>& counters() const { return counters_; }
 
+  // Accelerator in the loop (issue 19): the pipeline announces the points of the searches about
+  // to come, in the order PCL will make them (`indices`: a subset, in that order; null: all).
+  // The first search of the first announced point runs them all as one accelerator job with
+  // that search's parameters; the calls that follow are served from the job's results while
+  // each asks for the next announced point with the same parameters. A search of the first
+  // point after the last one runs the set again as a new job (FPFH and SHOT search their key
+  // points twice). Any other search is answered by the golden model on the CPU and counted as
+  // a fallback. Non-finite points are not announced (they get no neighbours, as always). The
+  // announcement outlives a rebuild of the tree.
+  // An announced set is a new job on every back-end: approximate search starts it with an
+  // empty Leader Buffer, as the accelerator does (so ICP's iterations do not inherit each
+  // other's leaders, and the CPU's approximate results are the in-the-loop ones).
+  void expect_queries(const pcl::PointCloud<PointT>& cloud, const pcl::Indices* indices = nullptr) {
+    searchers_.clear();
+    if (!settings_.accelerator) return;
+    expected_.clear();
+    const auto add = [&](const PointT& p) {
+      if (finite(p)) expected_.push_back({p.x, p.y, p.z});
+    };
+    if (indices)
+      for (pcl::index_t i : *indices) add(cloud[static_cast<std::size_t>(i)]);
+    else
+      for (const PointT& p : cloud) add(p);
+    batch_ran_ = false;
+    cursor_ = 0;
+  }
+  bool accelerated() const { return settings_.accelerator != nullptr; }
+  // Announces the set after the current one (a queue): `announce` is called when the current
+  // set is used up and a search is not its first point again, and calls expect_queries; it may
+  // read the jobs run so far (FPFH: its SPFH pass searches the key points' neighbours).
+  void then_expect(std::function<void()> announce) {
+    if (settings_.accelerator) pending_.push_back(std::move(announce));
+  }
+  // The input indices of every neighbour the last job returned, sorted, each once.
+  pcl::Indices last_job_neighbors() const {
+    pcl::Indices out;
+    out.reserve(batch_.results.neighbors.size());
+    for (const Neighbor& n : batch_.results.neighbors) out.push_back(map_[n.index]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
   void setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices = IndicesConstPtr()) override {
     const auto t0 = Clock::now();
     if (settings_.backend == Backend::Flann) {
@@ -125,6 +181,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       this->input_ = cloud;
       this->indices_ = indices;
       build_golden();
+      batch_ran_ = false;  // an announced set is searched on the new tree
+      cursor_ = 0;
     }
     const double seconds = seconds_since(t0);
     ++counters_->builds;
@@ -303,11 +361,16 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   // The golden tree over finite_points().
   void build_golden() {
     searchers_.clear();
-    const PointCloud pts = finite_points();
+    points_ = finite_points();
     tree_.reset();
-    if (pts.empty()) return;
-    const int height = std::min(settings_.top_height, full_height_for(pts.size()));
-    tree_ = std::make_unique<KdTree>(build_kdtree(pts, height));
+    tree_id_ = next_tree_id();
+    if (points_.empty()) return;
+    const int height = std::min(settings_.top_height, full_height_for(points_.size()));
+    tree_ = std::make_unique<KdTree>(build_kdtree(points_, height));
+  }
+  static std::uint64_t next_tree_id() {
+    static std::uint64_t id = 0;  // single-threaded pipeline (see pipeline.hpp)
+    return ++id;
   }
 
   int golden(SearchParams p, const PointT& point, pcl::Indices& k_indices, std::vector<float>& k_sqr_distances) const {
@@ -322,6 +385,82 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       p.leader_capacity = settings_.leader_capacity;
       p.leader_width = settings_.leader_width;
     }
+    if (settings_.accelerator) {
+      const int n = from_batch(p, point, k_indices, k_sqr_distances);
+      if (n >= 0) return n;
+    }
+    const auto t_fallback = Clock::now();
+    const int n = golden_cpu(p, point, k_indices, k_sqr_distances);
+    if (settings_.accelerator) {
+      ++counters_->accel.fallback_searches;
+      counters_->accel.fallback_seconds += seconds_since(t_fallback);
+    }
+    return n;
+  }
+
+  static bool same_point(const Point3& a, const PointT& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+  static bool same_params(const SearchParams& a, const SearchParams& b) {
+    return a.mode == b.mode && a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn &&
+           a.approximate == b.approximate && a.approx_thd == b.approx_thd &&
+           a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width;
+  }
+
+  // Serves a search from the announced set's job (running it first when this is its first
+  // point); -1 when the search is not the next announced one.
+  int from_batch(const SearchParams& p, const PointT& point, pcl::Indices& k_indices,
+                 std::vector<float>& k_sqr_distances) const {
+    if (batch_ran_ && cursor_ == expected_.size() && !pending_.empty() &&
+        !(same_point(expected_.front(), point) && same_params(p, batch_params_))) {
+      const std::function<void()> announce = std::move(pending_.front());
+      pending_.pop_front();
+      announce();  // the next set (expect_queries)
+    }
+    if (expected_.empty()) return -1;
+    if (same_point(expected_.front(), point) && (!batch_ran_ || cursor_ == expected_.size())) {
+      AccelJob job;
+      job.tree_id = tree_id_;
+      job.points = &points_;
+      job.top_height = tree_->top_height;
+      job.queries = &expected_;
+      job.params = p;
+      batch_ = settings_.accelerator->run(job);
+      if (batch_.results.num_queries() != expected_.size())
+        throw AcceleratorFailure("the accelerator answered " + std::to_string(batch_.results.num_queries()) +
+                                 " of a job's " + std::to_string(expected_.size()) + " queries");
+      batch_params_ = p;
+      batch_ran_ = true;
+      cursor_ = 0;
+      SearchCounters::Accelerated& a = counters_->accel;
+      ++a.jobs;
+      a.queries += expected_.size();
+      a.cycles += batch_.cycles;
+      a.modeled_search_seconds += batch_.search_seconds;
+      a.modeled_host_seconds += batch_.host_seconds;
+      a.energy_pj += batch_.energy_pj;
+      a.visits.top += batch_.visits.top;
+      a.visits.pruned += batch_.visits.pruned;
+      a.visits.leaf_visits += batch_.visits.leaf_visits;
+      a.visits.leaf_points += batch_.visits.leaf_points;
+      a.visits.follower_points += batch_.visits.follower_points;
+      a.visits.leader_checks += batch_.visits.leader_checks;
+    }
+    if (!batch_ran_ || cursor_ >= expected_.size() || !same_point(expected_[cursor_], point) ||
+        !same_params(p, batch_params_))
+      return -1;
+    golden_local_.clear();
+    for (const Neighbor* n = batch_.results.begin(cursor_); n != batch_.results.end(cursor_); ++n) {
+      k_indices.push_back(map_[n->index]);
+      k_sqr_distances.push_back(n->dist2);
+      if (settings_.recorder) golden_local_.push_back(n->index);
+    }
+    last_distances_ = 0.0;  // the accelerator's work, bounded by its own guard
+    ++cursor_;
+    return static_cast<int>(k_indices.size());
+  }
+
+  // The golden model on the CPU.
+  int golden_cpu(const SearchParams& p, const PointT& point, pcl::Indices& k_indices,
+                 std::vector<float>& k_sqr_distances) const {
     // One Searcher (and one leader state) per distinct search: mode, k, radius, max_nn.
     auto& s = searchers_[std::make_tuple(static_cast<int>(p.mode), p.k, p.radius, p.max_nn)];
     if (!s) s = std::make_unique<Searcher>(*tree_, p);
@@ -354,6 +493,15 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   std::vector<int> local_of_;
   mutable std::vector<std::uint32_t> local_, golden_local_;
   mutable double recording_seconds_ = 0.0;  // of the last search, kept out of its search seconds
+  // In the loop: the tree's points and build id, the announced queries, the job's answer.
+  PointCloud points_;
+  std::uint64_t tree_id_ = 0;
+  PointCloud expected_;
+  mutable std::deque<std::function<void()>> pending_;
+  mutable AccelAnswer batch_;
+  mutable SearchParams batch_params_;
+  mutable bool batch_ran_ = false;
+  mutable std::size_t cursor_ = 0;
 };
 
 }  // namespace tigris::registration

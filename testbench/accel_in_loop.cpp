@@ -1,0 +1,243 @@
+#include "accel_in_loop.hpp"
+
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace tigris {
+namespace {
+
+static_assert(std::is_trivially_copyable_v<Neighbor> && std::is_trivially_copyable_v<VisitTotals> &&
+                  std::is_trivially_copyable_v<Point3> && std::is_trivially_copyable_v<SearchParams>,
+              "sent as bytes between copies of the same program");
+
+using Bytes = std::vector<char>;
+
+void put(Bytes& out, const void* p, std::size_t n) {
+  out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
+}
+template <class T>
+void put_value(Bytes& out, const T& v) { put(out, &v, sizeof v); }
+template <class T>
+void put_vector(Bytes& out, const std::vector<T>& v) {
+  put_value<std::uint64_t>(out, v.size());
+  put(out, v.data(), v.size() * sizeof(T));
+}
+
+struct Reader {
+  const Bytes& in;
+  std::size_t at = 0;
+  void get(void* p, std::size_t n) {
+    if (in.size() - at < n) throw std::runtime_error("the accelerator model sent a truncated message");
+    std::memcpy(p, in.data() + at, n);
+    at += n;
+  }
+  template <class T>
+  T value() {
+    T v{};
+    get(&v, sizeof v);
+    return v;
+  }
+  template <class T>
+  std::vector<T> vector() {
+    const auto n = value<std::uint64_t>();
+    if (n > (in.size() - at) / sizeof(T)) throw std::runtime_error("the accelerator model sent a truncated message");
+    std::vector<T> v(n);
+    get(v.data(), n * sizeof(T));
+    return v;
+  }
+  std::string text() {
+    const std::vector<char> v = vector<char>();
+    return std::string(v.begin(), v.end());
+  }
+};
+
+// Messages are a length and that many bytes. send() with MSG_NOSIGNAL: a dead peer is an
+// error, not a SIGPIPE.
+bool send_all(int fd, const char* p, std::size_t n) {
+  while (n > 0) {
+    const ssize_t k = ::send(fd, p, n, MSG_NOSIGNAL);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    p += k;
+    n -= static_cast<std::size_t>(k);
+  }
+  return true;
+}
+bool send_message(int fd, const Bytes& m) {
+  const std::uint64_t n = m.size();
+  return send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) && send_all(fd, m.data(), m.size());
+}
+bool recv_all(int fd, char* p, std::size_t n) {
+  while (n > 0) {
+    const ssize_t k = ::recv(fd, p, n, 0);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    p += k;
+    n -= static_cast<std::size_t>(k);
+  }
+  return true;
+}
+bool recv_message(int fd, Bytes& m) {
+  std::uint64_t n = 0;
+  if (!recv_all(fd, reinterpret_cast<char*>(&n), sizeof n) || n > (std::uint64_t{1} << 40)) return false;
+  m.resize(n);
+  return recv_all(fd, m.data(), n);
+}
+
+// An answer: kind (0 ran, 1 cannot run, 2 failed), then the report and results, or a message.
+Bytes error_answer(char kind, const std::string& message) {
+  Bytes out(1, kind);
+  put_vector(out, std::vector<char>(message.begin(), message.end()));
+  return out;
+}
+
+// One job in this (fresh) process.
+Bytes run_job(const ModelJob& mj, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
+  try {
+    ModelJobRun run = run_model_job(mj, cfg, limits, sim_threads);
+    const std::string report = run.report.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    Bytes out(1, 0);
+    put_vector(out, std::vector<char>(report.begin(), report.end()));
+    put_vector(out, run.results.offset);
+    put_vector(out, run.results.neighbors);
+    put_value(out, run.visits);
+    return out;
+  } catch (const std::invalid_argument& e) {
+    return error_answer(1, e.what());
+  } catch (const std::exception& e) {
+    return error_answer(2, e.what());
+  }
+}
+
+// The model server: receives jobs (and the tree's points when they change) on `fd`, runs each
+// in a child process and sends its answer back; ends when the registration closes the socket.
+[[noreturn]] void serve(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
+  PointCloud points;
+  Bytes request;
+  while (recv_message(fd, request)) {
+    Bytes answer;
+    try {
+      Reader r{request};
+      ModelJob mj;
+      mj.send_tree = r.value<char>() != 0;
+      if (mj.send_tree) points = r.vector<Point3>();
+      const PointCloud queries = r.vector<Point3>();
+      mj.params = r.value<SearchParams>();
+      mj.top_height = r.value<int>();
+      mj.points = &points;
+      mj.queries = &queries;
+      int job_fds[2];
+      if (::socketpair(AF_UNIX, SOCK_STREAM, 0, job_fds) != 0)
+        throw std::runtime_error(std::string("cannot open a socket: ") + std::strerror(errno));
+      const pid_t pid = ::fork();
+      if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+      if (pid == 0) {
+        ::close(job_fds[0]);
+        const Bytes out = run_job(mj, cfg, limits, sim_threads);
+        send_message(job_fds[1], out);
+        std::fflush(nullptr);
+        ::_exit(0);
+      }
+      ::close(job_fds[1]);
+      const bool got = recv_message(job_fds[0], answer);
+      ::close(job_fds[0]);
+      int status = 0;
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        answer = error_answer(2, "the job's process ended without an answer (" +
+                                     (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
+                                                          : "exit code " + std::to_string(WEXITSTATUS(status))) +
+                                     ")");
+    } catch (const std::exception& e) {
+      answer = error_answer(2, e.what());
+    }
+    if (!send_message(fd, answer)) break;
+  }
+  std::fflush(nullptr);
+  ::_exit(0);
+}
+
+const char* mode_name(Mode m) { return m == Mode::NN ? "nn" : m == Mode::KNN ? "knn" : "radius"; }
+
+}  // namespace
+
+ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads) {
+  int fds[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) != 0)
+    throw std::runtime_error(std::string("cannot open a socket to the accelerator model: ") + std::strerror(errno));
+  std::fflush(nullptr);
+  server_ = ::fork();
+  if (server_ < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error(std::string("cannot start the accelerator model: ") + std::strerror(errno));
+  }
+  if (server_ == 0) {
+    ::close(fds[0]);
+    serve(fds[1], config, limits, sim_threads);
+  }
+  ::close(fds[1]);
+  socket_ = fds[0];
+}
+
+ModelInTheLoop::~ModelInTheLoop() {
+  if (socket_ >= 0) ::close(socket_);
+  int status = 0;
+  if (server_ > 0)
+    while (::waitpid(server_, &status, 0) < 0 && errno == EINTR) {
+    }
+}
+
+registration::AccelAnswer ModelInTheLoop::run(const registration::AccelJob& job) {
+  const std::uint64_t number = ++jobs_;
+  char what[160];
+  std::snprintf(what, sizeof what, "accelerator job %llu (%s, %zu queries on %zu points)",
+                static_cast<unsigned long long>(number), mode_name(job.params.mode), job.queries->size(),
+                job.points->size());
+  const bool send_tree = job.tree_id != last_tree_;
+  Bytes request;
+  put_value<char>(request, send_tree ? 1 : 0);
+  if (send_tree) put_vector(request, *job.points);
+  put_vector(request, *job.queries);
+  put_value(request, job.params);
+  put_value(request, job.top_height);
+  Bytes in;
+  if (!send_message(socket_, request) || !recv_message(socket_, in))
+    throw std::runtime_error(std::string(what) + ": the accelerator model's server is gone");
+  last_tree_ = job.tree_id;
+  Reader r{in};
+  const char kind = r.value<char>();
+  if (kind == 1) throw std::invalid_argument(std::string(what) + ": " + r.text());
+  if (kind != 0) throw std::runtime_error(std::string(what) + ": " + r.text());
+  const nlohmann::json report = nlohmann::json::parse(r.text());
+  registration::AccelAnswer a;
+  a.results.offset = r.vector<std::uint64_t>();
+  a.results.neighbors = r.vector<Neighbor>();
+  a.visits = r.value<VisitTotals>();
+  if (on_job) on_job(number, job, report);
+  const std::string verdict = report.value("verdict", "");
+  if (verdict != "match") {
+    std::string first;
+    if (report.contains("mismatches"))
+      for (const auto& m : report["mismatches"]["first"]) first += "\n  " + m.get<std::string>();
+    if (report.contains("deadlock")) first = "\n  " + report["deadlock"].dump();
+    throw registration::AcceleratorFailure(std::string(what) + ": " + verdict + " against the golden model" + first);
+  }
+  a.cycles = report["cycles"].get<std::uint64_t>();
+  a.search_seconds = report["modeled_seconds"]["search"].get<double>();
+  a.host_seconds = report["modeled_seconds"]["host"].get<double>();
+  a.energy_pj = report["energy_pj"].get<double>();
+  return a;
+}
+
+}  // namespace tigris

@@ -1,0 +1,52 @@
+// The accelerator model in the registration loop (`tigris register --search accel`, issue 19):
+// the search plug-in hands each announced query set over as one job (sw_ref/registration/
+// accelerator_port.hpp); this runs it through the model, checks every query against the
+// golden model and sends the results and the modeled cost back. A job searching another tree
+// than the job before it pays for the tree image on the host link, as in `tigris run --trace`.
+//
+// Processes: SystemC elaborates once per process, so every job runs in a process of its own.
+// Forking those from the registration would write-protect its (large) memory at every job and
+// slow its own CPU work, which is measured; so a small model server is forked once, when this
+// object is made (make it before loading clouds), and it forks a process per job. The
+// registration talks to it over a socket: the tree's points when the tree changes, the
+// queries and parameters of each job; the answers come back the same way.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <functional>
+
+#include <nlohmann/json.hpp>
+
+#include "accel_job.hpp"
+#include "hw/config.hpp"
+#include "sw_ref/registration/accelerator_port.hpp"
+#include "work_guard.hpp"
+
+namespace tigris {
+
+class ModelInTheLoop : public registration::AcceleratorPort {
+ public:
+  // Starts the model server (std::runtime_error when it cannot).
+  ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads);
+  ~ModelInTheLoop() override;  // stops the server
+  ModelInTheLoop(const ModelInTheLoop&) = delete;
+  ModelInTheLoop& operator=(const ModelInTheLoop&) = delete;
+
+  // Throws registration::AcceleratorFailure on a golden mismatch or a deadlock (the message
+  // names the first differing queries), std::invalid_argument when the job cannot run (e.g.
+  // it does not fit the buffers), std::runtime_error when the model's process failed.
+  registration::AccelAnswer run(const registration::AccelJob& job) override;
+
+  // Called after each job with its number (from 1) and report (accel_job.hpp).
+  std::function<void(std::uint64_t number, const registration::AccelJob& job, const nlohmann::json& report)> on_job;
+  std::uint64_t jobs() const { return jobs_; }
+
+ private:
+  int socket_ = -1;
+  pid_t server_ = -1;
+  std::uint64_t last_tree_ = 0, jobs_ = 0;
+};
+
+}  // namespace tigris
