@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""Whole registrations on the accelerator (issue 19): for each workload and preset, records the
+"""Whole registrations on the accelerator (issue 19): for each workload and preset, runs
+`tigris register --compare` (FLANN, golden model, accelerator in the loop exact and approximate),
+records the
 registration's trace with the golden model (exact and approximate) and times the same
 registration with PCL's FLANN (the CPU baseline), replays each trace with --jobs 1 and --jobs 2,
 and prints per stage: jobs, queries, recorded CPU KD-tree seconds, modeled seconds; and the
@@ -39,11 +41,17 @@ def main():
     if os.path.isdir(a.kitti):
         workloads.append(("kitti", ["--source", os.path.join(a.kitti, "000001.bin"),
                                     "--target", os.path.join(a.kitti, "000000.bin")]))
-    rows = []
+    rows, compares = [], []
     for name, pair in workloads:
         for preset in a.presets.split(","):
             tag = f"{name}_{preset}"
             base = os.path.join(a.out, tag)
+            # The four back-ends side by side (the accelerator in the loop included).
+            wall_cmp, _ = run([a.tigris, "register", "--preset", preset, "--compare", "--out", base + "_compare"] + pair)
+            compare = json.load(open(os.path.join(base + "_compare", "comparison.json")))
+            loop_walls = {srch: json.load(open(os.path.join(base + "_compare", srch, "registration.json")))["accelerator"]["wall_seconds"]
+                          for srch in ("accel", "accel-approx")}
+            compares.append((name, preset, compare, wall_cmp, loop_walls))
             wall_flann, _ = run([a.tigris, "register", "--preset", preset, "--search", "flann", "--out", base + "_flann"] + pair)
             flann = json.load(open(os.path.join(base + "_flann", "registration.json")))
             for search in ("exact", "approx"):
@@ -82,6 +90,17 @@ def main():
         print(f"- wall: record {r['record_wall']:.1f} s, FLANN registration {r['flann_wall']:.1f} s, replay "
               f"--jobs 1 {r['replay_wall'][1]:.1f} s, --jobs 2 {r['replay_wall'][2]:.1f} s "
               f"({r['replay_wall'][2] / r['flann_wall']:.1f}x the FLANN registration's wall time)")
+    for name, preset, c, wall, loop_walls in compares:
+        print(f"\n## {name} {preset}: tigris register --compare ({wall:.0f} s wall; in the loop: accel "
+              f"{loop_walls['accel']:.0f} s, accel-approx {loop_walls['accel-approx']:.0f} s)")
+        print("| back-end | KD-tree s | KD-tree speed-up vs FLANN | end to end s | vs FLANN | KD-tree energy | error m | error deg |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|")
+        for row in c["rows"]:
+            en = f"{row['kdtree_energy_pj'] * 1e-6:.1f} uJ" if row["kdtree_energy_pj"] is not None else "n/a (CPU)"
+            err = row["error"] or {}
+            print(f"| {row['label']} | {row['kdtree_seconds']:.4f} | {row['kdtree_speedup_vs_flann']:.1f}x | "
+                  f"{row['end_to_end_seconds']:.3f} | {-row['end_to_end_reduction_vs_flann_percent']:+.1f}% | {en} | "
+                  f"{err.get('translation_m', float('nan')):.4f} | {err.get('rotation_deg', float('nan')):.4f} |")
     by = {(r["workload"], r["preset"], r["search"]): r for r in rows}
     for (w, p, srch), r in by.items():
         if srch == "approx" and (w, p, "exact") in by:

@@ -113,6 +113,7 @@ int main(int argc, char** argv) {
     if (*ref) return tigris::run_ref_command(*ref, ref_options);
     if (*run) return tigris::run_run_command(*run, run_options);
     register_options.command_line = tigris::command_line(argc, argv);
+    register_options.argv.assign(argv, argv + argc);
     if (*reg) return tigris::run_register_command(*reg, register_options);
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << printable(e.what()) << '\n';

@@ -217,11 +217,16 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
   app.add_option("--accel-set", o.accel_sets,
                  "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
                  "(repeatable; tigris run --list-config lists them)");
+  app.add_flag("--compare", o.compare,
+               "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
+               "and with the golden model, on the accelerator exact and approximate; print one table "
+               "(KD-tree time, end to end, KD-tree energy, error) and write OUT/comparison.json");
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
 }
 
 int run_register_command(const CLI::App& app, const RegisterOptions& o) {
+  if (o.compare) return run_register_compare(app, o);
   registration::PipelineConfig config = registration::preset(o.preset);
   if (!o.config.empty()) registration::apply_file(config, o.config);
   for (const std::string& s : o.sets) registration::apply_set(config, s);

@@ -31,11 +31,19 @@ struct RegisterOptions {
   std::string record_trace;  // workload trace of every 3D search (traces/README.md)
   std::string accel_config;             // --search accel*: the accelerator's configuration file
   std::vector<std::string> accel_sets;  // --search accel*: its KEY=VALUE settings
+  bool compare = false;     // --compare: the four back-ends side by side (register_compare.cpp)
   std::string command_line;  // as typed, for the trace's record (set by main)
+  std::vector<std::string> argv;  // as given (set by main; --compare re-runs the command)
   std::string out = "tigris-out";
 };
 
 void add_register_options(CLI::App& app, RegisterOptions& o);
 int run_register_command(const CLI::App& app, const RegisterOptions& o);
+
+// `tigris register --compare`: the same registration with PCL's FLANN and the golden model on
+// the CPU and with the accelerator in the loop, exact and approximate, each in a process of its
+// own (OUT/<back-end>/registration.json); one table of KD-tree time, end-to-end time, KD-tree
+// energy and error, printed and in OUT/comparison.json.
+int run_register_compare(const CLI::App& app, const RegisterOptions& o);
 
 }  // namespace tigris

@@ -148,7 +148,7 @@ expect 2 "--inject-shell 0.4,0.2: needs 0 <= R1 < R2" -- register --inject-shell
 expect 2 "--inject-shell 0.35,0.5: needs R1 < r < R2 around the normal radius r = 0.3" -- register --inject-shell 0.35,0.5 --out "$tmp/reg2"
 expect 2 "--inject-shell 0.1,0.3: needs R1 < r < R2" -- register --inject-shell 0.1,0.3 --out "$tmp/reg2"
 expect 2 "--inject-shell 0.1,0.4: needs R1 < r < R2 around the normal radius r = 0.75" -- register --preset dp7 --inject-shell 0.1,0.4 --out "$tmp/reg2"
-expect 2 "--inject-kth needs --search exact or flann" -- register --inject-kth 4 --search approx --out "$tmp/reg2"
+expect 2 "--inject-kth needs --search exact, flann or accel" -- register --inject-kth 4 --search approx --out "$tmp/reg2"
 expect 2 "'inject.normals_shell_inner' < 'normals.radius'" -- register --set inject.normals_shell_outer=0.2 --out "$tmp/reg2"
 expect 0 "inject.rpce_kth" -- register --list-config
 # An injected run says so and echoes the injection in registration.json.

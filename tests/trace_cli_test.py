@@ -3,7 +3,8 @@
 small scene (exact and approximate search), `tigris run --trace` replaying it bit-exact with
 --jobs 1 and --jobs 2 (the same figures), per-stage sums equal to the totals, the end-to-end
 formula, and clear errors for a damaged trace, a bad --trace-stages and flags that do not go
-with --trace.
+with --trace; `tigris register --search accel` (the accelerator in the loop) giving the exact
+transform bit for bit, its modeled end-to-end formula and its configuration errors.
 
 Usage: trace_cli_test.py --tigris PATH   (exit 0 when every check holds)
 """
@@ -89,6 +90,42 @@ def main():
             open(p, "wb").write(bad)
             run(["run", "--trace", p, "--out", os.path.join(d, "x")], 2, needle)
         run(["run", "--trace", os.path.join(d, "missing.trace"), "--out", os.path.join(d, "x")], 2, "missing.trace")
+        # In the loop: exact on the accelerator gives the CPU's transform bit for bit; the
+        # modeled end to end follows its formula; configuration errors are clear.
+        regs = {}
+        for search in ("exact", "accel", "accel-approx"):
+            out = os.path.join(d, "loop_" + search)
+            text = run(["register"] + pair + ["--search", search, "--out", out])
+            regs[search] = json.load(open(os.path.join(out, "registration.json")))
+            if search != "exact":
+                check("on the accelerator" in text and "end to end" in text, f"{search}: no accelerator table")
+        check(regs["accel"]["transform"] == regs["exact"]["transform"],
+              "--search accel: the transform differs from --search exact")
+        for search in ("accel", "accel-approx"):
+            reg = regs[search]
+            acc = reg["accelerator"]
+            check(reg["search"] == search, f"{search}: search {reg['search']}")
+            check(acc["jobs"] == len(acc["job_list"]) and acc["jobs"] > 0, f"{search}: {acc['jobs']} jobs")
+            check(all(j["verdict"] == "match" for j in acc["job_list"]), f"{search}: a job did not match")
+            staged = [s for s in reg["stages"].values() if "accelerator" in s]
+            check(sum(s["accelerator"]["jobs"] for s in staged) == acc["jobs"], f"{search}: stage jobs != total")
+            for name in ("normals", "icp"):
+                st = reg["stages"][name]["accelerator"]
+                check(st["fallback_searches"] == 0 and st["queries"] == reg["stages"][name]["queries"],
+                      f"{search}: {name} searches not all batched: {st}")
+            want = reg["seconds"] + sum(s["accelerator"]["modeled_kdtree_seconds"] - s["search_seconds"] for s in staged)
+            check(abs(acc["modeled_end_to_end_seconds"] - want) < 1e-9,
+                  f"{search}: modeled end to end {acc['modeled_end_to_end_seconds']} != {want}")
+            check(acc["modeled_kdtree_seconds"] < sum(s["search_seconds"] for s in staged),
+                  f"{search}: the modeled KD-tree time is not below the simulation's wall time")
+        check(regs["accel-approx"]["stages"]["icp"]["accelerator"]["jobs"] > 0, "accel-approx: no ICP jobs")
+        x = os.path.join(d, "x")
+        run(["register"] + pair + ["--search", "accel", "--accel-set", "sram.points.bytes=1024", "--out", x], 2,
+            "does not fit the accelerator")
+        run(["register"] + pair + ["--search", "accel", "--accel-set", "bogus.key=1", "--out", x], 2, "bogus.key")
+        run(["register"] + pair + ["--accel-set", "sram.points.bytes=1024", "--out", x], 2, "needs --search accel")
+        run(["register"] + pair + ["--search", "accel", "--record-trace", os.path.join(d, "y.trace"), "--out", x], 2,
+            "--record-trace records the CPU's searches")
     for m in failures:
         print("FAIL", m)
     print(f"trace_cli_test: {len(failures)} failures")
