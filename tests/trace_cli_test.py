@@ -4,7 +4,8 @@ small scene (exact and approximate search), `tigris run --trace` replaying it bi
 --jobs 1 and --jobs 2 (the same figures), per-stage sums equal to the totals, the end-to-end
 formula, and clear errors for a damaged trace, a bad --trace-stages and flags that do not go
 with --trace; `tigris register --search accel` (the accelerator in the loop) giving the exact
-transform bit for bit, its modeled end-to-end formula and its configuration errors.
+transform bit for bit, its modeled end-to-end formula and its configuration errors; and
+`tigris register --compare`, the four back-ends side by side.
 
 Usage: trace_cli_test.py --tigris PATH   (exit 0 when every check holds)
 """
@@ -119,7 +120,23 @@ def main():
             check(acc["modeled_kdtree_seconds"] < sum(s["search_seconds"] for s in staged),
                   f"{search}: the modeled KD-tree time is not below the simulation's wall time")
         check(regs["accel-approx"]["stages"]["icp"]["accelerator"]["jobs"] > 0, "accel-approx: no ICP jobs")
+        # Side by side: four runs, one table.
+        cmp_out = os.path.join(d, "compare")
+        gt = os.path.join(d, "room_gt.txt")  # room_b is the room moved by (-0.2, -0.1, 0)
+        open(gt, "w").write("1 0 0 0.2\n0 1 0 0.1\n0 0 1 0\n0 0 0 1\n")
+        text = run(["register"] + pair + ["--compare", "--ground-truth", gt, "--out", cmp_out])
+        c = json.load(open(os.path.join(cmp_out, "comparison.json")))
+        check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "accel", "accel-approx"],
+              f"--compare: rows {[r['back_end'] for r in c['rows']]}")
+        rows = {r["back_end"]: r for r in c["rows"]}
+        check(rows["accel"]["transform"] == rows["exact"]["transform"], "--compare: accel and exact transforms differ")
+        check(rows["flann"]["kdtree_energy_pj"] is None and rows["accel"]["kdtree_energy_pj"] > 0,
+              "--compare: energy only for the accelerator rows")
+        check(abs(rows["flann"]["kdtree_speedup_vs_flann"] - 1.0) < 1e-12, "--compare: FLANN is not the baseline")
+        check(all(r["error"] is not None for r in c["rows"]), "--compare: an error column is missing")
+        check("accelerator, approximate" in text and "comparison.json" in text, "--compare: no table printed")
         x = os.path.join(d, "x")
+        run(["register"] + pair + ["--compare", "--search", "exact", "--out", x], 2, "--search does not go with --compare")
         run(["register"] + pair + ["--search", "accel", "--accel-set", "sram.points.bytes=1024", "--out", x], 2,
             "does not fit the accelerator")
         run(["register"] + pair + ["--search", "accel", "--accel-set", "bogus.key=1", "--out", x], 2, "bogus.key")
