@@ -356,8 +356,20 @@ def register_checked(f, d):
          0, [], not_through_link),
         ("register: unrelated clouds", ["register", "--source", f["rand2k_b.ply"], "--target", f["rand2k.ply"]], 1,
          ["warning"], not_converged),
+        # The accelerator in the loop (issue 19): its configuration is checked before any work.
+        ("register: accel-config missing", ["register"] + room + ["--search", "accel", "--accel-config",
+                                                                   os.path.join(d, "no_such_accel.json")], 2,
+         ["no_such_accel.json"], None),
+        ("register: accel-config 1e400", ["register"] + room + ["--search", "accel", "--accel-config",
+                                                                 f["cfg_1e400.json"]], 2, [f["cfg_1e400.json"]], None),
+        ("register: accel-set clock nan", ["register"] + room + ["--search", "accel", "--accel-set", "clock_mhz=nan"], 2,
+         ["clock_mhz"], None),
+        ("register: compare with record-trace", ["register", "--compare", "--record-trace", os.path.join(d, "c.trace")],
+         2, ["--record-trace does not go with --compare"], None),
+        ("register: accel with injected K-th neighbour", ["register"] + room + ["--search", "accel", "--inject-kth", "3"],
+         0, ["accelerator"], lambda o, t: None if read_json(jpath(o))["injection"]["rpce_kth"] == 3 else "no injection"),
     ]
-    for search in ("exact", "approx", "flann"):
+    for search in ("exact", "approx", "flann", "accel"):
         out.append((f"register: flat plane, {search}", ["register"] + plane + ["--search", search], 1,
                     ["warning", "degenerate"], degenerate))
     out.append(("register: plane onto itself", ["register", "--source", f["plane.ply"], "--target", f["plane.ply"]], 1,
