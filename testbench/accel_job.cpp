@@ -17,7 +17,18 @@ double link_seconds(const hw::AcceleratorConfig& cfg, double bytes) {
   return cfg.host.link_latency_us * 1e-6 + bytes / (cfg.host.link_gb_per_s * 1e9);
 }
 
+namespace {
+double since(std::chrono::steady_clock::time_point& t) {
+  const auto now = std::chrono::steady_clock::now();
+  const double s = std::chrono::duration<double>(now - t).count();
+  t = now;
+  return s;
+}
+}  // namespace
+
 ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const WorkLimits& limits, int sim_threads) {
+  auto t_phase = std::chrono::steady_clock::now();
+  nlohmann::json phases;
   const PointCloud& cloud = *mj.points;
   const PointCloud& queries = *mj.queries;
   const SearchParams& params = mj.params;
@@ -31,11 +42,13 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
       hw::job_fit_error(cfg, image.bytes.size(), queries.size(), tree.top_height, job.mode, job.k);
   if (!fit.empty()) throw std::invalid_argument("does not fit the accelerator: " + fit);
   check_work(estimate_work(tree, queries, params), limits, queries.size());
+  phases["prepare"] = since(t_phase);
 
   SearchParams exact = params;
   exact.approximate = false;
   const auto t0 = std::chrono::steady_clock::now();
   const SearchOutput golden = search(tree, queries, exact);
+  phases["golden"] = since(t_phase);
   SimSetup setup;
   setup.config = cfg;
   setup.image = &image;
@@ -54,6 +67,7 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   }).join();
   if (failure) std::rethrow_exception(failure);
   if (!sim.error.empty()) throw std::invalid_argument(sim.error);
+  phases["simulate"] = since(t_phase);
   ModelJobRun run;
   nlohmann::json& r = run.report;
   if (!sim.finished) {
@@ -62,6 +76,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
     return run;
   }
   const Verdict v = check_against_golden(tree, queries, params, golden, sim.results, sim.visits);
+  phases["check"] = since(t_phase);
+  r["phase_seconds"] = phases;  // where the job's wall time went (prepare: tree, image, work estimate)
   run.match = v.match;
   r["verdict"] = v.match ? "match" : "mismatch";
   r["mismatches"] = {{"results", v.result_mismatches}, {"visits", v.visit_mismatches}, {"first", v.first}};

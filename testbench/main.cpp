@@ -6,6 +6,8 @@
 #include <systemc>
 
 #include <cstdlib>
+#include <cstring>
+#include <unistd.h>
 #include <string>
 
 #include "arg_checks.hpp"
@@ -58,6 +60,22 @@ std::string printable(const std::string& message) {
   return out;
 }
 
+// Every job runs in a fresh process that fills large arrays (results, visits, schedules) once;
+// on a machine whose kernel gives transparent huge pages on request (Debian's default,
+// "madvise"), asking glibc's malloc for them halves the page-fault time: replaying a trace's
+// two normal-estimation jobs took 14.6 s with 4.8 s in the kernel, 7.4 s with huge pages. The
+// setting is a glibc tunable, read at start-up, so tigris re-executes itself once with it.
+// TIGRIS_NO_HUGE_PAGES=1 (e.g. under valgrind) or a GLIBC_TUNABLES naming hugetlb keeps
+// the process as started.
+void ask_for_huge_pages(char** argv) {
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (std::getenv("TIGRIS_NO_HUGE_PAGES") || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb"))) return;
+  const std::string value =
+      tunables && *tunables ? std::string(tunables) + ":glibc.malloc.hugetlb=1" : "glibc.malloc.hugetlb=1";
+  setenv("GLIBC_TUNABLES", value.c_str(), 1);
+  ::execv("/proc/self/exe", argv);  // returns only when it failed: go on as started
+}
+
 }  // namespace
 
 // SystemC's own main() would print its banner before we could silence it, so `tigris` has a
@@ -65,6 +83,7 @@ std::string printable(const std::string& message) {
 extern "C" int sc_main(int, char**) { return 2; }
 
 int main(int argc, char** argv) {
+  ask_for_huge_pages(argv);
   if (const int code = tigris::run_python_tool(argc, argv); code >= 0) return code;
   setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1);
   // The host driver ends every run with sc_stop(); that is not news for the user.
