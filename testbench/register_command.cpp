@@ -470,6 +470,8 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
       t.stages.push_back({s.name, s.seconds - overhead, s.kdtree.search_seconds, s.kdtree.build_seconds});
       t.total_seconds -= overhead;
     }
+    t.meta["seconds"] = t.total_seconds;  // registration.json's, which includes the recording
+    t.meta["seconds_recording"] = r.total_seconds - t.total_seconds;
     const std::vector<std::uint8_t> bytes = trace::encode(t);
     write_file(o.record_trace, [&](std::ostream& f) {
       f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
