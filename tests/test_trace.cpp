@@ -89,7 +89,7 @@ TEST_CASE("trace: a recorded registration holds every search grouped into jobs",
   CHECK(icp_jobs == icp_iterations);
 }
 
-TEST_CASE("trace: reciprocal RPCE records two interleaved jobs per iteration", "[trace]") {
+TEST_CASE("trace: reciprocal RPCE records two jobs per iteration, one per tree", "[trace]") {
   const Recorded& r = recorded("dp7");
   std::map<int, std::set<int>> trees;  // iteration -> trees searched
   for (const trace::Job& j : r.trace.jobs)
