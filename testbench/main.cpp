@@ -13,6 +13,7 @@
 #include "arg_checks.hpp"
 #include "python_tools.hpp"
 #include "ref_command.hpp"
+#include "odometry_command.hpp"
 #include "register_command.hpp"
 #include "run_command.hpp"
 
@@ -109,6 +110,12 @@ int main(int argc, char** argv) {
                   "KPCE, rejection, ICP) with its KD-tree searches on the golden model or FLANN");
   tigris::add_register_options(*reg, register_options);
 
+  tigris::OdometryOptions odometry_options;
+  CLI::App* odo = app.add_subcommand(
+      "odometry", "Register each frame of a KITTI-layout sequence into the previous one (tigris register per "
+                  "pair, --jobs at a time), chain the poses, KITTI's error metrics");
+  tigris::add_odometry_options(*odo, odometry_options);
+
   // Listed for --help only: run_python_tool() has already taken these.
   app.add_subcommand("sweep", "Design-space sweep from a JSON spec, locally (--jobs) or as a Slurm job array "
                               "(--slurm); CSV, JSON and resume (sweep/tigris_sweep.py; tigris sweep --help)");
@@ -134,6 +141,8 @@ int main(int argc, char** argv) {
     register_options.command_line = tigris::command_line(argc, argv);
     register_options.argv.assign(argv, argv + argc);
     if (*reg) return tigris::run_register_command(*reg, register_options);
+    odometry_options.command_line = register_options.command_line;
+    if (*odo) return tigris::run_odometry_command(*odo, odometry_options);
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << printable(e.what()) << '\n';
     return 2;

@@ -1,0 +1,380 @@
+#include "odometry_command.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/LU>
+#include <nlohmann/json.hpp>
+
+#include "arg_checks.hpp"
+#include "report.hpp"
+#include "sw_ref/registration/kitti_sequence.hpp"
+#include "sw_ref/registration/odometry_metrics.hpp"
+#include "sw_ref/registration/pose.hpp"
+
+namespace tigris {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+using registration::Pose;
+
+std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::size_t scans) {
+  if (text.empty()) return {0, scans - 1};
+  long a = -1, b = -1;
+  char colon = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%ld%c%ld%c", &a, &colon, &b, &extra) != 3 || colon != ':' || a < 0 || b <= a)
+    throw std::invalid_argument("--frames must be A:B, the first and the last frame (A < B), got '" + text + "'");
+  if (static_cast<std::size_t>(b) >= scans)
+    throw std::invalid_argument("--frames " + text + ": the sequence has frames 0.." + std::to_string(scans - 1));
+  return {static_cast<std::size_t>(a), static_cast<std::size_t>(b)};
+}
+
+std::string frame_tag(std::size_t i) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%06zu", i);
+  return b;
+}
+
+// The flags every pair's `tigris register` gets, in a fixed order (also the resume key).
+std::vector<std::string> forwarded(const OdometryOptions& o) {
+  std::vector<std::string> a{"--preset", o.preset};
+  if (!o.config.empty()) a.insert(a.end(), {"--config", fs::absolute(o.config).string()});
+  for (const std::string& s : o.sets) a.insert(a.end(), {"--set", s});
+  if (!o.search.empty()) a.insert(a.end(), {"--search", o.search});
+  if (!o.height.empty()) a.insert(a.end(), {"--height", o.height});
+  if (!o.approx_thd.empty()) a.insert(a.end(), {"--approx-thd", o.approx_thd});
+  if (!o.accel_config.empty()) a.insert(a.end(), {"--accel-config", fs::absolute(o.accel_config).string()});
+  for (const std::string& s : o.accel_sets) a.insert(a.end(), {"--accel-set", s});
+  char w[32];
+  std::snprintf(w, sizeof w, "%.17g", o.max_work);
+  a.insert(a.end(), {"--max-work", w});
+  return a;
+}
+
+// Starts `tigris register` for one pair, its output into `log`; returns its process id.
+pid_t start_pair(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+      ::close(fd);
+    }
+    ::execv("/proc/self/exe", argv.data());
+    std::fprintf(stderr, "cannot run /proc/self/exe: %s\n", std::strerror(errno));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+std::string last_line(const std::string& path) {
+  std::ifstream f(path);
+  std::string line, last;
+  while (std::getline(f, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+// A pair's registration.json when it is there and complete (a rerun reuses it).
+bool read_pair(const std::string& path, ordered_json& out) {
+  std::ifstream f(path);
+  if (!f) return false;
+  try {
+    f >> out;
+  } catch (const std::exception&) {
+    return false;
+  }
+  return out.is_object() && out.contains("status") && out.contains("transform");
+}
+
+Pose pose_of(const ordered_json& m) {
+  Pose t;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) t(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
+  return t;
+}
+
+double stage_sum(const ordered_json& reg, const char* key) {
+  double s = 0.0;
+  for (const auto& [name, st] : reg["stages"].items()) s += st.value(key, 0.0);
+  return s;
+}
+
+// KITTI 00's first ~15 poses advance in identical steps (../shared/data/README.md): a run of
+// ten or more equal steps at the start says the ground truth, not the registration, is coarse.
+std::size_t constant_steps(const std::vector<Pose>& gt) {
+  std::size_t n = 0;
+  for (std::size_t i = 2; i < gt.size(); ++i) {
+    const Pose a = gt[i - 2].inverse() * gt[i - 1], b = gt[i - 1].inverse() * gt[i];
+    if ((a - b).cwiseAbs().maxCoeff() > 1e-6) break;
+    n = i;
+  }
+  return n;
+}
+
+// NaN (no segment, no ground truth) as null in JSON.
+ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : ordered_json(); }
+
+}  // namespace
+
+void add_odometry_options(CLI::App& app, OdometryOptions& o) {
+  app.add_option("--sequence", o.sequence,
+                 "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)")
+      ->required();
+  app.add_option("--frames", o.frames, "A:B, the first and the last frame (default: every frame)");
+  app.add_option("--jobs", o.jobs, "Pairs registered at once, each a process of its own")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app.add_option("--preset", o.preset, "Pipeline preset: dp4 or dp7 (as tigris register)")
+      ->check(CLI::IsMember({"dp4", "dp7"}))
+      ->capture_default_str();
+  app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)");
+  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)");
+  app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
+      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
+  app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
+  app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
+  app.add_option("--accel-config", o.accel_config, "With --search accel*: the accelerator's configuration JSON");
+  app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)");
+  app.add_option("--max-work", o.max_work, "Work bound of each pair's registration (as tigris register)")
+      ->check(finite_range(0.0, 1e18))
+      ->capture_default_str();
+  app.add_option("--out", o.out, "Output folder")->capture_default_str();
+}
+
+int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
+  const registration::KittiSequence seq = registration::read_kitti_sequence(o.sequence);
+  if (seq.scans.size() < 2) throw std::invalid_argument(o.sequence + ": a sequence needs two frames or more");
+  const auto [first, last] = parse_frames(o.frames, seq.scans.size());
+  const std::vector<std::string> flags = forwarded(o);
+
+  // The run's settings: a rerun into the same folder must have the same ones.
+  ordered_json settings;
+  settings["sequence"] = fs::absolute(o.sequence).lexically_normal().string();
+  settings["frames"] = {first, last};
+  settings["register_flags"] = flags;
+  const std::string settings_path = o.out + "/odometry.json";
+  {
+    std::ifstream f(settings_path);
+    ordered_json before;
+    if (f) {
+      try {
+        f >> before;
+      } catch (const std::exception&) {
+        throw std::invalid_argument(settings_path + " is not a tigris odometry settings file: use another --out");
+      }
+      if (before != settings)
+        throw std::invalid_argument(o.out + " holds a run with other settings (" + settings_path + ": " +
+                                    before.dump() + "): use another --out, or remove the folder");
+    }
+  }
+  fs::create_directories(o.out + "/pairs");
+  write_file(settings_path, [&](std::ostream& f) { f << settings.dump(2) << '\n'; });
+
+  // Each pair: frame i + 1 (source) into frame i (target), in OUT/pairs/<i>/.
+  const std::size_t pairs = last - first;
+  std::vector<ordered_json> regs(pairs);
+  std::vector<std::size_t> todo;
+  for (std::size_t k = 0; k < pairs; ++k)
+    if (!read_pair(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json", regs[k])) todo.push_back(k);
+  std::fprintf(stderr, "tigris odometry: %s, frames %zu..%zu: %zu pairs (%zu already in %s), --jobs %d\n",
+               o.sequence.c_str(), first, last, pairs, pairs - todo.size(), o.out.c_str(), o.jobs);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::map<pid_t, std::size_t> running;
+  std::string failure;
+  std::size_t next = 0, done = 0;
+  while (done < todo.size()) {
+    while (next < todo.size() && failure.empty() && running.size() < static_cast<std::size_t>(o.jobs)) {
+      const std::size_t k = todo[next++];
+      const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+      fs::create_directories(dir);
+      std::vector<std::string> args{"/proc/self/exe", "register", "--source", seq.scans[first + k + 1], "--target",
+                                    seq.scans[first + k]};
+      args.insert(args.end(), flags.begin(), flags.end());
+      args.insert(args.end(), {"--out", dir});
+      running[start_pair(args, dir + "/log.txt")] = k;
+    }
+    if (running.empty()) break;  // a failure stopped the scheduling
+    int status = 0;
+    const pid_t pid = ::wait(&status);
+    if (pid < 0) throw std::runtime_error("lost a pair's process");
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const std::size_t k = it->second;
+    running.erase(it);
+    ++done;
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+    const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
+    std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s)\n", done, todo.size(),
+                 frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
+                 ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (!ok && failure.empty())
+      failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
+                std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
+  }
+  if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
+
+  // Chain: pose of frame first + k + 1 = pose of frame first + k * (its pair's transform).
+  std::vector<Pose> est{Pose::Identity()};
+  for (std::size_t k = 0; k < pairs; ++k) {
+    if (regs[k]["transform"].is_null())
+      throw std::invalid_argument("pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) +
+                                  " is degenerate (no transform: " + regs[k].value("problem", std::string()) +
+                                  "): the trajectory cannot be chained past it");
+    est.push_back(est.back() * pose_of(regs[k]["transform"]));
+  }
+  std::vector<Pose> gt;
+  if (!seq.poses.empty()) {
+    const Pose anchor = seq.poses[first].inverse();
+    for (std::size_t i = first; i <= last; ++i) gt.push_back(anchor * seq.poses[i]);
+  }
+  write_file(o.out + "/poses.txt", [&](std::ostream& f) { registration::write_kitti_poses(f, est, seq.velo_to_cam); });
+
+  // Per pair.
+  const bool accel = o.search == "accel" || o.search == "accel-approx";
+  double sum_seconds = 0, sum_kd = 0, sum_modeled_e2e = 0, sum_modeled_kd = 0, sum_energy = 0;
+  std::size_t not_converged = 0;
+  std::ostringstream csv;
+  csv << "pair,source,target,status,seconds,kdtree_seconds,kdtree_share,searches,rpe_translation_m,rpe_rotation_deg";
+  if (accel) csv << ",modeled_kdtree_seconds,modeled_end_to_end_seconds,kdtree_energy_pj,fallback_searches";
+  csv << '\n';
+  for (std::size_t k = 0; k < pairs; ++k) {
+    const ordered_json& r = regs[k];
+    const double seconds = r["seconds"].get<double>(), kd = stage_sum(r, "search_seconds");
+    sum_seconds += seconds;
+    sum_kd += kd;
+    not_converged += r["status"] != "converged";
+    char line[512];
+    double rpe_t = NAN, rpe_r = NAN;
+    if (!gt.empty()) {
+      const registration::PoseError e =
+          registration::pose_error(gt[k].inverse() * gt[k + 1], est[k].inverse() * est[k + 1]);
+      rpe_t = e.translation_m;
+      rpe_r = e.rotation_deg;
+    }
+    std::snprintf(line, sizeof line, "%zu,%zu,%zu,%s,%.6f,%.6f,%.4f,%.0f,%.6g,%.6g", k, first + k + 1, first + k,
+                  r["status"].get<std::string>().c_str(), seconds, kd, seconds > 0 ? kd / seconds : 0.0,
+                  stage_sum(r, "searches"), rpe_t, rpe_r);
+    csv << line;
+    if (accel) {
+      const ordered_json& a = r["accelerator"];
+      sum_modeled_kd += a["modeled_kdtree_seconds"].get<double>();
+      sum_modeled_e2e += a["modeled_end_to_end_seconds"].get<double>();
+      sum_energy += a["kdtree_energy_pj"].get<double>();
+      std::snprintf(line, sizeof line, ",%.6g,%.6g,%.6g,%llu", a["modeled_kdtree_seconds"].get<double>(),
+                    a["modeled_end_to_end_seconds"].get<double>(), a["kdtree_energy_pj"].get<double>(),
+                    static_cast<unsigned long long>(a["fallback_searches"].get<std::uint64_t>()));
+      csv << line;
+    }
+    csv << '\n';
+  }
+  write_file(o.out + "/pairs.csv", [&](std::ostream& f) { f << csv.str(); });
+
+  ordered_json m;
+  m["command"] = "odometry";
+  m["command_line"] = o.command_line;
+  m["sequence"] = o.sequence;
+  m["calibration"] = seq.calibration;
+  m["frames"] = {first, last};
+  m["pairs"] = pairs;
+  m["register_flags"] = flags;
+  m["not_converged_pairs"] = not_converged;
+  m["totals"] = {{"seconds", sum_seconds}, {"kdtree_search_seconds", sum_kd},
+                 {"kdtree_share", sum_seconds > 0 ? sum_kd / sum_seconds : 0.0}};
+  if (accel)
+    m["accelerator"] = {{"modeled_kdtree_seconds", sum_modeled_kd},
+                        {"modeled_end_to_end_seconds", sum_modeled_e2e},
+                        {"kdtree_energy_pj", sum_energy},
+                        {"per_pair_mean", {{"modeled_kdtree_seconds", sum_modeled_kd / pairs},
+                                           {"modeled_end_to_end_seconds", sum_modeled_e2e / pairs},
+                                           {"kdtree_energy_pj", sum_energy / pairs}}}};
+  std::string note;
+  if (gt.empty()) {
+    m["ground_truth"] = nullptr;
+    note = "no poses.txt: no error metrics";
+  } else {
+    const registration::OdometryMetrics x = registration::odometry_metrics(gt, est);
+    ordered_json lengths = ordered_json::array();
+    for (const auto& l : x.per_length)
+      lengths.push_back({{"length_m", l.length_m}, {"segments", l.segments},
+                         {"t_err_percent", number(l.t_err_percent)}, {"r_err_deg_per_m", number(l.r_err_deg_per_m)}});
+    m["kitti"] = {{"t_err_percent", number(x.t_err_percent)},
+                  {"r_err_deg_per_m", number(x.r_err_deg_per_m)},
+                  {"segments", x.segments},
+                  {"trajectory_length_m", x.trajectory_length_m},
+                  {"too_short", x.too_short},
+                  {"per_length", lengths},
+                  {"how", "the KITTI odometry devkit: segments of 100..800 m of ground-truth path starting every "
+                          "10 frames; translational error in % and rotational error in deg/m, averaged over every "
+                          "segment"}};
+    if (x.too_short)
+      m["kitti"]["note"] = "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
+                           "(null, not 0)";
+    m["ate"] = {{"rmse_m", number(x.ate_rmse_m)}, {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
+                {"unaligned_max_m", number(x.ate_max_m)}};
+    m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
+                {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
+    const std::size_t steps = constant_steps(gt);
+    if (steps >= 10) {
+      char b[400];
+      std::snprintf(b, sizeof b,
+                    "the ground truth's first %zu steps are identical: such poses are interpolated, not measured "
+                    "(KITTI 00's first ~15 frames, ../shared/data/README.md); per-pair errors there measure the "
+                    "ground truth, not the registration",
+                    steps);
+      m["ground_truth_warning"] = b;
+      note = b;
+    }
+  }
+  write_file(o.out + "/metrics.json", [&](std::ostream& f) { f << m.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+
+  std::printf("tigris odometry: %s, frames %zu..%zu (%zu pairs, %zu not converged), %s\n", o.sequence.c_str(), first,
+              last, pairs, not_converged, o.search.empty() ? "search exact" : ("search " + o.search).c_str());
+  if (accel)
+    std::printf("  registration %.2f s of wall time in all, the accelerator's simulation included\n", sum_seconds);
+  else
+    std::printf("  registration %.2f s in all, KD-tree search %.2f s (%.1f%%)\n", sum_seconds, sum_kd,
+                sum_seconds > 0 ? 100.0 * sum_kd / sum_seconds : 0.0);
+  if (accel)
+    std::printf("  on the accelerator (modeled): KD-tree %.4f s, end to end %.3f s, KD-tree energy %.1f uJ\n",
+                sum_modeled_kd, sum_modeled_e2e, sum_energy * 1e-6);
+  if (m.contains("kitti")) {
+    const auto& k = m["kitti"];
+    if (k["too_short"].get<bool>())
+      std::printf("  KITTI metrics: none, the trajectory (%.1f m) is shorter than 100 m\n",
+                  k["trajectory_length_m"].get<double>());
+    else
+      std::printf("  KITTI metrics over %zu segments of %.0f m of path: translation %.3f%%, rotation %.5f deg/m\n",
+                  k["segments"].get<std::size_t>(), k["trajectory_length_m"].get<double>(),
+                  k["t_err_percent"].get<double>(), k["r_err_deg_per_m"].get<double>());
+    std::printf("  ATE %.4f m (aligned), %.4f m unaligned; mean RPE %.4f m, %.4f deg per pair\n",
+                m["ate"]["rmse_m"].get<double>(), m["ate"]["unaligned_rmse_m"].get<double>(),
+                m["rpe"]["mean_translation_m"].get<double>(), m["rpe"]["mean_rotation_deg"].get<double>());
+  }
+  if (!note.empty()) std::printf("  note: %s\n", note.c_str());
+  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json (per pair: %s/pairs/)\n", o.out.c_str(), o.out.c_str());
+  return not_converged > 0 ? 1 : 0;
+}
+
+}  // namespace tigris

@@ -1,0 +1,33 @@
+// `tigris odometry` (issue 20, DESIGN.md section 19): registers each frame of a KITTI-layout
+// sequence into the previous one and chains the poses. Each pair is `tigris register` run as a
+// process of its own with the pipeline flags forwarded (so a pair's registration.json is
+// exactly what `tigris register` would write), `--jobs N` at a time; a rerun into the same OUT
+// with the same settings reuses the pairs already there. Writes OUT/poses.txt (KITTI format),
+// OUT/pairs.csv and OUT/metrics.json (the KITTI devkit's metrics when the sequence has
+// poses.txt; the accelerator's totals with --search accel*).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace tigris {
+
+struct OdometryOptions {
+  std::string sequence;     // a KITTI-layout folder
+  std::string frames;       // "A:B", first and last frame (default: all)
+  int jobs = 1;
+  std::string out = "tigris-odometry";
+  // Forwarded to each pair's `tigris register` as given.
+  std::string preset = "dp4", config, search, height, approx_thd, accel_config;
+  std::vector<std::string> sets, accel_sets;
+  double max_work = 1e10;
+  std::vector<std::string> argv;  // as given (set by main)
+  std::string command_line;
+};
+
+void add_odometry_options(CLI::App& app, OdometryOptions& o);
+int run_odometry_command(const CLI::App& app, const OdometryOptions& o);
+
+}  // namespace tigris

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""`tigris odometry` through the command line (issue 20): a four-frame KITTI-layout sequence of a
+room scene with exact poses (no calib.txt: the axis swap), registered pair by pair; poses.txt,
+pairs.csv and metrics.json written, the chained poses near the truth, a short trajectory
+reported without KITTI metrics (null, not 0), --jobs 2 equal to --jobs 1, a rerun resuming,
+other settings into the same folder refused, a missing scan and a short poses.txt refused.
+
+Usage: odometry_cli_test.py --tigris PATH   (exit 0 when every check holds)
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import random
+import struct
+import subprocess
+import sys
+import tempfile
+
+AXIS = [[0, -1, 0, 0], [0, 0, -1, 0], [1, 0, 0, 0], [0, 0, 0, 1]]  # p_cam = A p_velo
+
+
+def mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def inv(t):  # rigid
+    r = [[t[j][i] for j in range(3)] for i in range(3)]
+    p = [-sum(r[i][k] * t[k][3] for k in range(3)) for i in range(3)]
+    return [r[0] + [p[0]], r[1] + [p[1]], r[2] + [p[2]], [0, 0, 0, 1]]
+
+
+def pose(x, y, yaw_deg):
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    return [[c, -s, 0, x], [s, c, 0, y], [0, 0, 1, 0], [0, 0, 0, 1]]
+
+
+def make_sequence(d, frames=4):
+    rng = random.Random(20)
+    room = []
+    for _ in range(6000):
+        u, v = rng.uniform(-8, 8), rng.uniform(0, 3)
+        room += [(u, -8, v), (u, 8, v), (-8, u, v), (8, u, v)][rng.randrange(4):][:1]
+    for cx, cy in ((2, 3), (-3, 1), (4, -4)):
+        for _ in range(800):
+            a, h = rng.uniform(0, 2 * math.pi), rng.uniform(0, 3)
+            room.append((cx + 0.4 * math.cos(a), cy + 0.4 * math.sin(a), h))
+    room += [(rng.uniform(-8, 8), rng.uniform(-8, 8), 0.0) for _ in range(3000)]
+    os.makedirs(os.path.join(d, "velodyne"))
+    poses = [pose(0.2 * i, 0.05 * i, 1.0 * i) for i in range(frames)]  # Velodyne i in frame 0
+    with open(os.path.join(d, "poses.txt"), "w") as f:
+        for p in poses:
+            cam = mul(mul(AXIS, p), inv(AXIS))
+            f.write(" ".join("%.17g" % cam[r][c] for r in range(3) for c in range(4)) + "\n")
+    for i, p in enumerate(poses):
+        q = inv(p)
+        with open(os.path.join(d, "velodyne", "%06d.bin" % i), "wb") as f:
+            for x, y, z in room:
+                v = [sum(q[r][k] * w for k, w in enumerate((x, y, z, 1))) for r in range(3)]
+                f.write(struct.pack("<4f", v[0], v[1], v[2], 0.0))
+    return poses
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--tigris", required=True)
+    a = ap.parse_args()
+    failures = []
+
+    def run(args, code=0, needle=None):
+        p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=900)
+        out = p.stdout + p.stderr
+        if p.returncode != code or (needle and needle not in out):
+            failures.append(f"tigris {' '.join(args)}: exit {p.returncode} (want {code})"
+                            + (f", no {needle!r}" if needle else "") + "\n    " + out.strip()[-1500:].replace("\n", "\n    "))
+        return out
+
+    def check(cond, what):
+        if not cond:
+            failures.append(what)
+
+    with tempfile.TemporaryDirectory(prefix="tigris_odometry_") as d:
+        seq = os.path.join(d, "seq")
+        make_sequence(seq)
+        o1, o2 = os.path.join(d, "o1"), os.path.join(d, "o2")
+        text = run(["odometry", "--sequence", seq, "--out", o1], 0, "KITTI metrics: none")
+        check("axis swap" in open(os.path.join(o1, "metrics.json")).read(), "the calibration is not named")
+        m = json.load(open(os.path.join(o1, "metrics.json")))
+        check(m["pairs"] == 3, f"pairs {m['pairs']}")
+        check(m["kitti"]["too_short"] and m["kitti"]["t_err_percent"] is None, f"kitti {m['kitti']}")
+        check(m["rpe"]["mean_translation_m"] < 0.02 and m["rpe"]["mean_rotation_deg"] < 0.2, f"rpe {m['rpe']}")
+        check(m["ate"]["unaligned_max_m"] < 0.05, f"ate {m['ate']}")
+        lines = open(os.path.join(o1, "poses.txt")).read().split("\n")
+        check(len([l for l in lines if l]) == 4 and all(len(l.split()) == 12 for l in lines if l), "poses.txt")
+        rows = list(csv.DictReader(open(os.path.join(o1, "pairs.csv"))))
+        check([r["target"] for r in rows] == ["0", "1", "2"] and all(r["status"] == "converged" for r in rows),
+              f"pairs.csv {rows}")
+        # Frame 3's pose from poses.txt against the truth: the camera pose's translation.
+        last = [float(v) for v in lines[3].split()]
+        truth = mul(mul(AXIS, pose(0.6, 0.15, 3.0)), inv(AXIS))
+        err = math.dist((last[3], last[7], last[11]), (truth[0][3], truth[1][3], truth[2][3]))
+        check(err < 0.05, f"frame 3 is {err:.3f} m off")
+        run(["odometry", "--sequence", seq, "--jobs", "2", "--out", o2])
+        check(open(os.path.join(o1, "poses.txt")).read() == open(os.path.join(o2, "poses.txt")).read(),
+              "--jobs 2 chained other poses than --jobs 1")
+        run(["odometry", "--sequence", seq, "--out", o1], 0, "3 already in")  # resumes
+        run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a run with other settings")
+        run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
+        run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
+        run(["odometry", "--sequence", seq, "--frames", "2", "--out", os.path.join(d, "x")], 2, "--frames must be A:B")
+        os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
+        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
+        os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))
+        with open(os.path.join(seq, "poses.txt")) as f:
+            first = f.readline()
+        with open(os.path.join(seq, "poses.txt"), "w") as f:
+            f.write(first)
+        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
+        run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
+    for msg in failures:
+        print("FAIL", msg)
+    print(f"odometry_cli_test: {len(failures)} failures")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
