@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arg_checks.hpp"
+#include "python_tools.hpp"
 #include "report.hpp"
 #include "sw_ref/registration/kitti_sequence.hpp"
 #include "sw_ref/registration/odometry_metrics.hpp"
@@ -250,6 +251,17 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
     for (std::size_t i = first; i <= last; ++i) gt.push_back(anchor * seq.poses[i]);
   }
   write_file(o.out + "/poses.txt", [&](std::ostream& f) { registration::write_kitti_poses(f, est, seq.velo_to_cam); });
+  // Positions in frame A's Velodyne frame (x forward, y left, z up), for the plots.
+  write_file(o.out + "/trajectory.csv", [&](std::ostream& f) {
+    f << "frame,est_x,est_y,est_z,gt_x,gt_y,gt_z\n";
+    char line[256];
+    for (std::size_t i = 0; i < est.size(); ++i) {
+      const Pose g = gt.empty() ? Pose::Constant(NAN) : gt[i];
+      std::snprintf(line, sizeof line, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", first + i, est[i](0, 3), est[i](1, 3),
+                    est[i](2, 3), g(0, 3), g(1, 3), g(2, 3));
+      f << line;
+    }
+  });
 
   // Per pair.
   const bool accel = o.search == "accel" || o.search == "accel-approx";
@@ -331,6 +343,12 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
     if (x.too_short)
       m["kitti"]["note"] = "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
                            "(null, not 0)";
+    ordered_json segs = ordered_json::array();  // every devkit segment, for the plots
+    for (const registration::SegmentError& e : registration::sequence_errors(gt, est))
+      segs.push_back({{"first_frame", first + e.first_frame}, {"length_m", e.length_m},
+                      {"speed_m_per_s", e.speed_m_per_s}, {"t_err_percent", 100.0 * e.t_err_per_m},
+                      {"r_err_deg_per_m", e.r_err_rad_per_m * 180.0 / M_PI}});
+    m["kitti"]["segment_list"] = segs;
     m["ate"] = {{"rmse_m", number(x.ate_rmse_m)}, {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
                 {"unaligned_max_m", number(x.ate_max_m)}};
     m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
@@ -373,7 +391,13 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
                 m["rpe"]["mean_translation_m"].get<double>(), m["rpe"]["mean_rotation_deg"].get<double>());
   }
   if (!note.empty()) std::printf("  note: %s\n", note.c_str());
-  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json (per pair: %s/pairs/)\n", o.out.c_str(), o.out.c_str());
+  std::string why;
+  const int plotted = run_python_script("odometry_plots.py", {o.out}, why);
+  if (plotted != 0)
+    std::fprintf(stderr, "tigris odometry: warning: the plots were not drawn (%s)\n",
+                 plotted < 0 || !why.empty() ? why.c_str() : ("sweep/odometry_plots.py exit " + std::to_string(plotted)).c_str());
+  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n",
+              o.out.c_str(), plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
   return not_converged > 0 ? 1 : 0;
 }
 

@@ -1,6 +1,10 @@
 #include "python_tools.hpp"
 
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
 
 #include <climits>
 #include <cstdlib>
@@ -38,6 +42,35 @@ int run_python_tool(int argc, char** argv) {
   execvp(args[0], args.data());
   std::cerr << "tigris: error: cannot run " << python << " " << path << ": " << std::strerror(errno) << '\n';
   return 2;
+}
+
+int run_python_script(const std::string& script, const std::vector<std::string>& args, std::string& why) {
+  const char* dir_env = std::getenv("TIGRIS_SWEEP_DIR");
+  const std::string path = std::string(dir_env && *dir_env ? dir_env : TIGRIS_SWEEP_DIR) + "/" + script;
+  if (access(path.c_str(), R_OK) != 0) {
+    why = path + " is not there (the sweep/ folder of the source tree; set TIGRIS_SWEEP_DIR)";
+    return -1;
+  }
+  const std::string python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+  std::vector<char*> argv = {const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str())};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    why = std::string("cannot start a process: ") + std::strerror(errno);
+    return -1;
+  }
+  if (pid == 0) {
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  if (code == 127) why = "cannot run " + python;
+  return code;
 }
 
 }  // namespace tigris

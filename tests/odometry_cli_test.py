@@ -88,6 +88,8 @@ def main():
         check("axis swap" in open(os.path.join(o1, "metrics.json")).read(), "the calibration is not named")
         m = json.load(open(os.path.join(o1, "metrics.json")))
         check(m["pairs"] == 3, f"pairs {m['pairs']}")
+        for png in ("trajectory.png", "errors.png"):
+            check(os.path.isfile(os.path.join(o1, png)), f"no {png}")
         check(m["kitti"]["too_short"] and m["kitti"]["t_err_percent"] is None, f"kitti {m['kitti']}")
         check(m["rpe"]["mean_translation_m"] < 0.02 and m["rpe"]["mean_rotation_deg"] < 0.2, f"rpe {m['rpe']}")
         check(m["ate"]["unaligned_max_m"] < 0.05, f"ate {m['ate']}")

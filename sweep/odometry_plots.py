@@ -1,0 +1,153 @@
+#!/usr/bin/python3
+"""The figures of a `tigris odometry` run (issue 20).
+
+    sweep/odometry_plots.py OUT
+
+Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
+  OUT/trajectory.png  top view (x forward, y left of the first frame's sensor, metres, equal
+                      axes) of the estimated trajectory and, when there is one, the ground truth;
+  OUT/errors.png      the KITTI devkit's errors against segment length and against speed
+                      (translation %, rotation deg/m); without a segment of 100 m (a short
+                      trajectory) or a ground truth, the per-pair relative pose error instead,
+                      and the figure says why.
+Exit 2 with a message naming the file when an input is missing or malformed.
+"""
+import csv
+import json
+import math
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+
+
+def fail(msg):
+    print(f"odometry_plots: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read_csv(path):
+    try:
+        with open(path, newline="") as f:
+            return list(csv.DictReader(f))
+    except OSError as e:
+        fail(f"{path}: {e.strerror}")
+
+
+def num(row, key, path):
+    try:
+        return float(row[key])
+    except (KeyError, TypeError, ValueError):
+        fail(f"{path}: no number in column {key!r} of row {row}")
+
+
+def trajectory(out, traj, metrics):
+    path = os.path.join(out, "trajectory.csv")
+    est = [(num(r, "est_x", path), num(r, "est_y", path)) for r in traj]
+    gt = [(num(r, "gt_x", path), num(r, "gt_y", path)) for r in traj]
+    has_gt = all(math.isfinite(x) and math.isfinite(y) for x, y in gt)
+    fig, ax = plt.subplots(figsize=(6.4, 6.4))
+    if has_gt:
+        ax.plot([p[0] for p in gt], [p[1] for p in gt], "-", color="0.3", lw=2.0, label="ground truth")
+    ax.plot([p[0] for p in est], [p[1] for p in est], "-", color="C1", lw=1.2, label="estimate")
+    ax.plot([est[0][0]], [est[0][1]], "ko", ms=5, label=f"frame {traj[0]['frame']}")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m, forward at the first frame)")
+    ax.set_ylabel("y (m, left)")
+    k = metrics.get("kitti") or {}
+    title = f"{len(est)} frames"
+    if k and not k.get("too_short"):
+        title += f": {k['t_err_percent']:.2f}% translation, {k['r_err_deg_per_m']:.4f} deg/m (KITTI)"
+    elif has_gt:
+        title += f", {k.get('trajectory_length_m', 0):.1f} m: shorter than 100 m, no KITTI metrics"
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, lw=0.3)
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "trajectory.png"), dpi=120)
+    plt.close(fig)
+
+
+def binned(segs, key, edges):
+    """Mean of `key` per speed bin [edges[i], edges[i+1]) in km/h, bins with a segment only."""
+    xs, ys = [], []
+    for lo, hi in zip(edges, edges[1:]):
+        vals = [s[key] for s in segs if lo <= s["speed_m_per_s"] * 3.6 < hi]
+        if vals:
+            xs.append((lo + hi) / 2)
+            ys.append(sum(vals) / len(vals))
+    return xs, ys
+
+
+def errors(out, pairs, metrics):
+    k = metrics.get("kitti") or {}
+    segs = k.get("segment_list") or []
+    fig, axes = plt.subplots(2, 2, figsize=(9.6, 6.4))
+    if segs:
+        per_len = [p for p in k["per_length"] if p["segments"] > 0]
+        lengths = [p["length_m"] for p in per_len]
+        edges = list(range(0, 100, 5))
+        for row, (key, label) in enumerate((("t_err_percent", "translation error (%)"),
+                                            ("r_err_deg_per_m", "rotation error (deg/m)"))):
+            ax = axes[row][0]
+            ax.plot(lengths, [p[key] for p in per_len], "o-", color="C0")
+            ax.set_xlabel("segment length (m)")
+            ax.set_ylabel(label)
+            ax.set_ylim(bottom=0)
+            ax = axes[row][1]
+            xs, ys = binned(segs, key, edges)
+            ax.plot(xs, ys, "o-", color="C1")
+            ax.set_xlabel("speed (km/h, 5 km/h bins)")
+            ax.set_ylabel(label)
+            ax.set_ylim(bottom=0)
+        fig.suptitle(f"KITTI devkit errors over {len(segs)} segments (100..800 m, one every 10 frames)", fontsize=10)
+    else:
+        path = os.path.join(out, "pairs.csv")
+        rows = [r for r in pairs if r.get("rpe_translation_m") not in (None, "", "nan")]
+        why = "the trajectory is shorter than 100 m: no KITTI segment" if k else "no ground truth (no poses.txt)"
+        if rows:
+            x = [int(r["target"]) for r in rows]
+            for row, (key, label) in enumerate((("rpe_translation_m", "relative pose error (m)"),
+                                                ("rpe_rotation_deg", "relative pose error (deg)"))):
+                ax = axes[row][0]
+                ax.plot(x, [num(r, key, path) for r in rows], "o-", color="C0")
+                ax.set_xlabel("pair (target frame)")
+                ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+                ax.set_ylabel(label)
+                ax.set_ylim(bottom=0)
+        for row in range(2):
+            axes[row][1].axis("off")
+        axes[0][1].text(0.0, 0.5, why + ":\nper-pair errors instead", fontsize=10, va="center")
+        fig.suptitle("per-pair relative pose error", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "errors.png"), dpi=120)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
+        print(__doc__.strip())
+        return 0 if len(sys.argv) == 2 else 2
+    out = sys.argv[1]
+    path = os.path.join(out, "metrics.json")
+    try:
+        with open(path) as f:
+            metrics = json.load(f)
+    except OSError as e:
+        fail(f"{path}: {e.strerror}")
+    except ValueError as e:
+        fail(f"{path}: not JSON ({e})")
+    traj = read_csv(os.path.join(out, "trajectory.csv"))
+    if not traj:
+        fail(f"{os.path.join(out, 'trajectory.csv')}: no rows")
+    trajectory(out, traj, metrics)
+    errors(out, read_csv(os.path.join(out, "pairs.csv")), metrics)
+    print(f"odometry_plots: wrote {os.path.join(out, 'trajectory.png')} and {os.path.join(out, 'errors.png')}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
