@@ -2,8 +2,9 @@
 """`tigris odometry` through the command line (issue 20): a four-frame KITTI-layout sequence of a
 room scene with exact poses (no calib.txt: the axis swap), registered pair by pair; poses.txt,
 pairs.csv and metrics.json written, the chained poses near the truth, a short trajectory
-reported without KITTI metrics (null, not 0), --jobs 2 equal to --jobs 1, a rerun resuming,
-other settings into the same folder refused, a missing scan and a short poses.txt refused.
+reported without KITTI metrics (null, not 0), the plots drawn, --jobs 2 equal to --jobs 1, a
+rerun resuming, other settings into the same folder refused, a ground truth of equal steps
+flagged, a missing scan and a short poses.txt refused.
 
 Usage: odometry_cli_test.py --tigris PATH   (exit 0 when every check holds)
 """
@@ -111,6 +112,16 @@ def main():
         run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
         run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
         run(["odometry", "--sequence", seq, "--frames", "2", "--out", os.path.join(d, "x")], 2, "--frames must be A:B")
+        # Two more poses than scans, all steps equal (KITTI 00's first frames): both are said.
+        with open(os.path.join(seq, "poses.txt"), "a") as f:
+            for i in (4, 5):
+                cam = mul(mul(AXIS, pose(0.2 * i, 0.05 * i, 1.0 * i)), inv(AXIS))
+                f.write(" ".join("%.17g" % cam[r][c] for r in range(3) for c in range(4)) + "\n")
+        text = run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o4")], 0, "6 poses for 4 scans")
+        check("first 5 steps are equal" in text and "may measure the ground truth" in text,
+              "no warning for a ground truth of equal steps")
+        check("ground_truth_warning" in json.load(open(os.path.join(d, "o4", "metrics.json"))),
+              "metrics.json has no ground_truth_warning")
         os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
         run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
         os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))
@@ -119,6 +130,7 @@ def main():
         with open(os.path.join(seq, "poses.txt"), "w") as f:
             f.write(first)
         run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
+        run(["odometry", "--sequence", seq, "--jobs", "0", "--out", os.path.join(d, "x")], 2, "--jobs")
         run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
     for msg in failures:
         print("FAIL", msg)

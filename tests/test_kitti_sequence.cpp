@@ -109,6 +109,12 @@ TEST_CASE("KITTI sequence: without calib.txt the axis swap, as the pair's ground
   CHECK((s.velo_to_cam - kitti_velo_to_cam()).norm() == 0.0);
   const Pose relative = s.poses[0].inverse() * s.poses[1];  // frame 1 into frame 0
   CHECK((relative - kitti_relative_velo_pose(cam[1], cam[0])).norm() < 1e-12);
+  // More poses than scans (a folder with a sequence's first scans): the first are used, said so.
+  write_poses(d / "poses.txt", {cam[0], cam[1], cam_pose(2.0, 0.004)});
+  const KittiSequence more = read_kitti_sequence(d.string());
+  CHECK(more.poses.size() == 3);
+  CHECK((more.poses[1] - s.poses[1]).norm() < 1e-12);
+  CHECK_THAT(more.note, Catch::Contains("3 poses for 2 scans"));
   // Without poses.txt: scans only.
   fs::remove(d / "poses.txt");
   CHECK(read_kitti_sequence(d.string()).poses.empty());
@@ -117,7 +123,7 @@ TEST_CASE("KITTI sequence: without calib.txt the axis swap, as the pair's ground
 
 TEST_CASE("KITTI sequence: a missing scan, a short poses.txt and a bad Tr are errors naming the file", "[odometry]") {
   const fs::path d = fresh_dir("bad");
-  CHECK_THAT(error_of((d / "nowhere").string()), Catch::Contains("velodyne") && Catch::Contains("no such folder"));
+  CHECK_THAT(error_of((d / "nowhere").string()), Catch::Contains("nowhere: no such folder"));
   CHECK_THAT(error_of(d.string()), Catch::Contains("no scan"));
   for (int i : {0, 1, 3}) write_scan(d, i);
   CHECK_THAT(error_of(d.string()), Catch::Contains("000002.bin is missing") && Catch::Contains("000003.bin next"));

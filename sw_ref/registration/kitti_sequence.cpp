@@ -77,17 +77,24 @@ Pose read_kitti_calib_tr(const std::string& path) {
 KittiSequence read_kitti_sequence(const std::string& dir) {
   KittiSequence s;
   s.dir = dir;
-  const fs::path velo = fs::path(dir) / "velodyne";
+  // KITTI's layout has the scans in velodyne/; a folder holding them itself (../shared/data's
+  // kitti-00) is read the same way.
+  fs::path velo = fs::path(dir) / "velodyne";
   std::error_code ec;
-  if (!fs::is_directory(velo, ec))
-    throw InputError(velo.string() + ": no such folder (a KITTI sequence holds velodyne/NNNNNN.bin scans)");
+  if (!fs::is_directory(velo, ec)) {
+    if (!fs::is_directory(dir, ec))
+      throw InputError(dir + ": no such folder (a KITTI sequence holds velodyne/NNNNNN.bin scans)");
+    velo = fs::path(dir);
+  }
   std::vector<long> numbers;
   for (const auto& e : fs::directory_iterator(velo, ec)) {
     const long n = frame_number(e.path().filename().string());
     if (n >= 0) numbers.push_back(n);
   }
   if (ec) throw InputError(velo.string() + ": cannot list the folder: " + ec.message());
-  if (numbers.empty()) throw InputError(velo.string() + ": no scan (NNNNNN.bin) in the folder");
+  if (numbers.empty())
+    throw InputError(velo.string() + ": no scan (NNNNNN.bin) in the folder (a KITTI sequence holds "
+                                     "velodyne/NNNNNN.bin scans)");
   std::sort(numbers.begin(), numbers.end());
   for (std::size_t i = 0; i < numbers.size(); ++i) {
     if (numbers[i] != static_cast<long>(i))
@@ -107,10 +114,15 @@ KittiSequence read_kitti_sequence(const std::string& dir) {
   const fs::path poses = fs::path(dir) / "poses.txt";
   if (fs::exists(poses, ec)) {
     const std::vector<Pose> cam = read_kitti_poses(poses.string());
-    if (cam.size() != s.scans.size())
+    if (cam.size() < s.scans.size())
       throw InputError(poses.string() + ": " + std::to_string(cam.size()) + " poses for " +
                        std::to_string(s.scans.size()) + " scans in " + velo.string() +
                        " (one pose a scan, frame 0 first)");
+    // More poses than scans: a folder holding the first scans of a sequence (../shared/data's
+    // KITTI 00 has 2 scans and 6 poses); the first poses are the scans'.
+    if (cam.size() > s.scans.size())
+      s.note = poses.string() + " holds " + std::to_string(cam.size()) + " poses for " +
+               std::to_string(s.scans.size()) + " scans: the first " + std::to_string(s.scans.size()) + " are the scans'";
     const Pose inv_tr = s.velo_to_cam.inverse();
     for (const Pose& p : cam) s.poses.push_back(inv_tr * p * s.velo_to_cam);
   }
