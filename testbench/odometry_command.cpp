@@ -169,6 +169,10 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
 }
 
 int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
+  // OUT/poses.txt must not be the sequence's own ground truth (--out DIR would overwrite it).
+  check_distinct_paths({{"--sequence (poses.txt)", o.sequence + "/poses.txt"}, {"--config", o.config},
+                        {"--accel-config", o.accel_config}},
+                       {{"--out (poses.txt)", o.out + "/poses.txt"}, {"--out (metrics.json)", o.out + "/metrics.json"}});
   const registration::KittiSequence seq = registration::read_kitti_sequence(o.sequence);
   if (seq.scans.size() < 2) throw std::invalid_argument(o.sequence + ": a sequence needs two frames or more");
   const auto [first, last] = parse_frames(o.frames, seq.scans.size());

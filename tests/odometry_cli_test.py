@@ -131,6 +131,9 @@ def main():
             f.write(first)
         run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
         run(["odometry", "--sequence", seq, "--jobs", "0", "--out", os.path.join(d, "x")], 2, "--jobs")
+        gt_before = open(os.path.join(seq, "poses.txt")).read()
+        run(["odometry", "--sequence", seq, "--out", seq], 2, "would overwrite the input --sequence (poses.txt)")
+        check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
         run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
     for msg in failures:
         print("FAIL", msg)
