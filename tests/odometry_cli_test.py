@@ -125,6 +125,11 @@ def main():
         os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
         run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
         os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))
+        scan2 = os.path.join(seq, "velodyne", "000002.bin")
+        whole = open(scan2, "rb").read()
+        open(scan2, "wb").write(whole[:1000])  # truncated: the pair's register names the file
+        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o5")], 2, "000002.bin: file size 1000 bytes")
+        open(scan2, "wb").write(whole)
         with open(os.path.join(seq, "poses.txt")) as f:
             first = f.readline()
         with open(os.path.join(seq, "poses.txt"), "w") as f:
