@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
   tigris::RegisterOptions register_options;
   CLI::App* reg = app.add_subcommand(
       "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
-                  "KPCE, rejection, ICP) with its KD-tree searches on the golden model or FLANN");
+                  "KPCE, rejection, ICP) with its KD-tree searches on the golden model, FLANN or the accelerator "
+                  "model in the loop; --compare: the four side by side");
   tigris::add_register_options(*reg, register_options);
 
   tigris::OdometryOptions odometry_options;
