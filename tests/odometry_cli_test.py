@@ -89,6 +89,8 @@ def main():
         check("axis swap" in open(os.path.join(o1, "metrics.json")).read(), "the calibration is not named")
         m = json.load(open(os.path.join(o1, "metrics.json")))
         check(m["pairs"] == 3, f"pairs {m['pairs']}")
+        icp = m["stages"]["icp"]["per_pair_mean"]
+        check(icp["searches"] > 0 and icp["kdtree_search_seconds"] > 0, f"icp stage means {icp}")
         for png in ("trajectory.png", "errors.png"):
             check(os.path.isfile(os.path.join(o1, png)), f"no {png}")
         check(m["kitti"]["too_short"] and m["kitti"]["t_err_percent"] is None, f"kitti {m['kitti']}")
