@@ -120,7 +120,7 @@ Bytes run_job(const ModelJob& mj, const hw::AcceleratorConfig& cfg, const WorkLi
 
 // The model server: receives jobs (and the tree's points when they change) on `fd`, runs each
 // in a child process and sends its answer back; ends when the registration closes the socket.
-[[noreturn]] void serve(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
+void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
   PointCloud points;
   Bytes request;
   while (recv_message(fd, request)) {
@@ -136,15 +136,23 @@ Bytes run_job(const ModelJob& mj, const hw::AcceleratorConfig& cfg, const WorkLi
       mj.points = &points;
       mj.queries = &queries;
       int job_fds[2];
-      if (::socketpair(AF_UNIX, SOCK_STREAM, 0, job_fds) != 0)
+      if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, job_fds) != 0)
         throw std::runtime_error(std::string("cannot open a socket: ") + std::strerror(errno));
       const pid_t pid = ::fork();
-      if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
-      if (pid == 0) {
+      if (pid < 0) {
         ::close(job_fds[0]);
-        const Bytes out = run_job(mj, cfg, limits, sim_threads);
-        send_message(job_fds[1], out);
-        std::fflush(nullptr);
+        ::close(job_fds[1]);
+        throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+      }
+      if (pid == 0) {  // never leaves this block: a child must not go on as the server
+        try {
+          ::close(job_fds[0]);
+          const Bytes out = run_job(mj, cfg, limits, sim_threads);
+          send_message(job_fds[1], out);
+          std::fflush(nullptr);
+        } catch (...) {
+          ::_exit(3);
+        }
         ::_exit(0);
       }
       ::close(job_fds[1]);
@@ -163,6 +171,15 @@ Bytes run_job(const ModelJob& mj, const hw::AcceleratorConfig& cfg, const WorkLi
     }
     if (!send_message(fd, answer)) break;
   }
+}
+
+// The server process: never returns (an exception must not let it go on as the registration).
+[[noreturn]] void serve(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
+  try {
+    serve_jobs(fd, cfg, limits, sim_threads);
+  } catch (...) {
+    ::_exit(3);
+  }
   std::fflush(nullptr);
   ::_exit(0);
 }
@@ -173,7 +190,7 @@ const char* mode_name(Mode m) { return m == Mode::NN ? "nn" : m == Mode::KNN ? "
 
 ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads) {
   int fds[2];
-  if (::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) != 0)
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
     throw std::runtime_error(std::string("cannot open a socket to the accelerator model: ") + std::strerror(errno));
   std::fflush(nullptr);
   server_ = ::fork();

@@ -71,6 +71,9 @@ std::string printable(const std::string& message) {
 void ask_for_huge_pages(char** argv) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (std::getenv("TIGRIS_NO_HUGE_PAGES") || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb"))) return;
+  // Once only: a secure-execution process (setuid, capabilities) has the tunable dropped.
+  if (std::getenv("TIGRIS_REEXECUTED")) return;
+  setenv("TIGRIS_REEXECUTED", "1", 1);
   const std::string value =
       tunables && *tunables ? std::string(tunables) + ":glibc.malloc.hugetlb=1" : "glibc.malloc.hugetlb=1";
   setenv("GLIBC_TUNABLES", value.c_str(), 1);

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/wait.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -214,6 +215,7 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
   std::map<pid_t, std::size_t> running;
   std::string failure;
   std::size_t next = 0, done = 0;
+  try {
   while (done < todo.size()) {
     while (next < todo.size() && failure.empty() && running.size() < static_cast<std::size_t>(o.jobs)) {
       const std::size_t k = todo[next++];
@@ -227,7 +229,9 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
     }
     if (running.empty()) break;  // a failure stopped the scheduling
     int status = 0;
-    const pid_t pid = ::wait(&status);
+    pid_t pid;
+    while ((pid = ::wait(&status)) < 0 && errno == EINTR) {
+    }
     if (pid < 0) throw std::runtime_error("lost a pair's process");
     const auto it = running.find(pid);
     if (it == running.end()) continue;
@@ -244,6 +248,13 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
     if (!ok && failure.empty())
       failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
                 std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
+  }
+  } catch (...) {  // no pair left running into OUT behind the error
+    for (const auto& [pid, k] : running) {
+      ::kill(pid, SIGTERM);
+      ::waitpid(pid, nullptr, 0);
+    }
+    throw;
   }
   if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
 

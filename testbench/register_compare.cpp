@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -33,19 +34,25 @@ constexpr Variant kVariants[] = {{"flann", "CPU, PCL's FLANN"},
                                  {"accel-approx", "accelerator, approximate"}};
 
 // The command's arguments for one back-end: --compare and --out dropped, --approx-thd kept for
-// the approximate run only, then --search and --out of the variant.
+// the approximate run only, --accel-config and --accel-set for the accelerator runs only, then
+// --search and --out of the variant.
 std::vector<std::string> variant_args(const std::vector<std::string>& argv, const Variant& v, const std::string& out) {
   std::vector<std::string> args{"/proc/self/exe"};
-  const bool approx = std::string(v.search) == "accel-approx";
+  const std::string search = v.search;
+  const bool approx = search == "accel-approx", accel = search.rfind("accel", 0) == 0;
+  const auto dropped = [&](const std::string& flag) {
+    return flag == "--out" || (flag == "--approx-thd" && !approx) ||
+           ((flag == "--accel-config" || flag == "--accel-set") && !accel);
+  };
   for (std::size_t i = 1; i < argv.size(); ++i) {
     const std::string& a = argv[i];
     if (a == "--compare") continue;
-    const bool out_flag = a == "--out", thd_flag = a == "--approx-thd";
-    if (out_flag || (thd_flag && !approx)) {
+    if (dropped(a)) {
       ++i;  // and its value
       continue;
     }
-    if (a.rfind("--out=", 0) == 0 || (!approx && a.rfind("--approx-thd=", 0) == 0)) continue;
+    const std::size_t eq = a.find('=');
+    if (a.rfind("--", 0) == 0 && eq != std::string::npos && dropped(a.substr(0, eq))) continue;
     args.push_back(a);
   }
   args.insert(args.end(), {"--search", v.search, "--out", out});
@@ -91,6 +98,8 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   for (const Variant& v : kVariants) {
     const std::string out = o.out + "/" + v.search;
     std::fprintf(stderr, "tigris register --compare: %s (--search %s --out %s)\n", v.label, v.search, out.c_str());
+    std::error_code ec;
+    std::filesystem::remove(out + "/registration.json", ec);  // never read an earlier run's
     const int code = run_child(variant_args(o.argv, v, out));
     if (code != 0 && code != 1)
       throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -203,7 +204,9 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
       running[pid] = next++;
     }
     int status = 0;
-    const pid_t pid = wait(&status);
+    pid_t pid;
+    while ((pid = wait(&status)) < 0 && errno == EINTR) {
+    }
     if (pid < 0) throw std::runtime_error("lost a job's process");
     const auto it = running.find(pid);
     if (it == running.end()) continue;

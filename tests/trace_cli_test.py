@@ -124,11 +124,18 @@ def main():
         cmp_out = os.path.join(d, "compare")
         gt = os.path.join(d, "room_gt.txt")  # room_b is the room moved by (-0.2, -0.1, 0)
         open(gt, "w").write("1 0 0 0.2\n0 1 0 0.1\n0 0 1 0\n0 0 0 1\n")
-        text = run(["register"] + pair + ["--compare", "--ground-truth", gt, "--out", cmp_out])
+        # (--accel-set goes to the accelerator runs only; a stale registration.json is never read)
+        os.makedirs(os.path.join(cmp_out, "accel"))
+        open(os.path.join(cmp_out, "accel", "registration.json"), "w").write('{"stale": true}')
+        text = run(["register"] + pair + ["--compare", "--ground-truth", gt, "--accel-set", "clock_mhz=1000",
+                                          "--out", cmp_out])
         c = json.load(open(os.path.join(cmp_out, "comparison.json")))
         check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "accel", "accel-approx"],
               f"--compare: rows {[r['back_end'] for r in c['rows']]}")
         rows = {r["back_end"]: r for r in c["rows"]}
+        acc_reg = json.load(open(os.path.join(cmp_out, "accel", "registration.json")))
+        check(acc_reg.get("accelerator", {}).get("config", {}).get("clock_mhz") == 1000,
+              "--compare: --accel-set did not reach the accelerator run")
         check(rows["accel"]["transform"] == rows["exact"]["transform"], "--compare: accel and exact transforms differ")
         check(rows["flann"]["kdtree_energy_pj"] is None and rows["accel"]["kdtree_energy_pj"] > 0,
               "--compare: energy only for the accelerator rows")

@@ -89,7 +89,7 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     // SHOT's own reference-frame estimation would make its own search object: the frames are
     // computed here with the plug-in and handed over.
     auto tree = make_tree<pcl::PointXYZ>(s, counters);
-    tree->expect_queries(*keypoints);  // in the loop: the frames' searches, then SHOT's: two jobs
+    tree->expect_queries(*keypoints);  // in the loop: the frames' searches (then SHOT's, below)
     pcl::SHOTLocalReferenceFrameEstimation<pcl::PointXYZ, pcl::ReferenceFrame> lrf;
     lrf.setInputCloud(keypoints);
     lrf.setSearchSurface(surface);
@@ -97,6 +97,15 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     lrf.setRadiusSearch(r);
     auto frames = std::make_shared<pcl::PointCloud<pcl::ReferenceFrame>>();
     lrf.compute(*frames);
+    // SHOT searches only the key points whose frame is finite (PCL 1.13, shot.hpp): those are
+    // its job.
+    pcl::Indices framed;
+    for (std::size_t i = 0; i < frames->size() && i < keypoints->size(); ++i) {
+      const pcl::ReferenceFrame& f = (*frames)[i];
+      if (std::isfinite(f.x_axis[0]) && std::isfinite(f.y_axis[0]) && std::isfinite(f.z_axis[0]))
+        framed.push_back(static_cast<pcl::index_t>(i));
+    }
+    tree->expect_queries(*keypoints, &framed);
     pcl::SHOTEstimation<pcl::PointXYZ, pcl::Normal, pcl::SHOT352> est;  // never the OMP one
     est.setInputCloud(keypoints);
     est.setSearchSurface(surface);

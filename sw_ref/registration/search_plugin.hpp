@@ -47,6 +47,13 @@
 namespace tigris::registration {
 
 enum class Backend { Flann, Exact, Approx };
+
+// A new id for every plug-in tree build, whatever its point type (the host resends the tree
+// image when a job's id differs from the last job's). Single-threaded pipeline.
+inline std::uint64_t next_tree_id() {
+  static std::uint64_t id = 0;
+  return ++id;
+}
 Backend parse_backend(const std::string& name);  // "flann" | "exact" | "approx"
 const char* to_string(Backend backend);
 
@@ -134,10 +141,9 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   // to come, in the order PCL will make them (`indices`: a subset, in that order; null: all).
   // The first search of the first announced point runs them all as one accelerator job with
   // that search's parameters; the calls that follow are served from the job's results while
-  // each asks for the next announced point with the same parameters. A search of the first
-  // point after the last one runs the set again as a new job (FPFH and SHOT search their key
-  // points twice). Any other search is answered by the golden model on the CPU and counted as
-  // a fallback. Non-finite points are not announced (they get no neighbours, as always). The
+  // each asks for the next announced point with the same parameters. A set runs once: a stage
+  // that searches the same points again announces them again (expect_queries or then_expect).
+  // Any other search is answered by the golden model on the CPU and counted as a fallback. Non-finite points are not announced (they get no neighbours, as always). The
   // announcement outlives a rebuild of the tree.
   // An announced set is a new job on every back-end: approximate search starts it with an
   // empty Leader Buffer, as the accelerator does (so ICP's iterations do not inherit each
@@ -368,10 +374,6 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     const int height = std::min(settings_.top_height, full_height_for(points_.size()));
     tree_ = std::make_unique<KdTree>(build_kdtree(points_, height));
   }
-  static std::uint64_t next_tree_id() {
-    static std::uint64_t id = 0;  // single-threaded pipeline (see pipeline.hpp)
-    return ++id;
-  }
 
   int golden(SearchParams p, const PointT& point, pcl::Indices& k_indices, std::vector<float>& k_sqr_distances) const {
     k_indices.clear();
@@ -409,14 +411,13 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   // point); -1 when the search is not the next announced one.
   int from_batch(const SearchParams& p, const PointT& point, pcl::Indices& k_indices,
                  std::vector<float>& k_sqr_distances) const {
-    if (batch_ran_ && cursor_ == expected_.size() && !pending_.empty() &&
-        !(same_point(expected_.front(), point) && same_params(p, batch_params_))) {
+    if (batch_ran_ && cursor_ == expected_.size() && !pending_.empty()) {
       const std::function<void()> announce = std::move(pending_.front());
       pending_.pop_front();
       announce();  // the next set (expect_queries)
     }
     if (expected_.empty()) return -1;
-    if (same_point(expected_.front(), point) && (!batch_ran_ || cursor_ == expected_.size())) {
+    if (!batch_ran_ && same_point(expected_.front(), point)) {
       AccelJob job;
       job.tree_id = tree_id_;
       job.points = &points_;
