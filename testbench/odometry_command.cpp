@@ -1,6 +1,5 @@
 #include "odometry_command.hpp"
 
-#include <fcntl.h>
 #include <sys/wait.h>
 #include <signal.h>
 #include <unistd.h>
@@ -20,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arg_checks.hpp"
+#include "child_process.hpp"
 #include "python_tools.hpp"
 #include "report.hpp"
 #include "sw_ref/registration/kitti_sequence.hpp"
@@ -64,28 +64,6 @@ std::vector<std::string> forwarded(const OdometryOptions& o) {
   std::snprintf(w, sizeof w, "%.17g", o.max_work);
   a.insert(a.end(), {"--max-work", w});
   return a;
-}
-
-// Starts `tigris register` for one pair, its output into `log`; returns its process id.
-pid_t start_pair(const std::vector<std::string>& args, const std::string& log) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-      ::close(fd);
-    }
-    ::execv("/proc/self/exe", argv.data());
-    std::fprintf(stderr, "cannot run /proc/self/exe: %s\n", std::strerror(errno));
-    ::_exit(127);
-  }
-  return pid;
 }
 
 std::string last_line(const std::string& path) {
@@ -225,7 +203,7 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
                                     seq.scans[first + k]};
       args.insert(args.end(), flags.begin(), flags.end());
       args.insert(args.end(), {"--out", dir});
-      running[start_pair(args, dir + "/log.txt")] = k;
+      running[start_self(args, dir + "/log.txt")] = k;
     }
     if (running.empty()) break;  // a failure stopped the scheduling
     int status = 0;

@@ -1,9 +1,6 @@
 // `tigris register --compare` (issue 19, "side by side"): the registration on four back-ends,
 // each run by this program in a child process (fair timing: no heap or cache left over from
 // another back-end), then one table from their registration.json files.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "child_process.hpp"
 #include "register_command.hpp"
 #include "report.hpp"
 
@@ -59,24 +57,6 @@ std::vector<std::string> variant_args(const std::vector<std::string>& argv, cons
   return args;
 }
 
-int run_child(const std::vector<std::string>& args) {
-  std::vector<char*> cargs;
-  for (const std::string& a : args) cargs.push_back(const_cast<char*>(a.c_str()));
-  cargs.push_back(nullptr);
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(std::string("--compare: cannot start a process: ") + std::strerror(errno));
-  if (pid == 0) {
-    ::execv("/proc/self/exe", cargs.data());
-    std::fprintf(stderr, "tigris register --compare: cannot run /proc/self/exe: %s\n", std::strerror(errno));
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 double search_seconds(const ordered_json& reg) {
   double s = 0.0;
   for (const auto& [name, st] : reg["stages"].items()) s += st.value("search_seconds", 0.0);
@@ -100,7 +80,7 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
     std::fprintf(stderr, "tigris register --compare: %s (--search %s --out %s)\n", v.label, v.search, out.c_str());
     std::error_code ec;
     std::filesystem::remove(out + "/registration.json", ec);  // never read an earlier run's
-    const int code = run_child(variant_args(o.argv, v, out));
+    const int code = wait_child(start_self(variant_args(o.argv, v, out)));
     if (code != 0 && code != 1)
       throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +
                                   std::to_string(code) + "; its message is above)");

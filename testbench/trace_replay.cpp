@@ -15,17 +15,14 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "accel_job.hpp"
 #include "arg_checks.hpp"
 #include "config.hpp"
 #include "report.hpp"
-#include "scoreboard.hpp"
 #include "simulation.hpp"
 #include "sw_ref/accuracy.hpp"
 #include "traces/workload_trace.hpp"
-#include "tlm/tree_image.hpp"
 #include "work_guard.hpp"
 
 namespace tigris {

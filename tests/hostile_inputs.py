@@ -147,6 +147,20 @@ def cases(f, d):
     return out
 
 
+def room_points(rng):
+    """A box room 16 m wide with three pillars and a floor: a scene registration converges on."""
+    room = []
+    for _ in range(6000):
+        u, v = rng.uniform(-8, 8), rng.uniform(0, 3)
+        room += [(u, -8, v), (u, 8, v), (-8, u, v), (8, u, v)][rng.randrange(4):][:1]
+    for cx, cy in ((2, 3), (-3, 1), (4, -4)):
+        for _ in range(800):
+            a, h = rng.uniform(0, 2 * math.pi), rng.uniform(0, 3)
+            room.append((cx + 0.4 * math.cos(a), cy + 0.4 * math.sin(a), h))
+    room += [(rng.uniform(-8, 8), rng.uniform(-8, 8), 0.0) for _ in range(3000)]
+    return room
+
+
 def ply(path, pts):
     with open(path, "wb") as f:
         f.write(("ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\n"
@@ -176,15 +190,7 @@ def make_register_files(d, f):
     ply(os.path.join(d, "rand2k_b.ply"), [(rng.uniform(-10, 10), rng.uniform(-10, 10), rng.uniform(0, 3))
                                           for _ in range(2000)])
     # A scene with structure (a box room with pillars), for runs that must converge.
-    room = []
-    for _ in range(6000):
-        u, v = rng.uniform(-8, 8), rng.uniform(0, 3)
-        room += [(u, -8, v), (u, 8, v), (-8, u, v), (8, u, v)][rng.randrange(4):][:1]
-    for cx, cy in ((2, 3), (-3, 1), (4, -4)):
-        for _ in range(800):
-            a, h = rng.uniform(0, 2 * math.pi), rng.uniform(0, 3)
-            room.append((cx + 0.4 * math.cos(a), cy + 0.4 * math.sin(a), h))
-    room += [(rng.uniform(-8, 8), rng.uniform(-8, 8), 0.0) for _ in range(3000)]
+    room = room_points(rng)
     ply(os.path.join(d, "room.ply"), room)
     ply(os.path.join(d, "room_b.ply"), [(x - 0.2, y - 0.1, z) for x, y, z in room])
     for name in ("plane.ply", "plane_b.ply", "rand2k.ply", "rand2k_b.ply", "room.ply", "room_b.ply"):

@@ -19,6 +19,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hostile_inputs import room_points  # noqa: E402
+
 AXIS = [[0, -1, 0, 0], [0, 0, -1, 0], [1, 0, 0, 0], [0, 0, 0, 1]]  # p_cam = A p_velo
 
 
@@ -38,16 +41,7 @@ def pose(x, y, yaw_deg):
 
 
 def make_sequence(d, frames=4):
-    rng = random.Random(20)
-    room = []
-    for _ in range(6000):
-        u, v = rng.uniform(-8, 8), rng.uniform(0, 3)
-        room += [(u, -8, v), (u, 8, v), (-8, u, v), (8, u, v)][rng.randrange(4):][:1]
-    for cx, cy in ((2, 3), (-3, 1), (4, -4)):
-        for _ in range(800):
-            a, h = rng.uniform(0, 2 * math.pi), rng.uniform(0, 3)
-            room.append((cx + 0.4 * math.cos(a), cy + 0.4 * math.sin(a), h))
-    room += [(rng.uniform(-8, 8), rng.uniform(-8, 8), 0.0) for _ in range(3000)]
+    room = room_points(random.Random(20))
     os.makedirs(os.path.join(d, "velodyne"))
     poses = [pose(0.2 * i, 0.05 * i, 1.0 * i) for i in range(frames)]  # Velodyne i in frame 0
     with open(os.path.join(d, "poses.txt"), "w") as f:

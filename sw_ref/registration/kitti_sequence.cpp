@@ -5,12 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <Eigen/LU>
 
 #include "sw_ref/cloud.hpp"
-#include "sw_ref/visible_text.hpp"
 
 namespace tigris::registration {
 namespace fs = std::filesystem;
@@ -45,21 +43,7 @@ Pose read_kitti_calib_tr(const std::string& path) {
     ++line_no;
     if (line.rfind("Tr:", 0) != 0) continue;
     const std::string label = path + ":" + std::to_string(line_no);
-    std::istringstream in(line.substr(3));
-    std::vector<double> v;
-    std::string word;
-    while (in >> word) {
-      std::size_t used = 0;
-      double x = 0.0;
-      try {
-        x = std::stod(word, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != word.size() || !std::isfinite(x))
-        throw InputError(label + ": '" + visible_text(word, 40) + "' is not a finite number");
-      v.push_back(x);
-    }
+    const std::vector<double> v = numbers_of(line.substr(3), label);
     if (v.size() != 12)
       throw InputError(label + ": Tr holds 12 numbers (3x4 row-major, Velodyne -> cam0), found " +
                        std::to_string(v.size()));

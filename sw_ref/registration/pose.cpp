@@ -11,9 +11,6 @@
 #include "sw_ref/visible_text.hpp"
 
 namespace tigris::registration {
-namespace {
-
-// The numbers of one text (commas count as spaces); throws naming `label` on a non-number.
 std::vector<double> numbers_of(std::string text, const std::string& label) {
   for (char& c : text)
     if (c == ',') c = ' ';
@@ -34,6 +31,8 @@ std::vector<double> numbers_of(std::string text, const std::string& label) {
   }
   return v;
 }
+
+namespace {
 
 std::string read_text(const std::string& path) {
   std::ifstream f(path);

@@ -14,6 +14,10 @@ namespace tigris::registration {
 
 using Pose = Eigen::Matrix4d;
 
+// The numbers of one text (commas count as spaces); throws InputError naming `label` on a
+// word that is not a finite number.
+std::vector<double> numbers_of(std::string text, const std::string& label);
+
 // A text file holding a 4x4 (16 numbers) or a KITTI-style 3x4 (12 numbers, last row taken as
 // 0 0 0 1), row-major, whitespace or comma separated. Throws InputError naming the file on a
 // missing file, another count of numbers, a non-number or a non-rigid rotation part.

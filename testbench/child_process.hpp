@@ -1,0 +1,19 @@
+// This program run again as a child process (`tigris register --compare`, `tigris odometry`):
+// each run has a process of its own, for fair timing and independent failures.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace tigris {
+
+// Starts /proc/self/exe with `args` (args[0] is its argv[0]); its stdout and stderr go to `log`
+// when not empty. Throws std::runtime_error when no process can be started.
+pid_t start_self(const std::vector<std::string>& args, const std::string& log = "");
+
+// Waits for `pid`; its exit code, or 128 + the signal that ended it.
+int wait_child(pid_t pid);
+
+}  // namespace tigris
