@@ -14,6 +14,7 @@
 #include "python_tools.hpp"
 #include "ref_command.hpp"
 #include "odometry_command.hpp"
+#include "synth_command.hpp"
 #include "register_command.hpp"
 #include "run_command.hpp"
 
@@ -120,6 +121,12 @@ int main(int argc, char** argv) {
                   "pair, --jobs at a time), chain the poses, KITTI's error metrics");
   tigris::add_odometry_options(*odo, odometry_options);
 
+  tigris::SynthOptions synth_options;
+  CLI::App* syn = app.add_subcommand(
+      "synth", "Write a synthetic drive (seeded town, 10 Hz trajectory, HDL-64E-like scans, exact poses) in "
+               "KITTI's odometry layout");
+  tigris::add_synth_options(*syn, synth_options);
+
   // Listed for --help only: run_python_tool() has already taken these.
   app.add_subcommand("sweep", "Design-space sweep from a JSON spec, locally (--jobs) or as a Slurm job array "
                               "(--slurm); CSV, JSON and resume (sweep/tigris_sweep.py; tigris sweep --help)");
@@ -147,6 +154,7 @@ int main(int argc, char** argv) {
     if (*reg) return tigris::run_register_command(*reg, register_options);
     odometry_options.command_line = register_options.command_line;
     if (*odo) return tigris::run_odometry_command(*odo, odometry_options);
+    if (*syn) return tigris::run_synth_command(*syn, synth_options);
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << printable(e.what()) << '\n';
     return 2;

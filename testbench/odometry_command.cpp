@@ -22,6 +22,7 @@
 #include "child_process.hpp"
 #include "python_tools.hpp"
 #include "report.hpp"
+#include "synth_command.hpp"
 #include "sw_ref/registration/kitti_sequence.hpp"
 #include "sw_ref/registration/odometry_metrics.hpp"
 #include "sw_ref/registration/pose.hpp"
@@ -123,9 +124,14 @@ ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : orde
 }  // namespace
 
 void add_odometry_options(CLI::App& app, OdometryOptions& o) {
-  app.add_option("--sequence", o.sequence,
-                 "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)")
-      ->required();
+  CLI::Option* seq = app.add_option(
+      "--sequence", o.sequence, "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)");
+  CLI::Option* syn = app.add_option("--synthetic", o.synthetic,
+                                    "Instead of --sequence: a synthetic drive of N frames with exact poses (tigris synth), "
+                                    "written to OUT/sequence first")
+                         ->check(CLI::Range(2, 20000));
+  seq->excludes(syn);
+  app.add_option("--seed", o.seed, "With --synthetic: the drive's seed")->needs(syn)->capture_default_str();
   app.add_option("--frames", o.frames, "A:B, the first and the last frame (default: every frame)");
   app.add_option("--jobs", o.jobs, "Pairs registered at once, each a process of its own")
       ->check(CLI::Range(1, 256))
@@ -147,7 +153,19 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
   app.add_option("--out", o.out, "Output folder")->capture_default_str();
 }
 
-int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
+int run_odometry_command(const CLI::App&, const OdometryOptions& given) {
+  OdometryOptions o = given;
+  if (o.sequence.empty() && o.synthetic == 0)
+    throw std::invalid_argument("give --sequence DIR (a KITTI-layout folder) or --synthetic N (a synthetic drive)");
+  if (o.synthetic > 0) {
+    DriveConfig drive;
+    drive.frames = o.synthetic;
+    drive.seed = o.seed;
+    o.sequence = o.out + "/sequence";
+    std::fprintf(stderr, "tigris odometry: the synthetic drive (seed %llu, %d frames) in %s\n",
+                 static_cast<unsigned long long>(o.seed), o.synthetic, o.sequence.c_str());
+    write_synthetic_drive(drive, o.sequence, o.jobs, false);
+  }
   // OUT/poses.txt must not be the sequence's own ground truth (--out DIR would overwrite it).
   check_distinct_paths({{"--sequence (poses.txt)", o.sequence + "/poses.txt"}, {"--config", o.config},
                         {"--accel-config", o.accel_config}},
@@ -325,6 +343,11 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
   m["command_line"] = o.command_line;
   m["sequence"] = o.sequence;
   m["calibration"] = seq.calibration;
+  // A drive tigris synth wrote has exact poses: equal steps there are steady driving.
+  const bool synthetic = fs::exists(o.sequence + "/drive.json");
+  m["ground_truth_source"] = seq.poses.empty() ? "none"
+                             : synthetic       ? "exact (a synthetic drive, tigris synth: drive.json)"
+                                               : "poses.txt";
   if (!seq.note.empty()) m["sequence_note"] = seq.note;
   m["frames"] = {first, last};
   m["pairs"] = pairs;
@@ -381,7 +404,7 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& o) {
                 {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
     // On every ground-truth pose from frame A, also those past the scans the folder holds.
     const std::size_t steps = equal_steps(std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
-    if (steps >= 5) {
+    if (steps >= 5 && !synthetic) {
       char b[512];
       std::snprintf(b, sizeof b,
                     "the ground truth's first %zu steps are equal (length to 2 mm, angle to 0.005 deg), as in "

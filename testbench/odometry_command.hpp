@@ -1,5 +1,5 @@
 // `tigris odometry` (issue 20, DESIGN.md section 19): registers each frame of a KITTI-layout
-// sequence into the previous one and chains the poses. Each pair is `tigris register` run as a
+// sequence (or of a synthetic drive it writes first, `--synthetic N`) into the previous one and chains the poses. Each pair is `tigris register` run as a
 // process of its own with the pipeline flags forwarded (so a pair's registration.json is
 // exactly what `tigris register` would write), `--jobs N` at a time; a rerun into the same OUT
 // with the same settings reuses the pairs already there. Writes OUT/poses.txt (KITTI format),
@@ -7,6 +7,7 @@
 // poses.txt; the accelerator's totals with --search accel*).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,9 @@
 namespace tigris {
 
 struct OdometryOptions {
-  std::string sequence;     // a KITTI-layout folder
+  std::string sequence;     // a KITTI-layout folder, or:
+  int synthetic = 0;        // frames of a synthetic drive, written to OUT/sequence
+  std::uint64_t seed = 1;   // its seed
   std::string frames;       // "A:B", first and last frame (default: all)
   int jobs = 1;
   std::string out = "tigris-odometry";

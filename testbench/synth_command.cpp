@@ -1,0 +1,175 @@
+#include "synth_command.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "report.hpp"
+#include "sw_ref/io/kitti_bin.hpp"
+#include "sw_ref/registration/kitti_sequence.hpp"
+#include "sw_ref/registration/pose.hpp"
+
+namespace tigris {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+std::string frame_name(int i) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%06d.bin", i);
+  return b;
+}
+
+ordered_json settings_of(const DriveConfig& c) {
+  return {{"generator", "tigris synth (sw_ref/synthetic/drive.hpp), version 1"},
+          {"seed", c.seed},
+          {"frames", c.frames},
+          {"scanner", {{"rings", c.rings}, {"azimuth_steps", c.azimuth_steps}, {"min_range_m", c.min_range_m},
+                       {"max_range_m", c.max_range_m}, {"range_noise_m", c.range_noise_m}}}};
+}
+
+// KITTI calib.txt: P0..P3 (3x4 camera matrices) and Tr (Velodyne -> cam0), 12 numbers a line.
+void write_calib(std::ostream& f) {
+  const char* p = "7.188560000000e+02 0.000000000000e+00 6.071928000000e+02 0.000000000000e+00 "
+                  "0.000000000000e+00 7.188560000000e+02 1.852157000000e+02 0.000000000000e+00 "
+                  "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00";
+  for (int i = 0; i < 4; ++i) f << 'P' << i << ": " << p << '\n';
+  const registration::Pose tr = registration::kitti_velo_to_cam();
+  char b[64];
+  f << "Tr:";
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) {
+      std::snprintf(b, sizeof b, " %.12e", tr(r, c));
+      f << b;
+    }
+  f << '\n';
+}
+
+}  // namespace
+
+void write_synthetic_drive(const DriveConfig& config, const std::string& dir, int jobs, bool quiet) {
+  const ordered_json settings = settings_of(config);
+  const std::string meta = dir + "/drive.json";
+  if (fs::exists(meta)) {
+    ordered_json before;
+    try {
+      std::ifstream f(meta);
+      f >> before;
+    } catch (const std::exception&) {
+      throw std::invalid_argument(meta + " is not a tigris synth drive file: use another folder");
+    }
+    if (!before.is_object() || before.value("settings", ordered_json()) != settings)
+      throw std::invalid_argument(dir + " holds another synthetic drive (" + meta + ": " +
+                                  before.value("settings", ordered_json()).dump() +
+                                  "): use another folder, or remove it");
+  } else if (fs::exists(dir + "/poses.txt") || fs::exists(dir + "/velodyne")) {
+    throw std::invalid_argument(dir + " holds a sequence tigris synth did not write (poses.txt or velodyne/): "
+                                "use another folder");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const SyntheticDrive drive(config);
+  fs::create_directories(dir + "/velodyne");
+
+  // Scans: the ones missing, `jobs` threads (each scan is independent and deterministic).
+  std::vector<int> todo;
+  for (int i = 0; i < config.frames; ++i)
+    if (!fs::exists(dir + "/velodyne/" + frame_name(i))) todo.push_back(i);
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex lock;
+  std::string error;
+  std::size_t points = 0;
+  const auto work = [&] {
+    for (std::size_t k; (k = next++) < todo.size();) {
+      try {
+        const PointCloud scan = drive.scan(todo[k]);
+        write_file(dir + "/velodyne/" + frame_name(todo[k]), [&](std::ostream& f) { f << kitti_bin_bytes(scan); });
+        std::lock_guard<std::mutex> g(lock);
+        points += scan.size();
+        const std::size_t n = ++done;
+        if (!quiet && (n == todo.size() || n % 10 == 0))
+          std::fprintf(stderr, "tigris synth: %zu/%zu scans (%.0f s)\n", n, todo.size(),
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> g(lock);
+        if (error.empty()) error = e.what();
+        next = todo.size();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min<int>(jobs, static_cast<int>(todo.size())); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (!error.empty()) throw std::runtime_error(error);
+
+  std::vector<registration::Pose> poses;
+  for (const DriveFrame& f : drive.frames()) {
+    registration::Pose p = registration::Pose::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) p(r, c) = f.pose[static_cast<std::size_t>(4 * r + c)];
+    poses.push_back(p);
+  }
+  write_file(dir + "/poses.txt",
+             [&](std::ostream& f) { registration::write_kitti_poses(f, poses, registration::kitti_velo_to_cam()); });
+  write_file(dir + "/calib.txt", write_calib);
+  write_file(dir + "/times.txt", [&](std::ostream& f) {
+    char b[32];
+    for (const DriveFrame& fr : drive.frames()) {
+      std::snprintf(b, sizeof b, "%e\n", fr.time_s);
+      f << b;
+    }
+  });
+  const DriveSummary& s = drive.summary();
+  ordered_json m;
+  m["settings"] = settings;
+  m["summary"] = {{"route_length_m", s.route_length_m},
+                  {"crossings_planned", s.crossings},
+                  {"turns_planned", s.turns},
+                  {"stops_planned", s.stops},
+                  {"boxes_buildings_and_cars", s.buildings_and_cars},
+                  {"cylinders_poles_and_trunks", s.poles_and_trunks},
+                  {"spheres_tree_crowns", s.tree_crowns},
+                  {"max_grade", s.max_grade},
+                  {"note", "crossings, turns and stops are the planned route's, which runs a little past the last frame"}};
+  ordered_json frames = ordered_json::array();
+  for (const DriveFrame& f : drive.frames())
+    frames.push_back({{"time_s", f.time_s}, {"speed_m_per_s", f.speed_m_per_s}, {"distance_m", f.distance_m}});
+  m["frames"] = frames;
+  write_file(meta, [&](std::ostream& f) { f << m.dump(1) << '\n'; });
+  if (!quiet)
+    std::fprintf(stderr, "tigris synth: %s: %d frames (%zu scans cast now), %.0f m of route, %.0f s\n", dir.c_str(),
+                 config.frames, todo.size(), s.route_length_m,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+void add_synth_options(CLI::App& app, SynthOptions& o) {
+  app.add_option("--frames", o.frames, "Frames of the drive (10 Hz)")->required()->check(CLI::Range(2, 20000));
+  app.add_option("--seed", o.seed, "The town's, the route's and the noise's seed")->capture_default_str();
+  app.add_option("--jobs", o.jobs, "Scans cast at once (threads)")->check(CLI::Range(1, 256))->capture_default_str();
+  app.add_option("--out", o.out, "Output folder (KITTI layout); a rerun with the same settings completes it")
+      ->required();
+}
+
+int run_synth_command(const CLI::App&, const SynthOptions& o) {
+  DriveConfig c;
+  c.frames = o.frames;
+  c.seed = o.seed;
+  write_synthetic_drive(c, o.out, o.jobs, false);
+  const registration::KittiSequence check = registration::read_kitti_sequence(o.out);  // reads back as KITTI
+  std::printf("tigris synth: wrote %s: velodyne/000000.bin .. %s, poses.txt, calib.txt, times.txt, drive.json "
+              "(%zu frames, seed %llu)\n",
+              o.out.c_str(), frame_name(o.frames - 1).c_str(), check.scans.size(),
+              static_cast<unsigned long long>(o.seed));
+  return 0;
+}
+
+}  // namespace tigris
