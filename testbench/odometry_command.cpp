@@ -22,6 +22,7 @@
 #include "child_process.hpp"
 #include "python_tools.hpp"
 #include "report.hpp"
+#include "slurm_array.hpp"
 #include "synth_command.hpp"
 #include "sw_ref/registration/kitti_sequence.hpp"
 #include "sw_ref/registration/odometry_metrics.hpp"
@@ -151,6 +152,7 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
       ->check(finite_range(0.0, 1e18))
       ->capture_default_str();
   app.add_option("--out", o.out, "Output folder")->capture_default_str();
+  add_slurm_options(app, o.slurm);
 }
 
 int run_odometry_command(const CLI::App&, const OdometryOptions& given) {
@@ -207,50 +209,90 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& given) {
   if (!seq.note.empty()) std::fprintf(stderr, "tigris odometry: note: %s\n", seq.note.c_str());
   std::fprintf(stderr, "tigris odometry: %s, frames %zu..%zu: %zu pairs (%zu already in %s), --jobs %d\n",
                o.sequence.c_str(), first, last, pairs, pairs - todo.size(), o.out.c_str(), o.jobs);
+  if (const std::string job = active_array(o.out); !job.empty())
+    throw std::invalid_argument("Slurm job " + job + " of an earlier submission still runs into " + o.out +
+                                ": wait for it (squeue -j " + job + ") or cancel it (scancel " + job + ")");
   const auto t0 = std::chrono::steady_clock::now();
-  std::map<pid_t, std::size_t> running;
   std::string failure;
-  std::size_t next = 0, done = 0;
-  try {
-  while (done < todo.size()) {
-    while (next < todo.size() && failure.empty() && running.size() < static_cast<std::size_t>(o.jobs)) {
-      const std::size_t k = todo[next++];
-      const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+  if (o.slurm.slurm && !todo.empty()) {
+    // One job array; each task runs `tigris register` exactly as the local processes do.
+    const std::string self = fs::read_symlink("/proc/self/exe").string();
+    std::vector<ArrayCommand> commands;
+    for (const std::size_t k : todo) {
+      const std::string dir = fs::absolute(o.out + "/pairs/" + frame_tag(first + k)).lexically_normal().string();
       fs::create_directories(dir);
-      std::vector<std::string> args{"/proc/self/exe", "register", "--source", seq.scans[first + k + 1], "--target",
-                                    seq.scans[first + k]};
-      args.insert(args.end(), flags.begin(), flags.end());
-      args.insert(args.end(), {"--out", dir});
-      running[start_self(args, dir + "/log.txt")] = k;
+      ArrayCommand c;
+      c.argv = {self, "register", "--source", fs::absolute(seq.scans[first + k + 1]).string(), "--target",
+                fs::absolute(seq.scans[first + k]).string()};
+      c.argv.insert(c.argv.end(), flags.begin(), flags.end());
+      c.argv.insert(c.argv.end(), {"--out", dir});
+      c.log = dir + "/log.txt";
+      commands.push_back(c);
     }
-    if (running.empty()) break;  // a failure stopped the scheduling
-    int status = 0;
-    pid_t pid;
-    while ((pid = ::wait(&status)) < 0 && errno == EINTR) {
+    const std::string job = submit_array(o.slurm, commands, o.out, "tigris-odometry");
+    if (o.slurm.no_wait) {
+      std::printf("job %s\ncollect when it has ended: rerun the same command (the pairs done are reused)\n", job.c_str());
+      return 0;
     }
-    if (pid < 0) throw std::runtime_error("lost a pair's process");
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const std::size_t k = it->second;
-    running.erase(it);
-    ++done;
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-    const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
-    std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s)\n", done, todo.size(),
-                 frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
-                 ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED",
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    if (!ok && failure.empty())
-      failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
-                std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
-  }
-  } catch (...) {  // no pair left running into OUT behind the error
-    for (const auto& [pid, k] : running) {
-      ::kill(pid, SIGTERM);
-      ::waitpid(pid, nullptr, 0);
+    std::size_t seen = 0;
+    wait_array(job, [&] {
+      std::size_t n = 0;
+      for (const std::size_t k : todo) n += fs::exists(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json");
+      if (n != seen)
+        std::fprintf(stderr, "tigris odometry: Slurm job %s: %zu/%zu pairs (%.0f s)\n", job.c_str(), n, todo.size(),
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      seen = n;
+    });
+    for (const std::size_t k : todo) {
+      const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+      if (!read_pair(dir + "/registration.json", regs[k]) && failure.empty())
+        failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": no result from Slurm job " +
+                  job + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + "; task logs in " + o.out + "/slurm/)";
     }
-    throw;
+  } else {
+    std::map<pid_t, std::size_t> running;
+    std::size_t next = 0, done = 0;
+    try {
+    while (done < todo.size()) {
+      while (next < todo.size() && failure.empty() && running.size() < static_cast<std::size_t>(o.jobs)) {
+        const std::size_t k = todo[next++];
+        const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+        fs::create_directories(dir);
+        std::vector<std::string> args{"/proc/self/exe", "register", "--source", seq.scans[first + k + 1], "--target",
+                                      seq.scans[first + k]};
+        args.insert(args.end(), flags.begin(), flags.end());
+        args.insert(args.end(), {"--out", dir});
+        running[start_self(args, dir + "/log.txt")] = k;
+      }
+      if (running.empty()) break;  // a failure stopped the scheduling
+      int status = 0;
+      pid_t pid;
+      while ((pid = ::wait(&status)) < 0 && errno == EINTR) {
+      }
+      if (pid < 0) throw std::runtime_error("lost a pair's process");
+      const auto it = running.find(pid);
+      if (it == running.end()) continue;
+      const std::size_t k = it->second;
+      running.erase(it);
+      ++done;
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+      const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
+      std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s)\n", done, todo.size(),
+                   frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
+                   ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED",
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (!ok && failure.empty())
+        failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
+                  std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
+    }
+    } catch (...) {  // no pair left running into OUT behind the error
+      for (const auto& [pid, k] : running) {
+        ::kill(pid, SIGTERM);
+        ::waitpid(pid, nullptr, 0);
+      }
+      throw;
+    }
   }
   if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
 

@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "slurm_array.hpp"
+
 namespace tigris {
 
 struct OdometryOptions {
@@ -26,6 +28,7 @@ struct OdometryOptions {
   std::string preset = "dp4", config, search, height, approx_thd, accel_config;
   std::vector<std::string> sets, accel_sets;
   double max_work = 1e10;
+  SlurmOptions slurm;  // --slurm: the pairs as one job array
   std::vector<std::string> argv;  // as given (set by main)
   std::string command_line;
 };

@@ -1,0 +1,166 @@
+#include "slurm_array.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "report.hpp"
+
+namespace tigris {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Runs a command line through /bin/sh; its exit code, its stdout and stderr together in `out`.
+int capture(const std::vector<std::string>& argv, std::string& out) {
+  std::string line;
+  for (const std::string& a : argv) line += quote(a) + ' ';
+  line += "2>&1";
+  out.clear();
+  FILE* p = ::popen(line.c_str(), "r");
+  if (!p) return 127;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  const int status = ::pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+std::string trimmed(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+// Task ids still queued or running: 1 or more, 0 none; -1 when squeue cannot tell.
+int queued(const std::string& job) {
+  std::string out;
+  const int code = capture({"squeue", "-h", "-j", job, "-t", "PD,R,CG,CF,S,RQ,RS,RH,SE", "-o", "%i"}, out);
+  if (code != 0) return out.find("Invalid job id") != std::string::npos ? 0 : -1;
+  std::istringstream in(out);
+  int n = 0;
+  for (std::string id; in >> id;) ++n;
+  return n;
+}
+
+volatile sig_atomic_t interrupted = 0;
+void on_signal(int) { interrupted = 1; }
+
+}  // namespace
+
+void add_slurm_options(CLI::App& app, SlurmOptions& o) {
+  CLI::Option* s = app.add_flag("--slurm", o.slurm, "Run the pairs as one Slurm job array (sbatch) instead of local processes");
+  app.add_option("--partition", o.partition, "With --slurm: sbatch --partition")->needs(s);
+  app.add_option("--time", o.time, "With --slurm: sbatch --time (per array task)")->needs(s);
+  app.add_option("--mem", o.mem, "With --slurm: sbatch --mem (per array task)")->needs(s);
+  app.add_option("--chunk", o.chunk, "With --slurm: pairs per array task")->check(CLI::Range(1, 100000))->needs(s)->capture_default_str();
+  app.add_option("--sbatch-arg", o.sbatch_args, "With --slurm: one more raw sbatch argument, repeatable (--sbatch-arg=--qos=low)")
+      ->needs(s)
+      ->allow_extra_args(false);
+  app.add_flag("--no-wait", o.no_wait, "With --slurm: return after submitting; rerun the same command to collect")->needs(s);
+}
+
+std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>& commands, const std::string& dir,
+                         const std::string& name) {
+  const std::string sdir = fs::absolute(dir + "/slurm").lexically_normal().string();
+  fs::create_directories(sdir);
+  char stamp[64];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
+  const std::string script = sdir + "/array-" + stamp + "-" + std::to_string(::getpid()) + ".sh";
+  const std::size_t tasks = (commands.size() + static_cast<std::size_t>(o.chunk) - 1) / static_cast<std::size_t>(o.chunk);
+  write_file(script, [&](std::ostream& f) {
+    f << "#!/bin/sh\n# One task of a " << name << " job array: runs its chunk of commands, each logged on its own.\n"
+      << "status=0\ncase \"$SLURM_ARRAY_TASK_ID\" in\n";
+    for (std::size_t t = 0; t < tasks; ++t) {
+      f << t << ")\n";
+      for (std::size_t k = t * o.chunk; k < std::min(commands.size(), (t + 1) * o.chunk); ++k) {
+        f << " ";
+        for (const std::string& a : commands[k].argv) f << ' ' << quote(a);
+        f << " > " << quote(commands[k].log) << " 2>&1 || status=$?\n";
+      }
+      f << " ;;\n";
+    }
+    f << "*) echo \"no task $SLURM_ARRAY_TASK_ID in this array\" >&2; exit 2 ;;\nesac\nexit $status\n";
+  });
+  fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  std::vector<std::string> cmd{"sbatch", "--parsable", "--array=0-" + std::to_string(tasks - 1),
+                               "--job-name=" + name, "--output=" + sdir + "/%A_%a.out",
+                               "--chdir=" + fs::absolute(dir).lexically_normal().string()};
+  if (!o.partition.empty()) cmd.push_back("--partition=" + o.partition);
+  if (!o.time.empty()) cmd.push_back("--time=" + o.time);
+  if (!o.mem.empty()) cmd.push_back("--mem=" + o.mem);
+  cmd.insert(cmd.end(), o.sbatch_args.begin(), o.sbatch_args.end());
+  cmd.push_back(script);
+  std::string out;
+  std::string shown;
+  for (const std::string& a : cmd) shown += (shown.empty() ? "" : " ") + quote(a);
+  const int code = capture(cmd, out);
+  if (code == 127 && out.find("not found") != std::string::npos)
+    throw std::runtime_error("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)");
+  if (code != 0)
+    throw std::runtime_error("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(out) + "\n  command: " + shown);
+  const std::string job = trimmed(out.substr(0, out.find(';')));
+  nlohmann::ordered_json j{{"job", job}, {"script", script}, {"tasks", tasks}, {"commands", commands.size()},
+                           {"command", cmd}};
+  write_file(sdir + "/job.json", [&](std::ostream& f) { f << j.dump(2) << '\n'; });
+  std::fprintf(stderr, "tigris: submitted Slurm job array %s: %zu task(s) for %zu command(s); logs %s/%s_<task>.out\n",
+               job.c_str(), tasks, commands.size(), sdir.c_str(), job.c_str());
+  return job;
+}
+
+void wait_array(const std::string& job, const std::function<void()>& tick) {
+  struct sigaction sa {}, old_int{}, old_term{};
+  sa.sa_handler = on_signal;
+  ::sigaction(SIGINT, &sa, &old_int);
+  ::sigaction(SIGTERM, &sa, &old_term);
+  interrupted = 0;
+  int misses = 0;
+  while (true) {
+    const int active = queued(job);  // asked before the tick: no result is missed
+    tick();
+    if (active == 0) break;
+    misses = active < 0 ? misses + 1 : 0;
+    if (misses > 60) throw std::runtime_error("squeue cannot report Slurm job " + job + " (60 tries)");
+    for (int i = 0; i < 10 && !interrupted; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (interrupted) {
+      std::string out;
+      capture({"scancel", job}, out);
+      ::sigaction(SIGINT, &old_int, nullptr);
+      ::sigaction(SIGTERM, &old_term, nullptr);
+      throw std::runtime_error("interrupted: cancelled Slurm job " + job + "; the pairs finished are kept, a rerun resumes");
+    }
+  }
+  ::sigaction(SIGINT, &old_int, nullptr);
+  ::sigaction(SIGTERM, &old_term, nullptr);
+}
+
+std::string active_array(const std::string& dir) {
+  std::ifstream f(dir + "/slurm/job.json");
+  if (!f) return "";
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception&) {
+    return "";
+  }
+  const std::string job = j.value("job", std::string());
+  return !job.empty() && queued(job) > 0 ? job : "";
+}
+
+}  // namespace tigris
