@@ -4,7 +4,9 @@ room scene with exact poses (no calib.txt: the axis swap), registered pair by pa
 pairs.csv and metrics.json written, the chained poses near the truth, a short trajectory
 reported without KITTI metrics (null, not 0), the plots drawn, --jobs 2 equal to --jobs 1, a
 rerun resuming, other settings into the same folder refused, a ground truth of equal steps
-flagged, a missing scan and a short poses.txt refused.
+flagged, a missing scan and a short poses.txt refused. Then `tigris synth` (KITTI layout, a rerun
+completing a missing scan with the same bytes, another drive into the folder refused) and
+`tigris odometry --synthetic 12` registering within the tolerances measured for it.
 
 Usage: odometry_cli_test.py --tigris PATH   (exit 0 when every check holds)
 """
@@ -55,6 +57,45 @@ def make_sequence(d, frames=4):
                 v = [sum(q[r][k] * w for k, w in enumerate((x, y, z, 1))) for r in range(3)]
                 f.write(struct.pack("<4f", v[0], v[1], v[2], 0.0))
     return poses
+
+
+def synthetic_checks(d, run, check):
+    s = os.path.join(d, "drive")
+    run(["synth", "--frames", "3", "--out", s], 0, "velodyne/000000.bin .. 000002.bin")
+    names = sorted(os.listdir(os.path.join(s, "velodyne")))
+    check(names == ["000000.bin", "000001.bin", "000002.bin"], f"velodyne/ holds {names}")
+    poses = [l.split() for l in open(os.path.join(s, "poses.txt")) if l.strip()]
+    check(len(poses) == 3 and all(len(p) == 12 for p in poses), "synth poses.txt")
+    check(float(poses[0][0]) == 1.0 and float(poses[0][11]) == 0.0, f"frame 0 is not the origin: {poses[0]}")
+    calib = open(os.path.join(s, "calib.txt")).read()
+    check("Tr:" in calib and "P0:" in calib, "calib.txt lacks Tr or P0")
+    drive = json.load(open(os.path.join(s, "drive.json")))
+    check(drive["settings"]["seed"] == 1 and len(drive["frames"]) == 3, "drive.json")
+    scan = os.path.join(s, "velodyne", "000001.bin")
+    before = open(scan, "rb").read()
+    check(len(before) % 16 == 0 and len(before) > 16 * 80000, f"scan 1 has {len(before)} bytes")
+    os.remove(scan)
+    run(["synth", "--frames", "3", "--out", s], 0, "(1 scans cast now)")
+    check(open(scan, "rb").read() == before, "a completed drive has another scan 1")
+    run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "holds another synthetic drive")
+    run(["synth", "--frames", "1", "--out", os.path.join(d, "x")], 2, "--frames")
+    # 12 frames (11 pairs, 14 m) with DP4 and the exact search. Measured (seed 1): pair RPE at
+    # most 0.0145 m and 0.065 deg, mean 0.0052 m and 0.046 deg; ATE unaligned max 0.020 m.
+    o = os.path.join(d, "odo")
+    text = run(["odometry", "--synthetic", "12", "--jobs", "2", "--out", o], 0, "KITTI metrics: none")
+    m = json.load(open(os.path.join(o, "metrics.json")))
+    check(m["pairs"] == 11 and m["not_converged_pairs"] == 0, f"pairs {m['pairs']}, {m['not_converged_pairs']} not converged")
+    check("exact" in m["ground_truth_source"] and "ground_truth_warning" not in m and "may measure" not in text,
+          "a synthetic drive's exact poses are flagged as KITTI's equal steps")
+    rows = list(csv.DictReader(open(os.path.join(o, "pairs.csv"))))
+    worst_t = max(float(r["rpe_translation_m"]) for r in rows)
+    worst_r = max(float(r["rpe_rotation_deg"]) for r in rows)
+    check(worst_t < 0.04 and worst_r < 0.15, f"worst pair {worst_t:.4f} m, {worst_r:.4f} deg")
+    check(m["rpe"]["mean_translation_m"] < 0.012 and m["rpe"]["mean_rotation_deg"] < 0.1, f"rpe {m['rpe']}")
+    check(m["ate"]["unaligned_max_m"] < 0.06, f"ate {m['ate']}")
+    run(["odometry", "--synthetic", "12", "--seed", "3", "--out", o], 2, "holds another synthetic drive")
+    run(["odometry", "--synthetic", "12", "--sequence", s, "--out", o], 2, "excludes")
+    run(["odometry", "--out", os.path.join(d, "x")], 2, "give --sequence DIR")
 
 
 def main():
@@ -136,6 +177,8 @@ def main():
         run(["odometry", "--sequence", seq, "--out", seq], 2, "would overwrite the input --sequence (poses.txt)")
         check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
         run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
+    with tempfile.TemporaryDirectory(prefix="tigris_synth_") as d:
+        synthetic_checks(d, run, check)
     for msg in failures:
         print("FAIL", msg)
     print(f"odometry_cli_test: {len(failures)} failures")
