@@ -4,12 +4,34 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
 namespace tigris {
+
+std::vector<std::string> rerun_args(const std::vector<std::string>& argv, const std::vector<std::string>& drop_switches,
+                                    const std::vector<std::string>& drop_options, const std::vector<std::string>& extra) {
+  const auto in = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  std::vector<std::string> args{"/proc/self/exe"};
+  for (std::size_t i = 1; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (in(drop_switches, a)) continue;
+    if (in(drop_options, a)) {
+      ++i;  // and its value
+      continue;
+    }
+    const std::size_t eq = a.find('=');
+    if (a.rfind("--", 0) == 0 && eq != std::string::npos && in(drop_options, a.substr(0, eq))) continue;
+    args.push_back(a);
+  }
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
 
 pid_t start_self(const std::vector<std::string>& args, const std::string& log) {
   std::vector<char*> argv;

@@ -153,6 +153,7 @@ int main(int argc, char** argv) {
     register_options.argv.assign(argv, argv + argc);
     if (*reg) return tigris::run_register_command(*reg, register_options);
     odometry_options.command_line = register_options.command_line;
+    odometry_options.argv = register_options.argv;
     if (*odo) return tigris::run_odometry_command(*odo, odometry_options);
     if (*syn) return tigris::run_synth_command(*syn, synth_options);
   } catch (const std::exception& e) {

@@ -153,12 +153,20 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
       ->capture_default_str();
   app.add_option("--out", o.out, "Output folder")->capture_default_str();
   add_slurm_options(app, o.slurm);
+  app.add_flag("--compare", o.compare,
+               "Register the sequence with flann, exact, approx and accel, each into OUT/<back-end>/, then one table: "
+               "KD-tree and end-to-end time against FLANN, energy, KITTI errors (OUT/comparison.json)");
 }
 
-int run_odometry_command(const CLI::App&, const OdometryOptions& given) {
+int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
   OdometryOptions o = given;
   if (o.sequence.empty() && o.synthetic == 0)
     throw std::invalid_argument("give --sequence DIR (a KITTI-layout folder) or --synthetic N (a synthetic drive)");
+  if (o.compare)
+    for (const char* flag : {"--search", "--no-wait"})
+      if (app.count(flag))
+        throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs flann, exact, approx and "
+                                    "accel one after the other)");
   if (o.synthetic > 0) {
     DriveConfig drive;
     drive.frames = o.synthetic;
@@ -168,6 +176,7 @@ int run_odometry_command(const CLI::App&, const OdometryOptions& given) {
                  static_cast<unsigned long long>(o.seed), o.synthetic, o.sequence.c_str());
     write_synthetic_drive(drive, o.sequence, o.jobs, false);
   }
+  if (o.compare) return run_odometry_compare(o);
   // OUT/poses.txt must not be the sequence's own ground truth (--out DIR would overwrite it).
   check_distinct_paths({{"--sequence (poses.txt)", o.sequence + "/poses.txt"}, {"--config", o.config},
                         {"--accel-config", o.accel_config}},

@@ -29,11 +29,13 @@ struct OdometryOptions {
   std::vector<std::string> sets, accel_sets;
   double max_work = 1e10;
   SlurmOptions slurm;  // --slurm: the pairs as one job array
+  bool compare = false;  // --compare: flann, exact, approx and accel side by side (odometry_compare.cpp)
   std::vector<std::string> argv;  // as given (set by main)
   std::string command_line;
 };
 
 void add_odometry_options(CLI::App& app, OdometryOptions& o);
 int run_odometry_command(const CLI::App& app, const OdometryOptions& o);
+int run_odometry_compare(const OdometryOptions& o);
 
 }  // namespace tigris

@@ -35,26 +35,11 @@ constexpr Variant kVariants[] = {{"flann", "CPU, PCL's FLANN"},
 // the approximate run only, --accel-config and --accel-set for the accelerator runs only, then
 // --search and --out of the variant.
 std::vector<std::string> variant_args(const std::vector<std::string>& argv, const Variant& v, const std::string& out) {
-  std::vector<std::string> args{"/proc/self/exe"};
   const std::string search = v.search;
-  const bool approx = search == "accel-approx", accel = search.rfind("accel", 0) == 0;
-  const auto dropped = [&](const std::string& flag) {
-    return flag == "--out" || (flag == "--approx-thd" && !approx) ||
-           ((flag == "--accel-config" || flag == "--accel-set") && !accel);
-  };
-  for (std::size_t i = 1; i < argv.size(); ++i) {
-    const std::string& a = argv[i];
-    if (a == "--compare") continue;
-    if (dropped(a)) {
-      ++i;  // and its value
-      continue;
-    }
-    const std::size_t eq = a.find('=');
-    if (a.rfind("--", 0) == 0 && eq != std::string::npos && dropped(a.substr(0, eq))) continue;
-    args.push_back(a);
-  }
-  args.insert(args.end(), {"--search", v.search, "--out", out});
-  return args;
+  std::vector<std::string> drop{"--out"};
+  if (search != "accel-approx") drop.push_back("--approx-thd");
+  if (search.rfind("accel", 0) != 0) drop.insert(drop.end(), {"--accel-config", "--accel-set"});
+  return rerun_args(argv, {"--compare"}, drop, {"--search", v.search, "--out", out});
 }
 
 double search_seconds(const ordered_json& reg) {
