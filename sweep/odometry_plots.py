@@ -5,7 +5,9 @@
 
 Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
   OUT/trajectory.png  top view (x forward, y left of the first frame's sensor, metres, equal
-                      axes) of the estimated trajectory and, when there is one, the ground truth;
+                      axes) of the estimated trajectory and, when there is one, the ground truth,
+                      and below it their height (z up of the first frame) against the frame: a
+                      drift in pitch shows there and not in the top view;
   OUT/errors.png      the KITTI devkit's errors against segment length and against speed
                       (translation %, rotation deg/m); without a segment of 100 m (a short
                       trajectory) or a ground truth, the per-pair relative pose error instead,
@@ -48,8 +50,11 @@ def trajectory(out, traj, metrics):
     path = os.path.join(out, "trajectory.csv")
     est = [(num(r, "est_x", path), num(r, "est_y", path)) for r in traj]
     gt = [(num(r, "gt_x", path), num(r, "gt_y", path)) for r in traj]
+    frames = [num(r, "frame", path) for r in traj]
+    est_z = [num(r, "est_z", path) for r in traj]
+    gt_z = [num(r, "gt_z", path) for r in traj]
     has_gt = all(math.isfinite(x) and math.isfinite(y) for x, y in gt)
-    fig, ax = plt.subplots(figsize=(6.4, 6.4))
+    fig, (ax, hz) = plt.subplots(2, 1, figsize=(6.4, 8.4), gridspec_kw={"height_ratios": [3, 1]})
     if has_gt:
         ax.plot([p[0] for p in gt], [p[1] for p in gt], "-", color="0.3", lw=2.0, label="ground truth")
     ax.plot([p[0] for p in est], [p[1] for p in est], "-", color="C1", lw=1.2, label="estimate")
@@ -66,6 +71,16 @@ def trajectory(out, traj, metrics):
     ax.set_title(title, fontsize=10)
     ax.grid(True, lw=0.3)
     ax.legend(loc="best", fontsize=8)
+    if has_gt:
+        hz.plot(frames, gt_z, "-", color="0.3", lw=2.0, label="ground truth")
+    hz.plot(frames, est_z, "-", color="C1", lw=1.2, label="estimate")
+    span = max(est_z + (gt_z if has_gt else [])) - min(est_z + (gt_z if has_gt else []))
+    if span < 0.5:  # a flat drive stays flat on the plot: at least 0.5 m of height shown
+        mid = (max(est_z + (gt_z if has_gt else [])) + min(est_z + (gt_z if has_gt else []))) / 2
+        hz.set_ylim(mid - 0.25, mid + 0.25)
+    hz.set_xlabel("frame")
+    hz.set_ylabel("z (m, up at the first frame)")
+    hz.grid(True, lw=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "trajectory.png"), dpi=120)
     plt.close(fig)
@@ -82,6 +97,12 @@ def binned(segs, key, edges):
     return xs, ys
 
 
+def from_zero(ax, ys):
+    """A y axis from 0 with room above the highest point (no point on the frame's edge)."""
+    top = max([y for y in ys if math.isfinite(y)] or [0.0])
+    ax.set_ylim(0, top * 1.15 if top > 0 else 1.0)
+
+
 def errors(out, pairs, metrics):
     k = metrics.get("kitti") or {}
     segs = k.get("segment_list") or []
@@ -93,16 +114,17 @@ def errors(out, pairs, metrics):
         for row, (key, label) in enumerate((("t_err_percent", "translation error (%)"),
                                             ("r_err_deg_per_m", "rotation error (deg/m)"))):
             ax = axes[row][0]
-            ax.plot(lengths, [p[key] for p in per_len], "o-", color="C0")
+            ys = [p[key] for p in per_len]
+            ax.plot(lengths, ys, "o-", color="C0")
             ax.set_xlabel("segment length (m)")
             ax.set_ylabel(label)
-            ax.set_ylim(bottom=0)
+            from_zero(ax, ys)
             ax = axes[row][1]
             xs, ys = binned(segs, key, edges)
             ax.plot(xs, ys, "o-", color="C1")
             ax.set_xlabel("speed (km/h, 5 km/h bins)")
             ax.set_ylabel(label)
-            ax.set_ylim(bottom=0)
+            from_zero(ax, ys)
         fig.suptitle(f"KITTI devkit errors over {len(segs)} segments (100..800 m, one every 10 frames)", fontsize=10)
     else:
         path = os.path.join(out, "pairs.csv")
@@ -113,11 +135,12 @@ def errors(out, pairs, metrics):
             for row, (key, label) in enumerate((("rpe_translation_m", "relative pose error (m)"),
                                                 ("rpe_rotation_deg", "relative pose error (deg)"))):
                 ax = axes[row][0]
-                ax.plot(x, [num(r, key, path) for r in rows], "o-", color="C0")
+                ys = [num(r, key, path) for r in rows]
+                ax.plot(x, ys, "o-", color="C0")
                 ax.set_xlabel("pair (target frame)")
                 ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
                 ax.set_ylabel(label)
-                ax.set_ylim(bottom=0)
+                from_zero(ax, ys)
         for row in range(2):
             axes[row][1].axis("off")
         axes[0][1].text(0.0, 0.5, why + ":\nper-pair errors instead", fontsize=10, va="center")
