@@ -79,6 +79,22 @@ def synthetic_checks(d, run, check):
     check(open(scan, "rb").read() == before, "a completed drive has another scan 1")
     run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "holds another synthetic drive")
     run(["synth", "--frames", "1", "--out", os.path.join(d, "x")], 2, "--frames")
+    run(["synth", "--frames", "abc", "--out", os.path.join(d, "x")], 2, "--frames")
+    broken = os.path.join(d, "broken")
+    os.makedirs(broken)
+    open(os.path.join(broken, "drive.json"), "w").write("{\"settings\": ")
+    run(["synth", "--frames", "3", "--out", broken], 2, "is not a tigris synth drive file")
+    kitti = os.path.join(d, "kitti")
+    os.makedirs(kitti)
+    open(os.path.join(kitti, "poses.txt"), "w").write("1 0 0 0 0 1 0 0 0 0 1 0\n")
+    run(["synth", "--frames", "3", "--out", kitti], 2, "tigris synth did not write")
+    check(open(os.path.join(kitti, "poses.txt")).read().count("\n") == 1, "synth overwrote a KITTI poses.txt")
+    x = os.path.join(d, "x")
+    run(["odometry", "--synthetic", "3", "--slurm", "--out", x], 2, "sbatch not found",
+        env=dict(os.environ, PATH="/nonexistent"))
+    run(["odometry", "--synthetic", "3", "--compare", "--search", "exact", "--out", x], 2, "does not go with --compare")
+    run(["odometry", "--synthetic", "3", "--chunk", "2", "--out", x], 2, "--slurm")
+    run(["odometry", "--sequence", s, "--seed", "2", "--out", x], 2, "--synthetic")
     # 12 frames (11 pairs, 14 m) with DP4 and the exact search. Measured (seed 1): pair RPE at
     # most 0.0145 m and 0.065 deg, mean 0.0052 m and 0.046 deg; ATE unaligned max 0.020 m.
     o = os.path.join(d, "odo")
@@ -104,8 +120,8 @@ def main():
     a = ap.parse_args()
     failures = []
 
-    def run(args, code=0, needle=None):
-        p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=900)
+    def run(args, code=0, needle=None, env=None):
+        p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=900, env=env)
         out = p.stdout + p.stderr
         if p.returncode != code or (needle and needle not in out):
             failures.append(f"tigris {' '.join(args)}: exit {p.returncode} (want {code})"
