@@ -141,13 +141,15 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
   app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)");
-  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)");
+  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")
+      ->allow_extra_args(false);
   app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
       ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
   app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
   app.add_option("--accel-config", o.accel_config, "With --search accel*: the accelerator's configuration JSON");
-  app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)");
+  app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)")
+      ->allow_extra_args(false);
   app.add_option("--max-work", o.max_work, "Work bound of each pair's registration (as tigris register)")
       ->check(finite_range(0.0, 1e18))
       ->capture_default_str();

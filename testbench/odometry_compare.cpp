@@ -78,8 +78,8 @@ int run_odometry_compare(const OdometryOptions& o) {
     ordered_json r;
     r["back_end"] = search;
     r["label"] = b.label;
-    r["kdtree_seconds"] = accel ? at(m, {"accelerator", "modeled_kdtree_seconds"}) : at(m, {"totals", "kdtree_search_seconds"});
-    r["end_to_end_seconds"] = accel ? at(m, {"accelerator", "modeled_end_to_end_seconds"}) : at(m, {"totals", "seconds"});
+    r["kdtree_seconds"] = number(accel ? at(m, {"accelerator", "modeled_kdtree_seconds"}) : at(m, {"totals", "kdtree_search_seconds"}));
+    r["end_to_end_seconds"] = number(accel ? at(m, {"accelerator", "modeled_end_to_end_seconds"}) : at(m, {"totals", "seconds"}));
     r["timing"] = accel ? "modeled (the accelerator's jobs; the rest measured on this CPU)" : "measured on this CPU";
     r["kdtree_energy_pj"] = accel ? number(at(m, {"accelerator", "kdtree_energy_pj"})) : ordered_json();
     r["not_converged_pairs"] = m.value("not_converged_pairs", 0);
@@ -91,10 +91,15 @@ int run_odometry_compare(const OdometryOptions& o) {
     r["metrics"] = out + "/metrics.json";
     rows.push_back(r);
   }
-  const double base_kd = rows[0]["kdtree_seconds"].get<double>(), base_e2e = rows[0]["end_to_end_seconds"].get<double>();
+  // Against PCL's FLANN (the first row); no figure (null) where a time is missing or zero.
+  const auto seconds = [](const ordered_json& r, const char* key) {
+    const double x = r[key].is_number() ? r[key].get<double>() : NAN;
+    return std::isfinite(x) && x > 0.0 ? x : NAN;
+  };
+  const double base_kd = seconds(rows[0], "kdtree_seconds"), base_e2e = seconds(rows[0], "end_to_end_seconds");
   for (auto& r : rows) {
-    r["kdtree_speedup_vs_flann"] = base_kd / std::max(1e-12, r["kdtree_seconds"].get<double>());
-    r["end_to_end_reduction_vs_flann_percent"] = 100.0 * (1.0 - r["end_to_end_seconds"].get<double>() / base_e2e);
+    r["kdtree_speedup_vs_flann"] = number(base_kd / seconds(r, "kdtree_seconds"));
+    r["end_to_end_reduction_vs_flann_percent"] = number(100.0 * (1.0 - seconds(r, "end_to_end_seconds") / base_e2e));
   }
   const auto diff = [&](const char* key) {
     const ordered_json &e = rows[1][key], &a = rows[2][key];

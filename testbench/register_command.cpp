@@ -178,7 +178,8 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
   app.add_option("--config", o.config, "Pipeline configuration JSON applied over the preset");
-  app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)");
+  app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)")
+      ->allow_extra_args(false);
   app.add_option("--search", o.search,
                  "3D KD-tree back-end: flann (PCL's, the CPU baseline), exact or approx (golden "
                  "model on the CPU), accel or accel-approx (the accelerator model in the loop: each "
@@ -216,7 +217,8 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "default: the built-in paper configuration)");
   app.add_option("--accel-set", o.accel_sets,
                  "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
-                 "(repeatable; tigris run --list-config lists them)");
+                 "(repeatable; tigris run --list-config lists them)")
+      ->allow_extra_args(false);
   app.add_flag("--compare", o.compare,
                "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
                "and with the golden model, on the accelerator exact and approximate; print one table "

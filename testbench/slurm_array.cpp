@@ -1,6 +1,7 @@
 #include "slurm_array.hpp"
 
 #include <signal.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -28,18 +30,36 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
-// Runs a command line through /bin/sh; its exit code, its stdout and stderr together in `out`.
-int capture(const std::vector<std::string>& argv, std::string& out) {
+// Runs a command line through /bin/sh; its exit code (-1 when its output could not be read
+// whole), its stdout in `out` and, when `err` is given, its stderr there (else with stdout).
+int capture(const std::vector<std::string>& argv, std::string& out, std::string* err = nullptr) {
   std::string line;
   for (const std::string& a : argv) line += quote(a) + ' ';
-  line += "2>&1";
+  char tmp[] = "/tmp/tigris-slurm-stderr-XXXXXX";
+  int fd = -1;
+  if (err) {
+    fd = ::mkstemp(tmp);
+    if (fd < 0) return -1;
+    line += "2>" + quote(tmp);
+  } else {
+    line += "2>&1";
+  }
   out.clear();
-  FILE* p = ::popen(line.c_str(), "r");
-  if (!p) return 127;
-  char buf[4096];
-  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-  const int status = ::pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  int code = -1;
+  if (FILE* p = ::popen(line.c_str(), "r")) {
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    const bool whole = !std::ferror(p);
+    const int status = ::pclose(p);
+    code = !whole ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  }
+  if (err) {
+    std::ifstream f(tmp);
+    *err = std::string(std::istreambuf_iterator<char>(f), {});
+    ::close(fd);
+    ::unlink(tmp);
+  }
+  return code;
 }
 
 std::string trimmed(std::string s) {
@@ -47,19 +67,44 @@ std::string trimmed(std::string s) {
   return s;
 }
 
-// Task ids still queued or running: 1 or more, 0 none; -1 when squeue cannot tell.
+// Tasks not finished yet (any state but a final one): 1 or more, 0 none; -1 when squeue cannot
+// tell.
 int queued(const std::string& job) {
   std::string out;
-  const int code = capture({"squeue", "-h", "-j", job, "-t", "PD,R,CG,CF,S,RQ,RS,RH,SE", "-o", "%i"}, out);
-  if (code != 0) return out.find("Invalid job id") != std::string::npos ? 0 : -1;
+  const int code = capture({"squeue", "-h", "-j", job, "-t", "all", "-o", "%i %t"}, out);
+  if (code != 0) return code > 0 && out.find("Invalid job id") != std::string::npos ? 0 : -1;
   std::istringstream in(out);
   int n = 0;
-  for (std::string id; in >> id;) ++n;
+  for (std::string id, state; in >> id >> state;)
+    n += state != "CD" && state != "CA" && state != "F" && state != "TO" && state != "NF" && state != "PR" &&
+         state != "OOM" && state != "BF" && state != "DL";
   return n;
 }
 
 volatile sig_atomic_t interrupted = 0;
 void on_signal(int) { interrupted = 1; }
+
+// SIGINT and SIGTERM set `interrupted` while it lives (system calls restart).
+class SignalGuard {
+ public:
+  SignalGuard() {
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sa.sa_flags = SA_RESTART;
+    ::sigaction(SIGINT, &sa, &old_int_);
+    ::sigaction(SIGTERM, &sa, &old_term_);
+    interrupted = 0;
+  }
+  ~SignalGuard() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
 
 }  // namespace
 
@@ -99,23 +144,33 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
     f << "*) echo \"no task $SLURM_ARRAY_TASK_ID in this array\" >&2; exit 2 ;;\nesac\nexit $status\n";
   });
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  std::string log_dir;  // sbatch reads % in --output as a pattern: %% is a literal one
+  for (char c : sdir) log_dir += c == '%' ? std::string("%%") : std::string(1, c);
   std::vector<std::string> cmd{"sbatch", "--parsable", "--array=0-" + std::to_string(tasks - 1),
-                               "--job-name=" + name, "--output=" + sdir + "/%A_%a.out",
+                               "--job-name=" + name, "--output=" + log_dir + "/%A_%a.out",
                                "--chdir=" + fs::absolute(dir).lexically_normal().string()};
   if (!o.partition.empty()) cmd.push_back("--partition=" + o.partition);
   if (!o.time.empty()) cmd.push_back("--time=" + o.time);
   if (!o.mem.empty()) cmd.push_back("--mem=" + o.mem);
   cmd.insert(cmd.end(), o.sbatch_args.begin(), o.sbatch_args.end());
   cmd.push_back(script);
-  std::string out;
+  std::string out, err;
   std::string shown;
   for (const std::string& a : cmd) shown += (shown.empty() ? "" : " ") + quote(a);
-  const int code = capture(cmd, out);
-  if (code == 127 && out.find("not found") != std::string::npos)
+  const int code = capture(cmd, out, &err);
+  if (code == 127 && err.find("not found") != std::string::npos)
     throw std::runtime_error("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)");
   if (code != 0)
-    throw std::runtime_error("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(out) + "\n  command: " + shown);
-  const std::string job = trimmed(out.substr(0, out.find(';')));
+    throw std::runtime_error("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(err + out) +
+                             "\n  command: " + shown);
+  // --parsable prints "jobid[;cluster]" as its last line of stdout; warnings go to stderr.
+  std::string last = trimmed(out);
+  last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
+  const std::string job = last.substr(0, last.find(';'));
+  if (job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
+    throw std::runtime_error("sbatch printed no job id (stdout: '" + trimmed(out) + "', stderr: '" + trimmed(err) +
+                             "')\n  command: " + shown);
+  if (!trimmed(err).empty()) std::fprintf(stderr, "tigris: sbatch said: %s\n", trimmed(err).c_str());
   nlohmann::ordered_json j{{"job", job}, {"script", script}, {"tasks", tasks}, {"commands", commands.size()},
                            {"command", cmd}};
   write_file(sdir + "/job.json", [&](std::ostream& f) { f << j.dump(2) << '\n'; });
@@ -125,29 +180,21 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
 }
 
 void wait_array(const std::string& job, const std::function<void()>& tick) {
-  struct sigaction sa {}, old_int{}, old_term{};
-  sa.sa_handler = on_signal;
-  ::sigaction(SIGINT, &sa, &old_int);
-  ::sigaction(SIGTERM, &sa, &old_term);
-  interrupted = 0;
+  const SignalGuard guard;
   int misses = 0;
   while (true) {
     const int active = queued(job);  // asked before the tick: no result is missed
     tick();
+    if (interrupted) {
+      std::string out;
+      capture({"scancel", job}, out);
+      throw std::runtime_error("interrupted: cancelled Slurm job " + job + "; the pairs finished are kept, a rerun resumes");
+    }
     if (active == 0) break;
     misses = active < 0 ? misses + 1 : 0;
     if (misses > 60) throw std::runtime_error("squeue cannot report Slurm job " + job + " (60 tries)");
     for (int i = 0; i < 10 && !interrupted; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    if (interrupted) {
-      std::string out;
-      capture({"scancel", job}, out);
-      ::sigaction(SIGINT, &old_int, nullptr);
-      ::sigaction(SIGTERM, &old_term, nullptr);
-      throw std::runtime_error("interrupted: cancelled Slurm job " + job + "; the pairs finished are kept, a rerun resumes");
-    }
   }
-  ::sigaction(SIGINT, &old_int, nullptr);
-  ::sigaction(SIGTERM, &old_term, nullptr);
 }
 
 std::string active_array(const std::string& dir) {

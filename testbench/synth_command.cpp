@@ -7,6 +7,7 @@
 #include <fstream>
 #include <mutex>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -30,6 +31,7 @@ std::string frame_name(int i) {
 }
 
 ordered_json settings_of(const DriveConfig& c) {
+  // Bump the version when the drive's output changes: a rerun never mixes scans of two versions.
   return {{"generator", "tigris synth (sw_ref/synthetic/drive.hpp), version 1"},
           {"seed", c.seed},
           {"frames", c.frames},
@@ -61,39 +63,45 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   const std::string meta = dir + "/drive.json";
   if (fs::exists(meta)) {
     ordered_json before;
+    bool parsed = true;
     try {
       std::ifstream f(meta);
       f >> before;
     } catch (const std::exception&) {
-      throw std::invalid_argument(meta + " is not a tigris synth drive file: use another folder");
+      parsed = false;  // (a failed parse may leave a partial value behind)
     }
-    if (!before.is_object() || before.value("settings", ordered_json()) != settings)
-      throw std::invalid_argument(dir + " holds another synthetic drive (" + meta + ": " +
-                                  before.value("settings", ordered_json()).dump() +
+    if (!parsed || !before.is_object() || !before.contains("settings"))
+      throw std::invalid_argument(meta + " is not a tigris synth drive file: use another folder");
+    if (before["settings"] != settings)
+      throw std::invalid_argument(dir + " holds another synthetic drive (" + meta + ": " + before["settings"].dump() +
                                   "): use another folder, or remove it");
   } else if (fs::exists(dir + "/poses.txt") || fs::exists(dir + "/velodyne")) {
     throw std::invalid_argument(dir + " holds a sequence tigris synth did not write (poses.txt or velodyne/): "
                                 "use another folder");
+  } else {
+    // Claimed before the first scan: an interrupted run is completed by the next one.
+    write_file(meta, [&](std::ostream& f) { f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n'; });
   }
   const auto t0 = std::chrono::steady_clock::now();
   const SyntheticDrive drive(config);
   fs::create_directories(dir + "/velodyne");
 
-  // Scans: the ones missing, `jobs` threads (each scan is independent and deterministic).
+  // Scans: the ones missing, `jobs` threads (each scan is independent and deterministic). A scan
+  // is written beside its name and renamed when whole; leftovers of an interrupted run go.
+  for (const auto& e : fs::directory_iterator(dir + "/velodyne"))
+    if (e.path().filename().string().find(".bin.tmp") != std::string::npos) fs::remove(e.path());
   std::vector<int> todo;
   for (int i = 0; i < config.frames; ++i)
     if (!fs::exists(dir + "/velodyne/" + frame_name(i))) todo.push_back(i);
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex lock;
   std::string error;
-  std::size_t points = 0;
   const auto work = [&] {
     for (std::size_t k; (k = next++) < todo.size();) {
       try {
         const PointCloud scan = drive.scan(todo[k]);
         write_file(dir + "/velodyne/" + frame_name(todo[k]), [&](std::ostream& f) { f << kitti_bin_bytes(scan); });
         std::lock_guard<std::mutex> g(lock);
-        points += scan.size();
         const std::size_t n = ++done;
         if (!quiet && (n == todo.size() || n % 10 == 0))
           std::fprintf(stderr, "tigris synth: %zu/%zu scans (%.0f s)\n", n, todo.size(),
@@ -106,7 +114,10 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 1; t < std::min<int>(jobs, static_cast<int>(todo.size())); ++t) pool.emplace_back(work);
+  try {
+    for (int t = 1; t < std::min<int>(jobs, static_cast<int>(todo.size())); ++t) pool.emplace_back(work);
+  } catch (const std::system_error&) {  // no more threads: go on with those there are
+  }
   work();
   for (std::thread& t : pool) t.join();
   if (!error.empty()) throw std::runtime_error(error);
@@ -131,15 +142,16 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   const DriveSummary& s = drive.summary();
   ordered_json m;
   m["settings"] = settings;
+  m["complete"] = true;
   m["summary"] = {{"route_length_m", s.route_length_m},
-                  {"crossings_planned", s.crossings},
-                  {"turns_planned", s.turns},
-                  {"stops_planned", s.stops},
+                  {"crossings", s.crossings},
+                  {"turns", s.turns},
+                  {"stops", s.stops},
                   {"boxes_buildings_and_cars", s.buildings_and_cars},
                   {"cylinders_poles_and_trunks", s.poles_and_trunks},
                   {"spheres_tree_crowns", s.tree_crowns},
                   {"max_grade", s.max_grade},
-                  {"note", "crossings, turns and stops are the planned route's, which runs a little past the last frame"}};
+                  {"note", "crossings, turns and stops on the way driven (from frame 0 to the last frame)"}};
   ordered_json frames = ordered_json::array();
   for (const DriveFrame& f : drive.frames())
     frames.push_back({{"time_s", f.time_s}, {"speed_m_per_s", f.speed_m_per_s}, {"distance_m", f.distance_m}});

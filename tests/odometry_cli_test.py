@@ -20,6 +20,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from hostile_inputs import room_points  # noqa: E402
@@ -59,7 +60,7 @@ def make_sequence(d, frames=4):
     return poses
 
 
-def synthetic_checks(d, run, check):
+def synthetic_checks(d, run, check, a_tigris):
     s = os.path.join(d, "drive")
     run(["synth", "--frames", "3", "--out", s], 0, "velodyne/000000.bin .. 000002.bin")
     names = sorted(os.listdir(os.path.join(s, "velodyne")))
@@ -77,6 +78,24 @@ def synthetic_checks(d, run, check):
     os.remove(scan)
     run(["synth", "--frames", "3", "--out", s], 0, "(1 scans cast now)")
     check(open(scan, "rb").read() == before, "a completed drive has another scan 1")
+    # Interrupted while casting: the rerun completes the drive (the folder was claimed first).
+    cut = os.path.join(d, "cut")
+    p = subprocess.Popen([a_tigris, "synth", "--frames", "60", "--jobs", "1", "--out", cut],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    t0 = time.monotonic()
+    while len(os.listdir(os.path.join(cut, "velodyne")) if os.path.isdir(os.path.join(cut, "velodyne")) else []) < 3:
+        if time.monotonic() - t0 > 60 or p.poll() is not None:
+            break
+        time.sleep(0.01)
+    p.kill()
+    p.wait()
+    made = len([f for f in os.listdir(os.path.join(cut, "velodyne")) if f.endswith(".bin")])
+    check(0 < made < 60, f"the interrupted synth wrote {made} scans")
+    run(["synth", "--frames", "60", "--out", cut], 0, f"({60 - made} scans cast now)")
+    check(json.load(open(os.path.join(cut, "drive.json")))["complete"] is True, "the completed drive is not complete")
+    check(sorted(os.listdir(os.path.join(cut, "velodyne"))) == ["%06d.bin" % i for i in range(60)],
+          "the completed drive's velodyne/ holds other files")
+    check(open(os.path.join(cut, "velodyne", "000001.bin"), "rb").read() == before, "scan 1 differs between drives")
     run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "holds another synthetic drive")
     run(["synth", "--frames", "1", "--out", os.path.join(d, "x")], 2, "--frames")
     run(["synth", "--frames", "abc", "--out", os.path.join(d, "x")], 2, "--frames")
@@ -194,7 +213,7 @@ def main():
         check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
         run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
     with tempfile.TemporaryDirectory(prefix="tigris_synth_") as d:
-        synthetic_checks(d, run, check)
+        synthetic_checks(d, run, check, a.tigris)
     for msg in failures:
         print("FAIL", msg)
     print(f"odometry_cli_test: {len(failures)} failures")

@@ -108,9 +108,12 @@ SyntheticDrive::SyntheticDrive(const DriveConfig& config) : config_(config), imp
   }
   impl_->town = synth::make_town(config.seed, grid, path, config.max_range_m + 20.0);
   summary_.route_length_m = driven;
-  summary_.crossings = route.crossings;
-  summary_.turns = route.turns;
-  summary_.stops = route.stops;
+  for (const synth::SpeedLimit& l : route.limits) {  // what the car passed (a new cruise: a crossing)
+    if (l.s_from > driven) continue;
+    summary_.crossings += l.cruise && l.s_from > 0.0;
+    summary_.turns += !l.cruise && !l.stop;
+    summary_.stops += l.stop;
+  }
   summary_.buildings_and_cars = impl_->town.boxes.size();
   summary_.poles_and_trunks = impl_->town.cylinders.size();
   summary_.tree_crowns = impl_->town.spheres.size();

@@ -42,7 +42,7 @@ struct DriveFrame {
 
 struct DriveSummary {
   double route_length_m = 0;  // of the frames driven
-  int crossings = 0, turns = 0, stops = 0;  // on the planned route (which runs on a little)
+  int crossings = 0, turns = 0, stops = 0;  // on the way driven, frame 0 to the last frame
   std::size_t buildings_and_cars = 0, poles_and_trunks = 0, tree_crowns = 0;
   double max_grade = 0;  // steepest ground slope under the car's path
 };

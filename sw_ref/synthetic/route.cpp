@@ -85,7 +85,6 @@ Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m
       add_cruise(s_cross);
       break;
     }
-    ++route.crossings;
     // One draw each, whatever is decided: the stream stays aligned.
     const double pick = rng.uniform();
     const bool stop = rng.chance(0.35) && !first;
@@ -132,7 +131,6 @@ Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m
       k = new_k;
       axis = 1 - axis;
       h = nh;
-      ++route.turns;
     }
     if (stop) {
       SpeedLimit l;
@@ -140,7 +138,6 @@ Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m
       l.stop = true;
       l.dwell_s = dwell;
       route.limits.push_back(l);
-      ++route.stops;
     }
     // A new target speed from the crossing on (after a turn: from the turn's exit).
     const double change = turn == 0 ? s_cross : s0;
@@ -162,6 +159,7 @@ std::vector<ProfileSample> speed_profile(const Route& route, int frames) {
   double s = 0.0, v = lim.empty() ? 0.0 : lim.front().v_max;
   int dwell_steps = 0;
   std::size_t held = lim.size();  // the stop being made, if any
+  std::size_t from = 0;           // limits before this one are behind the car for good
   for (int f = 0; f < frames; ++f) {
     out.push_back(ProfileSample{s, v});
     for (int step = 0; step < 10; ++step) {
@@ -172,7 +170,8 @@ std::vector<ProfileSample> speed_profile(const Route& route, int frames) {
       // The tightest limit here and ahead (braking curves), and the acceleration of the stretch.
       double allow = 15.0, accel = 1.5;
       std::size_t next_stop = lim.size();
-      for (std::size_t i = 0; i < lim.size(); ++i) {
+      while (from < lim.size() && (lim[from].stop ? passed[from] : lim[from].s_to < s)) ++from;
+      for (std::size_t i = from; i < lim.size(); ++i) {
         const SpeedLimit& l = lim[i];
         if (l.s_from - s > 60.0) break;
         if ((l.stop && passed[i]) || (!l.stop && l.s_to < s)) continue;

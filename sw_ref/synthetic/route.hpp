@@ -36,7 +36,6 @@ struct SpeedLimit {
 struct Route {
   std::vector<RoutePiece> pieces;
   std::vector<SpeedLimit> limits;  // sorted by s_from
-  int turns = 0, stops = 0, crossings = 0;
   double length() const { return pieces.empty() ? 0.0 : pieces.back().s0 + pieces.back().length; }
   // Position and heading (unit, horizontal) at arc length s (clamped to the route).
   void at(double s, double& x, double& y, double& hx, double& hy) const;

@@ -13,8 +13,9 @@
 
 namespace tigris::synth {
 
-// Ground height z = a x + b y + c x^2 + d y^2 + e x y: slopes of at most ~10% inside the town
-// (|x|, |y| <= kTownHalfSize), and a ray meets it in a quadratic equation.
+// Ground height z = a x + b y + c x^2 + d y^2 + e x y: slopes of a few percent near the start,
+// at most ~13% where the car can go (|x|, |y| <= kTownHalfSize - 150 m), and a ray meets it in a
+// quadratic equation.
 struct Ground {
   double a = 0, b = 0, c = 0, d = 0, e = 0;
   double height(double x, double y) const { return ((a * x + b * y) + (c * x * x + d * y * y)) + e * x * y; }
@@ -44,7 +45,7 @@ constexpr double kLaneOffset = 1.8;        // right-hand traffic: lane centre 1.
 class StreetGrid {
  public:
   explicit StreetGrid(std::uint64_t seed);
-  // Streets along y (their x positions), ascending; street 0 is the last one west of x = -30 m.
+  // Streets along y (their x positions), ascending, from beyond -kTownHalfSize to beyond +kTownHalfSize.
   const std::vector<Street>& xs() const { return xs_; }
   // Streets along x (their y positions), ascending; the drive starts on the one at y = 0.
   const std::vector<Street>& ys() const { return ys_; }
