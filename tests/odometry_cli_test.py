@@ -180,6 +180,20 @@ def main():
         check(open(os.path.join(o1, "poses.txt")).read() == open(os.path.join(o2, "poses.txt")).read(),
               "--jobs 2 chained other poses than --jobs 1")
         run(["odometry", "--sequence", seq, "--out", o1], 0, "3 already in")  # resumes
+        # --compare: four runs of their own and one table; the accelerator run gets the CPU baseline.
+        oc = os.path.join(d, "oc")
+        text = run(["odometry", "--sequence", seq, "--compare", "--jobs", "2", "--out", oc], 0,
+                   "accelerator (exact), modeled")
+        c = json.load(open(os.path.join(oc, "comparison.json")))
+        check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "approx", "accel"], f"rows {c['rows']}")
+        acc = c["rows"][3]
+        check(acc["kdtree_energy_pj"] and acc["kdtree_speedup_vs_flann"] > 1.0, f"accel row {acc}")
+        check(all(r["mean_rpe_translation_m"] < 0.02 for r in c["rows"]), "a back-end registered badly")
+        am = json.load(open(os.path.join(oc, "accel", "metrics.json")))
+        check(am["compared_with_cpu"]["flann_end_to_end_seconds"] == c["rows"][0]["end_to_end_seconds"],
+              "accel/metrics.json lacks the FLANN baseline")
+        check(open(os.path.join(oc, "exact", "poses.txt")).read() == open(os.path.join(o1, "poses.txt")).read(),
+              "--compare's exact run chained other poses than the plain run")
         run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a run with other settings")
         run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
         run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
