@@ -132,7 +132,10 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
                                     "written to OUT/sequence first")
                          ->check(CLI::Range(2, 20000));
   seq->excludes(syn);
-  app.add_option("--seed", o.seed, "With --synthetic: the drive's seed")->needs(syn)->capture_default_str();
+  app.add_option("--seed", o.seed, "With --synthetic: the drive's seed (0 .. 2^64-1)")
+      ->check(uint64_text())
+      ->needs(syn)
+      ->capture_default_str();
   app.add_option("--frames", o.frames, "A:B, the first and the last frame (default: every frame)");
   app.add_option("--jobs", o.jobs, "Pairs registered at once, each a process of its own")
       ->check(CLI::Range(1, 256))

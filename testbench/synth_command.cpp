@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "arg_checks.hpp"
 #include "report.hpp"
 #include "sw_ref/io/kitti_bin.hpp"
 #include "sw_ref/registration/kitti_sequence.hpp"
@@ -165,7 +166,9 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
 
 void add_synth_options(CLI::App& app, SynthOptions& o) {
   app.add_option("--frames", o.frames, "Frames of the drive (10 Hz)")->required()->check(CLI::Range(2, 20000));
-  app.add_option("--seed", o.seed, "The town's, the route's and the noise's seed")->capture_default_str();
+  app.add_option("--seed", o.seed, "The town's, the route's and the noise's seed (0 .. 2^64-1)")
+      ->check(uint64_text())
+      ->capture_default_str();
   app.add_option("--jobs", o.jobs, "Scans cast at once (threads)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--out", o.out, "Output folder (KITTI layout); a rerun with the same settings completes it")
       ->required();

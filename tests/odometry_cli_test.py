@@ -99,6 +99,8 @@ def synthetic_checks(d, run, check, a_tigris):
     run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "holds another synthetic drive")
     run(["synth", "--frames", "1", "--out", os.path.join(d, "x")], 2, "--frames")
     run(["synth", "--frames", "abc", "--out", os.path.join(d, "x")], 2, "--frames")
+    run(["synth", "--frames", "3", "--seed", "-1", "--out", os.path.join(d, "x")], 2, "--seed")
+    run(["synth", "--frames", "3", "--seed", "18446744073709551616", "--out", os.path.join(d, "x")], 2, "--seed")
     broken = os.path.join(d, "broken")
     os.makedirs(broken)
     open(os.path.join(broken, "drive.json"), "w").write("{\"settings\": ")
