@@ -138,6 +138,8 @@ def synthetic_checks(d, run, check, a_tigris):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tigris", required=True)
+    ap.add_argument("--part", choices=("sequence", "synthetic", "all"), default="all",
+                    help="the KITTI-layout sequence checks, the synthetic drive's, or both")
     a = ap.parse_args()
     failures = []
 
@@ -154,86 +156,92 @@ def main():
             failures.append(what)
 
     with tempfile.TemporaryDirectory(prefix="tigris_odometry_") as d:
-        seq = os.path.join(d, "seq")
-        make_sequence(seq)
-        o1, o2 = os.path.join(d, "o1"), os.path.join(d, "o2")
-        text = run(["odometry", "--sequence", seq, "--out", o1], 0, "KITTI metrics: none")
-        check("axis swap" in open(os.path.join(o1, "metrics.json")).read(), "the calibration is not named")
-        m = json.load(open(os.path.join(o1, "metrics.json")))
-        check(m["pairs"] == 3, f"pairs {m['pairs']}")
-        icp = m["stages"]["icp"]["per_pair_mean"]
-        check(icp["searches"] > 0 and icp["kdtree_search_seconds"] > 0, f"icp stage means {icp}")
-        for png in ("trajectory.png", "errors.png"):
-            check(os.path.isfile(os.path.join(o1, png)), f"no {png}")
-        check(m["kitti"]["too_short"] and m["kitti"]["t_err_percent"] is None, f"kitti {m['kitti']}")
-        check(m["rpe"]["mean_translation_m"] < 0.02 and m["rpe"]["mean_rotation_deg"] < 0.2, f"rpe {m['rpe']}")
-        check(m["ate"]["unaligned_max_m"] < 0.05, f"ate {m['ate']}")
-        lines = open(os.path.join(o1, "poses.txt")).read().split("\n")
-        check(len([l for l in lines if l]) == 4 and all(len(l.split()) == 12 for l in lines if l), "poses.txt")
-        rows = list(csv.DictReader(open(os.path.join(o1, "pairs.csv"))))
-        check([r["target"] for r in rows] == ["0", "1", "2"] and all(r["status"] == "converged" for r in rows),
-              f"pairs.csv {rows}")
-        # Frame 3's pose from poses.txt against the truth: the camera pose's translation.
-        last = [float(v) for v in lines[3].split()]
-        truth = mul(mul(AXIS, pose(0.6, 0.15, 3.0)), inv(AXIS))
-        err = math.dist((last[3], last[7], last[11]), (truth[0][3], truth[1][3], truth[2][3]))
-        check(err < 0.05, f"frame 3 is {err:.3f} m off")
-        run(["odometry", "--sequence", seq, "--jobs", "2", "--out", o2])
-        check(open(os.path.join(o1, "poses.txt")).read() == open(os.path.join(o2, "poses.txt")).read(),
-              "--jobs 2 chained other poses than --jobs 1")
-        run(["odometry", "--sequence", seq, "--out", o1], 0, "3 already in")  # resumes
-        # --compare: four runs of their own and one table; the accelerator run gets the CPU baseline.
-        oc = os.path.join(d, "oc")
-        text = run(["odometry", "--sequence", seq, "--compare", "--jobs", "2", "--out", oc], 0,
-                   "accelerator (exact), modeled")
-        c = json.load(open(os.path.join(oc, "comparison.json")))
-        check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "approx", "accel"], f"rows {c['rows']}")
-        acc = c["rows"][3]
-        check(acc["kdtree_energy_pj"] and acc["kdtree_speedup_vs_flann"] > 1.0, f"accel row {acc}")
-        check(all(r["mean_rpe_translation_m"] < 0.02 for r in c["rows"]), "a back-end registered badly")
-        am = json.load(open(os.path.join(oc, "accel", "metrics.json")))
-        check(am["compared_with_cpu"]["flann_end_to_end_seconds"] == c["rows"][0]["end_to_end_seconds"],
-              "accel/metrics.json lacks the FLANN baseline")
-        check(open(os.path.join(oc, "exact", "poses.txt")).read() == open(os.path.join(o1, "poses.txt")).read(),
-              "--compare's exact run chained other poses than the plain run")
-        run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a run with other settings")
-        run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
-        run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
-        run(["odometry", "--sequence", seq, "--frames", "2", "--out", os.path.join(d, "x")], 2, "--frames must be A:B")
-        # Two more poses than scans, all steps equal (KITTI 00's first frames): both are said.
-        with open(os.path.join(seq, "poses.txt"), "a") as f:
-            for i in (4, 5):
-                cam = mul(mul(AXIS, pose(0.2 * i, 0.05 * i, 1.0 * i)), inv(AXIS))
-                f.write(" ".join("%.17g" % cam[r][c] for r in range(3) for c in range(4)) + "\n")
-        text = run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o4")], 0, "6 poses for 4 scans")
-        check("first 5 steps are equal" in text and "may measure the ground truth" in text,
-              "no warning for a ground truth of equal steps")
-        check("ground_truth_warning" in json.load(open(os.path.join(d, "o4", "metrics.json"))),
-              "metrics.json has no ground_truth_warning")
-        os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
-        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
-        os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))
-        scan2 = os.path.join(seq, "velodyne", "000002.bin")
-        whole = open(scan2, "rb").read()
-        open(scan2, "wb").write(whole[:1000])  # truncated: the pair's register names the file
-        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o5")], 2, "000002.bin: file size 1000 bytes")
-        open(scan2, "wb").write(whole)
-        with open(os.path.join(seq, "poses.txt")) as f:
-            first = f.readline()
-        with open(os.path.join(seq, "poses.txt"), "w") as f:
-            f.write(first)
-        run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
-        run(["odometry", "--sequence", seq, "--jobs", "0", "--out", os.path.join(d, "x")], 2, "--jobs")
-        gt_before = open(os.path.join(seq, "poses.txt")).read()
-        run(["odometry", "--sequence", seq, "--out", seq], 2, "would overwrite the input --sequence (poses.txt)")
-        check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
-        run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
+        if a.part != "synthetic":
+            sequence_checks(d, run, check)
     with tempfile.TemporaryDirectory(prefix="tigris_synth_") as d:
-        synthetic_checks(d, run, check, a.tigris)
+        if a.part != "sequence":
+            synthetic_checks(d, run, check, a.tigris)
     for msg in failures:
         print("FAIL", msg)
     print(f"odometry_cli_test: {len(failures)} failures")
     return 1 if failures else 0
+
+
+def sequence_checks(d, run, check):
+    seq = os.path.join(d, "seq")
+    make_sequence(seq)
+    o1, o2 = os.path.join(d, "o1"), os.path.join(d, "o2")
+    text = run(["odometry", "--sequence", seq, "--out", o1], 0, "KITTI metrics: none")
+    check("axis swap" in open(os.path.join(o1, "metrics.json")).read(), "the calibration is not named")
+    m = json.load(open(os.path.join(o1, "metrics.json")))
+    check(m["pairs"] == 3, f"pairs {m['pairs']}")
+    icp = m["stages"]["icp"]["per_pair_mean"]
+    check(icp["searches"] > 0 and icp["kdtree_search_seconds"] > 0, f"icp stage means {icp}")
+    for png in ("trajectory.png", "errors.png"):
+        check(os.path.isfile(os.path.join(o1, png)), f"no {png}")
+    check(m["kitti"]["too_short"] and m["kitti"]["t_err_percent"] is None, f"kitti {m['kitti']}")
+    check(m["rpe"]["mean_translation_m"] < 0.02 and m["rpe"]["mean_rotation_deg"] < 0.2, f"rpe {m['rpe']}")
+    check(m["ate"]["unaligned_max_m"] < 0.05, f"ate {m['ate']}")
+    lines = open(os.path.join(o1, "poses.txt")).read().split("\n")
+    check(len([l for l in lines if l]) == 4 and all(len(l.split()) == 12 for l in lines if l), "poses.txt")
+    rows = list(csv.DictReader(open(os.path.join(o1, "pairs.csv"))))
+    check([r["target"] for r in rows] == ["0", "1", "2"] and all(r["status"] == "converged" for r in rows),
+          f"pairs.csv {rows}")
+    # Frame 3's pose from poses.txt against the truth: the camera pose's translation.
+    last = [float(v) for v in lines[3].split()]
+    truth = mul(mul(AXIS, pose(0.6, 0.15, 3.0)), inv(AXIS))
+    err = math.dist((last[3], last[7], last[11]), (truth[0][3], truth[1][3], truth[2][3]))
+    check(err < 0.05, f"frame 3 is {err:.3f} m off")
+    run(["odometry", "--sequence", seq, "--jobs", "2", "--out", o2])
+    check(open(os.path.join(o1, "poses.txt")).read() == open(os.path.join(o2, "poses.txt")).read(),
+          "--jobs 2 chained other poses than --jobs 1")
+    run(["odometry", "--sequence", seq, "--out", o1], 0, "3 already in")  # resumes
+    # --compare: four runs of their own and one table; the accelerator run gets the CPU baseline.
+    oc = os.path.join(d, "oc")
+    text = run(["odometry", "--sequence", seq, "--compare", "--jobs", "2", "--out", oc], 0,
+               "accelerator (exact), modeled")
+    c = json.load(open(os.path.join(oc, "comparison.json")))
+    check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "approx", "accel"], f"rows {c['rows']}")
+    acc = c["rows"][3]
+    check(acc["kdtree_energy_pj"] and acc["kdtree_speedup_vs_flann"] > 1.0, f"accel row {acc}")
+    check(all(r["mean_rpe_translation_m"] < 0.02 for r in c["rows"]), "a back-end registered badly")
+    am = json.load(open(os.path.join(oc, "accel", "metrics.json")))
+    check(am["compared_with_cpu"]["flann_end_to_end_seconds"] == c["rows"][0]["end_to_end_seconds"],
+          "accel/metrics.json lacks the FLANN baseline")
+    check(open(os.path.join(oc, "exact", "poses.txt")).read() == open(os.path.join(o1, "poses.txt")).read(),
+          "--compare's exact run chained other poses than the plain run")
+    run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a run with other settings")
+    run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
+    run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
+    run(["odometry", "--sequence", seq, "--frames", "2", "--out", os.path.join(d, "x")], 2, "--frames must be A:B")
+    # Two more poses than scans, all steps equal (KITTI 00's first frames): both are said.
+    with open(os.path.join(seq, "poses.txt"), "a") as f:
+        for i in (4, 5):
+            cam = mul(mul(AXIS, pose(0.2 * i, 0.05 * i, 1.0 * i)), inv(AXIS))
+            f.write(" ".join("%.17g" % cam[r][c] for r in range(3) for c in range(4)) + "\n")
+    text = run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o4")], 0, "6 poses for 4 scans")
+    check("first 5 steps are equal" in text and "may measure the ground truth" in text,
+          "no warning for a ground truth of equal steps")
+    check("ground_truth_warning" in json.load(open(os.path.join(d, "o4", "metrics.json"))),
+          "metrics.json has no ground_truth_warning")
+    os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
+    run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
+    os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))
+    scan2 = os.path.join(seq, "velodyne", "000002.bin")
+    whole = open(scan2, "rb").read()
+    open(scan2, "wb").write(whole[:1000])  # truncated: the pair's register names the file
+    run(["odometry", "--sequence", seq, "--out", os.path.join(d, "o5")], 2, "000002.bin: file size 1000 bytes")
+    open(scan2, "wb").write(whole)
+    with open(os.path.join(seq, "poses.txt")) as f:
+        first = f.readline()
+    with open(os.path.join(seq, "poses.txt"), "w") as f:
+        f.write(first)
+    run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
+    run(["odometry", "--sequence", seq, "--jobs", "0", "--out", os.path.join(d, "x")], 2, "--jobs")
+    gt_before = open(os.path.join(seq, "poses.txt")).read()
+    run(["odometry", "--sequence", seq, "--out", seq], 2, "would overwrite the input --sequence (poses.txt)")
+    check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
+    run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
 
 
 if __name__ == "__main__":
