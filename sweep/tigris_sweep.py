@@ -773,16 +773,21 @@ def run_local(plan, todo, out, jobs, names):
     pool(todo, jobs, launch, done)
 
 
+FINAL_STATES = {"CD", "CA", "F", "TO", "NF", "PR", "OOM", "BF", "DL"}   # squeue's compact states
+
+
 def squeue_active(job):
-    """Task ids of `job` still queued or running; None when squeue cannot tell."""
+    """Task ids of `job` not finished yet (any state but a final one: pending, running,
+    suspended, stopped, requeued, ...); None when squeue cannot tell."""
     try:
-        p = subprocess.run(["squeue", "-h", "-j", str(job), "-t", "PD,R,CG,CF,S,RQ,RS,RH,SE",
-                            "-o", "%i"], capture_output=True, text=True, timeout=60)
+        p = subprocess.run(["squeue", "-h", "-j", str(job), "-t", "all", "-o", "%i %t"],
+                           capture_output=True, text=True, timeout=60)
     except (OSError, subprocess.TimeoutExpired):
         return None
     if p.returncode != 0:
         return [] if "Invalid job id" in p.stderr else None
-    return p.stdout.split()
+    rows = [line.split() for line in p.stdout.splitlines() if line.strip()]
+    return [r[0] for r in rows if len(r) == 2 and r[1] not in FINAL_STATES]
 
 
 def run_slurm(a, plan, todo, out, names):
