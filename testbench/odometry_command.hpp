@@ -1,10 +1,12 @@
 // `tigris odometry` (issue 20, DESIGN.md section 19): registers each frame of a KITTI-layout
-// sequence (or of a synthetic drive it writes first, `--synthetic N`) into the previous one and chains the poses. Each pair is `tigris register` run as a
-// process of its own with the pipeline flags forwarded (so a pair's registration.json is
-// exactly what `tigris register` would write), `--jobs N` at a time; a rerun into the same OUT
-// with the same settings reuses the pairs already there. Writes OUT/poses.txt (KITTI format),
+// sequence (or of a synthetic drive it writes first, `--synthetic N`) into the previous one and
+// chains the poses. Each pair is `tigris register` run as a process of its own with the pipeline
+// flags forwarded (so a pair's registration.json is exactly what `tigris register` would write),
+// `--jobs N` at a time or all as one Slurm job array (`--slurm`); a rerun into the same OUT with
+// the same settings reuses the pairs already there. Writes OUT/poses.txt (KITTI format),
 // OUT/pairs.csv and OUT/metrics.json (the KITTI devkit's metrics when the sequence has
-// poses.txt; the accelerator's totals with --search accel*).
+// poses.txt; the accelerator's totals with --search accel*). `--compare` runs four back-ends
+// side by side (odometry_compare.cpp).
 #pragma once
 
 #include <cstdint>

@@ -4,11 +4,12 @@ room scene with exact poses (no calib.txt: the axis swap), registered pair by pa
 pairs.csv and metrics.json written, the chained poses near the truth, a short trajectory
 reported without KITTI metrics (null, not 0), the plots drawn, --jobs 2 equal to --jobs 1, a
 rerun resuming, other settings into the same folder refused, a ground truth of equal steps
-flagged, a missing scan and a short poses.txt refused. Then `tigris synth` (KITTI layout, a rerun
+flagged, a missing scan and a short poses.txt refused, --compare's four runs and table. Then `tigris synth` (KITTI layout, a rerun
 completing a missing scan with the same bytes, another drive into the folder refused) and
 `tigris odometry --synthetic 12` registering within the tolerances measured for it.
 
-Usage: odometry_cli_test.py --tigris PATH   (exit 0 when every check holds)
+Usage: odometry_cli_test.py --tigris PATH [--part sequence|synthetic|all]   (exit 0 when every
+check holds; ctest runs the two parts as odometry_cli and odometry_synthetic)
 """
 import argparse
 import csv
