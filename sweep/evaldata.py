@@ -349,42 +349,7 @@ def fmt_bytes(b):
 
 
 def bound_facts(row):
-    """What bounds a run, from its stats: each unit kind's share of its cycles busy and stalled
-    by cause (summed over units / (units x cycles)), PE utilisation, cycles over the lower bound."""
-    cyc = num(row, "cycles")
-    if not cyc:
-        return ""
-    parts, occ = [], {}
-    for kind, label in (("recursion_units", "RUs"), ("search_units", "SUs")):
-        n = num(row, f"units.{kind}.count")
-        busy = num(row, f"units.{kind}.busy_cycles")
-        if not n or busy is None:
-            continue
-        span = n * cyc
-        items = [("busy", busy / span)]
-        prefix = f"units.{kind}.stall_cycles."
-        for c in row:
-            if isinstance(c, str) and c.startswith(prefix) and c[len(prefix):] != "injected":
-                v = num(row, c)
-                if v:
-                    items.append((c[len(prefix):].replace("_", "-") + " stall", v / span))
-        occ[label] = sum(s for _, s in items)
-        items = [items[0]] + sorted(items[1:], key=lambda t: -t[1])
-        txt = ", ".join(f"{name} {100 * s:.0f}%" for name, s in items if s >= 0.005 or name == "busy")
-        parts.append(f"{label} {txt}")
-    pe = num(row, "units.search_units.pe_utilization")
-    if pe is not None:
-        parts.append(f"PE util {100 * pe:.0f}%")
-    lb = num(row, "lower_bound_cycles")
-    if lb:
-        parts.append(f"cycles {cyc / lb:.1f}x the lower bound")
-    wb = max((num(row, f"units.{k}.stall_cycles.result_writeback") or 0) /
-             ((num(row, f"units.{k}.count") or 1) * cyc) for k in ("recursion_units", "search_units"))
-    if wb > 0.3:
-        head = "result write-back (DRAM) bound"
-    elif occ:
-        head = ("front-end (RU) bound" if occ.get("RUs", 0) >= occ.get("SUs", 0)
-                else "back-end (SU) bound")
-    else:
-        head = ""
-    return f"{head}: " + "; ".join(parts) if head else "; ".join(parts)
+    """What bounds a run: the `bottleneck.summary` the model wrote into its stats.json (the one
+    classification, testbench/bottleneck.cpp); points of an older tigris lack it."""
+    text = row.get("bottleneck.summary")
+    return text if isinstance(text, str) and text else "bottleneck not recorded (a run of an older tigris)"

@@ -715,7 +715,8 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
         ids = ", ".join(f"#{i}" for i, d in enumerate(claims, 1) if d.how == c.how)
         L.append(f"- {ids}: {c.how}")
     L.append("")
-    L += ["What bounds a run (the explanations): each unit kind's busy and stall cycles by cause "
+    L += ["What bounds a run (the explanations): each run's `bottleneck.summary` from its stats.json, "
+          "computed by the model from each unit kind's busy and stall cycles by cause "
           "as a share of (units x cycles), summed over its units (`units.*.busy_cycles`, "
           "`units.*.stall_cycles.*`); 'front-end bound' when the RUs are occupied (busy or "
           "stalled) a larger share than the SUs, 'back-end bound' otherwise, 'result write-back "

@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
     std::cerr << "tigris: error: " << printable(e.what()) << "\nRun with --help for more information.\n";
     return 2;
   }
+  ref_options.command_line = tigris::command_line(argc, argv);
+  run_options.search.command_line = ref_options.command_line;
   try {
     if (*ref) return tigris::run_ref_command(*ref, ref_options);
     if (*run) return tigris::run_run_command(*run, run_options);

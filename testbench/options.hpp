@@ -28,6 +28,7 @@ struct SearchOptions {
   std::string dump_results, dump_schedule, schedule;
   std::string out = "tigris-out";
   WorkLimits limits;
+  std::string command_line;  // as typed, for stats.json (set by main)
 };
 
 void add_search_options(CLI::App& app, SearchOptions& o);

@@ -1,5 +1,7 @@
 #include "ref_command.hpp"
 
+#include "run_inputs.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -50,6 +52,8 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
 
   nlohmann::json stats;
   stats["command"] = "ref";
+  stats["command_line"] = o.command_line;
+  stats["inputs"] = search_inputs(o.cloud, o.queries, w.cloud_name, w.queries_name, "");
   stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
   stats["queries"] = w.queries.size();
   stats["config"] = search_config_json(params, tree);
@@ -71,7 +75,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   const auto& v = out.visits;
   std::printf("tigris ref: %s%s search of %zu queries in %zu points\n", to_string(params.mode),
               params.approximate ? " (approximate)" : "", w.queries.size(), w.cloud.size());
-  std::printf("  cloud   %s\n  queries %s\n", w.cloud_name.c_str(), w.queries_name.c_str());
+  std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
   std::printf("  tree    top height %d of %d (%s split), %u leaves, mean leaf set %.1f\n",
               tree.top_height, tree.full_height, to_string(split), tree.num_leaves(),
               stats["tree"]["leaf_set_mean"].get<double>());

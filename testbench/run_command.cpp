@@ -7,6 +7,8 @@
 #include <iostream>
 
 #include "arg_checks.hpp"
+#include "bottleneck.hpp"
+#include "run_inputs.hpp"
 #include "config.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
@@ -94,6 +96,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   params.leader_capacity = cfg.leader.capacity_per_leaf;
 
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  const nlohmann::json inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
   // The default top height only: one from --height, --set or --config stays as asked.
   const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
   cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
@@ -159,6 +162,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
 
   nlohmann::json stats;
   stats["command"] = "run";
+  stats["command_line"] = o.search.command_line;
+  stats["inputs"] = inputs;
   stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
   stats["cycles"] = cycles;
   stats["seconds"] = seconds;
@@ -180,6 +185,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["power_w"] = sim.power_w;
   stats["area_mm2"] = sim.area;
   stats["latency_cycles"] = sim.latency;
+  stats["bottleneck"] = bottleneck_json(stats);
   stats["config"] = config_to_json(cfg);
   stats["config"]["search"] = search_config_json(params, tree)["search"];
   stats["tree"] = tree_json(tree);
@@ -198,7 +204,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
-  std::printf("  cloud   %s\n  queries %s\n", w.cloud_name.c_str(), w.queries_name.c_str());
+  std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
   std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
               hw::to_string(cfg.node_cache.policy),
@@ -206,6 +212,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
               static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,
               stats["lower_bound_cycles"].get<double>());
+  std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
   std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
               100 * u["recursion_units"]["utilization"].get<double>(),
               100 * u["search_units"]["utilization"].get<double>(),

@@ -1,5 +1,7 @@
 #include "trace_replay.hpp"
 
+#include "run_inputs.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -268,6 +270,9 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                                          : t.jobs.empty() ? std::string() : t.jobs.front().backend}};
   json stats;
   stats["command"] = "run --trace";
+  stats["command_line"] = o.search.command_line;
+  stats["inputs"] = json::array({input_file("trace", o.trace)});
+  if (!o.config_file.empty()) stats["inputs"].push_back(input_file("config", o.config_file));
   stats["trace"] = {{"path", o.trace}, {"jobs", t.jobs.size()}, {"replayed", plan.size()},
                     {"stages", o.trace_stages.empty() ? "all" : o.trace_stages}, {"recorded", t.meta}};
   stats["verdict"] = all_match ? "match" : "mismatch";

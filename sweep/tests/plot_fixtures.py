@@ -129,6 +129,13 @@ def fake_stats(cycles=100000, energy_pj=4e8, queries=1000, ru=64, su=32, pe=32, 
         "buffers": {}, "per_unit_list": [1, 2],
         "config": {"fe": {"recursion_units": ru}},
     }
+    # The model's bottleneck summary, reduced to its head (testbench/bottleneck.cpp computes it).
+    occ = {k: (u["busy_cycles"] + sum(u["stall_cycles"].values())) / (u["count"] * cycles)
+           for k, u in s["units"].items()}
+    head = ("front-end (RU) bound" if occ["recursion_units"] >= occ["search_units"]
+            else "back-end (SU) bound")
+    s["bottleneck"] = {"summary": f"{head}: RUs {100 * occ['recursion_units']:.0f}% occupied; "
+                                  f"SUs {100 * occ['search_units']:.0f}% occupied"}
     for b, v in traffic.items():
         if b == "node_cache":
             s["buffers"][b] = {"read_bytes": v, "fill_bytes": 0, "hits": 1, "misses": 1, "policy": "lru"}

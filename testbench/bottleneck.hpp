@@ -1,0 +1,26 @@
+// What bounds a run: the `bottleneck` object of stats.json and the summary's "bound" line,
+// computed from the statistics alone (so the report and `tigris diff` reuse it, never redo it).
+//
+// Each unit kind (Recursion Units, Search Units) spends its unit-cycles (count x cycles) busy,
+// stalled by a named cause, or idle. The kind that is occupied (busy + stalled) the larger share
+// bounds the run: front-end (RU) or back-end (SU) bound, unless a kind waits on the result
+// write-back (DRAM) for more than kWritebackBound of its cycles: then the run is write-back
+// bound. The cause is the largest part of the bounding kind's occupancy; the runner-up is the
+// other kind.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace tigris {
+
+inline constexpr double kWritebackBound = 0.3;
+
+// From a stats JSON holding cycles, lower_bound_cycles and units.{recursion_units,search_units}
+// (count, busy_cycles, stall_cycles.*; search_units.pe_utilization): {bound, unit, occupancy,
+// cause, share, runner_up {unit, occupancy, cause, share}, cycles_over_lower_bound, summary}.
+// A run of 0 cycles gives {bound: "none", summary: "no cycles"}.
+nlohmann::json bottleneck_json(const nlohmann::json& stats);
+
+}  // namespace tigris

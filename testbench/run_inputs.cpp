@@ -1,0 +1,81 @@
+#include "run_inputs.hpp"
+
+#include <openssl/evp.h>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace tigris {
+
+std::string sha256_of_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot read the file to record its SHA-256");
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("OpenSSL could not start a SHA-256 digest");
+  std::vector<char> buf(1 << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    if (in.gcount() > 0) EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) throw std::invalid_argument(path + ": read error while computing its SHA-256");
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int n = 0;
+  EVP_DigestFinal_ex(ctx.get(), digest, &n);
+  std::string hex;
+  static const char* digits = "0123456789abcdef";
+  for (unsigned int i = 0; i < n; ++i) {
+    hex += digits[digest[i] >> 4];
+    hex += digits[digest[i] & 15];
+  }
+  return hex;
+}
+
+nlohmann::json input_file(const std::string& role, const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw std::invalid_argument(path + ": cannot read the file to record it as the run's " + role);
+  const auto bytes = static_cast<std::uint64_t>(in.tellg());
+  return {{"role", role}, {"path", path}, {"bytes", bytes}, {"sha256", sha256_of_file(path)}};
+}
+
+nlohmann::json builtin_input(const std::string& role, const std::string& name) {
+  return {{"role", role}, {"builtin", name}};
+}
+
+nlohmann::json search_inputs(const std::string& cloud_path, const std::string& queries_path,
+                             const std::string& cloud_name, const std::string& queries_name,
+                             const std::string& config_path) {
+  nlohmann::json j = nlohmann::json::array();
+  j.push_back(cloud_path.empty() ? builtin_input("cloud", cloud_name) : input_file("cloud", cloud_path));
+  if (!queries_path.empty())
+    j.push_back(input_file("queries", queries_path));
+  else if (cloud_path.empty())
+    j.push_back(builtin_input("queries", queries_name));
+  else
+    j.push_back({{"role", "queries"}, {"same_as", "cloud"}});
+  if (!config_path.empty()) j.push_back(input_file("config", config_path));
+  return j;
+}
+
+std::string inputs_summary(const nlohmann::json& inputs) {
+  std::string out;
+  for (const auto& in : inputs) {
+    const std::string role = in.at("role").get<std::string>();
+    char line[1024];
+    if (in.contains("builtin"))
+      std::snprintf(line, sizeof line, "  %-7s %s, built in\n", role.c_str(), in["builtin"].get<std::string>().c_str());
+    else if (in.contains("same_as"))
+      std::snprintf(line, sizeof line, "  %-7s the %s itself\n", role.c_str(), in["same_as"].get<std::string>().c_str());
+    else
+      std::snprintf(line, sizeof line, "  %-7s %s (%.4g MB, sha256 %.12s)\n", role.c_str(),
+                    in["path"].get<std::string>().c_str(), in["bytes"].get<double>() * 1e-6,
+                    in["sha256"].get<std::string>().c_str());
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace tigris

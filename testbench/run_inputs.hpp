@@ -1,0 +1,30 @@
+// What a run read, so that a result can be traced to its inputs: stats.json's "inputs", each
+// file's role, path, size and SHA-256 (the digest `sha256sum` prints), or the name of a
+// built-in workload.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tigris {
+
+// Hex SHA-256 of a file's bytes; std::invalid_argument naming the file when it cannot be read.
+std::string sha256_of_file(const std::string& path);
+
+// {"role", "path", "bytes", "sha256"} of a file.
+nlohmann::json input_file(const std::string& role, const std::string& path);
+// {"role", "builtin"}: a workload made by the program (the synthetic frames).
+nlohmann::json builtin_input(const std::string& role, const std::string& name);
+
+// The inputs of a search run: cloud and queries (files, or the built-in names when the paths
+// are empty; queries of a cloud alone are the cloud itself), then the configuration file.
+nlohmann::json search_inputs(const std::string& cloud_path, const std::string& queries_path,
+                             const std::string& cloud_name, const std::string& queries_name,
+                             const std::string& config_path);
+
+// "  inputs  cloud a.bin (1.8 MB, sha256 0123abcd4567), queries ..." lines for the summary.
+std::string inputs_summary(const nlohmann::json& inputs);
+
+}  // namespace tigris

@@ -1,0 +1,93 @@
+// What a run says about itself: the bottleneck classification on crafted statistics, and the
+// inputs' SHA-256 against the published test vector.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <fstream>
+
+#include "bottleneck.hpp"
+#include "run_inputs.hpp"
+
+using nlohmann::json;
+
+namespace {
+
+// A stats JSON of `cycles` cycles with 4 RUs and 2 SUs whose busy and stall cycles are the given
+// fractions of each kind's unit-cycles.
+json stats(double cycles, double ru_busy, json ru_stalls, double su_busy, json su_stalls) {
+  for (auto& [k, v] : ru_stalls.items()) v = v.get<double>() * 4 * cycles;
+  for (auto& [k, v] : su_stalls.items()) v = v.get<double>() * 2 * cycles;
+  return {{"cycles", cycles},
+          {"lower_bound_cycles", cycles / 4},
+          {"units",
+           {{"recursion_units", {{"count", 4}, {"busy_cycles", ru_busy * 4 * cycles}, {"stall_cycles", ru_stalls}}},
+            {"search_units",
+             {{"count", 2},
+              {"busy_cycles", su_busy * 2 * cycles},
+              {"stall_cycles", su_stalls},
+              {"pe_utilization", 0.25}}}}}};
+}
+
+}  // namespace
+
+TEST_CASE("bottleneck: RUs occupied more than SUs is front-end bound, named by the largest part", "[report]") {
+  const json b = tigris::bottleneck_json(
+      stats(1000, 0.45, {{"sram", 0.49}, {"bqb_full", 0.01}, {"injected", 0.0}}, 0.74, {{"issue_search", 0.01}}));
+  CHECK(b["bound"] == "front-end");
+  CHECK(b["unit"] == "recursion_units");
+  CHECK(b["occupancy"].get<double>() == Approx(0.95));
+  CHECK(b["cause"] == "sram stall");
+  CHECK(b["share"].get<double>() == Approx(0.49));
+  CHECK(b["runner_up"]["unit"] == "search_units");
+  CHECK(b["runner_up"]["occupancy"].get<double>() == Approx(0.75));
+  CHECK(b["runner_up"]["cause"] == "busy");
+  CHECK(b["cycles_over_lower_bound"].get<double>() == Approx(4.0));
+  const std::string s = b["summary"];
+  CHECK(s.rfind("front-end (RU) bound: RUs 95% occupied: sram stall 49%, busy 45%, bqb_full stall 1%", 0) == 0);
+  CHECK(s.find("SUs 75% occupied: busy 74%, issue_search stall 1%") != std::string::npos);
+  CHECK(s.find("PE utilization 25%") != std::string::npos);
+  CHECK(s.find("cycles 4.0x the lower bound") != std::string::npos);
+  CHECK(s.find("injected") == std::string::npos);  // a zero stall is not listed
+}
+
+TEST_CASE("bottleneck: SUs occupied more is back-end bound, busy as the cause", "[report]") {
+  const json b = tigris::bottleneck_json(stats(500, 0.30, {{"sram", 0.10}}, 0.90, {{"issue_search", 0.05}}));
+  CHECK(b["bound"] == "back-end");
+  CHECK(b["unit"] == "search_units");
+  CHECK(b["cause"] == "busy");
+  CHECK(b["share"].get<double>() == Approx(0.90));
+  CHECK(b["runner_up"]["unit"] == "recursion_units");
+  CHECK(b["runner_up"]["cause"] == "busy");
+  CHECK(b["summary"].get<std::string>().rfind("back-end (SU) bound", 0) == 0);
+}
+
+TEST_CASE("bottleneck: a write-back wait above 30% bounds the run whatever is busiest", "[report]") {
+  // SUs wait 31% on the write-back; the RUs are the more occupied kind.
+  const json b = tigris::bottleneck_json(
+      stats(800, 0.60, {{"sram", 0.35}}, 0.10, {{"result_writeback", 0.31}}));
+  CHECK(b["bound"] == "result write-back");
+  CHECK(b["unit"] == "search_units");
+  CHECK(b["cause"] == "result_writeback stall");
+  CHECK(b["share"].get<double>() == Approx(0.31));
+  CHECK(b["runner_up"]["unit"] == "recursion_units");
+  CHECK(b["runner_up"]["cause"] == "busy");
+  // At exactly 30% the ordinary rule applies.
+  const json edge = tigris::bottleneck_json(stats(800, 0.60, {{"sram", 0.35}}, 0.10, {{"result_writeback", 0.30}}));
+  CHECK(edge["bound"] == "front-end");
+}
+
+TEST_CASE("bottleneck: a run of no cycles has none", "[report]") {
+  const json b = tigris::bottleneck_json(stats(0, 0, json::object(), 0, json::object()));
+  CHECK(b["bound"] == "none");
+}
+
+TEST_CASE("inputs: SHA-256 of a file is the digest sha256sum prints", "[report]") {
+  const std::string path = "test_run_report_abc.txt";
+  { std::ofstream(path, std::ios::binary) << "abc"; }
+  CHECK(tigris::sha256_of_file(path) == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  const json in = tigris::input_file("cloud", path);
+  CHECK(in["bytes"] == 3);
+  CHECK(in["path"] == path);
+  std::remove(path.c_str());
+  CHECK_THROWS_WITH(tigris::sha256_of_file(path), Catch::Contains(path));
+}
