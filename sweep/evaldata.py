@@ -241,6 +241,25 @@ class Sweep:
         return sorted({(r["eff"]["cloud"], r["eff"]["queries"]) for r in self.ok})
 
 
+def workload_text(sw):
+    """What a sweep ran on, for figure titles: its workloads and the settings every row shares."""
+    names = []
+    for cloud, queries in sw.workloads() or [("", "")]:
+        if not cloud and not queries:
+            names.append("built-in synthetic pair")
+        else:
+            names.append(f"cloud {os.path.basename(cloud) or 'built-in'}, queries "
+                         + (os.path.basename(queries) if queries else "the cloud itself"))
+    fixed = []
+    for c in sw.setting_columns:
+        if c in ("cloud", "queries", "point"):
+            continue
+        vals = {(r["_set"].get(c) or "").strip() for r in sw.rows}
+        if len(vals) == 1 and next(iter(vals)):
+            fixed.append(f"{c}={next(iter(vals))}")
+    return "; ".join(names) + (" | " + ", ".join(fixed) if fixed else "")
+
+
 def default_value(name, eff):
     """The default of an effective setting, given the row's mode."""
     if name == "radius":

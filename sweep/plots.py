@@ -28,6 +28,7 @@ import matplotlib.ticker  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import evaldata as ed  # noqa: E402
+import figure_truth  # noqa: E402
 from evaldata import num  # noqa: E402
 
 # The paper's redundancy at leaf-set size 32 (KITTI; section 4.1), drawn for comparison only.
@@ -427,6 +428,8 @@ def make_figures(sw, out, which=None, log=ed.note):
             log(f"plots: skipped {e}")
             continue
         png, svg = os.path.join(out, name + ".png"), os.path.join(out, name + ".svg")
+        fig.notes = getattr(fig, "notes", []) + figure_truth.guard_flat(fig)
+        figure_truth.name_workload(fig, ed.workload_text(sw))
         fig.savefig(png, dpi=110)
         fig.savefig(svg)
         notes = getattr(fig, "notes", [])

@@ -699,6 +699,36 @@ def collect_command(out):
         unlock_folder(out, lock)
 
 
+# sweep.csv's first columns after the swept keys and status: the figures a reader looks for.
+HEADLINE = ["cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
+            "units.recursion_units.utilization", "units.search_units.utilization",
+            "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause", "bottleneck.share",
+            "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction", "accuracy.mean_extra_m",
+            "accuracy.recall", "accuracy.precision"]
+SUMMARY_ROWS = 40
+
+
+def summary_table(rows, swept):
+    """The sweep's key columns as an aligned table (the first SUMMARY_ROWS points)."""
+    def num(r, c, scale=1.0, fmt="{:.3g}"):
+        v = r.get(c)
+        return fmt.format(v * scale) if isinstance(v, (int, float)) and not isinstance(v, bool) else "-"
+    cols = ["point"] + swept + ["status", "cycles", "time ms", "energy uJ", "power W", "RU%", "SU%", "PE%", "bound"]
+    table = []
+    for r in rows[:SUMMARY_ROWS]:
+        table.append([str(r.get("point"))] + [csv_value(r.get(k)) for k in swept] + [
+            str(r.get("status")), num(r, "cycles", fmt="{:,.0f}"), num(r, "seconds", 1e3), num(r, "energy_pj.total", 1e-6),
+            num(r, "power_w"), num(r, "units.recursion_units.utilization", 100, "{:.0f}"),
+            num(r, "units.search_units.utilization", 100, "{:.0f}"),
+            num(r, "units.search_units.pe_utilization", 100, "{:.0f}"), str(r.get("bottleneck.bound") or "-")])
+    width = [max(len(c), *(len(t[i]) for t in table)) if table else len(c) for i, c in enumerate(cols)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(cols, width)).rstrip()]
+    lines += ["  ".join(v.ljust(w) for v, w in zip(t, width)).rstrip() for t in table]
+    if len(rows) > SUMMARY_ROWS:
+        lines.append(f"... {len(rows) - SUMMARY_ROWS} more points in sweep.csv")
+    return "\n".join(lines)
+
+
 def collect(out):
     plan = read_plan(out)
     job = read_json(os.path.join(out, "slurm", "job.json")) or {}
@@ -735,8 +765,9 @@ def collect(out):
         ordered_union(stat_cols, keys)
         counts[status] += 1
         rows.append(row)
-    columns = ["point"] + [names[k] for k in plan["swept"]] + ["status", "error", WALL] + \
-              [names[k] for k in plan["base_columns"]] + stat_cols
+    head = [c for c in HEADLINE if c in stat_cols]
+    columns = ["point"] + [names[k] for k in plan["swept"]] + ["status"] + head + ["error", WALL] + \
+              [names[k] for k in plan["base_columns"]] + [c for c in stat_cols if c not in head]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(columns)
@@ -748,6 +779,7 @@ def collect(out):
                 "columns": columns, "swept_keys": [names[k] for k in plan["swept"]],
                 "base_keys": [names[k] for k in plan["base_columns"]],
                 "rows": [{c: r.get(c) for c in columns} for r in rows]})
+    say(summary_table(rows, [names[k] for k in plan["swept"]]))
     note(f"{len(rows)} points: {counts['ok']} ok, {counts['mismatch']} mismatch, {counts['error']} error; "
          f"{os.path.join(out, 'sweep.csv')}")
     return 0 if counts["ok"] == len(rows) else 1

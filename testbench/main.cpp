@@ -132,6 +132,11 @@ int main(int argc, char** argv) {
                               "(--slurm); CSV, JSON and resume (sweep/tigris_sweep.py; tigris sweep --help)");
   app.add_subcommand("reproduce", "The paper's section 6 experiments as sweeps, with figures and REPORT.md "
                                   "(sweep/reproduce.py; tigris reproduce --help)");
+  app.add_subcommand("diff", "Compare runs (stats.json files, run folders, sweep points): configuration "
+                             "differences, headline figures side by side with ratios, every other differing "
+                             "leaf (sweep/tigris_diff.py; tigris diff --help)");
+  app.add_subcommand("plot", "Figures of a sweep folder or CSV: headline figures against each swept key, and "
+                             "the paper's figures the sweep covers (sweep/tigris_plot.py; tigris plot --help)");
 
   try {
     tigris::reject_empty_arguments(argc, argv);

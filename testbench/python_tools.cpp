@@ -18,7 +18,11 @@ namespace tigris {
 int run_python_tool(int argc, char** argv) {
   if (argc < 2) return -1;
   const std::string tool = argv[1];
-  const char* script = tool == "sweep" ? "tigris_sweep.py" : tool == "reproduce" ? "reproduce.py" : nullptr;
+  const char* script = tool == "sweep"       ? "tigris_sweep.py"
+                       : tool == "reproduce" ? "reproduce.py"
+                       : tool == "diff"      ? "tigris_diff.py"
+                       : tool == "plot"      ? "tigris_plot.py"
+                                             : nullptr;
   if (!script) return -1;
   const char* dir_env = std::getenv("TIGRIS_SWEEP_DIR");
   const std::string path = std::string(dir_env && *dir_env ? dir_env : TIGRIS_SWEEP_DIR) + "/" + script;

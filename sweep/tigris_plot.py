@@ -1,0 +1,205 @@
+#!/usr/bin/python3
+"""Figures of a sweep: `tigris plot SWEEP_DIR|CSV... [--out DIR] [--y COLUMN ...] [--which NAME ...]`.
+
+For each swept key, a figure of the headline figures (cycles, energy, power; --y chooses other
+sweep.csv columns) against it: sweep_<key>.png and .svg. The other swept keys give one line per
+combination when there are at most six; otherwise they are held at the model's default (or their
+first value) and the title says so. Then the paper's figures (sweep/plots.py: redundancy, units,
+height, optimizations, memory_traffic, approx) that the sweep's settings cover.
+
+Every figure names its workload and the settings all its points share; an axis whose values vary
+by less than 5% is drawn from zero and labelled "flat". The default output folder is
+SWEEP_DIR/plots (for a CSV: plots/ beside it). Runs on Debian's python3 with python3-matplotlib
+(`tigris plot` starts /usr/bin/python3). Exit status 0 when at least one figure was written, 2
+otherwise.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit("tigris plot: error: matplotlib is missing from this python3 (Debian: apt-get install "
+             "python3-matplotlib; `tigris plot` uses /usr/bin/python3)")
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import evaldata as ed  # noqa: E402
+import figure_truth  # noqa: E402
+import plots  # noqa: E402
+
+PROG = "tigris plot"
+MAX_LINES = 6
+HEADLINE = [("cycles", "cycles", 1.0), ("energy_pj.total", "energy (uJ)", 1e-6), ("power_w", "power (W)", 1.0)]
+
+
+def die(msg):
+    print(f"{PROG}: error: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def say(msg):
+    print(f"{PROG}: {msg}", file=sys.stderr)
+
+
+def csv_of(arg):
+    if os.path.isdir(arg):
+        path = os.path.join(arg, "sweep.csv")
+        if not os.path.isfile(path):
+            die(f"{arg} holds no sweep.csv (a sweep folder is what `tigris sweep SPEC --out DIR` writes)")
+        return path
+    if not os.path.isfile(arg):
+        die(f"no such sweep folder or CSV: {arg}")
+    return arg
+
+
+def read(path):
+    """(columns, rows as dicts, swept keys) of one sweep.csv."""
+    try:
+        with open(path, newline="") as f:
+            r = csv.reader(f)
+            cols = next(r, None) or []
+            rows = [dict(zip(cols, cells)) for cells in r if cells]
+    except (OSError, csv.Error, UnicodeDecodeError) as e:
+        die(f"{path}: {e}")
+    if "status" not in cols or "point" not in cols:
+        die(f"{path}: no `point` and `status` columns: not a sweep CSV")
+    swept = cols[cols.index("point") + 1:cols.index("status")]
+    side = os.path.join(os.path.dirname(os.path.abspath(path)), "sweep.json")
+    try:
+        with open(side) as f:
+            info = json.load(f)
+        if info.get("columns") == cols and isinstance(info.get("swept_keys"), list):
+            swept = info["swept_keys"]
+    except (OSError, ValueError, AttributeError):
+        pass
+    return cols, rows, swept
+
+
+def number(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def default_of(key):
+    name = ed.SPEC_NAMES.get(key)
+    v = ed.DEFAULTS.get(name) if name else None
+    return None if v is None else str(v)
+
+
+def sweep_figure(key, rows, swept, ys, workload):
+    others = [k for k in swept if k != key]
+    groups = {}
+    for r in rows:
+        groups.setdefault(tuple(r.get(k, "") for k in others), []).append(r)
+    held = ""
+    if len(groups) > MAX_LINES:
+        pick = []
+        for i, k in enumerate(others):
+            vals = [g[i] for g in groups]
+            d = default_of(k)
+            pick.append(next((v for v in vals if number(v) is not None and number(d) is not None
+                              and number(v) == number(d)), vals[0]))
+        held = ", ".join(f"{k}={v}" for k, v in zip(others, pick))
+        groups = {tuple(pick): groups.get(tuple(pick), [])}
+    xs_all = [r.get(key, "") for r in rows]
+    numeric = all(number(x) is not None for x in xs_all)
+    order = sorted(set(xs_all), key=number) if numeric else list(dict.fromkeys(xs_all))
+    fig, axes = plt.subplots(1, len(ys), figsize=(5.2 * len(ys), 4.2), squeeze=False)
+    axes = axes[0]
+    for n, (combo, rs) in enumerate(groups.items()):
+        rs = sorted(rs, key=lambda r: order.index(r.get(key, "")))
+        label = ", ".join(f"{k}={v}" for k, v in zip(others, combo)) if others and not held else None
+        for ax, (col, ylabel, f) in zip(axes, ys):
+            pts = [(r.get(key, ""), number(r.get(col))) for r in rs]
+            pts = [(x if not numeric else number(x), y * f) for x, y in pts if y is not None]
+            if not pts:
+                continue
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=plots.COLORS[n % len(plots.COLORS)],
+                    label=label)
+    for ax, (col, ylabel, f) in zip(axes, ys):
+        ax.set_xlabel(key)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        if numeric and len(order) > 2 and max(number(x) for x in order) / max(1e-300, min(number(x) for x in order)) >= 8 \
+                and min(number(x) for x in order) > 0:
+            ax.set_xscale("log", base=2)
+        if numeric and len(order) <= 10:
+            ax.set_xticks([number(x) for x in order])
+            ax.set_xticklabels(order)
+            ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+        ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter(useOffset=False))
+    if any(ax.get_legend_handles_labels()[0] for ax in axes[:1]):
+        axes[0].legend(fontsize=8)
+    fig.suptitle(f"{', '.join(y[1] for y in ys)} against {key}" + (f" (others held at {held})" if held else ""),
+                 fontsize=12)
+    notes = figure_truth.guard_flat(fig)
+    figure_truth.name_workload(fig, workload)
+    return fig, notes
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap.add_argument("sweeps", nargs="+", metavar="SWEEP", help="a sweep folder (with sweep.csv) or a sweep CSV")
+    ap.add_argument("--out", metavar="DIR", help="folder for the figures (default: SWEEP/plots)")
+    ap.add_argument("--y", nargs="+", metavar="COLUMN",
+                    help="sweep.csv columns to plot against each swept key (default: cycles energy_pj.total power_w)")
+    ap.add_argument("--which", nargs="+", metavar="NAME", choices=["sweep"] + list(plots.FIGURES),
+                    help="only these figures: sweep (the swept-key figures) or a paper figure: "
+                         + ", ".join(plots.FIGURES))
+    a = ap.parse_args(argv)
+    paths = [csv_of(s) for s in a.sweeps]
+    out = a.out or os.path.join(a.sweeps[0] if os.path.isdir(a.sweeps[0]) else
+                                os.path.dirname(os.path.abspath(paths[0])), "plots")
+    try:
+        sw = ed.Sweep(paths)
+    except (ValueError, OSError) as e:
+        die(str(e))
+    workload = ed.workload_text(sw)
+    os.makedirs(out, exist_ok=True)
+    written = []
+    if not a.which or "sweep" in a.which:
+        for path in paths:
+            cols, rows, swept = read(path)
+            ok = [r for r in rows if r.get("status") == "ok"]
+            if len(ok) < len(rows):
+                say(f"{path}: {len(rows) - len(ok)} point(s) not ok (mismatch or error) left out")
+            ys = [(c, c, 1.0) for c in a.y] if a.y else HEADLINE
+            missing = [c for c, _, _ in ys if c not in cols]
+            if missing:
+                die(f"{path} has no column {', '.join(missing)} (its columns: {', '.join(cols[:12])}, ...)")
+            if not swept:
+                say(f"{path}: sweeps no key (a list of points): no swept-key figure")
+            for key in swept:
+                if len({r.get(key) for r in ok}) < 2:
+                    say(f"{path}: {key} takes one value among the ok points: no figure")
+                    continue
+                fig, notes = sweep_figure(key, ok, swept, ys, workload)
+                stem = os.path.join(out, "sweep_" + "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in key))
+                fig.savefig(stem + ".png", dpi=110)
+                fig.savefig(stem + ".svg")
+                plt.close(fig)
+                written.append(stem + ".png")
+                say(f"wrote {stem}.png and .svg" + (f" ({'; '.join(notes)})" if notes else ""))
+    paper = [w for w in (a.which or plots.FIGURES) if w != "sweep"]
+    if paper:
+        try:
+            made, _ = plots.make_figures(sw, out, paper if a.which else None, log=say)
+        except plots.Skip as e:
+            die(f"cannot make {e}")
+        written += [m[0] for m in made.values()]
+    if not written:
+        die("no figure could be made from " + ", ".join(paths))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
