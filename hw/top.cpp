@@ -233,7 +233,12 @@ void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
   // Declared first, so a viewer lists them first: the whole machine at a glance.
   const std::string all = scope + ".all.";
   waves_.rus_busy.attach(vcd, all + "rus_busy", 16);
+  waves_.rus_sram_stall.attach(vcd, all + "rus_sram_stall", 16);
+  waves_.rus_bqb_full_stall.attach(vcd, all + "rus_bqb_full_stall", 16);
+  waves_.rus_writeback_stall.attach(vcd, all + "rus_writeback_stall", 16);
   waves_.busy_pes.attach(vcd, all + "busy_pes", 32);
+  waves_.pes_sram_stall.attach(vcd, all + "pes_sram_stall", 32);
+  waves_.pes_writeback_stall.attach(vcd, all + "pes_writeback_stall", 32);
   waves_.bqb_occupancy.attach(vcd, all + "bqb_occupancy", 32);
   waves_.writeback_backlog.attach(vcd, all + "writeback_backlog_bytes", 32);
   waves_.queries_finished.attach(vcd, all + "queries_finished", 32);

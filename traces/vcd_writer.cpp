@@ -85,7 +85,28 @@ void VcdWriter::write_header() {
   time_written_ = true;
 }
 
-void VcdWriter::change(int id, std::uint64_t time_ps, std::uint64_t value) {
+void VcdWriter::change_at(int id, std::uint64_t time_ps, std::uint64_t value, std::uint64_t now_ps) {
+  if (booked_.empty() && time_ps <= now_ps) return emit(id, time_ps, value);
+  booked_.push({time_ps, seq_++, id, static_cast<std::int64_t>(value), false});
+  flush(now_ps);
+}
+
+void VcdWriter::add_at(int id, std::uint64_t time_ps, std::int64_t delta, std::uint64_t now_ps) {
+  booked_.push({time_ps, seq_++, id, delta, true});
+  flush(now_ps);
+}
+
+void VcdWriter::flush(std::uint64_t until_ps) {
+  while (!booked_.empty() && booked_.top().time <= until_ps) {
+    const Booked b = booked_.top();
+    booked_.pop();
+    const auto i = static_cast<std::size_t>(b.id);
+    emit(b.id, b.time, b.delta ? static_cast<std::uint64_t>(static_cast<std::int64_t>(last_[i]) + b.value)
+                               : static_cast<std::uint64_t>(b.value));
+  }
+}
+
+void VcdWriter::emit(int id, std::uint64_t time_ps, std::uint64_t value) {
   if (!header_written_) write_header();
   const auto i = static_cast<std::size_t>(id);
   if (seen_[i] && last_[i] == value) return;
@@ -103,6 +124,7 @@ void VcdWriter::change(int id, std::uint64_t time_ps, std::uint64_t value) {
 
 void VcdWriter::close() {
   if (!out_.is_open()) return;
+  flush(~std::uint64_t{0});
   if (!header_written_) write_header();
   out_.flush();
   const bool ok = out_.good();
@@ -124,6 +146,8 @@ void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdW
   } check{f, path};
   f << "[*] GTKWave save file for a Tigris TLM run: open with  gtkwave " << path << "\n";
   f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
+  // Wide enough for "tigris.all.writeback_backlog_bytes[31:0]=1234567" beside the waves.
+  f << "[signals_width] 420\n[sst_width] 220\n";
   // Zoom to the job's span. Measured with GTKWave 3.3.118 (Debian 12) under Xvfb: zoom -z
   // shows about 2^z x 3.2 time units across the wave pane of this window size, so the
   // smallest z with 2^z x 3 >= span shows the whole job (1.07 to 2.1 times its span).

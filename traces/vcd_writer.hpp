@@ -1,10 +1,14 @@
 // A small Value Change Dump writer for waveforms (GTKWave). Signals are declared up front in
-// dotted scopes ("tigris.fe.ru0.busy"); changes must come in non-decreasing time. Units only
-// record changes when they happen, so tracing adds no process and no event to the simulation.
+// dotted scopes ("tigris.fe.ru0.busy"). Units record changes when they happen, or when they
+// book them ahead (a walk that will stall on SRAM after its pipeline cycles), so tracing adds
+// no process and no event to the simulation: changes booked for later wait in a queue and are
+// written in time order once the simulation has reached their time.
 #pragma once
 
 #include <cstdint>
 #include <fstream>
+#include <functional>
+#include <queue>
 #include <string>
 #include <vector>
 
@@ -18,8 +22,15 @@ class VcdWriter {
 
   // Declares a signal (before the first change); returns its handle.
   int add(const std::string& dotted_name, int width);
-  // Records that signal `id` has `value` from `time_ps` on (repeated values are dropped).
-  void change(int id, std::uint64_t time_ps, std::uint64_t value);
+  // Records that signal `id` has `value` from `time_ps` (the current time) on; repeated values
+  // are dropped.
+  void change(int id, std::uint64_t time_ps, std::uint64_t value) { change_at(id, time_ps, value, time_ps); }
+  // The same for a change at `time_ps` >= `now_ps`, the current time. A signal's own changes
+  // must be booked in time order.
+  void change_at(int id, std::uint64_t time_ps, std::uint64_t value, std::uint64_t now_ps);
+  // Adds `delta` to signal `id` from `time_ps` (>= now_ps) on: a sum over units, whose
+  // bookings come in any order.
+  void add_at(int id, std::uint64_t time_ps, std::int64_t delta, std::uint64_t now_ps);
   // Writes what is left; throws std::runtime_error naming the file if anything failed.
   void close();
 
@@ -29,6 +40,17 @@ class VcdWriter {
 
  private:
   void write_header();
+  void emit(int id, std::uint64_t time_ps, std::uint64_t value);
+  void flush(std::uint64_t until_ps);  // writes the booked changes up to that time
+  struct Booked {
+    std::uint64_t time, seq;
+    int id;
+    std::int64_t value;
+    bool delta;
+    bool operator>(const Booked& o) const { return time != o.time ? time > o.time : seq > o.seq; }
+  };
+  std::priority_queue<Booked, std::vector<Booked>, std::greater<Booked>> booked_;
+  std::uint64_t seq_ = 0;
   std::string path_;
   std::ofstream out_;
   std::vector<std::string> names_;

@@ -56,6 +56,9 @@ void SearchUnit::step() {
     // Results leave first; a full write-back stream holds the batch (and its PEs) back.
     const std::uint64_t accepted = retire(running_[i]);
     if (accepted > now) {
+      const auto held = static_cast<std::int64_t>(running_[i].tokens.size());
+      writeback_pes_wave_.add_at(clock_.at(now), held);
+      writeback_pes_wave_.add_at(clock_.at(accepted), -held);
       running_[i].end = accepted;
       ++i;
       continue;
@@ -88,7 +91,6 @@ void SearchUnit::step() {
   }
   if (issued) links_.qdn.space_freed(id_);
   bqb_wave_.set(bqb_.size());
-  pes_wave_.set(pes_ - free_pes_);
   // Sleep until a batch drains or a queued query arrives.
   std::uint64_t next = std::numeric_limits<std::uint64_t>::max();
   for (std::size_t b = 0; b < active_; ++b) next = std::min(next, running_[b].end);
@@ -163,6 +165,12 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   busy_until_ = std::max(busy_until_, compute_end);
   sram_stall_ += end - compute_end;
   pe_busy_cycles_ += b * (compute_end - start);
+  pes_wave_.add_at(clock_.at(start), static_cast<std::int64_t>(b));
+  pes_wave_.add_at(clock_.at(compute_end), -static_cast<std::int64_t>(b));
+  if (end > compute_end) {
+    sram_pes_wave_.add_at(clock_.at(compute_end), static_cast<std::int64_t>(b));
+    sram_pes_wave_.add_at(clock_.at(end), -static_cast<std::int64_t>(b));
+  }
   links_.observer.su_batch(id_, leaf, tokens.data(), tokens.size(), now, end, stream);
   batch.end = end;
 }

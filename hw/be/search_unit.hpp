@@ -63,8 +63,12 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   void attach_waves(VcdWriter& vcd, const std::string& scope, AggregateProbes& all) {
     bqb_wave_.feed(all.bqb_occupancy);
     pes_wave_.feed(all.busy_pes);
+    sram_pes_wave_.feed(all.pes_sram_stall);
+    writeback_pes_wave_.feed(all.pes_writeback_stall);
     bqb_wave_.attach(vcd, scope + ".bqb_occupancy", 16);
     pes_wave_.attach(vcd, scope + ".busy_pes", 16);
+    sram_pes_wave_.attach(vcd, scope + ".sram_stall_pes", 16);
+    writeback_pes_wave_.attach(vcd, scope + ".writeback_stall_pes", 16);
     leaf_wave_.attach(vcd, scope + ".streaming_leaf", 32);
   }
 
@@ -123,7 +127,9 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter& distance_energy_;
   LeaderCheck leader_check_;
   StallInjector stall_;  // SU -> FE
-  Probe bqb_wave_, pes_wave_, leaf_wave_;
+  // PEs of running batches: computing (pe_busy_cycles), waiting for their data, or held by a
+  // full write-back stream.
+  Probe bqb_wave_, pes_wave_, sram_pes_wave_, writeback_pes_wave_, leaf_wave_;
 };
 
 }  // namespace tigris::hw

@@ -64,6 +64,11 @@ void RecursionUnit::start(const QueryToken& token) {
     results.charge(now + pipeline, a, clock_.period);
   }
   sram_stall_ += done - (now + pipeline);
+  busy_wave_.set_at(clock_.at(now + pipeline), 0);
+  if (done > now + pipeline) {
+    sram_wave_.set_at(clock_.at(now + pipeline), 1);
+    sram_wave_.set_at(clock_.at(done), 0);
+  }
   links_.observer.ru_walk(static_cast<std::uint32_t>(id_), token_.query, now, done);
 
   // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
@@ -194,18 +199,19 @@ void RecursionUnit::on_done() {
     links_.observer.ru_blocked(static_cast<std::uint32_t>(id_), token_.query, blocked_since_, now);
   }
   stalled_wave_.set(0);
+  writeback_wave_.set(0);
   if (!hits_.empty()) {  // results leave through the write-back stream, which may push back
     const std::uint64_t accepted = links_.result_buffer.stream(now, hits_.data(), hits_.size());
     hits_.clear();
     if (accepted > now) {
       writeback_stall_ += accepted - now;
+      writeback_wave_.set(1);
       links_.scheduler.at(*this, accepted);
       return;
     }
   }
   if (finished_) {
     state_ = State::Idle;
-    busy_wave_.set(0);
     links_.fe.query_finished(token_, now);
     links_.fe.ru_idle(*this);
     return;
@@ -217,7 +223,6 @@ void RecursionUnit::on_done() {
     return;  // the QDN calls retry_dispatch() when the BE Query Buffer has room
   }
   state_ = State::Idle;
-  busy_wave_.set(0);
   links_.fe.ru_idle(*this);
 }
 

@@ -85,8 +85,13 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   std::uint32_t blocked_leaf() const { return token_.leaf; }
   void attach_waves(VcdWriter& vcd, const std::string& scope, AggregateProbes& all) {
     busy_wave_.feed(all.rus_busy);
+    sram_wave_.feed(all.rus_sram_stall);
+    stalled_wave_.feed(all.rus_bqb_full_stall);
+    writeback_wave_.feed(all.rus_writeback_stall);
     busy_wave_.attach(vcd, scope + ".busy", 1);
+    sram_wave_.attach(vcd, scope + ".sram_stall", 1);
     stalled_wave_.attach(vcd, scope + ".bqb_full_stall", 1);
+    writeback_wave_.attach(vcd, scope + ".writeback_stall", 1);
     query_wave_.attach(vcd, scope + ".query", 32);
   }
 
@@ -124,7 +129,8 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter& replica_bytes_;             // node reads from the RU's own top-level copy
   std::uint32_t replicated_nodes_ = 0;  // heap nodes below this id are in the copy
   StallInjector stall_;  // the hand-off to the QDN (or the finish)
-  Probe busy_wave_, stalled_wave_, query_wave_;
+  // busy: the pipeline cycles (busy_cycles); then a stall, each cause its own wave.
+  Probe busy_wave_, sram_wave_, stalled_wave_, writeback_wave_, query_wave_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
 };
 
