@@ -1,4 +1,4 @@
-// The area model (DESIGN.md section 14): mm2 of a configuration from the area table, by block;
+// The area model (docs/model.md): mm2 of a configuration from the area table, by block;
 // and the leakage it costs. Every count and size key of the configuration scales its block.
 //
 // SRAM blocks: each buffer's bytes x area.sram_mm2_per_mib plus area.sram_bank_mm2 per bank.

@@ -1,13 +1,13 @@
-// The area table (DESIGN.md section 14): 16 nm square millimetres per unit and per SRAM byte and
+// The area table (docs/model.md): 16 nm square millimetres per unit and per SRAM byte and
 // bank, configurable as the `area.` keys; hw/area_model.* adds them up over a configuration.
 //
 // The paper gives totals only: 8.38 mm2 SRAM and 7.19 mm2 logic for 64 RU, 32 SU x 32 PE and
 // its buffers. The logic split follows its words ("the datapath area of each RU and each SU's
 // PE is mostly dominated by the [float32] euclidean distance"): a PE and an RU are about one
 // distance datapath each, the issue logic takes what the total leaves. The SRAM density is
-// calibrated so that our default buffers (every one the model has, README "Energy, power and
-// area") total 8.38 mm2; its 0.096 um2 per bit is a 16 nm high-density bitcell (~0.07 um2) at
-// ~73% array efficiency.
+// calibrated so that our default buffers (every one the model has; docs/model.md, "Energy")
+// total 8.38 mm2; its 0.096 um2 per bit is a 16 nm high-density bitcell (~0.07 um2) at ~73%
+// array efficiency.
 #pragma once
 
 #include "config_spec.hpp"

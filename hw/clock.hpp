@@ -1,4 +1,4 @@
-// The accelerator's clock: SystemC time <-> cycles. No process ticks it (DESIGN.md section 7).
+// The accelerator's clock: SystemC time <-> cycles. No process ticks it (docs/model.md).
 #pragma once
 
 #include <cstdint>

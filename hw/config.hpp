@@ -1,4 +1,4 @@
-// Every parameter of the accelerator model (DESIGN.md section 6), with the paper's defaults.
+// Every parameter of the accelerator model (docs/model.md), with the paper's defaults.
 // Each block's visit() declares its keys' JSON names, units, allowed values and meaning
 // (hw/config_spec.hpp); the JSON configuration (testbench/config.*) is built from them.
 #pragma once

@@ -1,4 +1,4 @@
-// The one cost table of the timing model (DESIGN.md section 7): every cycle count a unit
+// The one cost table of the timing model (docs/model.md, timing): every cycle count a unit
 // charges comes from here, so a reader can see the whole timing model at a glance (visit()
 // documents each entry: the `cost.` keys).
 #pragma once

@@ -1,4 +1,4 @@
-// The energy meter (DESIGN.md section 14): units feed it operation and byte counts as they
+// The energy meter (docs/model.md): units feed it operation and byte counts as they
 // happen, each on a line priced from the energy table (hw/energy_table.hpp); energy is count x
 // price per line, summed by component. Counting rather than adding picojoules keeps the totals
 // exact and independent of the order events happen in.

@@ -1,4 +1,4 @@
-// The energy table (DESIGN.md section 14): picojoules per operation or byte, fed by the energy
+// The energy table (docs/model.md): picojoules per operation or byte, fed by the energy
 // meter as the units work; configurable as the `energy.` keys.
 //
 // Sources and scaling: operations and SRAM from Horowitz, "Computing's energy problem", ISSCC

@@ -34,7 +34,7 @@ struct JobDescriptor {
   std::uint32_t stack_entries = 1;  // per query: max(top height, 1)
   std::uint32_t slots = 0;          // queries in flight at most
   std::uint64_t result_slot_bytes = 0;  // NN/kNN: one query's Result Buffer slot; radius: 0
-  // Approximate search (DESIGN.md section 13): a query within thd of a leaf's closest leader
+  // Approximate search (docs/model.md): a query within thd of a leaf's closest leader
   // follows it; a leader's local list holds its in-radius points (radius) or R best (NN/kNN).
   bool approximate = false;
   float thd2 = 0.0f;

@@ -11,7 +11,7 @@
 
 namespace tigris::hw {
 
-// How a query was served at one leaf visit (DESIGN.md sections 5 and 13).
+// How a query was served at one leaf visit (docs/model.md, approximate search).
 struct LeafVisit {
   enum class Kind {
     Exact,             // exact search: the Node Set
@@ -55,6 +55,10 @@ class JobObserver {
                         std::uint64_t /*issue*/, std::uint64_t /*end*/, std::uint64_t /*stream*/) {}
   // `records` result records of `query` accepted by the write-back at `accept`, in DRAM by `drained`.
   virtual void writeback(std::uint32_t /*query*/, std::size_t /*records*/, std::uint64_t /*accept*/, std::uint64_t /*drained*/) {}
+  // `count` units (RUs or PEs) spend [begin, end) in state `what`: the same cycles the
+  // statistics count, for whole-machine counters whatever a timeline samples.
+  enum class Activity { RuBusy, RuSramStall, RuBqbFull, RuWritebackStall, PeBusy, PeSramStall, PeWritebackHold };
+  virtual void activity(Activity /*what*/, std::uint32_t /*count*/, std::uint64_t /*begin*/, std::uint64_t /*end*/) {}
 };
 
 // Forwards every report to the attached observers.
@@ -94,6 +98,9 @@ class ObserverList final : public JobObserver {
   void su_batch(std::uint32_t su, std::uint32_t leaf, const QueryToken* t, std::size_t n, std::uint64_t issue,
                 std::uint64_t end, std::uint64_t stream) override {
     for (JobObserver* o : list_) o->su_batch(su, leaf, t, n, issue, end, stream);
+  }
+  void activity(Activity what, std::uint32_t count, std::uint64_t begin, std::uint64_t end) override {
+    for (JobObserver* o : list_) o->activity(what, count, begin, end);
   }
   void writeback(std::uint32_t q, std::size_t records, std::uint64_t accept, std::uint64_t drained) override {
     for (JobObserver* o : list_) o->writeback(q, records, accept, drained);

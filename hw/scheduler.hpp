@@ -1,4 +1,4 @@
-// The accelerator's one event loop (DESIGN.md sections 7 and 18). Units ask to be woken at a
+// The accelerator's one event loop (docs/model.md, timing). Units ask to be woken at a
 // cycle, with sc_event's rule: an earlier request replaces a later pending one, a later one is
 // ignored. Work due in the same cycle runs in a fixed order, the unit's rank then its id:
 // the front-end's dispatch, then the Recursion Units by id, then the Search Units by id; a unit

@@ -1,4 +1,4 @@
-// Random hand-off stalls (MatchLib style, DESIGN.md section 18): with probability `stall.rate`
+// Random hand-off stalls (MatchLib style; docs/model.md): with probability `stall.rate`
 // a hand-off is held back one cycle, and again with the same probability for every further
 // cycle (a geometric delay, mean rate / (1 - rate), at most 64). Results must not change, only
 // cycles. Each injection point draws from its own stream: `stall.seed` mixed with the point's

@@ -1,4 +1,4 @@
-// Accuracy of approximate search (DESIGN.md section 13), measured against exact search of the
+// Accuracy of approximate search (docs/model.md), measured against exact search of the
 // same queries: NN/kNN by how often the result equals the exact one and by how much farther the
 // returned neighbours are; radius by recall and precision of the returned sets.
 #pragma once

@@ -1,4 +1,4 @@
-// The numeric contract of DESIGN.md section 2: the only arithmetic the golden model and the
+// The numeric contract (docs/model.md): the only arithmetic the golden model and the
 // hardware model share. Every operation is float32; the build uses -ffp-contract=off so the
 // compiler never fuses a multiply-add (which would change the last bit of dist2).
 #pragma once
@@ -27,7 +27,7 @@ inline float plane_dist2(const Point3& q, const Point3& p, int axis) {
   return d * d;
 }
 
-// r2 = r*r in float32 (DESIGN.md section 2).
+// r2 = r*r in float32 (docs/model.md, numeric contract).
 inline float square(float r) { return r * r; }
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();

@@ -24,7 +24,7 @@ class InputError : public std::runtime_error {
 // every point "within r" while both models agree).
 constexpr float kMaxCoordinate = 1e18f;
 
-// Policy (DESIGN.md section 2): a cloud with a NaN/Inf coordinate, a coordinate beyond
+// Policy (docs/model.md, decisions): a cloud with a NaN/Inf coordinate, a coordinate beyond
 // kMaxCoordinate, or no point is rejected, never silently repaired. `label` names the source in
 // the message (usually the file path).
 void validate_cloud(const PointCloud& cloud, const std::string& label);

@@ -1,4 +1,4 @@
-// The canonical and the two-stage KD-tree of DESIGN.md section 3, as one tree image type.
+// The canonical and the two-stage KD-tree of docs/model.md (trees), as one tree image type.
 //
 // Heap numbering covers the whole tree: top node i has children 2i+1 and 2i+2; with top height
 // h the top-tree is nodes 0 .. 2^h-2 and the top-tree leaves (leaf sets) are nodes 2^h-1 ..

@@ -1,5 +1,5 @@
 // Search results in canonical order, per query, as one compressed array (queries in index
-// order), plus the comparison the golden check uses and the results dump of DESIGN.md sec. 10.
+// order), plus the comparison the golden check uses and the results dump (docs/cli.md).
 #pragma once
 
 #include <cstdint>

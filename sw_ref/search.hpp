@@ -1,4 +1,4 @@
-// The golden model's searches (DESIGN.md sections 4 and 5): exact NN, kNN and radius search on
+// The golden model's searches (docs/model.md): exact NN, kNN and radius search on
 // a KdTree, depth-first, with visit counts, and the approximate (leader/follower) search of the
 // paper's Algorithm 1 at every leaf visit, driven by an optional schedule.
 #pragma once

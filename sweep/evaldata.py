@@ -1,6 +1,6 @@
 """Sweep CSVs -> rows with their effective settings (shared by plots.py and report.py).
 
-A `sweep.csv` of tigris_sweep.py (DESIGN.md section 17): `point`, the swept keys by their spec
+A `sweep.csv` of tigris_sweep.py (docs/sweeps.md): `point`, the swept keys by their spec
 name, `status` (ok|mismatch|error), `error`, `wall_seconds`, the base settings (cloud, queries,
 mode, the base's keys), then every scalar leaf of the point's stats.json (except `config` and
 lists) by its dotted path; a stat whose path a setting column takes is written `stats.<path>`
@@ -19,7 +19,7 @@ import math
 import os
 import sys
 
-# The model's defaults (tigris run --list-config; DESIGN.md section 6), by effective name.
+# The model's defaults (tigris run --list-config; docs/model.md), by effective name.
 DEFAULTS = {
     "mode": "nn", "radius": None, "k": None, "height": 10, "ru": 64, "su": 32, "pe": 32,
     "policy": "mqsn", "bypass": True, "forward": True, "nc_bytes": 131072, "approx": None,

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The paper's evaluation figures from sweep CSVs (DESIGN.md section 17).
+"""The paper's evaluation figures from sweep CSVs (docs/sweeps.md).
 
     sweep/plots.py CSV... --out DIR [--which NAME ...]
 

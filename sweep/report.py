@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""REPORT.md from sweep CSVs: the paper's claims of DESIGN.md sections 9 and 14, measured.
+"""REPORT.md from sweep CSVs: the paper's claims (docs/model.md, §9 and §14), measured.
 
     sweep/report.py CSV... --out DIR [--figures DIR | --no-figures] [--title TEXT]
 
@@ -27,7 +27,7 @@ def up(ratio):
     """ratio is a change upwards (beyond the no-change band)."""
     return ratio > 1 + NO_CHANGE
 
-# The paper's figures (MICRO 2019, sections 4.1 and 6), as DESIGN.md sections 9 and 14 cite them.
+# The paper's figures (MICRO 2019, sections 4.1 and 6), as docs/model.md (§9, §14) cites them.
 PAPER = {
     "redundancy_nn_32": 35.0, "redundancy_radius_32": 3.0,
     # Acc-2SKD is 77.2x Base-2SKD, which is 1.283x Base-KD; Acc-KD is 18.7x Base-KD.
@@ -461,7 +461,7 @@ def claims_approx(sw):
            "query) with approximate search at the paper's threshold (1.2 m for NN/kNN, 0.4 r for "
            "radius) / with exact search; top height 10, default machine. The paper's 72.8% is "
            "over DP7's mix of NN and radius searches. Registration error is not part of a "
-           "sweep (README: `tigris register --search approx`).")
+           "sweep (docs/registration.md: `tigris register --search approx`).")
     for s in searches(sw.ok):
         thd = 0.4 * s["radius"] if s["mode"] == "radius" else 1.2
         ex = ed.find(sw.ok, **s)
@@ -600,7 +600,7 @@ def claims_energy(sw):
                    .missing("rows with `node_cache.bytes` 0 and the default at height 10"))
 
     how = ("`area_mm2.sram` and `.logic` of the default configuration; the area table is "
-           "calibrated to these two totals (README), so this checks the calibration, not a trend.")
+           "calibrated to these two totals (docs/model.md), so this checks the calibration, not a trend.")
     if default is not None and num(default, "area_mm2.sram") is not None:
         for part, key in (("sram", "area_sram"), ("logic", "area_logic")):
             v = num(default, f"area_mm2.{part}")
@@ -664,7 +664,7 @@ def md_cell(s):
 
 
 def claim_table(claims):
-    lines = ["| # | DESIGN.md | claim | paper | measured | direction holds | within 2x | explanation (measured facts) |",
+    lines = ["| # | model.md | claim | paper | measured | direction holds | within 2x | explanation (measured facts) |",
              "|---:|---|---|---|---|---|---|---|"]
     for i, c in enumerate(claims, 1):
         lines.append("| " + " | ".join(md_cell(x) for x in (
@@ -696,7 +696,7 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
     if len(wl) > 1:
         L += ["**Warning**: the CSVs hold several workloads; claims compare rows of one workload "
               "only when their other settings match, so mixed workloads may pair badly.", ""]
-    L += ["## Claims of DESIGN.md sections 9 and 14", "",
+    L += ["## Claims of the fidelity targets (§9) and energy figures (§14) of docs/model.md", "",
           f"{len(measured)} of {len(claims)} claims measured; direction holds for "
           f"{sum(1 for c in dir_n if c.direction)} of {len(dir_n)} with a direction test; size within "
           f"2x for {sum(1 for c in size_n if c.within)} of {len(size_n)} with a paper number.", "",

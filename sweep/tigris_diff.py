@@ -108,7 +108,7 @@ def headline(docs):
         rows.append((f"traffic {b}", "MB", f"buffers.{b}.read_bytes", lambda d, b=b: traffic(d, b)))
     rows += [("visits top", "", "visits.top", 1), ("visits leaf points", "", "visits.leaf_points", 1),
              ("queries exact", "%", "accuracy.exact_match_fraction", 1),
-             ("extra distance mean", "m", "accuracy.mean_extra_m", 1), ("recall", "%", "accuracy.recall", 1),
+             ("extra distance mean", "m", "accuracy.mean_extra_distance_m", 1), ("recall", "%", "accuracy.recall", 1),
              ("precision", "%", "accuracy.precision", 1), ("verdict", "", "verdict", 1)]
     out = []
     for label, unit, path, how in rows:

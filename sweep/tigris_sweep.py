@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """tigris_sweep: runs a sweep spec of `tigris run` points locally or as one Slurm job array,
-and collects one CSV (DESIGN.md section 17; README.md "Sweeps").
+and collects one CSV (docs/sweeps.md).
 
   tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
                   [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
@@ -279,6 +279,13 @@ class Spec:
             kind = "configuration key" if "." in key else "run flag"
             pool = list(self.tig.config) if "." in key else [f for f in self.tig.flags if f not in NOT_SWEEPABLE]
             near = difflib.get_close_matches(flag if "." not in key else key, pool, 1, 0.6)
+            # A configuration key without its block: recursion_units -> fe.recursion_units.
+            blocks = [c for c in self.tig.config if c.split(".")[-1] == key or c.endswith("." + key)]
+            if "." not in key and blocks:
+                near = blocks[:1] if len(blocks) == 1 else near
+                if len(blocks) > 1:
+                    raise SpecError(self._at(loc, f"unknown run flag '{key}': configuration keys carry their "
+                                             f"block; did you mean one of {', '.join(blocks)}?"))
             hint = f" (did you mean '{near[0]}'?)" if near else (
                 f" (run flags: {', '.join(pool)}; configuration keys are dotted, see "
                 "`tigris run --list-config`)" if "." not in key else " (see `tigris run --list-config`)")
@@ -703,7 +710,7 @@ def collect_command(out):
 HEADLINE = ["cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
             "units.recursion_units.utilization", "units.search_units.utilization",
             "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause", "bottleneck.share",
-            "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction", "accuracy.mean_extra_m",
+            "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction", "accuracy.mean_extra_distance_m",
             "accuracy.recall", "accuracy.precision"]
 SUMMARY_ROWS = 40
 
@@ -921,7 +928,7 @@ def parse_args(argv):
             i += 1
     ap = argparse.ArgumentParser(
         prog=os.path.basename(sys.argv[0]), description="Runs the `tigris run` points of a sweep spec "
-        "and collects DIR/sweep.csv and DIR/sweep.json (README.md, \"Sweeps\").",
+        "and collects DIR/sweep.csv and DIR/sweep.json (docs/sweeps.md).",
         epilog="`%(prog)s collect DIR` collects a folder again (after --no-wait). Exit codes: 0 every "
         "point ok, 1 a point mismatched or failed, 2 bad spec, arguments or folder, 3 sbatch failed, "
         "128 + the signal when interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM).")

@@ -1,5 +1,5 @@
-// One search job through the accelerator model as the host runs it (issue 19, DESIGN.md
-// section 16): the tree image written over the host link (when the job searches another tree
+// One search job through the accelerator model as the host runs it (issue 19;
+// docs/registration.md): the tree image written over the host link (when the job searches another tree
 // than the job before), the queries written, the search simulated, the results read back, and
 // every query checked against the golden model (approximate: the golden replay of the
 // hardware's schedule). Shared by `tigris run --trace` (replay) and `tigris register --search

@@ -1,5 +1,7 @@
 #include "arg_checks.hpp"
 
+#include <algorithm>
+
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -22,6 +24,69 @@ void reject_empty_arguments(int argc, const char* const* argv) {
       throw std::invalid_argument(flag + " was given an empty value; leave the flag out for its default "
                                   "(--help lists them)");
   }
+}
+
+std::string closest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_d = ~std::size_t{0};
+  for (const std::string& c : candidates) {
+    // Levenshtein distance, two rows.
+    std::vector<std::size_t> prev(c.size() + 1), cur(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      cur[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j)
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (word[i - 1] == c[j - 1] ? 0 : 1)});
+      std::swap(prev, cur);
+    }
+    if (prev[c.size()] < best_d) best_d = prev[c.size()], best = c;
+  }
+  const std::string letters = word.substr(word.find_first_not_of('-') == std::string::npos ? 0 : word.find_first_not_of('-'));
+  return best_d <= 2 && best_d < letters.size() ? best : std::string();
+}
+
+std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv) {
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) commands.push_back(sub->get_name());
+  if (argc < 2) return "";
+  const std::string first = argv[1];
+  if (first.empty() || first[0] == '-') return "";
+  CLI::App* sub = nullptr;
+  for (CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (s->get_name() == first) sub = s;
+  if (!sub) {
+    const std::string guess = closest(first, commands);
+    std::string list;
+    for (const std::string& c : commands) list += (list.empty() ? "" : ", ") + c;
+    return "'" + first + "' is not a tigris command" + (guess.empty() ? "" : "; did you mean '" + guess + "'?") +
+           " (commands: " + list + ")\n";
+  }
+  const auto flags_of = [](const CLI::App* a) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : a->get_options())
+      for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
+    return names;
+  };
+  const std::vector<std::string> own = flags_of(sub);
+  std::string out;
+  for (int i = 2; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.rfind("--", 0) != 0) continue;
+    arg = arg.substr(0, arg.find('='));
+    if (std::find(own.begin(), own.end(), arg) != own.end()) continue;
+    std::string elsewhere;
+    for (const CLI::App* other : app.get_subcommands([](const CLI::App*) { return true; })) {
+      const auto names = flags_of(other);
+      if (other != sub && std::find(names.begin(), names.end(), arg) != names.end())
+        elsewhere += (elsewhere.empty() ? "tigris " : " and tigris ") + other->get_name();
+    }
+    const std::string guess = closest(arg, own);
+    out += "tigris " + sub->get_name() + " takes no " + arg +
+           (guess.empty() ? "" : "; did you mean " + guess + "?") +
+           (elsewhere.empty() ? "" : " (" + arg + " is a flag of " + elsewhere + ")") + "\n";
+  }
+  return out;
 }
 
 std::string command_line(int argc, const char* const* argv) {

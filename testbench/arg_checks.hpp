@@ -26,6 +26,14 @@ struct PathUse {
 // (hard links); empty paths are skipped.
 void check_distinct_paths(const std::vector<PathUse>& inputs, const std::vector<PathUse>& outputs);
 
+// The candidate closest to `word` by edit distance, when it is close enough to be a typo (at
+// most 2 edits, and fewer than the word has letters); empty otherwise.
+std::string closest(const std::string& word, const std::vector<std::string>& candidates);
+
+// For a parse error of `app`: "did you mean" lines for an unknown subcommand and for each flag
+// of argv that the chosen subcommand does not take (naming the subcommand that does take it).
+std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv);
+
 // The command line as a shell would take it back (arguments with spaces or quotes quoted).
 std::string command_line(int argc, const char* const* argv);
 

@@ -11,6 +11,9 @@ namespace {
 
 using nlohmann::json;
 
+// An RU's PI/RS dependency stalls (no forwarding) are pipeline cycles, counted in busy_cycles.
+constexpr const char* kPartOfBusy = "pi_rs_dependency";
+
 struct Kind {
   std::string name, label;                          // "recursion_units", "RUs"
   std::vector<std::pair<std::string, double>> parts;  // busy first, then stalls by share
@@ -30,7 +33,8 @@ Kind kind_of(const json& units, const std::string& name, const std::string& labe
   std::vector<std::pair<std::string, double>> stalls;
   if (u.contains("stall_cycles"))
     for (const auto& [cause, v] : u["stall_cycles"].items())
-      if (v.is_number() && v.get<double>() > 0) stalls.emplace_back(cause + " stall", v.get<double>() / span);
+      if (cause != kPartOfBusy && v.is_number() && v.get<double>() > 0)
+        stalls.emplace_back(cause + " stall", v.get<double>() / span);
   std::stable_sort(stalls.begin(), stalls.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   k.parts.insert(k.parts.end(), stalls.begin(), stalls.end());
   for (const auto& p : k.parts) k.occupancy += p.second;

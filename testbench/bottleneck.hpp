@@ -2,7 +2,8 @@
 // computed from the statistics alone (so the report and `tigris diff` reuse it, never redo it).
 //
 // Each unit kind (Recursion Units, Search Units) spends its unit-cycles (count x cycles) busy,
-// stalled by a named cause, or idle. The kind that is occupied (busy + stalled) the larger share
+// stalled by a named cause, or idle (an RU's pi_rs_dependency stalls are part of its busy
+// cycles, not added again). The kind that is occupied (busy + stalled) the larger share
 // bounds the run: front-end (RU) or back-end (SU) bound, unless a kind waits on the result
 // write-back (DRAM) for more than kWritebackBound of its cycles: then the run is write-back
 // bound. The cause is the largest part of the bounding kind's occupancy; the runner-up is the

@@ -1,4 +1,4 @@
-// Configuration as data (DESIGN.md section 10): JSON files nested by block and `--set a.b=v`
+// Configuration as data (docs/cli.md): JSON files nested by block and `--set a.b=v`
 // onto hw::AcceleratorConfig. Each key (field, unit, allowed values, doc) is declared once, at
 // its field in hw/config.hpp; config_keys.cpp builds the key table from it, config_json.cpp
 // applies and dumps JSON (a --set becomes a one-key file), config_reference.cpp renders the
@@ -46,7 +46,7 @@ void apply_setting(hw::AcceleratorConfig& cfg, const std::string& assignment);
 nlohmann::json config_to_json(const hw::AcceleratorConfig& cfg);
 
 // Markdown table of every key: key, default, unit, allowed values, meaning (for
-// `tigris run --list-config` and the README).
+// `tigris run --list-config`).
 std::string config_reference();
 
 // Every dotted key, in declaration order (hw::AcceleratorConfig::visit).

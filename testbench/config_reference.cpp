@@ -1,4 +1,4 @@
-// The reference table of every configuration key (`tigris run --list-config`, the README),
+// The reference table of every configuration key (`tigris run --list-config`),
 // rendered from the key table.
 #include <cmath>
 #include <cstdint>

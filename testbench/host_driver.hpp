@@ -1,4 +1,4 @@
-// The host side of a run (DESIGN.md section 6): writes the tree image and the queries through
+// The host side of a run (docs/architecture.md): writes the tree image and the queries through
 // the accelerator's TLM-2.0 target socket, programs the CSRs, starts the job, waits for the
 // done interrupt and reads the result stream back into canonical per-query results.
 #pragma once
@@ -24,7 +24,7 @@ struct HostJob {
   std::uint32_t k = 1;
   float radius = 0.0f;
   std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
-  bool approximate = false;  // leader/follower search (DESIGN.md section 13)
+  bool approximate = false;  // leader/follower search (docs/model.md)
   float approx_thd = 0.0f;   // metres
   std::uint32_t leader_width = 1;  // R for NN/kNN
   int runs = 1;              // the job is loaded and run this many times on one accelerator

@@ -1,5 +1,5 @@
 // Per-query latency (admission to the last results entering the write-back stream) and BE
-// Query Buffer waits, recorded from the accelerator's observer reports (DESIGN.md section 18).
+// Query Buffer waits, recorded from the accelerator's observer reports (docs/stats.md, latency).
 #pragma once
 
 #include <cstdint>

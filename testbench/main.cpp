@@ -1,4 +1,4 @@
-// `tigris`: the command-line front end (DESIGN.md section 10).
+// `tigris`: the command-line front end (docs/cli.md).
 // Exit codes: 0 success, 1 golden mismatch (tigris run), 2 bad input or configuration.
 #include <iostream>
 
@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   tigris::SearchOptions ref_options;
   CLI::App* ref = app.add_subcommand(
       "ref", "Run the golden software model only: KD-tree search with visit counts");
-  tigris::add_search_options(*ref, ref_options);
+  tigris::add_search_options(*ref, ref_options, true);
 
   tigris::RunOptions run_options;
   CLI::App* run = app.add_subcommand(
@@ -148,7 +148,12 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "tigris: error: " << printable(e.what()) << "\nRun with --help for more information.\n";
+    const std::string hints = tigris::parse_suggestions(app, argc, argv);
+    if (hints.rfind("'", 0) == 0)  // an unknown command: CLI11 would only say one is required
+      std::cerr << "tigris: error: " << printable(hints);
+    else
+      std::cerr << "tigris: error: " << printable(e.what()) << '\n' << printable(hints);
+    std::cerr << "Run with --help for more information (tigris COMMAND --help for a command's flags).\n";
     return 2;
   }
   ref_options.command_line = tigris::command_line(argc, argv);

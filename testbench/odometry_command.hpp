@@ -1,4 +1,4 @@
-// `tigris odometry` (issue 20, DESIGN.md section 19): registers each frame of a KITTI-layout
+// `tigris odometry` (issue 20; docs/registration.md): registers each frame of a KITTI-layout
 // sequence (or of a synthetic drive it writes first, `--synthetic N`) into the previous one and
 // chains the poses. Each pair is `tigris register` run as a process of its own with the pipeline
 // flags forwarded (so a pair's registration.json is exactly what `tigris register` would write),

@@ -10,7 +10,7 @@
 
 namespace tigris {
 
-void add_search_options(CLI::App& app, SearchOptions& o) {
+void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--cloud", o.cloud,
                  "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply (default: the "
                  "built-in synthetic frame 0; without --queries the cloud is searched in itself)");
@@ -49,8 +49,9 @@ void add_search_options(CLI::App& app, SearchOptions& o) {
                  "Write the results as CSV query,rank,index,dist2 (canonical order)");
   app.add_option("--dump-schedule", o.dump_schedule,
                  "Write the leaf-visit schedule as CSV seq,query,leaf");
-  app.add_option("--schedule", o.schedule,
-                 "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
+  if (replay)
+    app.add_option("--schedule", o.schedule,
+                   "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
   app.add_option("--max-work", o.limits.max_work,
                  "Refuse a run estimated (from a sample of queries) to compute more node and point "
                  "distances than this; 0: no limit")
@@ -81,6 +82,14 @@ int default_height_for(int height, bool chosen, std::size_t points, const std::s
                "height %d is clamped to %d (pass --height to choose)\n",
                cloud_name.c_str(), points, full, height, full);
   return full;
+}
+
+void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t points, const std::string& cloud_name) {
+  if (p.mode == Mode::KNN && static_cast<std::size_t>(p.k) > points)
+    std::fprintf(stderr,
+                 "%s: note: --k %d is more than the %zu points of %s: every query returns all %zu of them, in "
+                 "distance order\n",
+                 command, p.k, points, cloud_name.c_str(), points);
 }
 
 int parse_height(const std::string& text) {

@@ -1,4 +1,4 @@
-// The flags `tigris ref` and `tigris run` share (DESIGN.md section 10), and their translation
+// The flags `tigris ref` and `tigris run` share (docs/cli.md), and their translation
 // into validated golden-model parameters.
 #pragma once
 
@@ -31,11 +31,15 @@ struct SearchOptions {
   std::string command_line;  // as typed, for stats.json (set by main)
 };
 
-void add_search_options(CLI::App& app, SearchOptions& o);
+// `replay`: also --schedule (the golden model replays a schedule; the accelerator makes its own).
+void add_search_options(CLI::App& app, SearchOptions& o, bool replay = false);
 
 // Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws
 // std::invalid_argument naming the flag.
 SearchParams search_params(const CLI::App& app, const SearchOptions& o);
+
+// A note on stderr when a kNN search asks for more neighbours than the cloud has.
+void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t points, const std::string& cloud_name);
 
 // --height: a number from 0 to the full height, or "full" (-1).
 int parse_height(const std::string& text);

@@ -1,5 +1,5 @@
 // `tigris sweep ...` and `tigris reproduce ...`: the design-space tools are Python scripts in
-// sweep/ (DESIGN.md section 17); these subcommands run them with this binary as their `tigris`.
+// sweep/ (docs/sweeps.md); these subcommands run them with this binary as their `tigris`.
 #pragma once
 
 #include <string>

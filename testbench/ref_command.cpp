@@ -35,6 +35,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   if (!o.schedule.empty()) replay = read_schedule_csv(o.schedule);
 
   const Workload w = load_workload(o.cloud, o.queries, o.seed);
+  note_k_above_cloud("tigris ref", params, w.cloud.size(), w.cloud_name);
   height = default_height_for(height, app.count("--height") > 0, w.cloud.size(), w.cloud_name);
   auto t0 = std::chrono::steady_clock::now();
   const KdTree tree = build_kdtree(w.cloud, height, split);

@@ -1,4 +1,4 @@
-// `tigris register`: the registration pipeline (sw_ref/registration, DESIGN.md section 15) on two
+// `tigris register`: the registration pipeline (sw_ref/registration; docs/registration.md) on two
 // frames, searching through the golden model (exact or approximate), FLANN, or the accelerator
 // model in the loop (accel, accel-approx: accel_in_loop.hpp); writes
 // DIR/registration.json (transform, per-stage seconds and KD-tree work, accuracy against ground

@@ -1,4 +1,4 @@
-// Pieces of the stats JSON (DESIGN.md section 8/10) and output files shared by the commands.
+// Pieces of the stats JSON (docs/stats.md, docs/cli.md) and output files shared by the commands.
 #pragma once
 
 #include <functional>

@@ -39,14 +39,17 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                  "Accelerator configuration, JSON nested by block (see testbench/configs/paper.json)");
   app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
   app.add_option("--vcd", o.vcd,
-                 "Write waveforms (unit busy flags, queue occupancies, query ids) as VCD, and a "
-                 "GTKWave save file beside it (same name, .gtkw)");
+                 "Write waveforms as VCD, and a GTKWave save file beside it (same name, .gtkw): machine-wide "
+                 "counts of RUs busy and stalled by cause, PEs busy, waiting for data and held by the write-back, "
+                 "BQB occupancy, write-back backlog; per unit its busy and stall flags, queue occupancies, query ids");
   app.add_option("--timeline", o.timeline,
                  "Write the run as a Chrome trace-event JSON (open in ui.perfetto.dev or "
-                 "chrome://tracing): a track per RU, QDN port, SU and the write-back, a slice per "
-                 "walk, hop, BQB wait and batch, flow arrows per query");
+                 "chrome://tracing): whole-machine counters over every query (RUs and PEs busy and stalled, BQB "
+                 "occupancy, write-back backlog), and a track per RU, QDN port, SU and the write-back with a slice "
+                 "per walk, hop, BQB wait and batch and flow arrows per query, for the sampled queries");
   app.add_option("--timeline-queries", o.timeline_queries,
-                 "About how many queries the timeline shows (every n-th query; 0: all)")
+                 "About how many queries the timeline's slices show (every n-th query; 0: all); its "
+                 "whole-machine counters cover every query either way")
       ->check(whole_range(0, 4294967295LL))
       ->capture_default_str();
   app.add_option("--sim-threads", o.sim_threads,
@@ -72,8 +75,6 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     std::cout << config_reference();
     return 0;
   }
-  if (!o.search.schedule.empty())
-    throw std::invalid_argument("--schedule replays a schedule in the golden model: use tigris ref");
   if (!o.trace.empty()) return run_trace_replay(app, o);
   if (app.count("--trace-stages") || app.count("--jobs"))
     throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
@@ -96,6 +97,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   params.leader_capacity = cfg.leader.capacity_per_leaf;
 
   const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  note_k_above_cloud("tigris run", params, w.cloud.size(), w.cloud_name);
   const nlohmann::json inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
   // The default top height only: one from --height, --set or --config stays as asked.
   const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
@@ -130,7 +132,19 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   if (o.sim_threads) setup.sim_threads = o.sim_threads;
   const std::uint32_t shown = o.timeline_queries == 0 ? static_cast<std::uint32_t>(w.queries.size()) : o.timeline_queries;
   TimelineRecorder timeline(1000.0 / cfg.clock_mhz, shown);
-  if (!o.timeline.empty()) setup.observers.push_back(&timeline);
+  if (!o.timeline.empty()) {
+    setup.observers.push_back(&timeline);
+    const std::uint32_t stride = (static_cast<std::uint32_t>(w.queries.size()) + std::max<std::uint32_t>(shown, 1) - 1) /
+                                 std::max<std::uint32_t>(shown, 1);
+    const double sampled = static_cast<double>(w.queries.size()) / std::max<std::uint32_t>(stride, 1);
+    const double bytes = TimelineRecorder::estimated_bytes(sampled, estimate.leaf_visits_per_query);
+    if (bytes > 100e6)
+      std::fprintf(stderr,
+                   "tigris run: note: the timeline of %.0f queries (--timeline-queries %u) will be about %.0f MB of JSON "
+                   "(about 1 KB per leaf visit) and takes minutes to write and to open; --timeline-queries 2000 "
+                   "samples the slices (the whole-machine counters stay exact)\n",
+                   sampled, o.timeline_queries, bytes * 1e-6);
+  }
   ProgressReporter progress("tigris run: queries finished");
   t0 = std::chrono::steady_clock::now();
   // SystemC runs on a thread of its own: its coroutine stack switches leave AddressSanitizer
@@ -187,7 +201,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   stats["latency_cycles"] = sim.latency;
   stats["bottleneck"] = bottleneck_json(stats);
   stats["config"] = config_to_json(cfg);
-  stats["config"]["search"] = search_config_json(params, tree)["search"];
+  const nlohmann::json search_config = search_config_json(params, tree);
+  stats["config"]["search"] = search_config["search"];
+  stats["config"]["approx"] = search_config["approx"];  // the threshold and leader width of this run
   stats["tree"] = tree_json(tree);
   stats["wall_seconds"] = {{"golden", golden_s}, {"simulation", sim_s}};
   if (const std::string bad = non_finite_field(stats); !bad.empty())
@@ -247,7 +263,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
               stats_path.c_str());
   if (!o.timeline.empty())
-    std::printf("  timeline %s (every %u-th query; open in ui.perfetto.dev)\n", o.timeline.c_str(), timeline.stride());
+    std::printf("  timeline %s (slices: %s; counters: every query; open in ui.perfetto.dev)\n", o.timeline.c_str(),
+                timeline.trace_note().c_str());
   if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
   if (!verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",

@@ -1,4 +1,4 @@
-// The stats JSON of `tigris run` (DESIGN.md sections 8 and 10), walked from the accelerator's
+// The stats JSON of `tigris run` (docs/stats.md), walked from the accelerator's
 // statistics tree: every group's counters as they are, per-unit detail, sums over the units of
 // a kind made by StatGroup::sum, and only the ratios computed here.
 #pragma once

@@ -1,11 +1,15 @@
-// `tigris run --timeline FILE` (DESIGN.md section 18): the run as a Chrome trace-event JSON that
+// `tigris run --timeline FILE` (docs/cli.md): the run as a Chrome trace-event JSON that
 // Perfetto (ui.perfetto.dev) and chrome://tracing open. One process per block: the front-end
 // with a track per RU (a slice per walk, per BQB-full hold), the QDN with a track per SU port
 // (a slice per hop), the back-end with tracks per SU lane (a slice per batch: leaf, queries,
 // stream length; overlapping MQMN batches take further lanes) and the BQB waits as async slices
 // per SU, and the write-back (a slice per accepted chunk until it is in DRAM). Flow arrows
-// follow each query from hop to hop. Only sampled queries appear (every `stride`-th, so that
-// about `max_queries` do): a batch shows when one of its queries is sampled.
+// follow each query from hop to hop. Only sampled queries appear on those tracks (every
+// `stride`-th, so that about `max_queries` do; the track names say so): a batch shows when one
+// of its queries is sampled. A "Whole machine" process adds counters over every query, whatever
+// the sampling: RUs busy and stalled by cause, PEs busy, waiting for data and held by the
+// write-back, BQB occupancy and the write-back backlog, each the exact mean over bins of the run
+// (about kCounterBins of them).
 #pragma once
 
 #include <cstdint>
@@ -30,13 +34,26 @@ class TimelineRecorder final : public hw::JobObserver {
   void su_batch(std::uint32_t su, std::uint32_t leaf, const hw::QueryToken* tokens, std::size_t n,
                 std::uint64_t issue, std::uint64_t end, std::uint64_t stream) override;
   void writeback(std::uint32_t query, std::size_t records, std::uint64_t accept, std::uint64_t drained) override;
+  void activity(Activity what, std::uint32_t count, std::uint64_t begin, std::uint64_t end) override;
+
+  static constexpr std::uint64_t kCounterBins = 2000;
+  static constexpr double kBytesPerVisit = 1000.0;  // calibrated in timeline.cpp's estimate
+  // About how many bytes of JSON a timeline of `queries` sampled queries takes, from the
+  // estimated leaf visits per query (measured: ~1 KB per sampled leaf visit, whatever the cloud).
+  static double estimated_bytes(double queries, double leaf_visits_per_query);
 
   // The trace: {"traceEvents": [...], "displayTimeUnit": "ns", "otherData": {...}}.
   nlohmann::json trace() const;
   std::uint32_t stride() const { return stride_; }
+  std::string trace_note() const { return sampled_note(); }
 
  private:
-  enum Pid { kFrontEnd = 1, kQdn = 2, kBackEnd = 3, kWriteback = 4 };
+  enum Pid { kMachine = 0, kFrontEnd = 1, kQdn = 2, kBackEnd = 3, kWriteback = 4 };
+  // Counter series: the Activity values, then BQB occupancy and write-back backlog (records).
+  static constexpr int kBqb = 7, kBacklog = 8, kSeries = 9;
+  void count(int series, std::uint64_t begin, std::uint64_t end, std::int64_t n);
+  void add_counters(nlohmann::json& events) const;
+  std::string sampled_note() const;
   bool sampled(std::uint32_t query) const { return query % stride_ == 0; }
   double us(std::uint64_t cycle) const { return static_cast<double>(cycle) * period_ns_ / 1000.0; }
   void slice(int pid, std::uint64_t tid, const std::string& name, std::uint64_t begin, std::uint64_t end,
@@ -60,6 +77,8 @@ class TimelineRecorder final : public hw::JobObserver {
   std::vector<std::vector<std::uint64_t>> qdn_lanes_;
   std::vector<bool> named_;                        // tracks named so far (by a packed key)
   std::uint64_t flow_id_ = 0;
+  // Per series: (cycle, change) of its level, over every query.
+  std::vector<std::pair<std::uint64_t, std::int64_t>> deltas_[kSeries];
 };
 
 }  // namespace tigris

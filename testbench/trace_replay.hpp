@@ -4,7 +4,7 @@
 // job is checked against the golden model (approximate: the golden replay of the hardware's
 // schedule) and compared with the results the pipeline recorded. Reports per job, per stage and
 // in total, and the registration's end-to-end time with its KD-tree searches on the
-// accelerator (DESIGN.md section 16).
+// accelerator (docs/registration.md).
 //
 // Each job runs in a child process of its own (SystemC elaborates once per process), --jobs N
 // at a time; a job's figures do not depend on N.

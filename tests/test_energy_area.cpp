@@ -1,4 +1,4 @@
-// The energy, power and area models (DESIGN.md section 14): the default area is the paper's,
+// The energy, power and area models (docs/model.md): the default area is the paper's,
 // each count and size key scales its own block, SRAM prices follow the bank-size rule, and a
 // tiny job's energy is its counts times the table's prices plus leakage over its area.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Approximate (leader/follower) search on the accelerator (DESIGN.md section 13): bit-exact
+// Approximate (leader/follower) search on the accelerator (docs/model.md): bit-exact
 // against the golden model's replay of the accelerator's own schedule across machines, issue
 // policies and Leader Buffer capacities; thd 0 equals exact search; the Leader Check's cost.
 #include <catch2/catch.hpp>

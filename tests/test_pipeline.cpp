@@ -325,7 +325,7 @@ TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward, and DP4 regi
   INFO("translation " << e.translation_m << " m, rotation " << e.rotation_deg << " deg, estimate x "
                       << r.transform(0, 3));
   // Measured 0.18 m and 0.2 deg: every configuration tried converges to 0.68 m forward, not 0.86
-  // (README, "tigris register"); these bounds catch a broken pipeline, not that shortfall.
+  // (docs/registration.md, "Decisions"); these bounds catch a broken pipeline, not that shortfall.
   CHECK(e.translation_m < 0.3);
   CHECK(e.rotation_deg < 0.5);
   CHECK(r.transform(0, 3) > 0.5);

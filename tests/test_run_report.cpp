@@ -91,3 +91,11 @@ TEST_CASE("inputs: SHA-256 of a file is the digest sha256sum prints", "[report]"
   std::remove(path.c_str());
   CHECK_THROWS_WITH(tigris::sha256_of_file(path), Catch::Contains(path));
 }
+
+TEST_CASE("bottleneck: PI/RS dependency stalls are busy cycles, not added again", "[report]") {
+  // Without forwarding: 30% of the RUs' cycles are PI/RS stalls inside their 80% busy.
+  const json b = tigris::bottleneck_json(
+      stats(1000, 0.80, {{"pi_rs_dependency", 0.30}, {"sram", 0.10}}, 0.50, json::object()));
+  CHECK(b["occupancy"].get<double>() == Approx(0.90));
+  CHECK(b["summary"].get<std::string>().find("pi_rs") == std::string::npos);
+}

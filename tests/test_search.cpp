@@ -12,7 +12,7 @@ using namespace tigris::test;
 
 namespace {
 
-// A second, recursive statement of DESIGN.md section 4 (exact search), written independently
+// A second, recursive statement of docs/model.md's search semantics (exact search), written independently
 // of the iterative engine, to check visit counts as well as results.
 struct RecursiveRef {
   const KdTree& t;

@@ -1,4 +1,4 @@
-// Random stall injection (DESIGN.md section 18, MatchLib style): every hand-off may be held
+// Random stall injection (MatchLib style; docs/model.md): every hand-off may be held
 // back; results and visit counts must stay bit-exact and the machine must never deadlock, also
 // with queues of one entry. A matrix of seeds x rates x tiny queues x exact and approximate
 // search (ctest label `matrix`; skip with `ctest -LE matrix`).

@@ -1,7 +1,7 @@
 // Timing-only buffer accesses. Units read and write buffer contents through DMI (function
 // only); each work item then sends ONE TLM_IGNORE_COMMAND transaction per buffer carrying this
 // extension, and the buffer adds the cycles its banks, ports and latency cost to the annotated
-// delay (DESIGN.md section 7: never one b_transport per point). Accesses are given in bytes;
+// delay (docs/model.md, timing: never one b_transport per point). Accesses are given in bytes;
 // the buffer maps them onto its own words (sram.<buffer>.word_bytes) and banks.
 //
 // A buffer may also hand out its TimingTarget along with its DMI pointer (a TimingHandle

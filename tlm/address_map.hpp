@@ -1,4 +1,4 @@
-// The accelerator's host-visible memory map and CSRs (DESIGN.md section 6, host side). The host
+// The accelerator's host-visible memory map and CSRs (docs/model.md, the host side). The host
 // driver writes the tree image and queries into the buffer windows, programs the CSRs, writes
 // CTRL.START, waits for the done interrupt and reads the result stream from the DRAM window.
 #pragma once

@@ -1,4 +1,4 @@
-// The leaf-visit schedule (DESIGN.md sections 5 and 10): the sequence of (query, leaf) visit
+// The leaf-visit schedule (docs/model.md, approximate search): the sequence of (query, leaf) visit
 // decisions. A dependency-free vocabulary header: the golden model replays schedules, the
 // testbench records the accelerator's, and schedule_csv.* reads and writes them.
 #pragma once

@@ -1,4 +1,4 @@
-// The schedule trace (DESIGN.md section 10): CSV `seq,query,leaf`, one row per non-empty leaf
+// The schedule trace (docs/cli.md, tigris ref): CSV `seq,query,leaf`, one row per non-empty leaf
 // visit in decision order, seq counting from 0. The golden model replays it (`--schedule`).
 #pragma once
 

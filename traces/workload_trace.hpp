@@ -1,4 +1,4 @@
-// The workload trace of a registration (DESIGN.md section 16; format in traces/README.md): every
+// The workload trace of a registration (docs/registration.md; format in traces/README.md): every
 // 3D KD-tree search the pipeline made, grouped into accelerator jobs, with the clouds they
 // searched (each stored once, by content hash), the results the pipeline received and the CPU
 // seconds they took. `tigris register --record-trace` writes one; `tigris run --trace` replays

@@ -1,5 +1,5 @@
-// The Leader Buffer of one Search Unit (paper section 5.3 "Approximate Search", DESIGN.md
-// section 13): for every leaf the SU owns (leaf id mod SUs), up to leader.capacity_per_leaf
+// The Leader Buffer of one Search Unit (paper section 5.3 "Approximate Search";
+// docs/model.md): for every leaf the SU owns (leaf id mod SUs), up to leader.capacity_per_leaf
 // leaders in arrival order, 12 bytes each (the leader's point), and where each leader's local
 // result list lives. Lists are written into this SU's equal share of the Result Buffer's
 // leader-list area (16-byte entries: x, y, z, index, as in the Point Buffer), bump-allocated

@@ -1,4 +1,4 @@
-// The Leader Check of one Search Unit (paper section 5.3, DESIGN.md section 13), between the BE
+// The Leader Check of one Search Unit (paper section 5.3; docs/model.md), between the BE
 // Query Buffer and the PEs: for a query bound for leaf L it computes the squared distance to
 // each of L's leaders (on the PEs: the leaders stream past the batch's PEs like a Node Set),
 // picks the closest (the first of equal distances, i.e. (dist2, arrival) order) and compares it

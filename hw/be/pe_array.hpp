@@ -43,7 +43,7 @@ class PeArray {
 
   // One PE scans `count` entries (a Node Set, or a leader's local result list) for its query:
   // NN/kNN results go to its Result Buffer slot, radius hits to `hits`. With `local`, the PE
-  // also keeps the query's local result list as a new leader (DESIGN.md section 13): its
+  // also keeps the query's local result list as a new leader (docs/model.md): its
   // in-radius entries (radius) or its job.leader_width best in (dist2, index) order (NN/kNN).
   // `box` (optional) holds every entry scanned: a scan it proves fruitless is skipped.
   void scan(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,

@@ -59,6 +59,7 @@ void SearchUnit::step() {
       const auto held = static_cast<std::int64_t>(running_[i].tokens.size());
       writeback_pes_wave_.add_at(clock_.at(now), held);
       writeback_pes_wave_.add_at(clock_.at(accepted), -held);
+      links_.observer.activity(JobObserver::Activity::PeWritebackHold, static_cast<std::uint32_t>(held), now, accepted);
       running_[i].end = accepted;
       ++i;
       continue;
@@ -167,6 +168,8 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   pe_busy_cycles_ += b * (compute_end - start);
   pes_wave_.add_at(clock_.at(start), static_cast<std::int64_t>(b));
   pes_wave_.add_at(clock_.at(compute_end), -static_cast<std::int64_t>(b));
+  links_.observer.activity(JobObserver::Activity::PeBusy, static_cast<std::uint32_t>(b), start, compute_end);
+  links_.observer.activity(JobObserver::Activity::PeSramStall, static_cast<std::uint32_t>(b), compute_end, end);
   if (end > compute_end) {
     sram_pes_wave_.add_at(clock_.at(compute_end), static_cast<std::int64_t>(b));
     sram_pes_wave_.add_at(clock_.at(end), -static_cast<std::int64_t>(b));

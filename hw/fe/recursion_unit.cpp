@@ -65,11 +65,14 @@ void RecursionUnit::start(const QueryToken& token) {
   }
   sram_stall_ += done - (now + pipeline);
   busy_wave_.set_at(clock_.at(now + pipeline), 0);
+  const auto ru = static_cast<std::uint32_t>(id_);
+  links_.observer.activity(JobObserver::Activity::RuBusy, 1, now, now + pipeline);
+  links_.observer.activity(JobObserver::Activity::RuSramStall, 1, now + pipeline, done);
   if (done > now + pipeline) {
     sram_wave_.set_at(clock_.at(now + pipeline), 1);
     sram_wave_.set_at(clock_.at(done), 0);
   }
-  links_.observer.ru_walk(static_cast<std::uint32_t>(id_), token_.query, now, done);
+  links_.observer.ru_walk(ru, token_.query, now, done);
 
   // A finished NN/kNN query's list leaves for DRAM with the radius hits (in on_done).
   if (!job_.radius() && finished_) {
@@ -197,6 +200,7 @@ void RecursionUnit::on_done() {
   if (state_ == State::Blocked) {
     bqb_full_stall_ += now - blocked_since_;
     links_.observer.ru_blocked(static_cast<std::uint32_t>(id_), token_.query, blocked_since_, now);
+    links_.observer.activity(JobObserver::Activity::RuBqbFull, 1, blocked_since_, now);
   }
   stalled_wave_.set(0);
   writeback_wave_.set(0);
@@ -206,6 +210,7 @@ void RecursionUnit::on_done() {
     if (accepted > now) {
       writeback_stall_ += accepted - now;
       writeback_wave_.set(1);
+      links_.observer.activity(JobObserver::Activity::RuWritebackStall, 1, now, accepted);
       links_.scheduler.at(*this, accepted);
       return;
     }

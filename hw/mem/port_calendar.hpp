@@ -1,5 +1,5 @@
 // How many accesses a buffer's ports carry in each cycle, across every unit that uses the
-// buffer: at most `ports` a cycle (DESIGN.md section 18). Kept only when the ports can bind,
+// buffer: at most `ports` a cycle (docs/model.md, arbitration). Kept only when the ports can bind,
 // i.e. fewer ports than banks (each bank already serves one access a cycle). Same layout as
 // BankCalendar: a ring of 64-cycle blocks that doubles when a live block would be overwritten.
 #pragma once

@@ -1,4 +1,4 @@
-// Reading back a results dump (DESIGN.md section 10; write_results_csv writes it): CSV header
+// Reading back a results dump (docs/cli.md; write_results_csv writes it): CSV header
 // `query,rank,index,dist2`, one row per neighbour in canonical order, queries in index order,
 // dist2 as %.9g (round-trips float32).
 #pragma once

@@ -1,4 +1,4 @@
-// The accelerator in the registration loop (issue 19, DESIGN.md section 16): what the search
+// The accelerator in the registration loop (issue 19; docs/registration.md): what the search
 // plug-in hands to the host side when it runs a stage's query set as one job, and what comes
 // back. The pipeline knows nothing of the model; `tigris register --search accel` plugs in an
 // implementation that simulates each job (testbench/accel_in_loop.hpp), and tests may plug in

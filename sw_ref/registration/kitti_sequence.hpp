@@ -1,4 +1,4 @@
-// A KITTI odometry sequence folder (issue 20, DESIGN.md section 19), as KITTI distributes it and
+// A KITTI odometry sequence folder (issue 20; docs/registration.md), as KITTI distributes it and
 // `tigris synth` writes it: velodyne/NNNNNN.bin scans numbered from 000000 without a gap (or
 // the scans in the folder itself when it has no velodyne/),
 // poses.txt (optional: one 3x4 cam0 pose a line, frame i in frame 0's camera) and calib.txt

@@ -1,4 +1,4 @@
-// The registration pipeline (DESIGN.md section 15, the paper's Table 1): statistical outlier
+// The registration pipeline (the paper's Table 1; docs/registration.md): statistical outlier
 // removal, normal estimation, key points, descriptors, KPCE, correspondence rejection and ICP
 // (RPCE + transformation estimation). Source = the later frame, target = the earlier; the result
 // maps source points into the target frame.

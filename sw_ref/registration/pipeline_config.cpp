@@ -212,9 +212,9 @@ const std::vector<std::string>& preset_names() {
   return n;
 }
 
-// The presets start from the authors' published defaults (DESIGN.md section 15). Beyond the
-// paper's normal radius (0.30 vs 0.75) the differences are this project's choice (README,
-// "tigris register"), measured on the synthetic pair and KITTI 00 frames 0-1:
+// The presets start from the authors' published defaults (docs/registration.md). Beyond the
+// paper's normal radius (0.30 vs 0.75) the differences are this project's choice (ibid.,
+// "Decisions"), measured on the synthetic pair and KITTI 00 frames 0-1:
 //  - both: point-to-plane ICP error (with svd: PCL's linear least squares). Point-to-point ICP
 //    stops 13-14 cm short on the synthetic pair whatever the iteration budget (the rings of a
 //    LiDAR scan move with the sensor and pull the estimate towards no motion); point-to-plane

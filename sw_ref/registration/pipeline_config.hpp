@@ -1,4 +1,4 @@
-// The registration pipeline's configuration (DESIGN.md section 15): one JSON document nested by
+// The registration pipeline's configuration (docs/registration.md): one JSON document nested by
 // stage, every key typed, documented with its unit and range, unknown keys an error naming the
 // key (the same style as the accelerator's configuration in testbench/config_*). Two presets:
 // `dp4` (performance-oriented) and `dp7` (accuracy-oriented), after the paper's design points.

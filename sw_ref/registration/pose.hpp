@@ -1,4 +1,4 @@
-// Poses for the registration pipeline (DESIGN.md section 15): reading a ground-truth transform,
+// Poses for the registration pipeline (docs/registration.md): reading a ground-truth transform,
 // converting KITTI's camera-frame poses to the Velodyne frame, and the relative pose error.
 // Every transform is a 4x4 rigid transform in double precision; "target <- source" means it
 // maps source-frame points into the target frame (p_target = T * p_source).
@@ -27,7 +27,7 @@ Pose read_pose_file(const std::string& path);
 // the frame of pose 0). Throws InputError naming the file (and line) on malformed input.
 std::vector<Pose> read_kitti_poses(const std::string& path);
 
-// The Velodyne axes in KITTI's camera axes (README of ../shared/data/kitti-00):
+// The Velodyne axes in KITTI's camera axes (KITTI's calibration convention; docs/registration.md):
 // x_cam = -y_velo, y_cam = -z_velo, z_cam = x_velo, i.e. p_cam = A * p_velo.
 Pose kitti_velo_to_cam();
 

@@ -1,4 +1,4 @@
-// The PCL search plug-in (DESIGN.md section 15): a pcl::search::KdTree<PointT> subclass, so
+// The PCL search plug-in (docs/registration.md): a pcl::search::KdTree<PointT> subclass, so
 // PCL's NormalEstimation, FPFH/SHOT estimation, CorrespondenceEstimation and
 // IterativeClosestPoint accept it unchanged, that answers every search from the golden model
 // (exact, or approximate leader/follower search, on a two-stage tree of a chosen top height) or,
@@ -16,7 +16,7 @@
 //    fewer than K points gives its farthest point (an NN search never comes back empty, which
 //    PCL's CorrespondenceEstimation relies on).
 //  - shell_outer > 0: a radius search returns every point with R1^2 <= dist2 <= R2^2 (R1 =
-//    shell_inner, R2 = shell_outer, squared in float32 as r2 in DESIGN.md section 2), in
+//    shell_inner, R2 = shell_outer, squared in float32 as r2 in docs/model.md's numeric contract), in
 //    canonical order, then max_nn truncation, instead of the ball of the requested radius
 //    (which is ignored). It searches the ball of R2 and drops the points closer than R1.
 // On the approx back-end both would apply to the approximate results; the pipeline rejects that

@@ -1,4 +1,4 @@
-// The synthetic drive (issue 20, DESIGN.md section 19): a seeded town (a grid of streets with
+// The synthetic drive (issue 20; docs/registration.md): a seeded town (a grid of streets with
 // turns and intersections on gently sloped ground; blocks of buildings with setbacks and gaps,
 // now and then a park; parked cars, poles and trees at the curbs), a car driving through it at
 // 0-15 m/s (accelerating, braking, turning, stopping at crossings) sampled at 10 Hz, and an

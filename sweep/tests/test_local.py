@@ -20,8 +20,12 @@ def test_four_points():
         assert p.stderr.count(", match") == 4 and "[4/4]" in p.stderr, p.stderr
         cols, rows = read_csv(os.path.join(out, "sweep.csv"))
         assert len(rows) == 4, rows
-        # the column contract: point, swept keys, status, error, wall_seconds, then the rest
-        assert cols[:6] == ["point", "fe.recursion_units", "height", "status", "error", "wall_seconds"], cols[:8]
+        # the column contract: point, swept keys, status, the headline figures, error,
+        # wall_seconds, then the base settings and the rest
+        assert cols[:5] == ["point", "fe.recursion_units", "height", "status", "cycles"], cols[:8]
+        head = cols[cols.index("status") + 1:cols.index("error")]
+        assert head[:4] == ["cycles", "seconds", "energy_pj.total", "power_w"], head
+        assert "bottleneck.bound" in head and cols[cols.index("error") + 1] == "wall_seconds", cols[:30]
         for c in ("cloud", "queries", "mode", "be.issue_policy", "cycles", "seconds", "verdict",
                   "energy_pj.total", "power_w", "area_mm2.total", "visits.top", "visits.leaf_points",
                   "buffers.points.read_bytes", "units.recursion_units.utilization",
@@ -68,7 +72,8 @@ def test_failed_point_recorded():
         assert "ERROR" in p.stderr and "exceeds the full height" in p.stderr, p.stderr
         cols, rows = read_csv(os.path.join(out, "sweep.csv"))
         assert [r["point"] for r in rows] == ["height=4", "height=12", "fe.forwarding=false"]
-        assert cols[:7] == ["point", "height", "fe.forwarding", "status", "error", "wall_seconds", "cloud"], cols
+        assert cols[:5] == ["point", "height", "fe.forwarding", "status", "cycles"], cols
+        assert cols[cols.index("error"):cols.index("error") + 3] == ["error", "wall_seconds", "cloud"], cols
         ok, bad, fwd = rows
         assert ok["status"] == "ok" and fwd["status"] == "ok" and bad["status"] == "error"
         assert "exceeds the full height" in bad["error"] and bad["cycles"] == "" and int(ok["cycles"]) > 0

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""sweep/report.py: the claim table of DESIGN.md sections 9 and 14 from tiny hand-made CSVs:
+"""sweep/report.py: the claim table (docs/model.md, §9 and §14) from tiny hand-made CSVs:
 measured values, direction and 2x verdicts (hits, a failed direction, sizes beyond 2x),
 missing claims, REPORT.md with the figures, the command line.
 Run: python3 sweep/tests/test_report.py"""
@@ -170,7 +170,7 @@ class Document(unittest.TestCase):
                                            log=lambda m: None)
         with open(path) as f:
             text = f.read()
-        self.assertIn("| # | DESIGN.md | claim | paper | measured | direction holds | within 2x | "
+        self.assertIn("| # | model.md | claim | paper | measured | direction holds | within 2x | "
                       "explanation (measured facts) |", text)
         self.assertIn("| §9 | bypassing helps (No-Opt -> Bypass, speed-up), NN | +13.1% | +13.0% | yes | yes |", text)
         self.assertIn("| 5.00x | yes | **no** |", text)

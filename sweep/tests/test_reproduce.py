@@ -168,7 +168,7 @@ class Flow(unittest.TestCase):
         with open(os.path.join(out, "REPORT.md")) as f:
             text = f.read()
         self.assertIn("(--quick)", text.splitlines()[0])
-        self.assertIn("| # | DESIGN.md | claim |", text)
+        self.assertIn("| # | model.md | claim |", text)
         self.assertIn("top height ~10 is best (NN)", text)
         try:
             import matplotlib  # noqa: F401
