@@ -6,6 +6,11 @@ from zero and says "flat" with the actual spread. Every figure names what it sho
 """
 import math
 
+import matplotlib
+
+# SVG text stays text: searchable, selectable and checked by the tests.
+matplotlib.rcParams["svg.fonttype"] = "none"
+
 FLAT = 0.05  # spread / size below which an axis counts as flat (drawn from zero)
 
 

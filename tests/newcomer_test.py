@@ -1,0 +1,328 @@
+#!/usr/bin/python3
+"""What a newcomer relies on, end to end (issue 21):
+
+  inputs     stats.json records the command line and each input's path, size and SHA-256, and the
+             summary prints them and the bound
+  schema     every leaf of real runs' stats.json is documented in docs/stats.md, every row there
+             matches a leaf
+  diff       `tigris diff` on two known runs: configuration, headline ratios, exit status, --json
+  plot       `tigris plot` writes the figures, titled with the workload, a flat axis labelled
+  waves      the VCD's machine-wide counts average to the statistics' utilizations and stall shares
+  timeline   the whole-machine counters sum to the same, sampled tracks say so, a large request warns
+  help       a command's --help lists its own flags with defaults; typos get suggestions
+
+    tests/newcomer_test.py --tigris build/testbench/tigris [--part NAME ...]
+"""
+import argparse
+import csv
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print(f"FAIL: {what}", flush=True)
+
+
+def tig(*args, code=None, **kw):
+    p = subprocess.run([TIGRIS, *args], capture_output=True, text=True, **kw)
+    if code is not None and p.returncode != code:
+        raise AssertionError(f"tigris {' '.join(args)}: exit {p.returncode}, expected {code}\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def write_bin(path, pts):
+    import struct
+    with open(path, "wb") as f:
+        for x, y, z in pts:
+            f.write(struct.pack("<4f", x, y, z, 0.0))
+
+
+def small_cloud(path, n=3000, seed=3):
+    import random
+    r = random.Random(seed)
+    write_bin(path, [(r.uniform(-20, 20), r.uniform(-20, 20), r.uniform(-2, 3)) for _ in range(n)])
+
+
+def stats(folder):
+    with open(os.path.join(folder, "stats.json")) as f:
+        return json.load(f)
+
+
+# ------------------------------------------------------------------------------------------------
+
+def part_inputs(d):
+    cloud, queries, cfg = (os.path.join(d, n) for n in ("c.bin", "q.bin", "cfg.json"))
+    small_cloud(cloud), small_cloud(queries, 500, 4)
+    with open(cfg, "w") as f:
+        json.dump({"fe": {"recursion_units": 16}}, f)
+    out = os.path.join(d, "in")
+    p = tig("run", "--cloud", cloud, "--queries", queries, "--config", cfg, "--height", "6", "--out", out, code=0)
+    s = stats(out)
+    check(s["command_line"].endswith(f"run --cloud {cloud} --queries {queries} --config {cfg} --height 6 --out {out}"),
+          f"command_line records the command: {s['command_line']}")
+    roles = {i["role"]: i for i in s["inputs"]}
+    for role, path in (("cloud", cloud), ("queries", queries), ("config", cfg)):
+        with open(path, "rb") as f:
+            data = f.read()
+        i = roles.get(role, {})
+        check(i.get("path") == path and i.get("bytes") == len(data) and i.get("sha256") == hashlib.sha256(data).hexdigest(),
+              f"inputs[{role}] holds path, size and SHA-256: {i}")
+        check(path in p.stdout and hashlib.sha256(data).hexdigest()[:12] in p.stdout, f"the summary names the {role} file")
+    b = s["bottleneck"]
+    check(f"  bound   {b['summary']}" in p.stdout, "the summary prints the bottleneck line")
+    check(b["bound"] in ("front-end", "back-end", "result write-back") and 0 < b["share"] <= b["occupancy"],
+          f"bottleneck fields: {b}")
+    # built-in workload and a cloud alone
+    s = stats_of(d, "builtin")
+    check([i.get("builtin") for i in s["inputs"]] == ["synthetic:frame0 (seed 1)", "synthetic:frame1 (seed 1)"],
+          f"built-in inputs named: {s['inputs']}")
+    out = os.path.join(d, "alone")
+    tig("run", "--cloud", cloud, "--height", "6", "--out", out, code=0)
+    check(stats(out)["inputs"][1] == {"role": "queries", "same_as": "cloud"}, "a cloud alone is its own queries")
+
+
+_runs = {}
+
+
+def stats_of(d, name, *args):
+    if name not in _runs:
+        out = os.path.join(d, name)
+        tig("run", *args, "--out", out, code=0)
+        _runs[name] = stats(out)
+    return _runs[name]
+
+
+# ------------------------------------------------------------------------------------------------
+
+def leaves(obj, prefix=""):
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            yield from leaves(v, f"{prefix}.{k}" if prefix else k)
+    elif isinstance(obj, list):
+        if not obj or not isinstance(obj[0], (dict, list)):
+            yield prefix + "[]"
+        for v in obj:
+            if isinstance(v, (dict, list)):
+                yield from leaves(v, prefix + "[]")
+    else:
+        yield prefix
+
+
+def part_schema(d):
+    rows = []
+    with open(os.path.join(ROOT, "docs", "stats.md")) as f:
+        for line in f:
+            m = re.match(r"\|\s*`([^`]+)`\s*\|", line)
+            if m:
+                rows.append(m.group(1))
+    check(len(rows) > 100, f"docs/stats.md has its field rows ({len(rows)})")
+    pats = {r: re.compile("^" + re.escape(r).replace(r"\*", r"[^.\[\]]+") + "$") for r in rows}
+    cloud = os.path.join(d, "c.bin")
+    if not os.path.exists(cloud):
+        small_cloud(cloud)
+    runs = [stats_of(d, "builtin"), stats_of(d, "knn", "--mode", "knn", "--k", "8"),
+            stats_of(d, "radius", "--mode", "radius", "--radius", "0.3"),
+            stats_of(d, "approx", "--approx-thd", "default"),
+            stats_of(d, "approx_radius", "--mode", "radius", "--approx-thd", "default"),
+            stats_of(d, "files", "--cloud", cloud, "--queries", cloud, "--height", "6"),
+            stats_of(d, "cloud_alone", "--cloud", cloud, "--height", "6")]
+    seen = set()
+    for s in runs:
+        for leaf in leaves(s):
+            seen.add(leaf)
+            hits = [r for r, p in pats.items() if p.match(leaf)]
+            check(hits, f"stats.json field {leaf} ({s['command_line']}) is documented in docs/stats.md")
+    for r, p in pats.items():
+        check(any(p.match(leaf) for leaf in seen), f"docs/stats.md row `{r}` matches a field of a real run")
+
+
+# ------------------------------------------------------------------------------------------------
+
+def part_diff(d):
+    a = os.path.join(d, "builtin")
+    stats_of(d, "builtin")
+    b = os.path.join(d, "ru32")
+    tig("run", "--set", "fe.recursion_units=32", "--out", b, code=0)
+    p = tig("diff", a, b, code=1)
+    check("configuration: 1 key differs" in p.stdout and re.search(r"fe\.recursion_units\s+64\s+32", p.stdout),
+          "diff shows the one configuration difference:\n" + p.stdout[:1500])
+    j = json.loads(tig("diff", a, os.path.join(b, "stats.json"), "--json", code=1).stdout)
+    check([c["key"] for c in j["config"]] == ["fe.recursion_units"], f"--json config: {j['config']}")
+    sa, sb = stats(a), stats(b)
+    cyc = next(h for h in j["headline"] if h["name"] == "cycles")
+    check(cyc["values"] == [sa["cycles"], sb["cycles"]] and abs(cyc["ratios"][1] - sb["cycles"] / sa["cycles"]) < 1e-12,
+          f"headline cycles and ratio: {cyc}")
+    check(re.search(r"cycles\s+cycles\s+" + f"{sa['cycles']:,}" + r"\s+" + f"{sb['cycles']:,}" + r"\s+" +
+                    re.escape(f"{sb['cycles'] / sa['cycles']:.3f}x"), p.stdout), "the table shows cycles side by side")
+    check(j["same_inputs"] is True, "diff sees the same workload")
+    check(any(o["path"] == "units.recursion_units.count" for o in j["other"]), "other differing leaves listed")
+    tig("diff", a, a, code=0)
+    sw = os.path.join(d, "fake_sweep")
+    os.makedirs(os.path.join(sw, "points"), exist_ok=True)
+    p = tig("diff", a, sw, code=2)
+    check("sweep folder" in p.stderr, f"a sweep folder is refused with advice: {p.stderr}")
+    check("not JSON" in tig("diff", a, os.path.join(ROOT, "README.md"), code=2).stderr, "a non-JSON file is refused")
+
+
+# ------------------------------------------------------------------------------------------------
+
+def part_plot(d):
+    cloud = os.path.join(d, "c.bin")
+    if not os.path.exists(cloud):
+        small_cloud(cloud)
+    spec = os.path.join(d, "spec.json")
+    with open(spec, "w") as f:
+        json.dump({"base": {"cloud": cloud, "height": 6}, "grid": {"fe.recursion_units": [8, 16, 32]}}, f)
+    sw = os.path.join(d, "sweep")
+    p = tig("sweep", spec, "--jobs", "2", "--out", sw, code=0)
+    check(re.search(r"point\s+fe\.recursion_units\s+status\s+cycles", p.stderr), "a sweep ends with a summary table")
+    with open(os.path.join(sw, "sweep.csv")) as f:
+        cols = next(csv.reader(f))
+    check(cols[:4] == ["point", "fe.recursion_units", "status", "cycles"], f"sweep.csv starts with the key columns: {cols[:6]}")
+    p = tig("plot", sw, "--which", "sweep", code=0)
+    svg = os.path.join(sw, "plots", "sweep_fe.recursion_units.svg")
+    check(os.path.isfile(svg) and os.path.isfile(svg[:-4] + ".png"), f"plot wrote {svg} and .png: {p.stderr}")
+    text = open(svg).read() if os.path.isfile(svg) else ""
+    check("c.bin" in text and "height=6" in text, "the figure names its workload and fixed settings")
+    # area_mm2.sram does not depend on the RU count: a flat axis, drawn from zero and labelled
+    p = tig("plot", sw, "--which", "sweep", "--y", "area_mm2.sram", "cycles", "--out", os.path.join(d, "p2"), code=0)
+    text = open(os.path.join(d, "p2", "sweep_fe.recursion_units.svg")).read()
+    check("flat: area_mm2.sram" in text and "flat" in p.stderr, "a flat axis says flat")
+    check(text.count("flat:") == 1, "only the flat axis is labelled flat")
+    p = tig("plot", sw, "--y", "no_such_column", code=2)
+    check("no column no_such_column" in p.stderr, f"an unknown column is named: {p.stderr}")
+    check(tig("plot", os.path.join(d, "nowhere"), code=2).stderr.startswith("tigris plot: error"), "a missing sweep is an error")
+
+
+# ------------------------------------------------------------------------------------------------
+
+def vcd_averages(path, names):
+    ids, scope, val, last, area, t = {}, [], {}, {}, {}, 0
+    with open(path) as f:
+        for line in f:
+            if line.startswith("$scope"):
+                scope.append(line.split()[2])
+            elif line.startswith("$upscope"):
+                scope.pop()
+            elif line.startswith("$var"):
+                p = line.split()
+                if scope and scope[-1] == "all" and p[4] in names:
+                    ids[p[3]] = p[4]
+            elif line.startswith("#"):
+                t = int(line[1:])
+            elif line[:1] in "b01" and line.strip():
+                if line[0] == "b":
+                    v, code = line[1:].split()
+                    v = int(v, 2)
+                else:
+                    v, code = int(line[0]), line[1:].strip()
+                n = ids.get(code)
+                if n:
+                    area[n] = area.get(n, 0) + val.get(n, 0) * (t - last.get(n, 0))
+                    val[n], last[n] = v, t
+    for n in names:
+        area[n] = area.get(n, 0) + val.get(n, 0) * (t - last.get(n, 0))
+    return area, val
+
+
+def part_waves(d):
+    out = os.path.join(d, "waves")
+    tig("run", "--vcd", os.path.join(out, "w.vcd"), "--out", out, code=0)
+    s = stats(out)
+    names = ["rus_busy", "rus_sram_stall", "rus_bqb_full_stall", "rus_writeback_stall", "busy_pes"]
+    area, final = vcd_averages(os.path.join(out, "w.vcd"), names)
+    ps = 1e6 / s["config"]["clock_mhz"]
+    ru, su, cyc = s["units"]["recursion_units"], s["units"]["search_units"], s["cycles"]
+    want = {"rus_busy": ru["busy_cycles"], "rus_sram_stall": ru["stall_cycles"]["sram"],
+            "rus_bqb_full_stall": ru["stall_cycles"]["bqb_full"],
+            "rus_writeback_stall": ru["stall_cycles"]["result_writeback"], "busy_pes": su["pe_busy_cycles"]}
+    for n, cycles in want.items():
+        check(abs(area[n] / ps - cycles) <= 1e-9 * max(1, cycles), f"VCD all.{n} integrates to {cycles} cycles: {area[n] / ps}")
+        check(final.get(n, 0) == 0, f"all.{n} ends at 0")
+    gtkw = open(os.path.join(out, "w.gtkw")).read()
+    check("[signals_width]" in gtkw and "rus_sram_stall" in gtkw, "the save file sets a readable width and lists the stalls")
+
+
+def part_timeline(d):
+    out = os.path.join(d, "tl")
+    p = tig("run", "--timeline", os.path.join(out, "t.json"), "--out", out, code=0)
+    s = stats(out)
+    with open(os.path.join(out, "t.json")) as f:
+        t = json.load(f)
+    ev = t["traceEvents"]
+    w, cyc = t["otherData"]["counter_bin_cycles"], s["cycles"]
+    sums = {}
+    for e in ev:
+        if e["ph"] == "C":
+            for k, v in e["args"].items():
+                key = (e["name"].split(",")[0], k)
+                sums[key] = sums.get(key, 0) + v * w
+    ru, su = s["units"]["recursion_units"], s["units"]["search_units"]
+    for key, cycles in ((("RUs", "busy"), ru["busy_cycles"]), (("RUs", "SRAM stall"), ru["stall_cycles"]["sram"]),
+                        (("PEs", "busy"), su["pe_busy_cycles"])):
+        # bins are rounded to 1/1000 of a unit: 2000 bins of w cycles, each off by at most 0.0005 x w
+        check(abs(sums.get(key, 0) - cycles) <= 0.0005 * w * 2001, f"timeline counter {key} sums to {cycles}: {sums.get(key)}")
+    stride = t["otherData"]["sampled_every"]
+    names = [e["args"]["name"] for e in ev if e["ph"] == "M" and e["name"] == "thread_name"]
+    check(stride > 1 and all(f"sampled 1/{stride}" in n for n in names), "sampled tracks say they are sampled")
+    check(f"every {stride}th query" in p.stdout, "the summary says what is sampled")
+    # A request for every query of the default pair (~350 MB) warns before it starts.
+    pr = subprocess.Popen([TIGRIS, "run", "--timeline", os.path.join(d, "big.json"), "--timeline-queries", "0",
+                           "--out", os.path.join(d, "big")], stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    line = pr.stderr.readline()
+    pr.kill()
+    pr.wait()
+    check("MB of JSON" in line and "--timeline-queries" in line, f"a large timeline warns first: {line}")
+
+
+# ------------------------------------------------------------------------------------------------
+
+def part_help(d):
+    run_help = tig("run", "--help", code=0).stdout
+    check("--schedule" not in run_help and "--schedule" in tig("ref", "--help", code=0).stdout,
+          "run --help leaves out ref's --schedule")
+    check(re.search(r"--timeline-queries[^\n]*=2000", run_help), "--timeline-queries shows its default")
+    for args, want in ((["rn"], "did you mean 'run'"), (["run", "--mdoe", "nn"], "did you mean --mode"),
+                       (["run", "--schedule", "x"], "is a flag of tigris ref"),
+                       (["odometry", "--frame", "3"], "did you mean --frames")):
+        p = tig(*args, code=2)
+        check(want in p.stderr, f"tigris {' '.join(args)} suggests: {p.stderr}")
+    spec = os.path.join(d, "bad.json")
+    with open(spec, "w") as f:
+        json.dump({"grid": {"recursion_units": [16, 32]}}, f)
+    p = tig("sweep", spec, "--check", code=2)
+    check("did you mean 'fe.recursion_units'" in p.stderr, f"a sweep key without its block: {p.stderr}")
+    cloud = os.path.join(d, "tiny.bin")
+    write_bin(cloud, [(float(i), 0.0, 0.0) for i in range(20)])
+    p = tig("run", "--cloud", cloud, "--mode", "knn", "--k", "50", "--height", "1", "--out", os.path.join(d, "k"), code=0)
+    check("--k 50 is more than the 20 points" in p.stderr, f"k above the cloud gets a note: {p.stderr}")
+
+
+PARTS = {"inputs": part_inputs, "schema": part_schema, "diff": part_diff, "plot": part_plot,
+         "waves": part_waves, "timeline": part_timeline, "help": part_help}
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tigris", required=True)
+    ap.add_argument("--part", nargs="+", choices=list(PARTS), default=list(PARTS))
+    a = ap.parse_args()
+    TIGRIS = os.path.abspath(a.tigris)
+    with tempfile.TemporaryDirectory(prefix="tigris-newcomer-") as d:
+        for name in a.part:
+            print(f"== {name}", flush=True)
+            try:
+                PARTS[name](d)
+            except AssertionError as e:
+                check(False, f"{name}: {e}")
+    print(f"{len(failures)} failure(s)" if failures else "all newcomer checks passed")
+    sys.exit(1 if failures else 0)
