@@ -252,8 +252,8 @@ def show(res, show_all):
     listed = other if show_all else rest[:OTHER_SHOWN]
     hidden = len(other) - len(listed)
     L.append(f"other differing leaves: {len(other)}" +
-             (f" (showing {len(listed)}; --all adds {hidden}: {len(per_unit)} per-unit, "
-              f"{hidden - len(per_unit)} more)" if hidden else ""))
+             (f" (showing {len(listed)}; --all shows the other {hidden}"
+              + (f", {len(per_unit)} of them per unit)" if per_unit else ")") if hidden else ""))
     if listed:
         L += table([["leaf"] + names] + [[o["path"]] + [fmt(v) for v in o["values"]] for o in listed])
     return "\n".join(L)

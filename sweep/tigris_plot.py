@@ -2,7 +2,7 @@
 """Figures of a sweep: `tigris plot SWEEP_DIR|CSV... [--out DIR] [--y COLUMN ...] [--which NAME ...]`.
 
 For each swept key, a figure of the headline figures (cycles, energy, power; --y chooses other
-sweep.csv columns) against it: sweep_<key>.png and .svg. The other swept keys give one line per
+sweep.csv columns) against it, each axis from zero: sweep_<key>.png and .svg. The other swept keys give one line per
 combination when there are at most six; otherwise they are held at the model's default (or their
 first value) and the title says so. Then the paper's figures (sweep/plots.py: redundancy, units,
 height, optimizations, memory_traffic, approx) that the sweep's settings cover.
@@ -135,6 +135,10 @@ def sweep_figure(key, rows, swept, ys, workload):
             ax.set_xticklabels(order)
             ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
         ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter(useOffset=False))
+        # Magnitudes from zero, so a ratio reads as a ratio (a 6% change never fills a panel).
+        lo, hi = ax.get_ylim()
+        if lo > 0:
+            ax.set_ylim(0, hi * 1.05)
     if any(ax.get_legend_handles_labels()[0] for ax in axes[:1]):
         axes[0].legend(fontsize=8)
     fig.suptitle(f"{', '.join(y[1] for y in ys)} against {key}" + (f" (others held at {held})" if held else ""),
@@ -191,11 +195,17 @@ def main(argv):
                 say(f"wrote {stem}.png and .svg" + (f" ({'; '.join(notes)})" if notes else ""))
     paper = [w for w in (a.which or plots.FIGURES) if w != "sweep"]
     if paper:
+        def log(msg):
+            if not msg.startswith("plots: skipped"):
+                say(msg[len("plots: "):] if msg.startswith("plots: ") else msg)
         try:
-            made, _ = plots.make_figures(sw, out, paper if a.which else None, log=say)
+            made, skipped = plots.make_figures(sw, out, paper if a.which else None, log=log)
         except plots.Skip as e:
             die(f"cannot make {e}")
         written += [m[0] for m in made.values()]
+        if skipped:
+            say(f"paper figures this sweep does not cover: {', '.join(skipped)} (sweep/plots.py --help says "
+                "what each needs)")
     if not written:
         die("no figure could be made from " + ", ".join(paths))
     return 0

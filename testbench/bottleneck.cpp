@@ -14,10 +14,16 @@ using nlohmann::json;
 // An RU's PI/RS dependency stalls (no forwarding) are pipeline cycles, counted in busy_cycles.
 constexpr const char* kPartOfBusy = "pi_rs_dependency";
 
+// Stalls that wait on another block: an RU holding a query the BE Query Buffer cannot take is
+// back-pressure from the Search Units, and a unit whose results wait for the stream waits on
+// DRAM. They are not the unit's own work, so they do not make it the bound.
+bool waits_on_another_block(const std::string& cause) { return cause == "bqb_full" || cause == "result_writeback"; }
+
 struct Kind {
   std::string name, label;                          // "recursion_units", "RUs"
-  std::vector<std::pair<std::string, double>> parts;  // busy first, then stalls by share
-  double occupancy = 0.0;
+  std::vector<std::pair<std::string, double>> parts;  // busy first, then its own stalls by share
+  std::vector<std::pair<std::string, double>> waits;  // stalls on another block, by share
+  double occupancy = 0.0;                             // busy + own stalls
 };
 
 double number(const json& j, const char* key) {
@@ -25,7 +31,7 @@ double number(const json& j, const char* key) {
 }
 
 Kind kind_of(const json& units, const std::string& name, const std::string& label, double cycles) {
-  Kind k{name, label, {}, 0.0};
+  Kind k{name, label, {}, {}, 0.0};
   if (!units.contains(name)) return k;
   const json& u = units[name];
   const double span = std::max(1.0, number(u, "count")) * cycles;
@@ -34,8 +40,10 @@ Kind kind_of(const json& units, const std::string& name, const std::string& labe
   if (u.contains("stall_cycles"))
     for (const auto& [cause, v] : u["stall_cycles"].items())
       if (cause != kPartOfBusy && v.is_number() && v.get<double>() > 0)
-        stalls.emplace_back(cause + " stall", v.get<double>() / span);
-  std::stable_sort(stalls.begin(), stalls.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+        (waits_on_another_block(cause) ? k.waits : stalls).emplace_back(cause + " stall", v.get<double>() / span);
+  const auto by_share = [](const auto& a, const auto& b) { return a.second > b.second; };
+  std::stable_sort(stalls.begin(), stalls.end(), by_share);
+  std::stable_sort(k.waits.begin(), k.waits.end(), by_share);
   k.parts.insert(k.parts.end(), stalls.begin(), stalls.end());
   for (const auto& p : k.parts) k.occupancy += p.second;
   return k;
@@ -52,7 +60,8 @@ std::string percent(double f) {
   return b;
 }
 
-// "RUs 95% occupied: sram stall 49%, busy 45%, bqb_full stall 1%"; parts under 0.5% left out.
+// "RUs 94% occupied: sram stall 49%, busy 45%; waiting on other blocks 1%: bqb_full stall 1%";
+// parts under 0.5% left out.
 std::string describe(const Kind& k) {
   std::vector<std::pair<std::string, double>> parts = k.parts;
   std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -63,6 +72,11 @@ std::string describe(const Kind& k) {
       s += (first ? " " : ", ") + name + " " + percent(share);
       first = false;
     }
+  double waiting = 0.0;
+  std::string list;
+  for (const auto& [name, share] : k.waits)
+    if (share >= 0.005) waiting += share, list += (list.empty() ? "" : ", ") + name + " " + percent(share);
+  if (!list.empty()) s += "; waiting on other blocks " + percent(waiting) + ": " + list;
   return s;
 }
 
@@ -76,7 +90,7 @@ json bottleneck_json(const json& stats) {
   const Kind su = kind_of(units, "search_units", "SUs", cycles);
 
   const auto writeback = [](const Kind& k) {
-    for (const auto& p : k.parts)
+    for (const auto& p : k.waits)
       if (p.first == "result_writeback stall") return p.second;
     return 0.0;
   };

@@ -3,11 +3,12 @@
 //
 // Each unit kind (Recursion Units, Search Units) spends its unit-cycles (count x cycles) busy,
 // stalled by a named cause, or idle (an RU's pi_rs_dependency stalls are part of its busy
-// cycles, not added again). The kind that is occupied (busy + stalled) the larger share
-// bounds the run: front-end (RU) or back-end (SU) bound, unless a kind waits on the result
-// write-back (DRAM) for more than kWritebackBound of its cycles: then the run is write-back
-// bound. The cause is the largest part of the bounding kind's occupancy; the runner-up is the
-// other kind.
+// cycles, not added again). Two stalls wait on another block: an RU's bqb_full (back-pressure
+// from the Search Units) and result_writeback (DRAM). The kind occupied the larger share by its
+// own work (busy + its other stalls) bounds the run: front-end (RU) or back-end (SU) bound,
+// unless a kind waits on the result write-back for more than kWritebackBound of its cycles: then
+// the run is write-back bound. The cause is the largest part of the bounding kind's own work; the
+// runner-up is the other kind.
 #pragma once
 
 #include <string>

@@ -74,14 +74,18 @@ std::string energy_area_summary(const json& stats) {
   const json& a = stats.at("area_mm2");
   const double total = e.at("total").get<double>();
   const auto pct = [&](const char* c) { return 100 * ratio(e.at(c).get<double>(), total); };
+  // Above 10 mJ in mJ: "3.313e+04 uJ" reads badly.
+  const bool milli = total >= 1e10;
+  const double scale = milli ? 1e-9 : 1e-6;
+  const char* unit = milli ? "mJ" : "uJ";
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "  energy  %.4g uJ: PE %.1f%%, RU %.1f%%, SRAM read %.1f%%, SRAM write %.1f%%, Node Cache "
-                "%.1f%%, Leader Buffer %.1f%%, DRAM %.1f%%, leakage %.1f%% (%.4g uJ)\n"
+                "  energy  %.4g %s: PE %.1f%%, RU %.1f%%, SRAM read %.1f%%, SRAM write %.1f%%, Node Cache "
+                "%.1f%%, Leader Buffer %.1f%%, DRAM %.1f%%, leakage %.1f%% (%.4g %s)\n"
                 "  power   %.3g W\n"
                 "  area    %.2f mm2: SRAM %.2f, logic %.2f\n",
-                total * 1e-6, pct("pe"), pct("ru"), pct("sram_read"), pct("sram_write"), pct("node_cache"),
-                pct("leader_buffer"), pct("dram"), pct("leakage"), e.at("leakage").get<double>() * 1e-6,
+                total * scale, unit, pct("pe"), pct("ru"), pct("sram_read"), pct("sram_write"), pct("node_cache"),
+                pct("leader_buffer"), pct("dram"), pct("leakage"), e.at("leakage").get<double>() * scale, unit,
                 stats.at("power_w").get<double>(), a.at("total").get<double>(), a.at("sram").get<double>(),
                 a.at("logic").get<double>());
   return buf;
