@@ -509,6 +509,8 @@ TEST_CASE("timeline: trace-event JSON, sampled queries, slices ordered per track
         if (e["args"].contains("query")) queries_seen.insert(e["args"]["query"].get<std::uint64_t>());
       } else if (ph == "s" || ph == "f") {
         flows[e.at("id").get<std::uint64_t>()] += ph == "s" ? 1 : 10;
+      } else if (ph == "C") {  // whole-machine counters: mean levels, never negative
+        for (const auto& [k, v] : e.at("args").items()) CHECK(v.get<double>() >= 0);
       } else {
         REQUIRE((ph == "M" || ph == "b" || ph == "e"));
       }
