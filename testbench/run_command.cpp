@@ -134,9 +134,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   TimelineRecorder timeline(1000.0 / cfg.clock_mhz, shown);
   if (!o.timeline.empty()) {
     setup.observers.push_back(&timeline);
-    const std::uint32_t stride = (static_cast<std::uint32_t>(w.queries.size()) + std::max<std::uint32_t>(shown, 1) - 1) /
-                                 std::max<std::uint32_t>(shown, 1);
-    const double sampled = static_cast<double>(w.queries.size()) / std::max<std::uint32_t>(stride, 1);
+    const std::uint32_t stride = TimelineRecorder::stride_for(static_cast<std::uint32_t>(w.queries.size()), shown);
+    const double sampled = static_cast<double>(w.queries.size()) / stride;
     const double bytes = TimelineRecorder::estimated_bytes(sampled, estimate.leaf_visits_per_query);
     if (bytes > 100e6)
       std::fprintf(stderr,

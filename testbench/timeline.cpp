@@ -24,8 +24,7 @@ std::size_t take_lane(std::vector<std::uint64_t>& lanes, std::uint64_t begin, st
 
 void TimelineRecorder::job_started(std::uint32_t num_queries) {
   events_ = json::array();
-  stride_ = std::max<std::uint32_t>(1, (num_queries + std::max<std::uint32_t>(max_queries_, 1) - 1) /
-                                           std::max<std::uint32_t>(max_queries_, 1));
+  stride_ = stride_for(num_queries, max_queries_);
   last_.assign(num_queries, {});
   lanes_.clear();
   writeback_lanes_.clear();

@@ -37,6 +37,12 @@ class TimelineRecorder final : public hw::JobObserver {
   void activity(Activity what, std::uint32_t count, std::uint64_t begin, std::uint64_t end) override;
 
   static constexpr std::uint64_t kCounterBins = 2000;
+  // Every how-many-th query the slices show, for about `max_queries` of `num_queries`.
+  static std::uint32_t stride_for(std::uint32_t num_queries, std::uint32_t max_queries) {
+    const std::uint32_t m = max_queries > 0 ? max_queries : 1;
+    const std::uint32_t ceil = num_queries / m + (num_queries % m != 0 ? 1 : 0);  // no overflow near 2^32
+    return ceil > 0 ? ceil : 1;
+  }
   static constexpr double kBytesPerVisit = 1000.0;  // calibrated in timeline.cpp's estimate
   // About how many bytes of JSON a timeline of `queries` sampled queries takes, from the
   // estimated leaf visits per query (measured: ~1 KB per sampled leaf visit, whatever the cloud).
