@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""tigris_sweep: runs a sweep spec of `tigris run` points locally or as one Slurm job array,
-and collects one CSV (docs/sweeps.md).
+"""tigris_sweep: runs a sweep spec of `tigris run`, `tigris register` or `tigris odometry` points
+locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
 
   tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
                   [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
@@ -18,20 +18,79 @@ import shutil, signal, socket, subprocess, sys, tempfile, time
 from decimal import Decimal
 
 PROG = "tigris_sweep"
-TOP_KEYS = ("base", "grid", "points", "comment")
-PATH_FLAGS = ("cloud", "queries", "config")
+TOP_KEYS = ("command", "base", "grid", "points", "comment")
+PER_RUN = "per-run output files are not swept"
 NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "", "list-config": "",
                  "set": "write configuration keys as dotted keys (or under \"set\" in base/points)",
-                 "vcd": "per-run output files are not swept", "timeline": "per-run output files are not swept",
-                 "timeline-queries": "per-run output files are not swept", "schedule": "tigris run does not replay",
-                 "dump-results": "per-run output files are not swept",
-                 "dump-schedule": "per-run output files are not swept"}
-FIXED_BASE = ("cloud", "queries", "mode")           # always a column, so a CSV tells what ran
+                 "vcd": PER_RUN, "timeline": PER_RUN, "timeline-queries": PER_RUN,
+                 "schedule": "tigris run does not replay", "dump-results": PER_RUN, "dump-schedule": PER_RUN,
+                 "record-trace": PER_RUN, "compare": "a point is one registration; sweep \"search\" instead",
+                 "accel-set": "set accelerator keys in an --accel-config file",
+                 "slurm": "the sweep's own --slurm runs the points", "no-wait": "", "partition": "",
+                 "chunk": "", "sbatch-arg": "", "mem": "", "time": ""}
+
+
+class Command:
+    """What a sweep point runs: a tigris sub-command, the file its result is in, and how that
+    result reads (ok / mismatch / not_converged)."""
+    def __init__(self, name, result, files, folders, fixed, required, config_from, headline):
+        self.name, self.result, self.files, self.folders = name, result, files, folders
+        self.fixed = fixed                       # always a column, so a CSV tells what ran
+        self.required = required                 # a flag its --help must list (is it tigris?)
+        self.config_from = config_from           # the sub-command whose --list-config has its keys
+        self.headline = headline                 # sweep.csv's first columns after status
+        self.paths = files + folders
+
+    def status(self, rc, result):
+        """(status, message) of a finished process; None: it gave no result (an error)."""
+        if not isinstance(result, dict):
+            return None
+        if self.name == "run":
+            verdict = result.get("verdict")
+            if rc == 0 and verdict == "match":
+                return "ok", ""
+            return ("mismatch", "mismatch") if rc in (0, 1) and verdict == "mismatch" else None
+        if rc not in (0, 1):
+            return None
+        if self.name == "register":
+            st = result.get("status")
+            return ("ok", "") if st == "converged" else ("not_converged", f"registration {st}")
+        bad = result.get("not_converged_pairs")
+        if not isinstance(bad, int):
+            return None
+        return ("ok", "") if bad == 0 else ("not_converged", f"{bad} of {result.get('pairs')} pairs not converged")
+
+
+STAGES = ("outlier_removal", "normals", "keypoints", "descriptors", "kpce", "rejection", "icp")
+COMMANDS = {
+    "run": Command("run", "stats.json", ("cloud", "queries", "config"), (), ("cloud", "queries", "mode"),
+                   "cloud", "run", [
+                       "cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
+                       "units.recursion_units.utilization", "units.search_units.utilization",
+                       "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause",
+                       "bottleneck.share", "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction",
+                       "accuracy.mean_extra_distance_m", "accuracy.recall", "accuracy.precision"]),
+    "register": Command("register", "registration.json",
+                        ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
+                        ("source", "target", "preset", "search"), "source", "register", [
+                            "error.translation_m", "error.rotation_deg", "seconds", "kdtree_seconds",
+                            "kdtree_share", "kdtree_work.distances_and_neighbors"]
+                        + [f"stages.{s}.{f}" for s in STAGES for f in ("seconds", "search_seconds", "searches")]),
+    "odometry": Command("odometry", "metrics.json", ("config", "accel-config"), ("sequence",),
+                        ("sequence", "preset", "search"), "sequence", "register", [
+                            "rpe.mean_translation_m", "rpe.mean_rotation_deg", "kitti.t_err_percent",
+                            "kitti.r_err_deg_per_m", "ate.rmse_m", "seconds_per_pair", "pairs", "not_converged_pairs",
+                            "totals.seconds", "totals.kdtree_search_seconds", "totals.kdtree_share"]
+                        + [f"stages.{s}.per_pair_mean.{f}" for s in STAGES
+                           for f in ("seconds", "kdtree_search_seconds", "searches")]),
+}
 WALL = "wall_seconds"
-# Run flags that tigris run applies over a configuration key: a spec giving both would run the
-# flag's value while the CSV shows the key's, so one spelling only.
-FLAG_KEYS = {"height": "tree.top_height", "split-axis": "tree.split_axis",
-             "leader-capacity": "leader.capacity_per_leaf"}
+# Flags that tigris applies over a configuration key: a spec giving both would run the flag's
+# value while the CSV shows the key's, so one spelling only.
+PIPELINE_FLAG_KEYS = {"height": "search.top_height", "approx-thd": "search.nn_thd", "inject-kth": "inject.rpce_kth"}
+FLAG_KEYS = {"run": {"height": "tree.top_height", "split-axis": "tree.split_axis",
+                     "leader-capacity": "leader.capacity_per_leaf"},
+             "register": PIPELINE_FLAG_KEYS, "odometry": PIPELINE_FLAG_KEYS}
 MAX_POINTS = 100_000                                 # a spec's points, counted before expanding
 MAX_SPEC_BYTES = 16 << 20
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
@@ -128,39 +187,47 @@ def default_tigris():
     return os.path.join(repo, "build", "testbench", "tigris")
 
 
-def tigris_at(path, _seen={}):
-    """The Tigris of a binary, asked once per process (the spec fuzz test validates thousands)."""
-    path = os.path.abspath(path)
-    if path not in _seen:
-        _seen[path] = Tigris(path)
-    return _seen[path]
+def tigris_at(path, command="run", _seen={}):
+    """The Tigris of a binary and sub-command, asked once per process (the spec fuzz test
+    validates thousands)."""
+    key = (os.path.abspath(path), command)
+    if key not in _seen:
+        _seen[key] = Tigris(key[0], COMMANDS[command])
+    return _seen[key]
 
 
 class Tigris:
-    def __init__(self, path):
-        self.path = os.path.abspath(path)
+    """A tigris binary's flags and configuration keys for one sub-command, read off its --help
+    and --list-config (so the sweep never carries a copy of them)."""
+    def __init__(self, path, command=COMMANDS["run"]):
+        self.path, self.command = os.path.abspath(path), command
         if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
             raise SpecError(f"tigris binary not found or not executable: {self.path} "
                             "(give --tigris PATH or set $TIGRIS)")
-        help_text = self._ask("--help")
-        self.flags = {}                          # run flag -> default (None: no default)
+        help_text = self._ask(command.name, "--help")
+        self.flags = {}                          # flag -> default (None: no default)
         for m in re.finditer(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)(?:\s+(\S+))?", help_text, re.M):
             d = re.search(r"=(\S+)$", m.group(2) or "")
             self.flags[m.group(1)] = typed(d.group(1)) if d else None
         self.config = {}                         # configuration key -> default
-        for m in re.finditer(r"^\| `([a-z0-9_.]+)` \| ([^|]*)\|", self._ask("--list-config"), re.M):
-            self.config[m.group(1)] = typed(m.group(2).split()[0].strip("`") if m.group(2).split() else "")
-        if "cloud" not in self.flags or not self.config:
-            raise SpecError(f"{self.path} does not look like tigris: `tigris run --help` "
+        listing = self._ask(command.config_from, "--list-config")
+        if command.config_from == "run":         # a Markdown table
+            for m in re.finditer(r"^\| `([a-z0-9_.]+)` \| ([^|]*)\|", listing, re.M):
+                self.config[m.group(1)] = typed(m.group(2).split()[0].strip("`") if m.group(2).split() else "")
+        else:                                    # `key  default  allowed: meaning` (the dp4 preset's)
+            for m in re.finditer(r"^([a-z0-9_]+\.[a-z0-9_.]+)\s+(\S+)\s", listing, re.M):
+                self.config[m.group(1)] = typed(m.group(2).strip('"'))
+        if command.required not in self.flags or not self.config:
+            raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --help` "
                             "and `--list-config` gave no flags or keys")
 
-    def _ask(self, flag):
+    def _ask(self, sub, flag):
         try:
-            p = subprocess.run([self.path, "run", flag], capture_output=True, text=True, timeout=60)
+            p = subprocess.run([self.path, sub, flag], capture_output=True, text=True, timeout=60)
         except (OSError, subprocess.TimeoutExpired) as e:
-            raise SpecError(f"cannot run {self.path} run {flag}: {e}")
+            raise SpecError(f"cannot run {self.path} {sub} {flag}: {e}")
         if p.returncode != 0:
-            raise SpecError(f"{self.path} run {flag} failed (exit {p.returncode}): {p.stderr.strip()}")
+            raise SpecError(f"{self.path} {sub} {flag} failed (exit {p.returncode}): {p.stderr.strip()}")
         return p.stdout
 
 
@@ -177,10 +244,9 @@ def _no_duplicates(pairs):
 
 
 class Spec:
-    def __init__(self, path, tig):
+    def __init__(self, path, tigris_path):
         self.given, self.path = path, os.path.abspath(path)
         self.dir = os.path.dirname(self.path)
-        self.tig = tig
         self.names = {}                          # canonical key -> spelling in the spec
         self.where = {}                          # canonical key -> spec locations
         try:
@@ -211,6 +277,13 @@ class Spec:
         for k in raw:
             if k not in TOP_KEYS:
                 raise SpecError(self._at(k, f"unknown top-level key (allowed: {', '.join(TOP_KEYS)})"))
+        command = raw.get("command", "run")
+        if command not in COMMANDS:
+            raise SpecError(self._at("command", f"{json.dumps(command)[:60]} is not a tigris command a sweep "
+                                     f"runs (allowed: {', '.join(COMMANDS)}; default run)"))
+        self.command = COMMANDS[command]
+        self.tig = tigris_at(tigris_path, command)
+        self.kind = f"{command} flag"            # how error messages name a flag
         if not isinstance(raw.get("comment", ""), str):
             raise SpecError(self._at("comment", "must be text"))
         self.base = self._settings(raw.get("base", {}), "base")
@@ -247,11 +320,11 @@ class Spec:
             more = f" + {len(self.points):,} points" if self.grid and self.points else ""
             raise SpecError(f"{path}: {self.count:,} points ({f'grid {shape}' if shape else 'points'}{more}), "
                             f"more than the limit of {MAX_POINTS:,}: split the sweep")
-        for flag, key in FLAG_KEYS.items():
+        for flag, key in FLAG_KEYS[command].items():
             if flag in self.where and key in self.where:
                 raise SpecError(f"{path}: '{self.names[flag]}' ({', '.join(self.where[flag])}) and "
                                 f"'{self.names[key]}' ({', '.join(self.where[key])}) set one thing "
-                                f"two ways (tigris run's --{flag} overrides {key}, so the CSV would "
+                                f"two ways (tigris {command}'s --{flag} overrides {key}, so the CSV would "
                                 "show values that did not run): use one spelling")
         self.swept = list(self.grid)             # grid keys, then the points' keys
         for p in self.points:
@@ -262,7 +335,7 @@ class Spec:
         return f"{self.given}: {loc}: {msg}"
 
     def _key(self, key, loc):
-        """A spec key's canonical name (run flag or configuration key); unknown keys are errors."""
+        """A spec key's canonical name (flag or configuration key); unknown keys are errors."""
         if not isinstance(key, str) or not key:
             raise SpecError(self._at(loc, "empty key"))
         if len(key) > 200:
@@ -276,7 +349,8 @@ class Spec:
         elif key in self.tig.config:
             canon = key
         else:
-            kind = "configuration key" if "." in key else "run flag"
+            kind = "configuration key" if "." in key else self.kind
+            listing = f"tigris {self.command.config_from} --list-config"
             pool = list(self.tig.config) if "." in key else [f for f in self.tig.flags if f not in NOT_SWEEPABLE]
             near = difflib.get_close_matches(flag if "." not in key else key, pool, 1, 0.6)
             # A configuration key without its block: recursion_units -> fe.recursion_units.
@@ -284,11 +358,11 @@ class Spec:
             if "." not in key and blocks:
                 near = blocks[:1] if len(blocks) == 1 else near
                 if len(blocks) > 1:
-                    raise SpecError(self._at(loc, f"unknown run flag '{key}': configuration keys carry their "
+                    raise SpecError(self._at(loc, f"unknown {self.kind} '{key}': configuration keys carry their "
                                              f"block; did you mean one of {', '.join(blocks)}?"))
             hint = f" (did you mean '{near[0]}'?)" if near else (
-                f" (run flags: {', '.join(pool)}; configuration keys are dotted, see "
-                "`tigris run --list-config`)" if "." not in key else " (see `tigris run --list-config`)")
+                f" ({self.kind}s: {', '.join(pool)}; configuration keys are dotted, see "
+                f"`{listing}`)" if "." not in key else f" (see `{listing}`)")
             raise SpecError(self._at(loc, f"unknown {kind} '{key}'{hint}"))
         self.names.setdefault(canon, key)
         self.where.setdefault(canon, []).append(loc)
@@ -311,13 +385,14 @@ class Spec:
                 raise SpecError(self._at(loc, f"'{self.names[canon]}' is not valid Unicode text "
                                          "(a lone surrogate escape)"))
         if canon in self.tig.flags and isinstance(v, bool):
-            raise SpecError(self._at(loc, f"run flag '{self.names[canon]}' takes a number or text, not a boolean"))
-        if canon in PATH_FLAGS:
+            raise SpecError(self._at(loc, f"{self.kind} '{self.names[canon]}' takes a number or text, not a boolean"))
+        if canon in self.command.paths and canon in self.tig.flags:
+            what = "folder" if canon in self.command.folders else "file"
             if not isinstance(v, str) or not v.strip():
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a file name, got {json.dumps(v)}"))
+                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a {what} name, got {json.dumps(v)}"))
             full = os.path.join(self.dir, v)
-            if not os.path.isfile(full):
-                raise SpecError(self._at(loc, f"no such file: {full} (relative paths are relative to "
+            if not (os.path.isdir(full) if what == "folder" else os.path.isfile(full)):
+                raise SpecError(self._at(loc, f"no such {what}: {full} (relative paths are relative to "
                                          "the spec's folder)"))
         return v
 
@@ -333,7 +408,7 @@ class Spec:
                     sloc = f"{loc}.set[\"{sk}\"]"
                     canon = self._key(sk, sloc)
                     if canon not in self.tig.config:
-                        raise SpecError(self._at(sloc, f"'{sk}' is a run flag: put it beside \"set\", not in it"))
+                        raise SpecError(self._at(sloc, f"'{sk}' is a {self.kind}: put it beside \"set\", not in it"))
                     if canon in out:
                         raise SpecError(self._at(sloc, f"'{sk}' is set twice in {loc}"))
                     out[canon] = self._value(canon, sv, sloc)
@@ -346,11 +421,11 @@ class Spec:
         return out
 
     def args(self, params):
-        """tigris run arguments of a point: flags, then --set, each sorted (stable for resume)."""
+        """tigris arguments of a point: flags, then --set, each sorted (stable for resume)."""
         a = []
         for k in sorted(k for k in params if k in self.tig.flags):
             v = params[k]
-            a += [f"--{k}", os.path.join(self.dir, v) if k in PATH_FLAGS else cli_value(v)]
+            a += [f"--{k}", os.path.join(self.dir, v) if k in self.command.paths else cli_value(v)]
         for k in sorted(k for k in params if k not in self.tig.flags):
             a += ["--set", f"{k}={cli_value(params[k])}"]
         return a
@@ -365,7 +440,7 @@ class Spec:
         for o in own:
             params = dict(self.base)
             params.update(o)
-            if "queries" in params and "cloud" not in params:
+            if self.command.name == "run" and "queries" in params and "cloud" not in params:
                 raise SpecError(f"{self.given}: 'queries' ({', '.join(self.where['queries'])}) without "
                                 "'cloud': tigris run refuses --queries without --cloud (a cloud alone "
                                 "is searched in itself)")
@@ -385,7 +460,7 @@ class Spec:
 
 
 def _id_value(key, v):
-    s = os.path.basename(v) if key in PATH_FLAGS else cli_value(v)
+    s = os.path.basename(v) if any(key in c.paths for c in COMMANDS.values()) else cli_value(v)
     return re.sub(r"[^A-Za-z0-9._+-]", "_", s) or "_"
 
 
@@ -451,23 +526,28 @@ def point_dir(out, pid):
     return os.path.join(out, "points", pid)
 
 
-def finished(out, pt):
-    """A point is finished when its point.json says so (for these arguments) and stats.json exists."""
+def plan_command(plan):
+    return COMMANDS.get(plan.get("command", "run"), COMMANDS["run"])
+
+
+def finished(out, pt, command):
+    """A point is finished when its point.json says so (for these arguments) and its result
+    (stats.json, registration.json or metrics.json) exists."""
     d = point_dir(out, pt["id"])
     pj = read_json(os.path.join(d, "point.json"))
     return bool(pj and pj.get("finished") and pj.get("args") == pt["args"]
-                and os.path.isfile(os.path.join(d, "stats.json")))
+                and os.path.isfile(os.path.join(d, command.result)))
 
 
 class PointRun:
-    def __init__(self, out, tigris, pt):
-        self.out, self.tigris, self.pt = out, tigris, pt
+    def __init__(self, out, tigris, pt, command):
+        self.out, self.tigris, self.pt, self.command = out, tigris, pt, command
         self.dir = point_dir(out, pt["id"])
-        self.cmd = [tigris, "run"] + pt["args"] + ["--out", self.dir]
+        self.cmd = [tigris, command.name] + pt["args"] + ["--out", self.dir]
 
     def start(self):
         os.makedirs(self.dir, exist_ok=True)
-        for f in ("point.json", "stats.json"):
+        for f in ("point.json", self.command.result):
             if os.path.exists(os.path.join(self.dir, f)):
                 os.remove(os.path.join(self.dir, f))
         self.started, self.t0 = now(), time.monotonic()
@@ -484,15 +564,15 @@ class PointRun:
                 err_lines = [l for l in re.split(r"[\r\n]", f.read()) if l.strip()]
         except OSError:
             err_lines = []
-        stats = read_json(os.path.join(self.dir, "stats.json"))
-        verdict = stats.get("verdict") if isinstance(stats, dict) else None
+        result = read_json(os.path.join(self.dir, self.command.result))
+        got = self.command.status(rc, result)
         picked = [l for l in err_lines if "error" in l.lower() or "DEADLOCK" in l or "mismatch" in l.lower()]
         msg = (picked or err_lines or [""])[-1].strip()
-        if rc == 0 and verdict == "match":
-            status, msg = "ok", ""
-        elif rc in (0, 1) and verdict == "mismatch":
+        if got and got[0] == "mismatch":
             status = "mismatch"
             msg = next((l.strip() for l in err_lines if "queries with other results" in l), msg) or "mismatch"
+        elif got:
+            status, msg = got
         elif rc < 0:
             try:
                 sig = signal.Signals(-rc).name
@@ -500,14 +580,14 @@ class PointRun:
                 sig = str(-rc)
             status, msg = "error", f"killed by signal {sig}" + (f": {msg}" if msg else "")
         elif rc == 0:
-            status, msg = "error", "exit 0 but no readable stats.json with a verdict"
+            status, msg = "error", f"exit 0 but no readable {self.command.result} with a result"
         else:
             status, msg = "error", msg or f"exit {rc} and nothing on stderr"
         rec = {"id": self.pt["id"], "params": self.pt["own"], "args": self.pt["args"],
                "command": self.cmd, "command_line": shlex.join(self.cmd), "exit_code": rc,
                "status": status, "error": msg, "stderr_tail": "\n".join(err_lines[-20:])[-4000:],
                "wall_seconds": round(wall, 3), "started_at": self.started, "ended_at": now(),
-               "host": socket.gethostname(), "finished": status in ("ok", "mismatch")}
+               "host": socket.gethostname(), "finished": status in ("ok", "mismatch", "not_converged")}
         if os.environ.get("SLURM_JOB_ID"):
             rec["slurm"] = {k: os.environ.get(f"SLURM_{k.upper()}") for k in
                             ("array_job_id", "array_task_id", "job_id")}
@@ -517,25 +597,48 @@ class PointRun:
 
 def progress_line(spec_names, pt, rec, k, n):
     shown = " ".join(f"{spec_names.get(key, key)}={cli_value(v)}" for key, v in pt["own"].items()) or pt["id"]
-    what = "match" if rec["status"] == "ok" else f"{rec['status'].upper()}: {rec['error']}"
+    cmd = rec.get("command") if isinstance(rec.get("command"), list) else []
+    ok_word = "match" if cmd[1:2] in ([], ["run"]) else "converged"
+    what = ok_word if rec["status"] == "ok" else f"{rec['status'].upper()}: {rec['error']}"
     return f"[{k}/{n}] {shown} ... {rec['wall_seconds']:.1f} s, {what}"
 
 
 # ----------------------------------------------------------------------------------------------
 # The dry check: every point's flags and keys, before anything runs
 
+def dry_args(tig, args, missing):
+    """The arguments that check a point's flags and configuration without running it: tigris
+    validates them before it reads the workload, so the point gets an input that does not exist.
+    An odometry point is checked as a registration with the flags the two share."""
+    name = tig.command.name
+    inputs = {"run": ("cloud",), "register": ("source", "target"), "odometry": ()}[name]
+    if name == "odometry":
+        reg = tigris_at(tig.path, "register")
+        keep, a, i = (set(reg.flags) - set(NOT_SWEEPABLE)) | {"set"}, [], 0
+        while i < len(args):                     # "--flag value" pairs, as Spec.args writes them
+            if args[i][2:] in keep:
+                a += args[i:i + 2]
+            i += 2
+        name, inputs = "register", ("source", "target")
+    else:
+        a = list(args)
+    for f in inputs:
+        if f"--{f}" in a:
+            i = a.index(f"--{f}")
+            del a[i:i + 2]
+        a += [f"--{f}", missing]
+    return [tig.path, name] + a + ["--out", os.path.dirname(missing)]
+
+
 def dry_check(spec, tig, pts, out, jobs):
-    """tigris validates flags and configuration before it reads the workload, so each point runs
-    with a cloud that does not exist: the expected 'no such file' error means all was accepted."""
+    """Every point's flags and configuration, checked by tigris itself (dry_args): the expected
+    'no such file' error means all was accepted."""
     missing = os.path.join(out, ".dry-check-no-such-folder", "cloud.bin")
     problems = {}
     n, k, t0, shown = len(pts), [0], time.monotonic(), [time.monotonic()]
 
     def launch(pt):
-        a = list(pt["args"])
-        if "--cloud" in a:
-            del a[a.index("--cloud"):a.index("--cloud") + 2]
-        return subprocess.Popen([tig.path, "run"] + a + ["--cloud", missing, "--out", os.path.dirname(missing)],
+        return subprocess.Popen(dry_args(tig, pt["args"], missing),
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                                 stdin=subprocess.DEVNULL, start_new_session=True)
 
@@ -568,12 +671,13 @@ def dry_check(spec, tig, pts, out, jobs):
 # The sweep folder: plan.json (the points), points/<id>/, sweep.csv, sweep.json
 
 def make_plan(spec, tig, pts):
-    keys = set(spec.swept) | set(spec.base) | set(FIXED_BASE)
+    fixed = spec.command.fixed
+    keys = set(spec.swept) | set(spec.base) | set(fixed)
     defaults = {k: (tig.config.get(k) if k in tig.config else tig.flags.get(k)) for k in keys}
-    defaults.update({k: "synthetic" for k in ("cloud", "queries")})
-    base_cols = [k for k in FIXED_BASE if k not in spec.swept] + \
-                [k for k in spec.base if k not in spec.swept and k not in FIXED_BASE]
-    return {"format": 1, "spec_file": spec.path, "spec": spec.raw, "tigris": tig.path,
+    defaults.update({k: "synthetic" for k in ("cloud", "queries", "source", "target") if k in keys})
+    base_cols = [k for k in fixed if k not in spec.swept] + \
+                [k for k in spec.base if k not in spec.swept and k not in fixed]
+    return {"format": 1, "command": spec.command.name, "spec_file": spec.path, "spec": spec.raw, "tigris": tig.path,
             "base_args": spec.args(spec.base), "swept": spec.swept, "base_columns": base_cols,
             "names": {k: spec.names.get(k, k) for k in keys}, "defaults": defaults,
             "config_keys": [k for k in keys if k in tig.config], "points": pts}
@@ -586,6 +690,9 @@ def check_folder(out, plan):
             raise SpecError(f"{out} holds point folders but no plan.json: not a sweep folder of this "
                             "driver; use another --out")
         return
+    if old.get("command", "run") != plan["command"]:
+        raise SpecError(f"{out} holds a sweep of tigris {old.get('command', 'run')} points, this spec runs "
+                        f"tigris {plan['command']}: use another --out")
     if old.get("base_args") != plan["base_args"]:
         raise SpecError(f"{out} holds a sweep with another base (there: {shlex.join(old.get('base_args') or [])}; "
                         f"now: {shlex.join(plan['base_args'])}); its results would mix with these. "
@@ -670,6 +777,25 @@ def param_value(plan, pt, key, stats):
     return plan["defaults"].get(key)
 
 
+def odometry_row(d, metrics):
+    """An odometry point's figures: metrics.json, the mean seconds per pair, and the pipeline
+    configuration its pairs ran (from the first pair's registration.json, for the CSV's keys)."""
+    row = dict(metrics)
+    totals, pairs = metrics.get("totals"), metrics.get("pairs")
+    if isinstance(totals, dict) and isinstance(pairs, int) and pairs > 0 \
+            and isinstance(totals.get("seconds"), (int, float)):
+        row["seconds_per_pair"] = totals["seconds"] / pairs
+    try:
+        first = sorted(os.listdir(os.path.join(d, "pairs")))
+    except OSError:
+        first = []
+    for name in first[:1]:
+        reg = read_json(os.path.join(d, "pairs", name, "registration.json"))
+        if isinstance(reg, dict) and isinstance(reg.get("config"), dict):
+            row["config"] = reg["config"]
+    return row
+
+
 def read_plan(out):
     """DIR/plan.json as this driver writes it; a damaged one is an error naming it."""
     plan = read_json(os.path.join(out, "plan.json"))
@@ -706,28 +832,34 @@ def collect_command(out):
         unlock_folder(out, lock)
 
 
-# sweep.csv's first columns after the swept keys and status: the figures a reader looks for.
-HEADLINE = ["cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
-            "units.recursion_units.utilization", "units.search_units.utilization",
-            "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause", "bottleneck.share",
-            "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction", "accuracy.mean_extra_distance_m",
-            "accuracy.recall", "accuracy.precision"]
 SUMMARY_ROWS = 40
+# The summary table's columns after the swept keys and status: (title, column, scale, format).
+SUMMARY = {
+    "run": [("cycles", "cycles", 1, "{:,.0f}"), ("time ms", "seconds", 1e3, "{:.3g}"),
+            ("energy uJ", "energy_pj.total", 1e-6, "{:.3g}"), ("power W", "power_w", 1, "{:.3g}"),
+            ("RU%", "units.recursion_units.utilization", 100, "{:.0f}"),
+            ("SU%", "units.search_units.utilization", 100, "{:.0f}"),
+            ("PE%", "units.search_units.pe_utilization", 100, "{:.0f}"), ("bound", "bottleneck.bound", None, "")],
+    "register": [("seconds", "seconds", 1, "{:.3g}"), ("KD-tree %", "kdtree_share", 100, "{:.0f}"),
+                 ("error m", "error.translation_m", 1, "{:.3g}"), ("error deg", "error.rotation_deg", 1, "{:.3g}")],
+    "odometry": [("s/pair", "seconds_per_pair", 1, "{:.3g}"), ("KD-tree %", "totals.kdtree_share", 100, "{:.0f}"),
+                 ("RPE m", "rpe.mean_translation_m", 1, "{:.3g}"), ("RPE deg", "rpe.mean_rotation_deg", 1, "{:.3g}"),
+                 ("t_err %", "kitti.t_err_percent", 1, "{:.3g}")],
+}
 
 
-def summary_table(rows, swept):
+def summary_table(rows, swept, command="run"):
     """The sweep's key columns as an aligned table (the first SUMMARY_ROWS points)."""
-    def num(r, c, scale=1.0, fmt="{:.3g}"):
+    def num(r, c, scale, fmt):
         v = r.get(c)
+        if scale is None:
+            return str(v or "-")
         return fmt.format(v * scale) if isinstance(v, (int, float)) and not isinstance(v, bool) else "-"
-    cols = ["point"] + swept + ["status", "cycles", "time ms", "energy uJ", "power W", "RU%", "SU%", "PE%", "bound"]
+    cols = ["point"] + swept + ["status"] + [t for t, *_ in SUMMARY[command]]
     table = []
     for r in rows[:SUMMARY_ROWS]:
-        table.append([str(r.get("point"))] + [csv_value(r.get(k)) for k in swept] + [
-            str(r.get("status")), num(r, "cycles", fmt="{:,.0f}"), num(r, "seconds", 1e3), num(r, "energy_pj.total", 1e-6),
-            num(r, "power_w"), num(r, "units.recursion_units.utilization", 100, "{:.0f}"),
-            num(r, "units.search_units.utilization", 100, "{:.0f}"),
-            num(r, "units.search_units.pe_utilization", 100, "{:.0f}"), str(r.get("bottleneck.bound") or "-")])
+        table.append([str(r.get("point"))] + [csv_value(r.get(k)) for k in swept] + [str(r.get("status"))]
+                     + [num(r, c, scale, fmt) for _, c, scale, fmt in SUMMARY[command]])
     width = [max(len(c), *(len(t[i]) for t in table)) if table else len(c) for i, c in enumerate(cols)]
     lines = ["  ".join(c.ljust(w) for c, w in zip(cols, width)).rstrip()]
     lines += ["  ".join(v.ljust(w) for v, w in zip(t, width)).rstrip() for t in table]
@@ -740,24 +872,26 @@ def collect(out):
     plan = read_plan(out)
     job = read_json(os.path.join(out, "slurm", "job.json")) or {}
     chunks = [c if isinstance(c, list) else [] for c in job.get("chunks")] if isinstance(job.get("chunks"), list) else []
-    names = plan["names"]
+    names, command = plan["names"], plan_command(plan)
     param_cols = [names[k] for k in plan["swept"]] + [names[k] for k in plan["base_columns"]]
     fixed = {"point", "status", "error", WALL} | set(param_cols)
-    rows, stat_cols, counts = [], [], {"ok": 0, "mismatch": 0, "error": 0}
+    rows, stat_cols, counts = [], [], {"ok": 0, "mismatch": 0, "not_converged": 0, "error": 0}
     for pt in plan["points"]:
         d = point_dir(out, pt["id"])
         pj = read_json(os.path.join(d, "point.json"))
         if pj and pj.get("args") != pt["args"]:
             pj = None                            # an earlier spec's run of this name
-        stats = read_json(os.path.join(d, "stats.json")) if pj and pj.get("finished") else None
+        stats = read_json(os.path.join(d, command.result)) if pj and pj.get("finished") else None
         if pj and pj.get("finished") and not isinstance(stats, dict):
-            pj = dict(pj, status="error", error="stats.json missing or unreadable")
+            pj = dict(pj, status="error", error=f"{command.result} missing or unreadable")
+        if isinstance(stats, dict) and command.name == "odometry":
+            stats = odometry_row(d, stats)
         if pj is None:
             task = next((i for i, c in enumerate(chunks) if pt["id"] in c), None)
             why = (f"no result: Slurm job {job.get('job')} task {task} did not finish it (log "
                    f"{out}/slurm/{job.get('job')}_{task}.out)" if task is not None else "not run (yet)")
             pj = {"status": "error", "error": why, "wall_seconds": None}
-        status = pj.get("status") if pj.get("status") in ("ok", "mismatch") and pj.get("finished") else "error"
+        status = pj.get("status") if pj.get("status") in counts and pj.get("finished") else "error"
         row = {"point": pt["id"]}
         for k in plan["swept"]:
             row[names[k]] = param_value(plan, pt, k, stats)
@@ -772,7 +906,7 @@ def collect(out):
         ordered_union(stat_cols, keys)
         counts[status] += 1
         rows.append(row)
-    head = [c for c in HEADLINE if c in stat_cols]
+    head = [c for c in command.headline if c in stat_cols]
     columns = ["point"] + [names[k] for k in plan["swept"]] + ["status"] + head + ["error", WALL] + \
               [names[k] for k in plan["base_columns"]] + [c for c in stat_cols if c not in head]
     buf = io.StringIO()
@@ -786,9 +920,9 @@ def collect(out):
                 "columns": columns, "swept_keys": [names[k] for k in plan["swept"]],
                 "base_keys": [names[k] for k in plan["base_columns"]],
                 "rows": [{c: r.get(c) for c in columns} for r in rows]})
-    say(summary_table(rows, [names[k] for k in plan["swept"]]))
-    note(f"{len(rows)} points: {counts['ok']} ok, {counts['mismatch']} mismatch, {counts['error']} error; "
-         f"{os.path.join(out, 'sweep.csv')}")
+    say(summary_table(rows, [names[k] for k in plan["swept"]], command.name))
+    told = ", ".join(f"{n} {s.replace('_', ' ')}" for s, n in counts.items() if n or s in ("ok", "error"))
+    note(f"{len(rows)} points: {told}; {os.path.join(out, 'sweep.csv')}")
     return 0 if counts["ok"] == len(rows) else 1
 
 
@@ -799,7 +933,7 @@ def run_local(plan, todo, out, jobs, names):
     n, k = len(todo), [0]
 
     def launch(pt):
-        r = PointRun(out, plan["tigris"], pt)
+        r = PointRun(out, plan["tigris"], pt, plan_command(plan))
         runs[pt["id"]] = r
         return r.start()
 
@@ -900,10 +1034,10 @@ def run_task(tasks_file, index):
     chunk = t["chunks"][int(index)]
     for k, pid in enumerate(chunk, 1):
         pt = by_id[pid]
-        if finished(t["dir"], pt):
+        if finished(t["dir"], pt, plan_command(plan)):
             print(f"[{k}/{len(chunk)}] {pid}: finished earlier, skipped", flush=True)
             continue
-        r = PointRun(t["dir"], plan["tigris"], pt)
+        r = PointRun(t["dir"], plan["tigris"], pt, plan_command(plan))
         proc = r.start()
         try:
             rc = proc.wait()
@@ -927,7 +1061,8 @@ def parse_args(argv):
             fixed.append(argv[i])
             i += 1
     ap = argparse.ArgumentParser(
-        prog=os.path.basename(sys.argv[0]), description="Runs the `tigris run` points of a sweep spec "
+        prog=os.path.basename(sys.argv[0]), description="Runs the points of a sweep spec (`tigris run`, "
+        "or `tigris register` / `tigris odometry` with \"command\") "
         "and collects DIR/sweep.csv and DIR/sweep.json (docs/sweeps.md).",
         epilog="`%(prog)s collect DIR` collects a folder again (after --no-wait). Exit codes: 0 every "
         "point ok, 1 a point mismatched or failed, 2 bad spec, arguments or folder, 3 sbatch failed, "
@@ -982,15 +1117,16 @@ def check_out(out):
 
 
 def run(a):
-    tig = tigris_at(a.tigris or default_tigris())
-    spec = Spec(a.spec, tig)
+    tigris_at(a.tigris or default_tigris())    # a missing binary is named before the spec is read
+    spec = Spec(a.spec, a.tigris or default_tigris())
+    tig = spec.tig
     pts = spec.expand()
     out = os.path.abspath(a.out) if a.out else None
     plan = make_plan(spec, tig, pts)
     if out:
         check_out(out)
         check_folder(out, plan)
-    todo = [p for p in pts if not (out and finished(out, p))]
+    todo = [p for p in pts if not (out and finished(out, p, spec.command))]
     dry_check(spec, tig, todo, out or tempfile.gettempdir(), a.jobs)
     if a.check:
         note(f"{spec.given}: {len(pts)} points, valid" + (f"; {len(pts) - len(todo)} finished in {out}" if out else ""))
@@ -1014,12 +1150,12 @@ def sweep_into(a, out, spec, tig, plan, pts):
     if job and shutil.which("squeue") and squeue_active(job["job"]):
         raise SpecError(f"Slurm job {job['job']} of an earlier submission is still running into {out}; "
                         f"wait for it, or scancel {job['job']}")
-    todo = [p for p in pts if not finished(out, p)]
+    todo = [p for p in pts if not finished(out, p, spec.command)]
     note(f"{len(pts)} points, {len(pts) - len(todo)} finished earlier (skipped), {len(todo)} to run; "
          f"tigris {tig.path}")
     write_json(os.path.join(out, "plan.json"), plan)
     for p in todo:                               # an earlier failed try of a point is not its result
-        for f in ("point.json", "stats.json"):
+        for f in ("point.json", spec.command.result):
             if os.path.exists(os.path.join(point_dir(out, p["id"]), f)):
                 os.remove(os.path.join(point_dir(out, p["id"]), f))
     if todo:
