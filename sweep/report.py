@@ -10,6 +10,7 @@ measured), how each claim is measured, and the figures of plots.py (made into DI
 sweep they need. Nothing here is tuned toward the paper's numbers.
 """
 import argparse
+import json
 import math
 import os
 import sys
@@ -655,6 +656,115 @@ def all_claims(sw):
     return out
 
 
+# ----------------------------------------------------------------------------------------------
+# The pipeline's design space (the paper's section 3), from a `tigris pipeline-dse` folder
+
+STAGE_ORDER = ("outlier removal", "normal estimation", "key-point detection", "descriptor calculation",
+               "KPCE", "rejection", "RPCE", "transformation estimation")
+
+
+def _shares(dp):
+    total = sum(v for v in dp["stages"].values() if v) or None
+    return {s: (dp["stages"].get(s) or 0) / total for s in STAGE_ORDER} if total else None
+
+
+def claims_pipeline(dse):
+    """The paper's section-3 claims against a pipeline-dse's Pareto points (its dse.json)."""
+    dps = [d for d in dse.get("dps", []) if _shares(d)]
+    how = (f"`tigris pipeline-dse` ({dse.get('sampling')}; {dse.get('points')} points on the {dse.get('sequence')}): "
+           "the Pareto points (DP1..DPn) of mean registration seconds per pair against mean relative pose error "
+           "(translation, rotation); stage times per pair from `tigris register`, RPCE = ICP's KD-tree searches")
+    out = []
+    c = Claim("pipe_kd", "3", "KD-tree search takes 50-85% of the time on every Pareto point", "50-85%", how)
+    if not dps:
+        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
+    else:
+        kd = [(d["kdtree_share"], d) for d in dps if d.get("kdtree_share") is not None]
+        lo, hi = min(kd, key=lambda t: t[0]), max(kd, key=lambda t: t[0])
+        below = [d for v, d in kd if v < 0.5]
+        sh = _shares(lo[1])
+        top = max((s for s in STAGE_ORDER if s not in ("normal estimation", "descriptor calculation", "RPCE")),
+                  key=lambda s: sh[s])
+        expl = (f"{len(dps)} Pareto points; lowest {lo[1]['dp']} ({lo[1]['point']}) {pct(lo[0], 0)}, where "
+                f"{top} (no KD-tree search) takes {pct(sh[top], 0)}; highest {hi[1]['dp']} {pct(hi[0], 0)}")
+        if below:
+            expl += f"; below 50%: {', '.join(d['dp'] for d in below)}"
+        out.append(c.set(f"{pct(lo[0], 0)}-{pct(hi[0], 0)}", not below,
+                         within_2x(lo[0], 0.5) and within_2x(hi[0], 0.85), expl))
+    c = Claim("pipe_big3", "3", "normal estimation, descriptors and RPCE take over 90% of the time", "> 90%", how)
+    if dps:
+        big = [(sum(_shares(d)[s] for s in ("normal estimation", "descriptor calculation", "RPCE")), d) for d in dps]
+        v, d = min(big, key=lambda t: t[0])
+        sh = _shares(d)
+        rest = sorted((s for s in STAGE_ORDER if s not in ("normal estimation", "descriptor calculation", "RPCE")),
+                      key=lambda s: -sh[s])[:2]
+        out.append(c.set(f"at least {pct(v, 0)} (lowest {d['dp']})", v > 0.9, within_2x(v, 0.9),
+                         f"{d['dp']} ({d['point']}), the largest of the rest: " + ", ".join(f"{s} {pct(sh[s], 0)}" for s in rest)
+                         + " (outlier removal is a stage this pipeline has and the paper's does not)"))
+    else:
+        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
+    c = Claim("pipe_no_dominant", "3", "no single stage dominates across the Pareto points", "no single stage", how)
+    if dps:
+        tops = {}
+        for d in dps:
+            sh = _shares(d)
+            tops.setdefault(max(STAGE_ORDER, key=lambda s: sh[s]), []).append(d["dp"])
+        ne = [_shares(d)["normal estimation"] for d in dps]
+        out.append(c.set("largest stage: " + "; ".join(f"{s} ({', '.join(v)})" for s, v in tops.items()),
+                         len(tops) > 1, None,
+                         f"normal estimation takes {pct(min(ne), 0)}-{pct(max(ne), 0)} across the Pareto points "
+                         "(paper: under 30% in DP1-2, about 80% in DP8)"))
+    else:
+        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
+    c = Claim("pipe_presets", "3", "DP4 is performance-oriented, DP7 accuracy-oriented",
+              "DP4 faster, DP7 more accurate", how)
+    p4, p7 = (dse.get("presets") or {}).get("dp4"), (dse.get("presets") or {}).get("dp7")
+    if p4 and p7 and p4.get("status") == "ok" and p7.get("status") == "ok":
+        faster = p4["seconds_per_pair"] < p7["seconds_per_pair"]
+        better = p7["rpe_translation_m"] < p4["rpe_translation_m"] and p7["rpe_rotation_deg"] < p4["rpe_rotation_deg"]
+        where = lambda p: f"Pareto point {p['dp']}" if p.get("dp") else "not on a frontier"  # noqa: E731
+        out.append(c.set(f"dp4 {p4['seconds_per_pair']:.2f} s, {p4['rpe_translation_m'] * 1e3:.2f} mm, "
+                         f"{p4['rpe_rotation_deg']:.4f} deg; dp7 {p7['seconds_per_pair']:.2f} s, "
+                         f"{p7['rpe_translation_m'] * 1e3:.2f} mm, {p7['rpe_rotation_deg']:.4f} deg",
+                         faster and better, None,
+                         f"dp7 takes {p7['seconds_per_pair'] / p4['seconds_per_pair']:.1f}x dp4's time; "
+                         f"dp4: {where(p4)}, dp7: {where(p7)}"))
+    else:
+        out.append(c.missing("the dp4 and dp7 anchors of a pipeline-dse, both converged"))
+    return out
+
+
+def pipeline_section(dse, dse_dir, fig_rel):
+    claims = claims_pipeline(dse)
+    rel = lambda f: os.path.relpath(os.path.join(dse_dir, f), fig_rel) if fig_rel else os.path.join(dse_dir, f)  # noqa: E731
+    L = ["## The pipeline's design space (the paper's section 3)", "",
+         f"From `{dse_dir}` (`{dse.get('command_line')}`): {dse.get('points')} points, {dse.get('ok')} ok, "
+         f"{dse.get('not_converged')} with a pair not converged, {dse.get('failed')} failed; "
+         f"{len(dse.get('dps', []))} Pareto points (the paper found 8).", "",
+         claim_table(claims).replace("| model.md |", "| paper § |"), "",
+         f"![error against time]({rel('fig4.png')})", "", f"![the Pareto points' time]({rel('fig5.png')})", "",
+         "| DP | point | s/pair | RPE mm | RPE deg | KD-tree |", "|---|---|---:|---:|---:|---:|"]
+    for d in dse.get("dps", []):
+        L.append(f"| {d['dp']} | {d['point']} | {d['seconds_per_pair']:.2f} | {d['rpe_translation_m'] * 1e3:.3f} | "
+                 f"{d['rpe_rotation_deg']:.4f} | {pct(d['kdtree_share'] or 0, 0)} |")
+    return L + [""], claims
+
+
+def read_dse(path):
+    """A pipeline-dse folder's dse.json; ValueError naming the file when it is not one."""
+    f = os.path.join(path, "dse.json")
+    try:
+        with open(f) as fh:
+            dse = json.load(fh)
+    except OSError as e:
+        raise ValueError(f"{f}: {e.strerror} (not a tigris pipeline-dse folder)")
+    except ValueError as e:
+        raise ValueError(f"{f}: not valid JSON: {e}")
+    if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
+        raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
+    return dse
+
+
 def yn(v):
     return "n/a" if v is None else ("yes" if v else "**no**")
 
@@ -673,7 +783,7 @@ def claim_table(claims):
     return "\n".join(lines)
 
 
-def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
+def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None):
     measured = [c for c in claims if c.measured != "not measured"]
     dir_n = [c for c in measured if c.direction is not None]
     size_n = [c for c in measured if c.within is not None]
@@ -722,6 +832,8 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
           "stalled) a larger share than the SUs, 'back-end bound' otherwise, 'result write-back "
           "bound' when RUs or SUs wait on the DRAM write-back more than 30% of the time. The lower "
           "bound is max(top visits / #RU, leaf points / (#SU x #PE)).", ""]
+    if dse is not None:
+        L += pipeline_section(dse[1], dse[0], fig_rel)[0]
     if figures is not None:
         L += ["## Figures", ""]
         import plots
@@ -744,9 +856,10 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None):
     return "\n".join(L)
 
 
-def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note):
+def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None):
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
+    dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
     figs = skipped = None
     if draw:
         import plots
@@ -754,7 +867,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "REPORT.md")
     with open(path, "w") as f:
-        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title))
+        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse))
     log(f"report: wrote {path}")
     return path, claims
 
@@ -766,12 +879,13 @@ def main(argv=None):
     ap.add_argument("--figures", help="folder for the figures (default OUT/figures)")
     ap.add_argument("--no-figures", action="store_true", help="the claim table only")
     ap.add_argument("--title", help="the report's heading")
+    ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: adds the section-3 claims")
     a = ap.parse_args(argv)
     for p in a.csv:
         if not os.path.isfile(p):
             ap.exit(2, f"report: no such CSV: {p}\n")
     try:
-        write_report(a.csv, a.out, a.figures, not a.no_figures, a.title)
+        write_report(a.csv, a.out, a.figures, not a.no_figures, a.title, dse_dir=a.dse)
     except (ValueError, OSError) as e:
         ap.exit(2, f"report: {e}\n")
     return 0

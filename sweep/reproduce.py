@@ -207,6 +207,8 @@ def parse_args(argv):
     ap.add_argument("--tigris", help="tigris binary (passed to the driver)")
     ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris_sweep.py "
                     "beside this script)")
+    ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds the "
+                    "paper's section-3 claims measured there")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--specs-only", action="store_true", help="write the specs, run nothing")
@@ -333,7 +335,7 @@ def run(a, out, plan):
         draw = False
     title = "Tigris TLM: the paper's evaluation, reproduced" + (" (--quick)" if a.quick else "")
     try:
-        path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title)
+        path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title, dse_dir=a.dse)
     except (OSError, ValueError) as e:
         print(f"reproduce: error: the report: {e}", file=sys.stderr)
         return 2

@@ -137,6 +137,10 @@ int main(int argc, char** argv) {
                              "leaf (sweep/tigris_diff.py; tigris diff --help)");
   app.add_subcommand("plot", "Figures of a sweep folder or CSV: headline figures against each swept key, and "
                              "the paper's figures the sweep covers (sweep/tigris_plot.py; tigris plot --help)");
+  app.add_subcommand("pipeline-dse", "The paper's section 3: sample the registration pipeline's design space, "
+                                     "run each point over a sequence (locally or on Slurm), Pareto frontiers of "
+                                     "error against time, stage and KD-tree shares of the Pareto points "
+                                     "(sweep/pipeline_dse.py; tigris pipeline-dse --help)");
 
   try {
     tigris::reject_empty_arguments(argc, argv);

@@ -22,6 +22,7 @@ int run_python_tool(int argc, char** argv) {
                        : tool == "reproduce" ? "reproduce.py"
                        : tool == "diff"      ? "tigris_diff.py"
                        : tool == "plot"      ? "tigris_plot.py"
+                       : tool == "pipeline-dse" ? "pipeline_dse.py"
                                              : nullptr;
   if (!script) return -1;
   const char* dir_env = std::getenv("TIGRIS_SWEEP_DIR");

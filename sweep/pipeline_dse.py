@@ -1,0 +1,518 @@
+#!/usr/bin/python3
+"""tigris pipeline-dse: the paper's section 3. Samples the registration pipeline's design space
+(its Table 1), runs every point as `tigris odometry` over one sequence through tigris_sweep
+(locally or as one Slurm job array), and finds the Pareto frontiers of error against time.
+
+  tigris pipeline-dse [--space FILE] [--samples N] [--seed S] [--pairs N | --sequence DIR
+                      [--frames A:B]] [--jobs N | --slurm ...] [--out DIR]
+
+Writes into DIR:
+  sequence/          the synthetic drive (--pairs N + 1 frames; not with --sequence)
+  spec.json, sweep/  the sweep spec and the sweep folder (points/<id>/, sweep.csv); a rerun resumes
+  points.csv         every point: knobs, status, seconds per pair, errors, KD-tree share, stages, DP
+  fig4.png           error against time, translation (a) and rotation (b), frontiers and DP1..DPn
+  fig5.png           the DPs' time across the seven stages (a), KD-tree search against the rest (b)
+  pareto/DPi.json    each Pareto point's pipeline configuration (tigris register --config)
+  dse.json           all of it as data, with the paper's section-3 claims measured (tigris reproduce
+                     puts them in its report)
+
+Sampling: the default space has some 440,000 points, so a full factorial is out of reach; the
+tool draws a seeded Latin-hypercube-like sample over the knobs' levels (each level of each knob
+about equally often, the knobs shuffled independently), drops repeats and draws again until N
+points differ. A space smaller than N runs as a full factorial. The presets named in the space's
+"anchors" always run too. Errors are the mean relative pose error per pair (translation m,
+rotation deg) against the sequence's ground truth: a short sequence has no 100 m segment for
+KITTI's metrics. Time is the mean registration seconds per pair measured in `tigris register`.
+Exit codes: 0 done (also with failed points: they are recorded), 2 bad arguments or space,
+3 Slurm submission failed, 128 + a signal when interrupted.
+"""
+import argparse, csv, io, itertools, json, math, os, random, shlex, subprocess, sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PROG = "tigris pipeline-dse"
+DEFAULT_SPACE = os.path.join(HERE, "pipeline_space.json")
+# The paper's seven stages (its Figure 5a) and the pipeline's parts that make them. ICP is one
+# stage in the pipeline; its KD-tree searches are RPCE, the rest is transformation estimation.
+STAGES = [("outlier removal", "outlier_removal"), ("normal estimation", "normals"),
+          ("key-point detection", "keypoints"), ("descriptor calculation", "descriptors"),
+          ("KPCE", "kpce"), ("rejection", "rejection"), ("RPCE", None), ("transformation estimation", None)]
+MAX_DISTINCT = 1_000_000
+
+
+class Bad(Exception):
+    """A bad argument or space file: printed, exit 2."""
+
+
+def say(msg):
+    print(f"{PROG}: {msg}", file=sys.stderr, flush=True)
+
+
+# ----------------------------------------------------------------------------------------------
+# The design space
+
+def load_space(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            space = json.load(f)
+    except OSError as e:
+        raise Bad(f"cannot read the space {path}: {e.strerror}")
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise Bad(f"{path}: not valid JSON: {e}")
+    if not isinstance(space, dict):
+        raise Bad(f"{path}: a space is a JSON object with base, anchors, knobs")
+    for k in space:
+        if k not in ("comment", "base", "anchors", "knobs"):
+            raise Bad(f"{path}: unknown top-level key '{k}' (allowed: comment, base, anchors, knobs)")
+    if not isinstance(space.get("base", {}), dict):
+        raise Bad(f"{path}: base: must be an object of tigris odometry flags")
+    anchors = space.get("anchors", [])
+    if not (isinstance(anchors, list) and all(a in ("dp4", "dp7") for a in anchors)):
+        raise Bad(f"{path}: anchors: must be a list of presets (dp4, dp7)")
+    knobs = space.get("knobs")
+    if not isinstance(knobs, list) or not knobs:
+        raise Bad(f"{path}: knobs: must be a non-empty list of {{\"key\", \"values\"[, \"when\", \"stage\"]}}")
+    seen = {}
+    for i, k in enumerate(knobs):
+        where = f"{path}: knobs[{i}]"
+        if not isinstance(k, dict) or not isinstance(k.get("key"), str) or "." not in k["key"]:
+            raise Bad(f"{where}: needs \"key\": a dotted pipeline key (tigris register --list-config)")
+        if k["key"] in seen:
+            raise Bad(f"{where}: '{k['key']}' is already knobs[{seen[k['key']]}]")
+        vals = k.get("values")
+        if not isinstance(vals, list) or not vals or any(isinstance(v, (dict, list)) or v is None for v in vals):
+            raise Bad(f"{where} ('{k['key']}'): \"values\" must be a non-empty list of numbers, text or booleans")
+        if len(set(map(json.dumps, vals))) != len(vals):
+            raise Bad(f"{where} ('{k['key']}'): a value is listed twice")
+        for ck, cv in (k.get("when") or {}).items():
+            if ck not in seen:
+                raise Bad(f"{where} ('{k['key']}'): \"when\" names '{ck}', which is not an earlier knob")
+            allowed = cv if isinstance(cv, list) else [cv]
+            bad = [v for v in allowed if v not in knobs[seen[ck]]["values"]]
+            if bad:
+                raise Bad(f"{where} ('{k['key']}'): \"when\" {ck} = {bad[0]!r} is not one of its values")
+        for extra in k:
+            if extra not in ("key", "values", "when", "stage"):
+                raise Bad(f"{where}: unknown field '{extra}' (allowed: key, values, when, stage)")
+        seen[k["key"]] = i
+    return space
+
+
+def applies(knob, point):
+    for ck, cv in (knob.get("when") or {}).items():
+        if point.get(ck) not in (cv if isinstance(cv, list) else [cv]):
+            return False
+    return True
+
+
+def canonical(knobs, raw):
+    """A drawn point with the knobs that do not apply to it left out (so repeats compare equal)."""
+    p = {}
+    for k in knobs:
+        if applies(k, p) and k["key"] in raw:
+            p[k["key"]] = raw[k["key"]]
+    return p
+
+
+def enumerate_space(knobs, limit=MAX_DISTINCT):
+    """Every distinct point (conditions applied), or None when there are more than `limit`."""
+    out = []
+
+    def walk(i, p):
+        if len(out) > limit:
+            return
+        if i == len(knobs):
+            out.append(dict(p))
+            return
+        if not applies(knobs[i], p):
+            walk(i + 1, p)
+            return
+        for v in knobs[i]["values"]:
+            p[knobs[i]["key"]] = v
+            walk(i + 1, p)
+            del p[knobs[i]["key"]]
+    walk(0, {})
+    return None if len(out) > limit else out
+
+
+def space_size(knobs):
+    """The number of distinct points; beyond MAX_DISTINCT, the product of the level counts."""
+    every = enumerate_space(knobs)
+    return (len(every), every) if every is not None else (math.prod(len(k["values"]) for k in knobs), None)
+
+
+def sample(knobs, n, seed):
+    """n distinct points: a full factorial when the space has no more; else a Latin-hypercube-like
+    draw over the levels (each knob's levels equally often, shuffled per knob), repeats dropped
+    and redrawn. Returns (points, how)."""
+    size, every = space_size(knobs)
+    if every is not None and n >= size:
+        return every, f"full factorial ({size} points: the space has no more than --samples {n})"
+    rng = random.Random(seed)
+    points, seen, draws = [], set(), 0
+    while len(points) < n and draws < 50:
+        draws += 1
+        cols = {}
+        for k in knobs:
+            col = (k["values"] * (-(-n // len(k["values"]))))[:n]
+            rng.shuffle(col)
+            cols[k["key"]] = col
+        for i in range(n):
+            p = canonical(knobs, {key: col[i] for key, col in cols.items()})
+            tag = json.dumps(p, sort_keys=True)
+            if tag not in seen and len(points) < n:
+                seen.add(tag)
+                points.append(p)
+    return points, (f"seeded Latin-hypercube-like sample of {len(points)} of {size:,} points "
+                    f"(seed {seed}; each knob's levels about equally often)")
+
+
+# ----------------------------------------------------------------------------------------------
+# Pareto frontiers
+
+def pareto(items):
+    """Indices of the non-dominated items of [(x, y), ...] (both minimised), ordered by x. Of
+    items equal in both, the first is on the frontier and the others are not."""
+    front = []
+    for i, (x, y) in enumerate(items):
+        if any((x2 <= x and y2 <= y and (x2 < x or y2 < y)) or ((x2, y2) == (x, y) and j < i)
+               for j, (x2, y2) in enumerate(items)):
+            continue
+        front.append(i)
+    return sorted(front, key=lambda i: (items[i][0], items[i][1]))
+
+
+def number_dps(points, fronts):
+    """DP1..DPn: the points on any frontier, by time (then translation error)."""
+    on = sorted({i for f in fronts for i in f},
+                key=lambda i: (points[i]["seconds_per_pair"], points[i]["rpe_translation_m"], i))
+    return {i: f"DP{k}" for k, i in enumerate(on, 1)}
+
+
+# ----------------------------------------------------------------------------------------------
+# Reading the sweep
+
+def num(v):
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
+
+
+def stage_seconds(row):
+    """Mean seconds per pair of each of STAGES' parts (RPCE = ICP's KD-tree searches)."""
+    get = lambda s, f: num(row.get(f"stages.{s}.per_pair_mean.{f}"))  # noqa: E731
+    out = {}
+    for title, part in STAGES:
+        if part:
+            out[title] = get(part, "seconds")
+    icp, icp_kd = get("icp", "seconds"), get("icp", "kdtree_search_seconds")
+    out["RPCE"] = icp_kd
+    out["transformation estimation"] = icp - icp_kd if icp is not None and icp_kd is not None else None
+    return out
+
+
+def read_points(out, names):
+    sweep = json.load(open(os.path.join(out, "sweep", "sweep.json")))
+    by_id = {r["point"]: r for r in sweep["rows"]}
+    points = []
+    for name, sweep_id, knobs in names:
+        r = by_id.get(sweep_id, {})
+        p = {"point": name, "sweep_id": sweep_id, "knobs": knobs, "status": r.get("status", "error"),
+             "error": r.get("error") or "", "seconds_per_pair": num(r.get("seconds_per_pair")),
+             "rpe_translation_m": num(r.get("rpe.mean_translation_m")),
+             "rpe_rotation_deg": num(r.get("rpe.mean_rotation_deg")),
+             "kdtree_share": num(r.get("totals.kdtree_share")), "stages": stage_seconds(r),
+             "not_converged_pairs": r.get("not_converged_pairs"), "pairs": r.get("pairs"),
+             "values": {k: r.get(k) for k in sweep["swept_keys"] if "." in k}}
+        p["valid"] = p["status"] == "ok" and None not in (p["seconds_per_pair"], p["rpe_translation_m"],
+                                                          p["rpe_rotation_deg"])
+        points.append(p)
+    return points
+
+
+# ----------------------------------------------------------------------------------------------
+# Outputs
+
+def write_points_csv(path, points, knob_keys):
+    cols = ["point", "dp", "status", "seconds_per_pair", "rpe_translation_m", "rpe_rotation_deg",
+            "kdtree_share", "on_translation_frontier", "on_rotation_frontier"] + knob_keys + \
+           [f"{t} s" for t, _ in STAGES] + ["pairs", "not_converged_pairs", "error", "sweep_id"]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    for p in points:
+        row = dict(p, **{k: p["values"].get(k) for k in knob_keys}, **{f"{t} s": p["stages"].get(t) for t, _ in STAGES})
+        w.writerow(["" if row.get(c) is None else str(row[c]).lower() if isinstance(row[c], bool) else row[c]
+                    for c in cols])
+    with open(path, "w") as f:
+        f.write(buf.getvalue())
+
+
+def write_configs(out, points, dps):
+    pdir = os.path.join(out, "pareto")
+    os.makedirs(pdir, exist_ok=True)
+    for f in os.listdir(pdir):                   # a rerun's frontier replaces the last one
+        if f.startswith("DP") and f.endswith(".json"):
+            os.remove(os.path.join(pdir, f))
+    paths = {}
+    for i, dp in dps.items():
+        d = os.path.join(out, "sweep", "points", points[i]["sweep_id"], "pairs")
+        first = sorted(os.listdir(d))[0]
+        with open(os.path.join(d, first, "registration.json")) as f:
+            config = json.load(f)["config"]
+        config.pop("inject", None)               # error injection is not a design choice
+        paths[i] = os.path.join(pdir, f"{dp}.json")
+        with open(paths[i], "w") as f:
+            json.dump(config, f, indent=1)
+            f.write("\n")
+    return paths
+
+
+def claims(points, dps):
+    """The paper's section-3 claims, measured on the DPs."""
+    dp_points = [points[i] for i in sorted(dps, key=lambda i: int(dps[i][2:]))]
+    shares, big3, dominant = [], [], {}
+    for p in dp_points:
+        total = sum(v for v in p["stages"].values() if v) or None
+        if total is None:
+            continue
+        shares.append(p["kdtree_share"])
+        big3.append(sum(p["stages"].get(s) or 0 for s in ("normal estimation", "descriptor calculation", "RPCE")) / total)
+        top = max(p["stages"], key=lambda s: p["stages"][s] or 0)
+        dominant[top] = dominant.get(top, 0) + 1
+    return {"dps": len(dp_points),
+            "kdtree_share_min": min(shares) if shares else None, "kdtree_share_max": max(shares) if shares else None,
+            "normals_descriptors_rpce_share_min": min(big3) if big3 else None,
+            "dominant_stage_counts": dominant}
+
+
+def plot(out, points, fronts, dps, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    sys.path.insert(0, HERE)
+    import figure_truth  # noqa: F401  (svg text, flat-axis guard)
+
+    ok = [p for p in points if p["valid"]]
+    bad = [p for p in points if not p["valid"] and p["seconds_per_pair"] is not None
+           and p["rpe_translation_m"] is not None]
+    failed = len(points) - len(ok) - len(bad)
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.2))
+    for ax, key, front, what in ((axes[0], "rpe_translation_m", fronts[0], "translation (m)"),
+                                 (axes[1], "rpe_rotation_deg", fronts[1], "rotation (deg)")):
+        ax.scatter([p["seconds_per_pair"] for p in ok], [p[key] for p in ok], s=14, color="0.6",
+                   label=f"design points ({len(ok)})", zorder=2)
+        if bad:
+            ax.scatter([p["seconds_per_pair"] for p in bad], [p[key] for p in bad], s=22, marker="x",
+                       color="C3", label=f"some pair not converged ({len(bad)}, not on the frontier)", zorder=2)
+        fx = [points[i]["seconds_per_pair"] for i in front]
+        fy = [points[i][key] for i in front]
+        ax.step(fx, fy, where="post", color="C0", lw=1.2, zorder=3)
+        ax.scatter(fx, fy, s=30, color="C0", label="Pareto frontier", zorder=4)
+        for i in front:
+            ax.annotate(dps[i], (points[i]["seconds_per_pair"], points[i][key]), textcoords="offset points",
+                        xytext=(5, 4), fontsize=9, color="C0", weight="bold")
+        presets = [p for p in points if p["point"].startswith("preset") and p["valid"]]
+        for k, p in enumerate(presets):
+            ax.scatter([p["seconds_per_pair"]], [p[key]], s=70, facecolors="none", edgecolors="k",
+                       marker="s", zorder=5, label=None if k else "the presets (anchors)")
+                ax.annotate(p["point"].split("=")[1].upper() + " preset", (p["seconds_per_pair"], p[key]),
+                            textcoords="offset points", xytext=(6, -12), fontsize=8)
+        ax.set_yscale("log")
+        ax.set_xlim(0, max([p["seconds_per_pair"] for p in ok + bad] + [1]) * 1.08)
+        ax.set_xlabel("registration time, mean seconds per pair")
+        ax.set_ylabel(f"mean relative pose error per pair, {what}, log scale")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.set_title(f"({'ab'[key == 'rpe_rotation_deg']}) {what.split()[0]} error against time")
+        ax.legend(fontsize=8, loc="upper right")
+    fig.suptitle(f"Pipeline design space: {len(points)} points" + (f", {failed} failed (no result)" if failed else ""))
+    figure_truth.name_workload(fig, title)
+    fig.savefig(os.path.join(out, "fig4.png"), dpi=110)
+    plt.close(fig)
+
+    order = sorted(dps, key=lambda i: int(dps[i][2:]))
+    labels = [dps[i] + (f"\n{points[i]['point'].split('=')[1]} preset" if points[i]["point"].startswith("preset")
+                        else f"\n{points[i]['point']}") for i in order]
+    fig, (a, b) = plt.subplots(2, 1, figsize=(max(6.5, 0.75 * len(order) + 3), 8.2))
+    bottom = [0.0] * len(order)
+    for k, (title_s, _) in enumerate(STAGES):
+        vals = []
+        for i in order:
+            st = points[i]["stages"]
+            total = sum(v for v in st.values() if v) or 1
+            vals.append(100 * (st.get(title_s) or 0) / total)
+        a.bar(labels, vals, bottom=bottom, color=plt.cm.tab10(k), label=title_s)
+        bottom = [x + y for x, y in zip(bottom, vals)]
+    a.set_ylim(0, 100)
+    a.set_ylabel("share of registration time (%)")
+    a.set_title("(a) time across the stages (RPCE: ICP's KD-tree searches)")
+    a.legend(fontsize=7, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.08))
+    kd = [100 * (points[i]["kdtree_share"] or 0) for i in order]
+    b.bar(labels, kd, color="C3", label="KD-tree search")
+    b.bar(labels, [100 - x for x in kd], bottom=kd, color="0.75", label="other")
+    for x, v in enumerate(kd):
+        b.text(x, v / 2, f"{v:.0f}%", ha="center", va="center", fontsize=8, color="white")
+    for y in (50, 85):
+        b.axhline(y, ls="--", color="k", lw=0.8)
+    b.text(len(order) - 0.5, 86, "paper: 50-85%", ha="right", va="bottom", fontsize=8)
+    b.set_ylim(0, 100)
+    b.set_ylabel("share of registration time (%)")
+    b.set_title("(b) KD-tree search against the rest")
+    b.legend(fontsize=8, loc="lower right")
+    fig.suptitle("The Pareto points' time distribution")
+    figure_truth.name_workload(fig, title)
+    fig.savefig(os.path.join(out, "fig5.png"), dpi=110)
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+
+def parse_args(argv):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0].split("\n", 1)[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(__doc__.split("\n")[7:]))
+    ap.add_argument("--space", default=DEFAULT_SPACE, metavar="FILE",
+                    help="design space JSON (default: sweep/pipeline_space.json, every Table 1 knob this "
+                    "pipeline has)")
+    ap.add_argument("--samples", type=int, default=100, metavar="N",
+                    help="points drawn from the space, besides the anchors (default %(default)s; a small N "
+                    "for a quick look)")
+    ap.add_argument("--seed", type=int, default=1, help="seed of the sample and of the synthetic drive "
+                    "(default %(default)s)")
+    src = ap.add_mutually_exclusive_group()
+    src.add_argument("--pairs", type=int, default=None, metavar="N",
+                     help="length of the synthetic sequence in pairs (default 10)")
+    src.add_argument("--sequence", metavar="DIR", help="a KITTI-layout folder instead of a synthetic drive")
+    ap.add_argument("--frames", metavar="A:B", help="with --sequence: the frames to register")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
+                    help="points run at once locally (default %(default)s)")
+    ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
+                    os.path.join(HERE, "..", "build", "testbench", "tigris"), help="tigris binary")
+    ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
+    for opt in ("partition", "time", "mem", "chunk"):
+        ap.add_argument(f"--{opt}", help=f"with --slurm: the sweep's --{opt}")
+    ap.add_argument("--sbatch-arg", action="append", default=[], help="with --slurm: one raw sbatch argument")
+    ap.add_argument("--out", default="tigris-dse", metavar="DIR", help="output folder (default %(default)s); "
+                    "a rerun into it resumes")
+    a = ap.parse_args(argv)
+    if a.samples < 1 or a.samples > 100_000:
+        ap.error("--samples must be 1 .. 100000")
+    if a.pairs is not None and not 1 <= a.pairs <= 20000:
+        ap.error("--pairs must be 1 .. 20000")
+    if a.frames and not a.sequence:
+        ap.error("--frames needs --sequence (a synthetic sequence has --pairs)")
+    if a.jobs < 1:
+        ap.error("--jobs must be at least 1")
+    used = [o for o in ("partition", "time", "mem", "chunk") if getattr(a, o)] + (["sbatch-arg"] if a.sbatch_arg else [])
+    if used and not a.slurm:
+        ap.error(f"--{', --'.join(used)} need(s) --slurm")
+    a.pairs = 10 if a.pairs is None and not a.sequence else a.pairs
+    return a
+
+
+def main(argv):
+    a = parse_args(argv)
+    tigris = os.path.abspath(a.tigris)
+    if not os.access(tigris, os.X_OK):
+        raise Bad(f"no tigris binary at {tigris} (give --tigris)")
+    space = load_space(a.space)
+    knobs = space["knobs"]
+    out = os.path.abspath(a.out)
+    os.makedirs(out, exist_ok=True)
+    if a.sequence:
+        seq = os.path.abspath(a.sequence)
+        if not os.path.isdir(seq):
+            raise Bad(f"--sequence {a.sequence}: no such folder")
+        where = f"{seq}" + (f" frames {a.frames}" if a.frames else "")
+    else:
+        seq = os.path.join(out, "sequence")
+        drive = os.path.join(seq, "drive.json")
+        old = json.load(open(drive)) if os.path.isfile(drive) else {}
+        if old.get("frames") != a.pairs + 1 or old.get("seed") != a.seed:
+            r = subprocess.run([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed),
+                                "--out", seq])
+            if r.returncode != 0:
+                raise Bad(f"tigris synth failed (exit {r.returncode})")
+        where = f"synthetic drive (seed {a.seed}, {a.pairs} pairs)"
+    drawn, how = sample(knobs, a.samples, a.seed)
+    say(f"{how}; anchors {', '.join(space.get('anchors', [])) or 'none'}; on the {where}")
+    base = dict(space.get("base", {}), sequence=seq)
+    if a.frames:
+        base["frames"] = a.frames
+    pts = [{"preset": p} for p in space.get("anchors", [])] + drawn
+    names = [f"preset={p}" for p in space.get("anchors", [])] + [f"P{k:03d}" for k in range(1, len(drawn) + 1)]
+    spec = {"comment": f"{PROG}: {how}", "command": "odometry", "base": base, "points": pts}
+    spec_path = os.path.join(out, "spec.json")
+    with open(spec_path, "w") as f:
+        json.dump(spec, f, indent=1)
+        f.write("\n")
+    sweep = [sys.executable, os.path.join(HERE, "tigris_sweep.py"), spec_path, "--out", os.path.join(out, "sweep"),
+             "--tigris", tigris, "--jobs", str(a.jobs)]
+    if a.slurm:
+        sweep.append("--slurm")
+        for opt in ("partition", "time", "mem", "chunk"):
+            if getattr(a, opt):
+                sweep += [f"--{opt}", str(getattr(a, opt))]
+        sweep += [f"--sbatch-arg={s}" for s in a.sbatch_arg]
+    say(f"{len(pts)} points: {shlex.join(sweep)}")
+    rc = subprocess.run(sweep).returncode
+    if rc not in (0, 1):
+        say(f"the sweep stopped (exit {rc}); rerun the same command to resume")
+        return rc
+    sys.path.insert(0, HERE)
+    from tigris_sweep import Spec            # the sweep's own point ids, so none is guessed
+    ids = [p["id"] for p in Spec(spec_path, tigris).expand()]
+    if len(ids) != len(pts):
+        raise Bad(f"{spec_path}: {len(pts) - len(ids)} points repeat another (the sweep ran each once)")
+    points = read_points(out, [(n, i, p) for n, i, p in zip(names, ids, pts)])
+    valid = [k for k, p in enumerate(points) if p["valid"]]
+    fronts = [[valid[j] for j in pareto([(points[k]["seconds_per_pair"], points[k][e]) for k in valid])]
+              for e in ("rpe_translation_m", "rpe_rotation_deg")]
+    dps = number_dps(points, fronts)
+    for k, p in enumerate(points):
+        p["dp"] = dps.get(k, "")
+        p["on_translation_frontier"], p["on_rotation_frontier"] = k in fronts[0], k in fronts[1]
+    knob_keys = [k["key"] for k in knobs]
+    write_points_csv(os.path.join(out, "points.csv"), points, knob_keys)
+    configs = write_configs(out, points, dps)
+    title = f"{where}; base {json.dumps(space.get('base', {}))}"
+    plot(out, points, fronts, dps, title)
+    measured = claims(points, dps)
+    summary = {"command_line": f"{PROG} {shlex.join(argv)}", "space_file": os.path.abspath(a.space), "space": space,
+               "sampling": how, "seed": a.seed, "sequence": where, "points": len(points),
+               "ok": sum(p["status"] == "ok" for p in points),
+               "not_converged": sum(p["status"] == "not_converged" for p in points),
+               "failed": sum(p["status"] == "error" for p in points),
+               "frontier_translation": [points[i]["point"] for i in fronts[0]],
+               "frontier_rotation": [points[i]["point"] for i in fronts[1]],
+               "dps": [dict({k: points[i][k] for k in ("point", "seconds_per_pair", "rpe_translation_m",
+                                                         "rpe_rotation_deg", "kdtree_share", "stages", "values")},
+                            dp=dps[i], config=configs[i]) for i in sorted(dps, key=lambda i: int(dps[i][2:]))],
+               "presets": {p["point"].split("=")[1]: {k: p[k] for k in ("status", "seconds_per_pair", "rpe_translation_m",
+                                                                          "rpe_rotation_deg", "kdtree_share", "dp")}
+                           for p in points if p["point"].startswith("preset=")},
+               "claims": measured}
+    with open(os.path.join(out, "dse.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+        f.write("\n")
+    print(f"{'DP':5} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
+    for d in summary["dps"]:
+        i = next(k for k, p in enumerate(points) if p["point"] == d["point"])
+        on = "+".join(w for w, f in (("translation", fronts[0]), ("rotation", fronts[1])) if i in f)
+        print(f"{d['dp']:5} {d['point']:14} {d['seconds_per_pair']:7.2f} {d['rpe_translation_m']:8.4f} "
+              f"{d['rpe_rotation_deg']:8.4f} {100 * (d['kdtree_share'] or 0):6.1f}%  {on}")
+    c = measured
+    if c["dps"]:
+        print(f"KD-tree search {100 * c['kdtree_share_min']:.0f}-{100 * c['kdtree_share_max']:.0f}% of the time on the "
+              f"{c['dps']} Pareto points (paper: 50-85%); normal estimation + descriptors + RPCE at least "
+              f"{100 * c['normals_descriptors_rpce_share_min']:.0f}% (paper: over 90%)")
+    print(f"{summary['ok']} ok, {summary['not_converged']} not converged, {summary['failed']} failed of {len(points)}; "
+          f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/DP*.json, dse.json")
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except Bad as e:
+        say(f"error: {e}")
+        sys.exit(2)
+    except KeyboardInterrupt:
+        sys.exit(130)
