@@ -313,8 +313,8 @@ def plot(out, points, fronts, dps, title):
         for k, p in enumerate(presets):
             ax.scatter([p["seconds_per_pair"]], [p[key]], s=70, facecolors="none", edgecolors="k",
                        marker="s", zorder=5, label=None if k else "the presets (anchors)")
-                ax.annotate(p["point"].split("=")[1].upper() + " preset", (p["seconds_per_pair"], p[key]),
-                            textcoords="offset points", xytext=(6, -12), fontsize=8)
+            ax.annotate(p["point"].split("=")[1] + " preset", (p["seconds_per_pair"], p[key]),
+                        textcoords="offset points", xytext=(6, -12), fontsize=8)
         ax.set_yscale("log")
         ax.set_xlim(0, max([p["seconds_per_pair"] for p in ok + bad] + [1]) * 1.08)
         ax.set_xlabel("registration time, mean seconds per pair")

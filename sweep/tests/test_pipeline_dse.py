@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""tigris pipeline-dse and sweeps of registrations (issue 22): the Pareto computation against
+hand-made points, the sample, bad spaces, a register sweep's columns, and a tiny design space
+end to end with a Pareto point's configuration run again through `tigris register --config`.
+
+    python3 sweep/tests/test_pipeline_dse.py --tigris build/testbench/tigris [--keep]
+"""
+import json, os, subprocess, sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import Workdir, options, read_csv, run_tests, sweep, write_spec  # noqa: E402
+import pipeline_dse as dse  # noqa: E402
+
+A = options()
+DSE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pipeline_dse.py")
+
+
+def test_pareto():
+    # (time, error): 0 and 3 are the frontier; 1 is dominated by 0 (slower, same error); 2 by 3;
+    # 4 equals 3 in both (a duplicate: only the first is on the frontier); 5 ties 0 in time but
+    # has a larger error (dominated); 6 is the fastest but worst (on the frontier).
+    pts = [(2.0, 0.5), (3.0, 0.5), (9.0, 0.3), (5.0, 0.1), (5.0, 0.1), (2.0, 0.9), (1.0, 2.0)]
+    assert dse.pareto(pts) == [6, 0, 3], dse.pareto(pts)
+    assert dse.pareto([]) == []
+    assert dse.pareto([(1.0, 1.0)]) == [0]
+    assert dse.pareto([(1.0, 1.0), (1.0, 1.0), (1.0, 1.0)]) == [0]
+    # A strictly better point in one figure and equal in the other dominates.
+    assert dse.pareto([(1.0, 1.0), (1.0, 0.5)]) == [1]
+    assert dse.pareto([(1.0, 1.0), (0.5, 1.0)]) == [1]
+    # DP numbering: the union of both frontiers by time.
+    points = [{"seconds_per_pair": t, "rpe_translation_m": e} for t, e in ((3, 1), (1, 5), (2, 2))]
+    assert dse.number_dps(points, [[1, 2], [0, 1]]) == {1: "DP1", 2: "DP2", 0: "DP3"}
+
+
+SPACE = [{"key": "a.m", "values": ["x", "y"]},
+         {"key": "a.x", "values": [1, 2, 3], "when": {"a.m": "x"}},
+         {"key": "b.r", "values": [0.1, 0.2, 0.3, 0.4]}]
+
+
+def test_sample():
+    size, every = dse.space_size(SPACE)
+    assert size == (3 + 1) * 4 == len(every), size              # a.x only under a.m = x
+    pts, how = dse.sample(SPACE, 6, seed=7)
+    assert "Latin" in how and len(pts) == 6
+    assert len({json.dumps(p, sort_keys=True) for p in pts}) == 6, "repeats"
+    assert all(("a.x" in p) == (p["a.m"] == "x") for p in pts), pts
+    assert pts == dse.sample(SPACE, 6, seed=7)[0], "the same seed draws the same points"
+    assert pts != dse.sample(SPACE, 6, seed=8)[0]
+    # Levels equally often in the first draw: 8 points over 4 levels of b.r -> 2 each.
+    eight, _ = dse.sample(SPACE, 8, seed=3)
+    counts = {v: sum(p["b.r"] == v for p in eight) for v in (0.1, 0.2, 0.3, 0.4)}
+    assert len(eight) == 8 and min(counts.values()) >= 1, counts
+    full, how = dse.sample(SPACE, 50, seed=1)
+    assert len(full) == 16 and how.startswith("full factorial"), how
+
+
+def test_bad_space():
+    with Workdir(A, "dse-space") as d:
+        cases = [({"knobs": []}, "knobs: must be a non-empty list"),
+                 ({"knobs": [{"key": "normals", "values": [1]}]}, "dotted pipeline key"),
+                 ({"knobs": [{"key": "a.b", "values": [1, 1]}]}, "a value is listed twice"),
+                 ({"knobs": [{"key": "a.b", "values": [1], "when": {"c.d": 1}}]}, "not an earlier knob"),
+                 ({"knobs": [{"key": "a.b", "values": [1]}], "anchors": ["dp9"]}, "anchors"),
+                 ({"knob": []}, "unknown top-level key 'knob'")]
+        for k, (space, want) in enumerate(cases):
+            path = write_spec(d, space, f"space{k}.json")
+            p = subprocess.run([sys.executable, DSE, "--space", path, "--tigris", A.tigris, "--out",
+                                os.path.join(d, "out")], capture_output=True, text=True, timeout=60)
+            assert p.returncode == 2 and want in p.stderr and path in p.stderr, (space, p.returncode, p.stderr)
+        bad = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [0, 5]}], "anchors": []}, "bad.json")
+        p = subprocess.run([sys.executable, DSE, "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
+                            "--out", os.path.join(d, "out")], capture_output=True, text=True, timeout=300)
+        assert p.returncode == 2 and "out of range" in p.stderr, p.stderr[-2000:]
+
+
+def test_register_sweep():
+    with Workdir(A, "reg-sweep") as d:
+        spec = write_spec(d, {"command": "register", "grid": {"icp.max_iterations": [3, 10]}})
+        out = os.path.join(d, "out")
+        p = sweep(A, spec, "--out", out, "--jobs", "2", "--tigris", A.tigris, check=0)
+        assert "converged" in p.stderr and "error m" in p.stderr, p.stderr
+        cols, rows = read_csv(os.path.join(out, "sweep.csv"))
+        assert cols[:3] == ["point", "icp.max_iterations", "status"], cols[:5]
+        for c in ("error.translation_m", "seconds", "kdtree_share", "stages.icp.searches", "source", "preset"):
+            assert c in cols, c
+        assert [r["status"] for r in rows] == ["ok", "ok"]
+        # More ICP iterations search more in ICP, the other stages the same.
+        assert int(rows[1]["stages.icp.searches"]) > int(rows[0]["stages.icp.searches"])
+        assert rows[0]["stages.normals.searches"] == rows[1]["stages.normals.searches"]
+        bad = write_spec(d, {"command": "register", "grid": {"icp.max_iteration": [3]}}, "bad.json")
+        p = sweep(A, bad, "--check", "--tigris", A.tigris, check=2)
+        assert "did you mean 'icp.max_iterations'" in p.stderr and "register --list-config" not in p.stderr, p.stderr
+        p = sweep(A, write_spec(d, {"command": "odometry", "grid": {"icp.max_iterations": [0]},
+                                    "base": {"sequence": d}}, "bad2.json"), "--check", "--tigris", A.tigris, check=2)
+        assert "out of range" in p.stderr, p.stderr
+        p = sweep(A, write_spec(d, {"command": "plan"}, "bad3.json"), "--check", "--tigris", A.tigris, check=2)
+        assert "not a tigris command a sweep runs" in p.stderr, p.stderr
+
+
+def test_tiny_dse():
+    with Workdir(A, "dse") as d:
+        space = write_spec(d, {"base": {"preset": "dp4"}, "anchors": [],
+                               "knobs": [{"key": "icp.max_iterations", "values": [2, 10]},
+                                         {"key": "icp.error", "values": ["point_to_point", "point_to_plane"]}]},
+                           "space.json")
+        out = os.path.join(d, "dse")
+        cmd = [sys.executable, DSE, "--space", space, "--samples", "3", "--pairs", "1", "--jobs", "2",
+               "--tigris", A.tigris, "--out", out]
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        assert p.returncode == 0, p.stderr[-3000:]
+        cols, rows = read_csv(os.path.join(out, "points.csv"))
+        assert [r["point"] for r in rows] == ["P001", "P002", "P003"], rows
+        assert all(r["status"] == "ok" and float(r["seconds_per_pair"]) > 0 for r in rows), rows
+        summary = json.load(open(os.path.join(out, "dse.json")))
+        assert summary["points"] == 3 and "Latin" in summary["sampling"]
+        # The frontier from the CSV's own numbers: every DP undominated, every other point dominated.
+        for err, front in (("rpe_translation_m", "on_translation_frontier"), ("rpe_rotation_deg", "on_rotation_frontier")):
+            xy = [(float(r["seconds_per_pair"]), float(r[err])) for r in rows]
+            on = {rows[i]["point"] for i in dse.pareto(xy)}
+            assert on == {r["point"] for r in rows if r[front] == "true"}, (err, on)
+        dps = {r["dp"]: r for r in rows if r["dp"]}
+        assert set(dps) == {d_["dp"] for d_ in summary["dps"]} and dps, dps
+        assert sorted(os.listdir(os.path.join(out, "pareto"))) == sorted(f"{k}.json" for k in dps)
+        for f in ("fig4.png", "fig5.png"):
+            with open(os.path.join(out, f), "rb") as fh:
+                assert fh.read(8) == b"\x89PNG\r\n\x1a\n", f
+        # DP1's configuration through tigris register --config: the same pipeline, the same transform.
+        dp1 = dps["DP1"]
+        cfg = os.path.join(out, "pareto", "DP1.json")
+        seq = os.path.join(out, "sequence", "velodyne")
+        again = os.path.join(d, "again")
+        p = subprocess.run([A.tigris, "register", "--config", cfg, "--source", os.path.join(seq, "000001.bin"),
+                            "--target", os.path.join(seq, "000000.bin"), "--out", again],
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stderr
+        ran = json.load(open(os.path.join(again, "registration.json")))
+        pair = json.load(open(os.path.join(out, "sweep", "points", dp1["sweep_id"], "pairs", "000000",
+                                           "registration.json")))
+        written = json.load(open(cfg))
+        assert {k: v for k, v in ran["config"].items() if k != "inject"} == written
+        assert ran["config"] == pair["config"]
+        assert ran["transform"] == pair["transform"], (ran["transform"], pair["transform"])
+        assert str(written["icp"]["max_iterations"]) == dp1["icp.max_iterations"]
+        # A rerun resumes: nothing runs again, the same points.
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0 and "3 finished earlier" in p.stderr, p.stderr[-2000:]
+        assert read_csv(os.path.join(out, "points.csv"))[1] == rows
+
+
+if __name__ == "__main__":
+    run_tests([test_pareto, test_sample, test_bad_space, test_register_sweep, test_tiny_dse])
