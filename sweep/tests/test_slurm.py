@@ -66,6 +66,31 @@ def test_slurm(env, d):
     assert p.returncode == 3 and "sbatch failed" in p.stderr and "partition" in p.stderr, p.stderr
 
 
+DSE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipeline_dse.py")
+
+
+def test_dse(env, d):
+    """tigris pipeline-dse on Slurm: every point's errors, statuses and knobs equal the local run's
+    (times are measurements, so the frontiers may differ by noise and are not compared)."""
+    space = write_spec(d, {"base": {"preset": "dp4"}, "anchors": [],
+                           "knobs": [{"key": "icp.max_iterations", "values": [2, 10]},
+                                     {"key": "icp.error", "values": ["point_to_point", "point_to_plane"]}]},
+                       "space.json")
+    rows = {}
+    for where, extra in (("local", ["--jobs", "2"]), ("array", ["--slurm", "--time", "10"])):
+        out = os.path.join(d, f"dse-{where}")
+        p = subprocess.run([sys.executable, DSE, "--space", space, "--samples", "3", "--pairs", "1",
+                            "--tigris", a.tigris, "--out", out] + extra, capture_output=True, text=True,
+                           timeout=900, env=env)
+        assert p.returncode == 0, p.stderr[-3000:]
+        rows[where] = read_csv(os.path.join(out, "points.csv"))[1]
+    assert "submitted Slurm job array" in p.stderr, p.stderr[-2000:]
+    same = ("point", "status", "rpe_translation_m", "rpe_rotation_deg", "icp.max_iterations", "icp.error", "pairs")
+    for r, s in zip(rows["local"], rows["array"]):
+        assert {c: r[c] for c in same} == {c: s[c] for c in same}, (r, s)
+    assert len(rows["local"]) == len(rows["array"]) == 3
+
+
 def main():
     with Workdir(a, "slurm") as d:
         cluster = os.path.join(d, "cluster")
@@ -84,7 +109,10 @@ def main():
         try:
             def test_slurm_vs_local():
                 test_slurm(env, d)
-            run_tests([test_slurm_vs_local])
+
+            def test_pipeline_dse_slurm_vs_local():
+                test_dse(env, d)
+            run_tests([test_slurm_vs_local, test_pipeline_dse_slurm_vs_local])
         finally:
             s = subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True, timeout=120)
             print(s.stderr.strip())
