@@ -365,7 +365,10 @@ def plot(out, points, fronts, dps, title):
 # ----------------------------------------------------------------------------------------------
 
 def parse_args(argv):
-    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0].split("\n", 1)[0],
+    ap = argparse.ArgumentParser(prog=PROG, description="The paper's section 3: samples the registration "
+                                 "pipeline's design space, runs every point as tigris odometry over one sequence "
+                                 "(locally or as one Slurm job array) and finds the Pareto frontiers of error "
+                                 "against time (docs/registration.md).",
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.split("\n")[7:]))
     ap.add_argument("--space", default=DEFAULT_SPACE, metavar="FILE",
