@@ -211,6 +211,7 @@ void TigrisAccelerator::do_start() {
 
 void TigrisAccelerator::do_finish() {
   done_ = true;
+  for (auto& su : sus_) su->finish();
   const std::uint64_t cycles = job_cycles();
   csr_[kCyclesLo / 4] = static_cast<std::uint32_t>(cycles);
   csr_[kCyclesHi / 4] = static_cast<std::uint32_t>(cycles >> 32);

@@ -680,3 +680,44 @@ TEST_CASE("scan thread: one or two host threads give the same results and figure
   }
   CHECK(out[0].cycles != out[2].cycles);  // the query stack's size matters
 }
+
+// No unit is busy and stalled for more cycles than the job has: under MQMN a Search Unit runs
+// several batches at once and each cycle counts once, under the first state any batch is in
+// (busy, then sram, result_writeback, issue_search stalls). For every unit kind, issue policy
+// and search mode, exact and approximate, with a slow write-back so that every stall occurs
+// (the accelerators side by side in one simulation: SystemC elaborates once per process).
+TEST_CASE("every unit's busy and stall cycles fit in the job's cycles", "[hw][stats]") {
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 5);
+  const PointCloud queries = make_queries(cloud, 400, 5);
+  const KdTree tree = build_kdtree(cloud, 6);
+  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
+  std::vector<SimSetup> setups;
+  std::vector<std::string> labels;
+  for (const auto policy : {hw::IssuePolicyKind::Mqsn, hw::IssuePolicyKind::Mqmn})
+    for (const SearchParams& params : {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.5f),
+                                       approximate(mode(Mode::NN), 0.6f),
+                                       approximate(mode(Mode::Radius, 1, 1.5f), 0.6f)}) {
+      setups.push_back(one_setup(image, queries, cloud.size(), units(4, 4, 8, 6), params));
+      setups.back().config.be.issue_policy = policy;
+      setups.back().config.sram.results.bytes = 4096;  // a small stream area drained slowly
+      setups.back().config.dram.bytes_per_cycle = 0.5;
+      labels.push_back(std::string(hw::to_string(policy)) + " " + to_string(params.mode) +
+                       (params.approximate ? " approx" : ""));
+    }
+  const std::vector<SimOutcome> outs = simulate(setups);
+  std::uint64_t writeback_seen = 0;
+  for (std::size_t i = 0; i < outs.size(); ++i) {
+    const SimOutcome& out = outs[i];
+    INFO(labels[i] << " " << out.error << out.deadlock);
+    REQUIRE(out.finished);
+    for (const char* kind : {"recursion_units", "search_units"})
+      for (const nlohmann::json& u : out.units[kind]["per_unit"]) {
+        std::uint64_t used = u["busy_cycles"].get<std::uint64_t>();
+        for (const auto& [cause, n] : u["stall_cycles"].items()) used += n.get<std::uint64_t>();
+        INFO(kind << ": " << u.dump());
+        CHECK(used <= out.cycles);
+        writeback_seen += u["stall_cycles"]["result_writeback"].get<std::uint64_t>();
+      }
+  }
+  CHECK(writeback_seen > 0);  // the write-back really pushed back somewhere
+}

@@ -27,7 +27,7 @@ void SearchUnit::start() {
   bqb_.clear();
   active_ = 0;
   free_pes_ = pes_;
-  busy_until_ = 0;
+  ledger_.start(clock_.now());
   tree_ = TreeView(points.data(), job_);
   pe_array_.start(job_, tree_, ResultSlots(results.data(), job_.k));
   leader_buffer_.start(job_, results.data());
@@ -47,6 +47,7 @@ void SearchUnit::accept(const QueryToken& token) {
 
 void SearchUnit::step() {
   const std::uint64_t now = clock_.now();
+  ledger_.settle(now);
   // Retire batches whose stream has drained: their queries go back to the front-end.
   for (std::size_t i = 0; i < active_;) {
     if (running_[i].end > now) {
@@ -86,7 +87,7 @@ void SearchUnit::step() {
       if (!taken_[i]) bqb_[kept++] = bqb_[i];
     bqb_.resize(kept);
     const std::uint64_t setup = d.search_cycles + static_cast<std::uint64_t>(config_.cost.issue_cycle);
-    issue_stall_ += setup;
+    ledger_.book(kIssue, now, now + setup);
     for (std::size_t b = first_new; b < active_; ++b) issue(running_[b], now, setup);
     issued = true;
   }
@@ -160,11 +161,10 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   if (!job_.radius()) data_ready = std::max(data_ready, results.charge(now, slot_access(tokens, false), clock_.period));
   const std::uint64_t compute_end = check_end + PeArray::stream_cycles(stream, b, depth);
   const std::uint64_t end = PeArray::stream_end(check_end, data_ready, stream, b, depth);
-  // Busy: checks and streaming as the formulas say (cycles with a PE busy, batches of MQMN
-  // overlap); stall: the stream waiting for its data beyond that.
-  busy_cycles_ += compute_end - std::max(start, std::min(compute_end, busy_until_));
-  busy_until_ = std::max(busy_until_, compute_end);
-  sram_stall_ += end - compute_end;
+  // Busy: checks and streaming as the formulas say; stall: the stream waiting for its data
+  // beyond that (the ledger counts a cycle once when batches of MQMN overlap).
+  ledger_.book(kBusy, start, compute_end);
+  ledger_.book(kSram, compute_end, end);
   pe_busy_cycles_ += b * (compute_end - start);
   pes_wave_.add_at(clock_.at(start), static_cast<std::int64_t>(b));
   pes_wave_.add_at(clock_.at(compute_end), -static_cast<std::int64_t>(b));
@@ -259,7 +259,7 @@ std::uint64_t SearchUnit::retire(Batch& batch) {
   }
   if (batch.hits.empty()) return now;
   const std::uint64_t accepted = links_.result_buffer.stream(now, batch.hits.data(), batch.hits.size());
-  writeback_stall_ += accepted - now;
+  ledger_.book(kWriteback, now, accepted);
   return accepted;
 }
 

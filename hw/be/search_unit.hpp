@@ -21,6 +21,7 @@
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
 #include "hw/observer.hpp"
+#include "hw/occupancy_ledger.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
 #include "hw/stall_injector.hpp"
@@ -53,6 +54,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
              const JobDescriptor& job, Links links);
 
   void start();  // a job starts: empty buffers, all PEs free, views onto the new job's data
+  void finish() { ledger_.settle(clock_.now()); }  // the job has ended: its last cycles counted
   bool has_room() const { return bqb_.size() < capacity_; }
   std::size_t room() const { return capacity_ - bqb_.size(); }
   void accept(const QueryToken& token);  // from the QDN; the caller checked has_room()
@@ -104,7 +106,6 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Clock clock_;
   std::size_t capacity_;
   std::uint32_t pes_, free_pes_;
-  std::uint64_t busy_until_ = 0;
   std::vector<QueryToken> bqb_;
   std::vector<Batch> running_;  // the first `active_` are streaming; the rest keep their storage
   std::size_t active_ = 0;
@@ -124,6 +125,9 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // hits wait for the stream
   Counter pe_busy_cycles_{stats_, "pe_busy_cycles"};  // sum over PEs of cycles holding a query
   Counter bqb_max_{stats_, "bqb_max_occupancy", Counter::Merge::Max};
+  // Busy and stall cycles of the unit, each cycle once (batches of MQMN overlap).
+  enum State : std::size_t { kBusy, kSram, kWriteback, kIssue };
+  OccupancyLedger ledger_{{&busy_cycles_, &sram_stall_, &writeback_stall_, &issue_stall_}};
   Counter& distance_energy_;
   LeaderCheck leader_check_;
   StallInjector stall_;  // SU -> FE
