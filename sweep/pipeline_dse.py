@@ -23,10 +23,10 @@ points differ. A space smaller than N runs as a full factorial. The presets name
 "anchors" always run too. Errors are the mean relative pose error per pair (translation m,
 rotation deg) against the sequence's ground truth: a short sequence has no 100 m segment for
 KITTI's metrics. Time is the mean registration seconds per pair measured in `tigris register`.
-Exit codes: 0 done (also with failed points: they are recorded), 2 bad arguments or space,
-3 Slurm submission failed, 128 + a signal when interrupted.
+Exit codes: 0 done (also with failed points: they are recorded), 1 no point converged (no
+frontier), 2 bad arguments or space, 3 Slurm submission failed, 128 + a signal when interrupted.
 """
-import argparse, csv, io, itertools, json, math, os, random, shlex, subprocess, sys
+import argparse, csv, io, json, math, os, random, shlex, signal, subprocess, sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PROG = "tigris pipeline-dse"
@@ -66,8 +66,9 @@ def load_space(path):
     if not isinstance(space.get("base", {}), dict):
         raise Bad(f"{path}: base: must be an object of tigris odometry flags")
     anchors = space.get("anchors", [])
-    if not (isinstance(anchors, list) and all(a in ("dp4", "dp7") for a in anchors)):
-        raise Bad(f"{path}: anchors: must be a list of presets (dp4, dp7)")
+    if not (isinstance(anchors, list) and all(a in ("dp4", "dp7") for a in anchors)) \
+            or len(set(anchors)) != len(anchors):
+        raise Bad(f"{path}: anchors: must be a list of distinct presets (dp4, dp7)")
     knobs = space.get("knobs")
     if not isinstance(knobs, list) or not knobs:
         raise Bad(f"{path}: knobs: must be a non-empty list of {{\"key\", \"values\"[, \"when\", \"stage\"]}}")
@@ -83,11 +84,14 @@ def load_space(path):
             raise Bad(f"{where} ('{k['key']}'): \"values\" must be a non-empty list of numbers, text or booleans")
         if len(set(map(json.dumps, vals))) != len(vals):
             raise Bad(f"{where} ('{k['key']}'): a value is listed twice")
-        for ck, cv in (k.get("when") or {}).items():
+        when = k.get("when", {})
+        if not isinstance(when, dict):
+            raise Bad(f"{where} ('{k['key']}'): \"when\" must be an object {{earlier knob: value or [values]}}")
+        for ck, cv in when.items():
             if ck not in seen:
                 raise Bad(f"{where} ('{k['key']}'): \"when\" names '{ck}', which is not an earlier knob")
             allowed = cv if isinstance(cv, list) else [cv]
-            bad = [v for v in allowed if v not in knobs[seen[ck]]["values"]]
+            bad = [v for v in allowed if not any(same(v, w) for w in knobs[seen[ck]]["values"])]
             if bad:
                 raise Bad(f"{where} ('{k['key']}'): \"when\" {ck} = {bad[0]!r} is not one of its values")
         for extra in k:
@@ -97,9 +101,15 @@ def load_space(path):
     return space
 
 
+def same(a, b):
+    """Equal values of one type: true is not 1."""
+    return type(a) is type(b) and a == b or (isinstance(a, (int, float)) and isinstance(b, (int, float))
+                                             and not isinstance(a, bool) and not isinstance(b, bool) and a == b)
+
+
 def applies(knob, point):
     for ck, cv in (knob.get("when") or {}).items():
-        if point.get(ck) not in (cv if isinstance(cv, list) else [cv]):
+        if ck not in point or not any(same(point[ck], v) for v in (cv if isinstance(cv, list) else [cv])):
             return False
     return True
 
@@ -134,18 +144,40 @@ def enumerate_space(knobs, limit=MAX_DISTINCT):
     return None if len(out) > limit else out
 
 
-def space_size(knobs):
-    """The number of distinct points; beyond MAX_DISTINCT, the product of the level counts."""
-    every = enumerate_space(knobs)
-    return (len(every), every) if every is not None else (math.prod(len(k["values"]) for k in knobs), None)
+def count_space(knobs):
+    """The number of distinct points, without listing them: a knob no later "when" names only
+    multiplies, so only the knobs conditions name are branched on."""
+    named = {ck for k in knobs for ck in (k.get("when") or {})}
+
+    def walk(i, p):
+        if i == len(knobs):
+            return 1
+        k = knobs[i]
+        if not applies(k, p):
+            return walk(i + 1, p)
+        if k["key"] not in named:
+            return len(k["values"]) * walk(i + 1, p)
+        total = 0
+        for v in k["values"]:
+            p[k["key"]] = v
+            total += walk(i + 1, p)
+            del p[k["key"]]
+        return total
+    return walk(0, {})
+
+
+def space_size(knobs, n=MAX_DISTINCT):
+    """The number of distinct points, and the points themselves when there are no more than n."""
+    size = count_space(knobs)
+    return size, (enumerate_space(knobs) if size <= n else None)
 
 
 def sample(knobs, n, seed):
     """n distinct points: a full factorial when the space has no more; else a Latin-hypercube-like
     draw over the levels (each knob's levels equally often, shuffled per knob), repeats dropped
     and redrawn. Returns (points, how)."""
-    size, every = space_size(knobs)
-    if every is not None and n >= size:
+    size, every = space_size(knobs, n)
+    if every is not None:
         return every, f"full factorial ({size} points: the space has no more than --samples {n})"
     rng = random.Random(seed)
     points, seen, draws = [], set(), 0
@@ -254,9 +286,20 @@ def write_configs(out, points, dps):
     paths = {}
     for i, dp in dps.items():
         d = os.path.join(out, "sweep", "points", points[i]["sweep_id"], "pairs")
-        first = sorted(os.listdir(d))[0]
-        with open(os.path.join(d, first, "registration.json")) as f:
-            config = json.load(f)["config"]
+        config = None
+        for pair in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+            try:
+                with open(os.path.join(d, pair, "registration.json")) as f:
+                    config = json.load(f).get("config")
+            except (OSError, ValueError):
+                continue
+            if isinstance(config, dict):
+                break
+        if not isinstance(config, dict):
+            say(f"warning: {dp} ({points[i]['point']}): no readable registration.json under {d}: "
+                "no configuration file written")
+            paths[i] = None
+            continue
         config.pop("inject", None)               # error injection is not a design choice
         paths[i] = os.path.join(pdir, f"{dp}.json")
         with open(paths[i], "w") as f:
@@ -271,7 +314,7 @@ def claims(points, dps):
     shares, big3, dominant = [], [], {}
     for p in dp_points:
         total = sum(v for v in p["stages"].values() if v) or None
-        if total is None:
+        if total is None or p["kdtree_share"] is None:
             continue
         shares.append(p["kdtree_share"])
         big3.append(sum(p["stages"].get(s) or 0 for s in ("normal estimation", "descriptor calculation", "RPCE")) / total)
@@ -365,6 +408,15 @@ def plot(out, points, fronts, dps, title):
 # ----------------------------------------------------------------------------------------------
 
 def parse_args(argv):
+    fixed, i = [], 0                             # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`
+    while i < len(argv):
+        if argv[i] == "--sbatch-arg" and i + 1 < len(argv):
+            fixed.append(f"--sbatch-arg={argv[i + 1]}")
+            i += 2
+        else:
+            fixed.append(argv[i])
+            i += 1
+    argv = fixed
     ap = argparse.ArgumentParser(prog=PROG, description="The paper's section 3: samples the registration "
                                  "pipeline's design space, runs every point as tigris odometry over one sequence "
                                  "(locally or as one Slurm job array) and finds the Pareto frontiers of error "
@@ -410,10 +462,25 @@ def parse_args(argv):
     return a
 
 
+def run_sweep(cmd):
+    """The sweep driver as a child: Ctrl-C reaches it from the terminal and SIGTERM is passed on,
+    and either way it stops its points and keeps the finished ones before this returns."""
+    p = subprocess.Popen(cmd)
+    old = signal.signal(signal.SIGTERM, lambda *_: p.send_signal(signal.SIGTERM))
+    try:
+        while True:
+            try:
+                return p.wait()
+            except KeyboardInterrupt:
+                continue                         # the driver got the same SIGINT: wait for it
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
 def main(argv):
     a = parse_args(argv)
     tigris = os.path.abspath(a.tigris)
-    if not os.access(tigris, os.X_OK):
+    if not (os.path.isfile(tigris) and os.access(tigris, os.X_OK)):
         raise Bad(f"no tigris binary at {tigris} (give --tigris)")
     space = load_space(a.space)
     knobs = space["knobs"]
@@ -423,16 +490,16 @@ def main(argv):
         seq = os.path.abspath(a.sequence)
         if not os.path.isdir(seq):
             raise Bad(f"--sequence {a.sequence}: no such folder")
+        if not os.path.isfile(os.path.join(seq, "poses.txt")):
+            raise Bad(f"--sequence {a.sequence}: no poses.txt: the errors need a ground truth")
         where = f"{seq}" + (f" frames {a.frames}" if a.frames else "")
     else:
-        seq = os.path.join(out, "sequence")
-        drive = os.path.join(seq, "drive.json")
-        old = json.load(open(drive)) if os.path.isfile(drive) else {}
-        if old.get("frames") != a.pairs + 1 or old.get("seed") != a.seed:
-            r = subprocess.run([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed),
-                                "--out", seq])
-            if r.returncode != 0:
-                raise Bad(f"tigris synth failed (exit {r.returncode})")
+        # Named by its settings: another drive is another base, which the sweep will not mix in.
+        seq = os.path.join(out, f"sequence-{a.pairs}pairs-seed{a.seed}")
+        r = subprocess.run([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed), "--out", seq],
+                           stdout=subprocess.DEVNULL)     # a complete drive is only checked
+        if r.returncode != 0:
+            raise Bad(f"tigris synth failed (exit {r.returncode})")
         where = f"synthetic drive (seed {a.seed}, {a.pairs} pairs)"
     drawn, how = sample(knobs, a.samples, a.seed)
     say(f"{how}; anchors {', '.join(space.get('anchors', [])) or 'none'}; on the {where}")
@@ -455,17 +522,30 @@ def main(argv):
                 sweep += [f"--{opt}", str(getattr(a, opt))]
         sweep += [f"--sbatch-arg={s}" for s in a.sbatch_arg]
     say(f"{len(pts)} points: {shlex.join(sweep)}")
-    rc = subprocess.run(sweep).returncode
+    rc = run_sweep(sweep)
+    if rc == 2:
+        raise Bad(f"the sweep refused {spec_path} (its message above names the point; points[k] is "
+                  "anchor k, or sample P(k - anchors + 1)): fix the space, or use another --out for "
+                  "another sequence or base")
+    if rc == 3:
+        say("error: Slurm did not take the job array (sbatch's message above)")
+        return 3
     if rc not in (0, 1):
-        say(f"the sweep stopped (exit {rc}); rerun the same command to resume")
+        say(f"the sweep stopped (exit {rc}); finished points are kept: rerun the same command to resume")
         return rc
     sys.path.insert(0, HERE)
-    from tigris_sweep import Spec            # the sweep's own point ids, so none is guessed
-    ids = [p["id"] for p in Spec(spec_path, tigris).expand()]
+    from tigris_sweep import Spec, SpecError  # the sweep's own point ids, so none is guessed
+    try:
+        ids = [p["id"] for p in Spec(spec_path, tigris).expand()]
+    except SpecError as e:
+        raise Bad(str(e))
     if len(ids) != len(pts):
         raise Bad(f"{spec_path}: {len(pts) - len(ids)} points repeat another (the sweep ran each once)")
     points = read_points(out, [(n, i, p) for n, i, p in zip(names, ids, pts)])
     valid = [k for k, p in enumerate(points) if p["valid"]]
+    for stale in ("fig4.png", "fig5.png", "dse.json", "points.csv"):
+        if os.path.exists(os.path.join(out, stale)):
+            os.remove(os.path.join(out, stale))
     fronts = [[valid[j] for j in pareto([(points[k]["seconds_per_pair"], points[k][e]) for k in valid])]
               for e in ("rpe_translation_m", "rpe_rotation_deg")]
     dps = number_dps(points, fronts)
@@ -474,6 +554,11 @@ def main(argv):
         p["on_translation_frontier"], p["on_rotation_frontier"] = k in fronts[0], k in fronts[1]
     knob_keys = [k["key"] for k in knobs]
     write_points_csv(os.path.join(out, "points.csv"), points, knob_keys)
+    if not valid:
+        first = next((p for p in points if p["error"]), points[0])
+        say(f"error: no point converged on every pair with errors to compare (e.g. {first['point']}: "
+            f"{first['status']} {first['error'] or ''}); {out}/points.csv lists them, no frontier")
+        return 1
     configs = write_configs(out, points, dps)
     title = f"{where}; base {json.dumps(space.get('base', {}))}"
     plot(out, points, fronts, dps, title)
@@ -498,9 +583,10 @@ def main(argv):
     print(f"{'DP':5} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
     for d in summary["dps"]:
         i = next(k for k, p in enumerate(points) if p["point"] == d["point"])
+        d_kd = d["kdtree_share"]
         on = "+".join(w for w, f in (("translation", fronts[0]), ("rotation", fronts[1])) if i in f)
         print(f"{d['dp']:5} {d['point']:14} {d['seconds_per_pair']:7.2f} {d['rpe_translation_m']:8.4f} "
-              f"{d['rpe_rotation_deg']:8.4f} {100 * (d['kdtree_share'] or 0):6.1f}%  {on}")
+              f"{d['rpe_rotation_deg']:8.4f} {'   -' if d_kd is None else f'{100 * d_kd:6.1f}%'}  {on}")
     c = measured
     if c["dps"]:
         print(f"KD-tree search {100 * c['kdtree_share_min']:.0f}-{100 * c['kdtree_share_max']:.0f}% of the time on the "
@@ -516,6 +602,10 @@ if __name__ == "__main__":
         sys.exit(main(sys.argv[1:]))
     except Bad as e:
         say(f"error: {e}")
+        sys.exit(2)
+    except (OSError, ValueError) as e:           # a full disk, an unreadable file: named
+        say(f"error: {getattr(e, 'filename', None) or ''}{': ' if getattr(e, 'filename', None) else ''}"
+            f"{getattr(e, 'strerror', None) or e}")
         sys.exit(2)
     except KeyboardInterrupt:
         sys.exit(130)

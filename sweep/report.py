@@ -680,6 +680,8 @@ def claims_pipeline(dse):
         out.append(c.missing("a pipeline-dse with at least one Pareto point"))
     else:
         kd = [(d["kdtree_share"], d) for d in dps if d.get("kdtree_share") is not None]
+        if not kd:
+            raise ValueError("no Pareto point has a KD-tree share")
         lo, hi = min(kd, key=lambda t: t[0]), max(kd, key=lambda t: t[0])
         below = [d for v, d in kd if v < 0.5]
         sh = _shares(lo[1])
@@ -716,10 +718,13 @@ def claims_pipeline(dse):
                          "(paper: under 30% in DP1-2, about 80% in DP8)"))
     else:
         out.append(c.missing("a pipeline-dse with at least one Pareto point"))
-    c = Claim("pipe_presets", "3", "DP4 is performance-oriented, DP7 accuracy-oriented",
+    c = Claim("pipe_presets", "3", "the paper's DP4 (preset dp4) is performance-oriented, its DP7 (preset dp7) "
+              "accuracy-oriented",
               "DP4 faster, DP7 more accurate", how)
     p4, p7 = (dse.get("presets") or {}).get("dp4"), (dse.get("presets") or {}).get("dp7")
-    if p4 and p7 and p4.get("status") == "ok" and p7.get("status") == "ok":
+    figs = ("seconds_per_pair", "rpe_translation_m", "rpe_rotation_deg")
+    if p4 and p7 and all(p.get("status") == "ok" and all(isinstance(p.get(f), (int, float)) for f in figs)
+                         for p in (p4, p7)):
         faster = p4["seconds_per_pair"] < p7["seconds_per_pair"]
         better = p7["rpe_translation_m"] < p4["rpe_translation_m"] and p7["rpe_rotation_deg"] < p4["rpe_rotation_deg"]
         where = lambda p: f"Pareto point {p['dp']}" if p.get("dp") else "not on a frontier"  # noqa: E731

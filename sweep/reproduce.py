@@ -280,6 +280,12 @@ def main(argv=None):
     try:
         if os.path.exists(out) and not os.path.isdir(out):
             raise Refused(f"--out {out}: exists and is not a folder")
+        if a.dse:                                # a typo found now, not after every sweep
+            import report
+            try:
+                report.read_dse(a.dse)
+            except ValueError as e:
+                raise Refused(f"--dse: {e}")
         w = workload(out, a.cloud, a.queries)
         plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
     except Refused as e:

@@ -810,6 +810,8 @@ def read_plan(out):
         ("points", isinstance(plan.get("points"), list))) if not ok), None)
     if bad is None and any(k not in names for k in plan["swept"] + plan["base_columns"]):
         bad = "names"
+    if bad is None and not (isinstance(plan.get("command", "run"), str) and plan.get("command", "run") in COMMANDS):
+        bad = "command"
     for p in plan.get("points") if bad is None else []:
         if not (isinstance(p, dict) and isinstance(p.get("id"), str) and strs(p.get("args"))
                 and isinstance(p.get("params"), dict) and isinstance(p.get("own"), dict)

@@ -47,10 +47,17 @@ def test_sample():
     assert all(("a.x" in p) == (p["a.m"] == "x") for p in pts), pts
     assert pts == dse.sample(SPACE, 6, seed=7)[0], "the same seed draws the same points"
     assert pts != dse.sample(SPACE, 6, seed=8)[0]
-    # Levels equally often in the first draw: 8 points over 4 levels of b.r -> 2 each.
+    # Levels about equally often: the first draw has each of b.r's 4 levels twice in 8 points;
+    # repeats (after the conditions) are drawn again, which may move a level by one.
     eight, _ = dse.sample(SPACE, 8, seed=3)
     counts = {v: sum(p["b.r"] == v for p in eight) for v in (0.1, 0.2, 0.3, 0.4)}
-    assert len(eight) == 8 and min(counts.values()) >= 1, counts
+    assert len(eight) == 8 and 1 <= min(counts.values()) and max(counts.values()) <= 3, counts
+    # Counted without listing: the default space.
+    space = dse.load_space(dse.DEFAULT_SPACE)
+    assert dse.count_space(space["knobs"]) == 4 * (3 + 2 + 3) * 2 * 3 * 2 * (3 + 3) * 2 * 3 * 2 * 2 * 4 * 2
+    # A condition on a boolean is not met by 1.
+    flags = [{"key": "a.f", "values": [True, False]}, {"key": "a.n", "values": [1, 2], "when": {"a.f": True}}]
+    assert dse.count_space(flags) == 3 and not dse.applies(flags[1], {"a.f": 1})
     full, how = dse.sample(SPACE, 50, seed=1)
     assert len(full) == 16 and how.startswith("full factorial"), how
 
@@ -62,6 +69,9 @@ def test_bad_space():
                  ({"knobs": [{"key": "a.b", "values": [1, 1]}]}, "a value is listed twice"),
                  ({"knobs": [{"key": "a.b", "values": [1], "when": {"c.d": 1}}]}, "not an earlier knob"),
                  ({"knobs": [{"key": "a.b", "values": [1]}], "anchors": ["dp9"]}, "anchors"),
+                 ({"knobs": [{"key": "a.b", "values": [1]}], "anchors": ["dp4", "dp4"]}, "distinct presets"),
+                 ({"knobs": [{"key": "a.b", "values": [1]}, {"key": "a.c", "values": [1], "when": [{"a.b": 1}]}]},
+                  "\"when\" must be an object"),
                  ({"knob": []}, "unknown top-level key 'knob'")]
         for k, (space, want) in enumerate(cases):
             path = write_spec(d, space, f"space{k}.json")
@@ -72,6 +82,29 @@ def test_bad_space():
         p = subprocess.run([sys.executable, DSE, "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
                             "--out", os.path.join(d, "out")], capture_output=True, text=True, timeout=300)
         assert p.returncode == 2 and "out of range" in p.stderr, p.stderr[-2000:]
+
+
+def test_no_valid_point():
+    """Every point fails on a sequence of two tiny random clouds: exit 1, said so, points.csv kept."""
+    with Workdir(A, "dse-fail") as d:
+        from common import write_cloud
+        seq = os.path.join(d, "seq")
+        os.makedirs(os.path.join(seq, "velodyne"))
+        for i in (0, 1):
+            write_cloud(os.path.join(seq, "velodyne", f"{i:06d}.bin"), 60, i + 1)
+        with open(os.path.join(seq, "poses.txt"), "w") as f:
+            f.write("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 1\n")
+        space = write_spec(d, {"anchors": [], "knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
+        out = os.path.join(d, "out")
+        p = subprocess.run([sys.executable, DSE, "--space", space, "--samples", "2", "--sequence", seq,
+                            "--tigris", A.tigris, "--out", out], capture_output=True, text=True, timeout=300)
+        assert p.returncode == 1 and "no point converged" in p.stderr, (p.returncode, p.stderr[-2000:])
+        cols, rows = read_csv(os.path.join(out, "points.csv"))
+        assert len(rows) == 2 and all(r["status"] != "ok" for r in rows), rows
+        assert not os.path.exists(os.path.join(out, "fig4.png"))
+        p = subprocess.run([sys.executable, DSE, "--space", space, "--sequence", d, "--tigris", A.tigris,
+                            "--out", out], capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and "no poses.txt" in p.stderr, p.stderr
 
 
 def test_register_sweep():
@@ -128,7 +161,7 @@ def test_tiny_dse():
         # DP1's configuration through tigris register --config: the same pipeline, the same transform.
         dp1 = dps["DP1"]
         cfg = os.path.join(out, "pareto", "DP1.json")
-        seq = os.path.join(out, "sequence", "velodyne")
+        seq = os.path.join(out, "sequence-1pairs-seed1", "velodyne")
         again = os.path.join(d, "again")
         p = subprocess.run([A.tigris, "register", "--config", cfg, "--source", os.path.join(seq, "000001.bin"),
                             "--target", os.path.join(seq, "000000.bin"), "--out", again],
@@ -149,4 +182,4 @@ def test_tiny_dse():
 
 
 if __name__ == "__main__":
-    run_tests([test_pareto, test_sample, test_bad_space, test_register_sweep, test_tiny_dse])
+    run_tests([test_pareto, test_sample, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])
