@@ -20,9 +20,9 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
       qdn_("qdn", config_, observers_),
       fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, scans_, reverse_construction),
-      policy_(make_issue_policy(config_)), to_points_("to_points"), to_queries_("to_queries"),
+      to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
-  const SearchUnit::Links links{*policy_, fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_, scans_};
+  const SearchUnit::Links links{fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_, scans_};
   const int n = config_.be.search_units;
   sus_.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {

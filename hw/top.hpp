@@ -99,7 +99,6 @@ class TigrisAccelerator : public sc_core::sc_module {
   NodeCache node_cache_;
   DistributionNetwork qdn_;
   FrontEnd fe_;
-  std::unique_ptr<IssuePolicy> policy_;
   std::vector<std::unique_ptr<SearchUnit>> sus_;
   BufferPort to_points_, to_queries_;  // the host's way in, and the leaf-directory check's DMI
   tlm_utils::simple_initiator_socket<TigrisAccelerator> to_dram_;

@@ -321,7 +321,7 @@ std::vector<std::uint32_t> victims(hw::ReplacementPolicy& p, const std::vector<s
     else if (op[0] == 'h')
       p.hit(static_cast<std::uint32_t>(std::stoul(op.substr(1))));
     else
-      p.inserted(static_cast<std::uint32_t>(std::stoul(op)));
+      p.inserted(static_cast<std::uint32_t>(std::stoul(op)), 64);
   }
   return out;
 }

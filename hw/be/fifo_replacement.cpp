@@ -10,7 +10,7 @@ namespace {
 class FifoReplacement final : public ReplacementPolicy {
  public:
   void reset() override { order_.clear(); }
-  void inserted(std::uint32_t leaf) override { order_.push_back(leaf); }
+  void inserted(std::uint32_t leaf, std::uint64_t) override { order_.push_back(leaf); }
   void hit(std::uint32_t) override {}
   std::uint32_t evict() override {
     const std::uint32_t victim = order_.front();

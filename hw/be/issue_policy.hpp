@@ -13,6 +13,8 @@
 
 namespace tigris::hw {
 
+class NodeCache;
+
 struct IssueDecision {
   // The batches to start now, one after another in `positions`: each a list of BE Query Buffer
   // positions (ascending) whose queries stream one Node Set past their PEs together; batch b
@@ -26,13 +28,25 @@ struct IssueDecision {
   void end_batch() { ends.push_back(positions.size()); }
 };
 
+// What the issue logic of one Search Unit sees when it picks: its BE Query Buffer (entries
+// arrive in order; those with ready > now are still on their way), its PEs, the cycle, and
+// which Node Sets the (shared) Node Cache holds, read-only.
+struct IssueView {
+  const std::vector<QueryToken>& bqb;
+  std::uint32_t free_pes, pes;
+  std::uint64_t now;
+  const NodeCache& cache;
+};
+
+// One instance per Search Unit, so a policy may keep its own state (ages, round-robin
+// pointers); start() begins each job. Every batch must hold queries of one leaf: the Search
+// Unit checks it.
 class IssuePolicy {
  public:
   virtual ~IssuePolicy() = default;
-  // Chooses among the buffer's entries that have arrived by `now`, given `free_pes` of `pes`,
-  // into `d` (cleared first).
-  virtual void pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
-                    std::uint64_t now, IssueDecision& d) const = 0;
+  virtual void start() {}
+  // Chooses among the arrived entries, given the free PEs, into `d` (cleared first).
+  virtual void pick(const IssueView& view, IssueDecision& d) = 0;
 };
 
 std::unique_ptr<IssuePolicy> make_issue_policy(const AcceleratorConfig& config);

@@ -14,7 +14,7 @@ class LruReplacement final : public ReplacementPolicy {
     order_.clear();
     where_.clear();
   }
-  void inserted(std::uint32_t leaf) override {
+  void inserted(std::uint32_t leaf, std::uint64_t) override {
     order_.push_front(leaf);
     where_[leaf] = order_.begin();
   }

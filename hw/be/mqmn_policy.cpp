@@ -2,10 +2,9 @@
 
 namespace tigris::hw {
 
-void MqmnPolicy::pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t /*pes*/,
-                      std::uint64_t now, IssueDecision& d) const {
+void MqmnPolicy::pick(const IssueView& v, IssueDecision& d) {
   d.clear();
-  for (std::size_t i = 0; i < bqb.size() && d.batches() < free_pes && bqb[i].ready <= now; ++i) {
+  for (std::size_t i = 0; i < v.bqb.size() && d.batches() < v.free_pes && v.bqb[i].ready <= v.now; ++i) {
     d.positions.push_back(i);
     d.end_batch();
   }

@@ -8,8 +8,7 @@ namespace tigris::hw {
 
 class MqmnPolicy final : public IssuePolicy {
  public:
-  void pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
-            std::uint64_t now, IssueDecision& d) const override;
+  void pick(const IssueView& view, IssueDecision& d) override;
 };
 
 }  // namespace tigris::hw

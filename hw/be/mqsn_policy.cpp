@@ -2,10 +2,12 @@
 
 namespace tigris::hw {
 
-void MqsnPolicy::pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
-                      std::uint64_t now, IssueDecision& d) const {
+void MqsnPolicy::pick(const IssueView& v, IssueDecision& d) {
   d.clear();
-  if (free_pes < pes || bqb.empty() || bqb.front().ready > now) return;
+  const std::vector<QueryToken>& bqb = v.bqb;
+  const std::uint32_t free_pes = v.free_pes;
+  const std::uint64_t now = v.now;
+  if (free_pes < v.pes || bqb.empty() || bqb.front().ready > now) return;
   const std::uint32_t key = bqb.front().leaf;
   std::size_t scanned = 0;
   for (std::size_t i = 0; i < bqb.size() && d.positions.size() < free_pes; ++i) {

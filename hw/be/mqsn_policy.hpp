@@ -11,8 +11,7 @@ namespace tigris::hw {
 class MqsnPolicy final : public IssuePolicy {
  public:
   explicit MqsnPolicy(int search_width) : width_(static_cast<std::uint64_t>(search_width)) {}
-  void pick(const std::vector<QueryToken>& bqb, std::uint32_t free_pes, std::uint32_t pes,
-            std::uint64_t now, IssueDecision& d) const override;
+  void pick(const IssueView& view, IssueDecision& d) override;
 
  private:
   std::uint64_t width_;

@@ -35,7 +35,7 @@ bool NodeCache::lookup(std::uint32_t leaf, std::uint64_t bytes) {
     ++evictions_;
   }
   sets_[leaf] = bytes;
-  policy_->inserted(leaf);
+  policy_->inserted(leaf, bytes);
   used_ += bytes;
   fill_bytes_ += bytes;
   energy_ += bytes;

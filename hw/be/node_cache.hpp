@@ -23,9 +23,11 @@ class NodeCache : public sc_core::sc_module {
 
   void start();  // a job starts cold
   bool enabled() const { return capacity_ > 0; }
+  bool resident(std::uint32_t leaf) const { return sets_.count(leaf) != 0; }  // no side effect
   // True on a hit; on a miss the Node Set is filled (evicting as the policy says).
   bool lookup(std::uint32_t leaf, std::uint64_t bytes);
   StatGroup& stats() { return stats_; }
+  std::uint64_t capacity() const { return capacity_; }
 
  private:
   std::uint64_t capacity_, used_ = 0;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "hw/fe/front_end.hpp"
 #include "hw/mem/result_buffer.hpp"
@@ -15,7 +17,7 @@ SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
       links_(links), clock_{config.period()},
       capacity_(static_cast<std::size_t>(config.be.bqb_entries)),
       pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_),
-      leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
+      policy_(make_issue_policy(config)), leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
       distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)),
       leader_check_(stats_, links.meter), stall_(config.stall, "su" + std::to_string(id), stats_) {
   stats_.add(leader_buffer_.stats());
@@ -28,6 +30,7 @@ void SearchUnit::start() {
   active_ = 0;
   free_pes_ = pes_;
   ledger_.start(clock_.now());
+  policy_->start();
   tree_ = TreeView(points.data(), job_);
   pe_array_.start(job_, tree_, ResultSlots(results.data(), job_.k));
   leader_buffer_.start(job_, results.data());
@@ -74,7 +77,7 @@ void SearchUnit::step() {
   bool issued = false;
   for (;;) {
     const IssueDecision& d = decision_;
-    links_.policy.pick(bqb_, free_pes_, pes_, now, decision_);
+    policy_->pick(IssueView{bqb_, free_pes_, pes_, now, links_.cache}, decision_);
     if (d.batches() == 0) break;
     const std::size_t first_new = active_;
     taken_.assign(bqb_.size(), 0);
@@ -115,6 +118,11 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   const std::vector<QueryToken>& tokens = batch.tokens;
   const std::uint64_t start = now + setup;  // buffers are read during the issue search
   const std::uint32_t leaf = tokens.front().leaf;
+  for (const QueryToken& t : tokens)  // one Node Set streams past the batch's PEs
+    if (t.leaf != leaf)
+      throw std::logic_error("issue policy " + std::string(to_string(config_.be.issue_policy)) +
+                             " put queries of leaves " + std::to_string(leaf) + " and " + std::to_string(t.leaf) +
+                             " in one batch (a batch streams one Node Set)");
   const std::uint64_t n = tree_.leaf_size(leaf);
   const std::uint64_t b = tokens.size();
   const int depth = config_.cost.pe_pipeline_depth;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <systemc>
@@ -39,7 +40,6 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
 
   // What a Search Unit works with: the blocks it hands queries and results to.
   struct Links {
-    const IssuePolicy& policy;
     FrontEnd& fe;
     DistributionNetwork& qdn;
     NodeCache& cache;
@@ -109,6 +109,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   std::vector<QueryToken> bqb_;
   std::vector<Batch> running_;  // the first `active_` are streaming; the rest keep their storage
   std::size_t active_ = 0;
+  std::unique_ptr<IssuePolicy> policy_;  // this SU's own (be.issue_policy)
   IssueDecision decision_;
   PeArray pe_array_;
   LeaderBuffer leader_buffer_;
