@@ -12,18 +12,12 @@
 #include "config_spec.hpp"
 #include "cost_table.hpp"
 #include "energy_table.hpp"
+#include "policy_registry.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "tlm/address_map.hpp"
 
 namespace tigris::hw {
 
-// The Search Unit issue logic (be.issue_policy).
-enum class IssuePolicyKind { Mqsn, Mqmn };
-inline const char* to_string(IssuePolicyKind k) { return k == IssuePolicyKind::Mqsn ? "mqsn" : "mqmn"; }
-
-// The Node Cache replacement policy (node_cache.policy).
-enum class ReplacementPolicyKind { Lru, Fifo };
-inline const char* to_string(ReplacementPolicyKind k) { return k == ReplacementPolicyKind::Lru ? "lru" : "fifo"; }
 
 struct SramConfig {
   std::uint64_t bytes = 0;
@@ -101,7 +95,7 @@ struct AcceleratorConfig {
     int pes_per_su = 32;
     int bqb_entries = 128;
     int bqb_entry_bytes = 8;  // the paper's 1 KB per SU for 128 entries
-    IssuePolicyKind issue_policy = IssuePolicyKind::Mqsn;
+    std::string issue_policy = "mqsn";  // a name in IssuePolicies (hw/be/policies/)
     int issue_search_width = 32;
 
     template <class V>
@@ -114,10 +108,7 @@ struct AcceleratorConfig {
         {"entries", in(1, kMaxEntries), "BE Query Buffer entries per SU"});
       v("bqb_entry_bytes", bqb_entry_bytes,
         {"bytes", in(1, 4096), "one BQB entry (query id + leaf id); sizes the BQB's area"});
-      v("issue_policy", issue_policy,
-        {"-", one_of({IssuePolicyKind::Mqsn, IssuePolicyKind::Mqmn}),
-         "issue logic: mqsn (the head's leaf only, associative search) or mqmn (any query "
-         "to any PE)"});
+      v("issue_policy", issue_policy, {"-", IssuePolicies::allowed(), IssuePolicies::doc("issue logic")});
       v("issue_search_width", issue_search_width,
         {"entries", in(1, kMaxEntries),
          "BQB entries the MQSN associative search checks per cycle"});
@@ -137,16 +128,13 @@ struct AcceleratorConfig {
 
   struct NodeCache {
     std::uint64_t bytes = 131072;  // 128 KB
-    ReplacementPolicyKind policy = ReplacementPolicyKind::Lru;
+    std::string policy = "lru";  // a name in ReplacementPolicies (hw/be/policies/)
 
     template <class V>
     void visit(V&& v) {
       v("bytes", bytes,
         {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
-      v("policy", policy,
-        {"-", one_of({ReplacementPolicyKind::Lru, ReplacementPolicyKind::Fifo}),
-         "Node Set to evict: lru (least recently read or filled) or fifo (oldest filled; hits "
-         "do not count)"});
+      v("policy", policy, {"-", ReplacementPolicies::allowed(), ReplacementPolicies::doc("Node Set to evict")});
     }
   } node_cache;
 

@@ -19,12 +19,12 @@ using nlohmann::json;
 template <class T>
 constexpr Type type_of() {
   if constexpr (std::is_same_v<T, bool>) return Type::Bool;
-  else if constexpr (std::is_enum_v<T>) return Type::Enum;
+  else if constexpr (std::is_enum_v<T> || std::is_same_v<T, std::string>) return Type::Enum;
   else if constexpr (std::is_same_v<T, double>) return Type::Number;
   else if constexpr (std::is_same_v<T, std::uint64_t>) return Type::Bytes;
   else {
     static_assert(std::is_same_v<T, int>, "a configuration field is int, bool, double, "
-                                          "std::uint64_t or an enum");
+                                          "std::uint64_t, an enum or a registered name (std::string)");
     return Type::Integer;
   }
 }
@@ -102,6 +102,8 @@ void set(AcceleratorConfig& cfg, const Key& k, const json& v) {
     if constexpr (std::is_enum_v<T>) {
       for (const auto& n : k.spec.allowed.names)
         if (n.name == v.get<std::string>()) field = static_cast<T>(n.value);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      field = v.get<std::string>();
     } else {
       field = v.get<T>();
     }

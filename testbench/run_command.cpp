@@ -221,8 +221,8 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
   std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
   std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
-              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, hw::to_string(cfg.be.issue_policy),
-              cfg.node_cache.bytes == 0 ? "off" : hw::to_string(cfg.node_cache.policy),
+              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
+              cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(),
               tree.top_height, tree.full_height, cfg.clock_mhz);
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
               static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,

@@ -45,7 +45,7 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   ru["utilization"] = ratio(static_cast<double>(at(ru, "/busy_cycles")), cfg.fe.recursion_units * c);
   json su = unit_kind(root, "search_unit", cfg.be.search_units);
   su["pes_per_su"] = cfg.be.pes_per_su;
-  su["issue_policy"] = hw::to_string(cfg.be.issue_policy);
+  su["issue_policy"] = cfg.be.issue_policy;
   su["queries_per_batch"] = ratio(static_cast<double>(at(su, "/queries")), static_cast<double>(at(su, "/batches")));
   su["utilization"] = ratio(static_cast<double>(at(su, "/busy_cycles")), cfg.be.search_units * c);
   su["pe_utilization"] = ratio(static_cast<double>(at(su, "/pe_busy_cycles")),
@@ -54,7 +54,7 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   json buffers = json::object();
   for (const hw::StatGroup* b : root.find("buffer")) buffers[b->name()] = b->counters_json();
   buffers["node_cache"] = child(root, "node_cache").counters_json();
-  buffers["node_cache"]["policy"] = hw::to_string(cfg.node_cache.policy);
+  buffers["node_cache"]["policy"] = cfg.node_cache.policy;
   buffers["leader_buffer"] = hw::StatGroup::sum(root.find("leader_buffer"));  // all SUs' together
   buffers["dram"] = child(root, "dram").counters_json();
 

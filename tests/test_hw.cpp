@@ -47,7 +47,7 @@ TEST_CASE("accelerator is bit-exact on random clouds across configurations and m
       cases.push_back({mname + " default h" + std::to_string(h), units(64, 32, 32, h), p});
     }
     hw::AcceleratorConfig mqmn = units(8, 4, 8, 5);
-    mqmn.be.issue_policy = hw::IssuePolicyKind::Mqmn;
+    mqmn.be.issue_policy = "mqmn";
     cases.push_back({mname + " mqmn", mqmn, p});
     hw::AcceleratorConfig plain = units(8, 4, 8, 5);
     plain.fe.forwarding = plain.fe.bypassing = false;
@@ -79,7 +79,7 @@ TEST_CASE("accelerator is bit-exact on the synthetic LiDAR pair for top heights 
   for (int h : {1, 5, 10, 14, -1}) cases.push_back({"nn h" + std::to_string(h), units(64, 32, 32, h), mode(Mode::NN)});
   cases.push_back({"knn10 h10", units(64, 32, 32, 10), mode(Mode::KNN, 10)});
   cases.push_back({"r0.30 h10", units(64, 32, 32, 10), mode(Mode::Radius, 1, 0.30f)});
-  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = hw::IssuePolicyKind::Mqmn; return c; }(),
+  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = "mqmn"; return c; }(),
                    mode(Mode::Radius, 1, 0.75f)});
   run_and_check(pair.frame0, queries, cases);
 }
@@ -334,15 +334,18 @@ TEST_CASE("Node Cache replacement: LRU evicts the least recently read, FIFO the 
                                            "5", "h3", "h5", "h3", "e", "e",  // LRU 5 3, FIFO 4 5
                                            "reset", "7", "8", "h7", "e", "e"};  // LRU 8 7, FIFO 7 8
   const std::vector<std::uint32_t> lru = {2, 1, 4, 5, 3, 8, 7}, fifo = {1, 2, 3, 4, 5, 7, 8};
-  CHECK(victims(*hw::make_lru_replacement(), script) == lru);
-  CHECK(victims(*hw::make_fifo_replacement(), script) == fifo);
-  // The factory follows node_cache.policy.
-  CHECK(victims(*hw::make_replacement_policy(hw::ReplacementPolicyKind::Lru), script) == lru);
-  CHECK(victims(*hw::make_replacement_policy(hw::ReplacementPolicyKind::Fifo), script) == fifo);
+  // The factory follows node_cache.policy, by the names the policies registered.
+  const auto make = [](const char* name) {
+    hw::AcceleratorConfig c;
+    c.node_cache.policy = name;
+    return hw::make_replacement_policy(c);
+  };
+  CHECK(victims(*make("lru"), script) == lru);
+  CHECK(victims(*make("fifo"), script) == fifo);
   // Without hits the two agree: both evict in fill order.
   const std::vector<std::string> no_hits = {"9", "4", "6", "e", "2", "e", "e", "e"};
-  CHECK(victims(*hw::make_lru_replacement(), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
-  CHECK(victims(*hw::make_fifo_replacement(), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
+  CHECK(victims(*make("lru"), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
+  CHECK(victims(*make("fifo"), no_hits) == std::vector<std::uint32_t>{9, 4, 6, 2});
 }
 
 namespace {
@@ -398,19 +401,19 @@ TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each po
   // Every Node Set fits (no bypass), four at a time: misses beyond the cold ones are evictions.
   const std::uint64_t capacity = 4 * std::uint64_t{largest} * sizeof(tlm_if::PointEntry);
   std::vector<Case> cases;
-  for (const auto kind : {hw::ReplacementPolicyKind::Lru, hw::ReplacementPolicyKind::Fifo}) {
+  for (const auto kind : {"lru", "fifo"}) {
     // One PE per SU: every batch is one query, so the recorded schedule is the cache's lookup
     // order (SUs look up the shared cache as they issue, and record the visit right after).
     hw::AcceleratorConfig c = units(8, 4, 1, height);
     c.node_cache.bytes = capacity;
     c.node_cache.policy = kind;
-    cases.push_back({hw::to_string(kind), c, mode(Mode::KNN, 4)});
+    cases.push_back({kind, c, mode(Mode::KNN, 4)});
   }
   const auto out = run_and_check(cloud, queries, cases);
   std::vector<std::uint64_t> hits;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].name);
-    const bool fifo = cases[i].config.node_cache.policy == hw::ReplacementPolicyKind::Fifo;
+    const bool fifo = cases[i].config.node_cache.policy == "fifo";
     const nlohmann::json& nc = out[i].buffers["node_cache"];
     CHECK(nc["policy"] == cases[i].name);
     const Schedule& schedule = out[i].visits.schedule;
@@ -493,7 +496,7 @@ TEST_CASE("timeline: trace-event JSON, sampled queries, slices ordered per track
     const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 63);
     const PointCloud queries = make_queries(cloud, 400, 63);
     hw::AcceleratorConfig c = units(8, 4, 8, 0);
-    c.be.issue_policy = hw::IssuePolicyKind::Mqmn;  // overlapping batches need lanes
+    c.be.issue_policy = "mqmn";  // overlapping batches need lanes
     const auto t = timeline_of(cloud, queries, 5, c, 100);
     REQUIRE(t.contains("traceEvents"));
     std::map<std::pair<int, std::uint64_t>, std::vector<std::pair<double, double>>> tracks;
@@ -693,7 +696,7 @@ TEST_CASE("every unit's busy and stall cycles fit in the job's cycles", "[hw][st
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   std::vector<SimSetup> setups;
   std::vector<std::string> labels;
-  for (const auto policy : {hw::IssuePolicyKind::Mqsn, hw::IssuePolicyKind::Mqmn})
+  for (const auto policy : {"mqsn", "mqmn"})
     for (const SearchParams& params : {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.5f),
                                        approximate(mode(Mode::NN), 0.6f),
                                        approximate(mode(Mode::Radius, 1, 1.5f), 0.6f)}) {
@@ -701,7 +704,7 @@ TEST_CASE("every unit's busy and stall cycles fit in the job's cycles", "[hw][st
       setups.back().config.be.issue_policy = policy;
       setups.back().config.sram.results.bytes = 4096;  // a small stream area drained slowly
       setups.back().config.dram.bytes_per_cycle = 0.5;
-      labels.push_back(std::string(hw::to_string(policy)) + " " + to_string(params.mode) +
+      labels.push_back(std::string(policy) + " " + to_string(params.mode) +
                        (params.approximate ? " approx" : ""));
     }
   const std::vector<SimOutcome> outs = simulate(setups);

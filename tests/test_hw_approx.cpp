@@ -16,7 +16,7 @@ namespace {
 
 hw::AcceleratorConfig with_capacity(hw::AcceleratorConfig c, int capacity, bool mqmn = false) {
   c.leader.capacity_per_leaf = capacity;
-  if (mqmn) c.be.issue_policy = hw::IssuePolicyKind::Mqmn;
+  if (mqmn) c.be.issue_policy = "mqmn";
   return c;
 }
 
@@ -96,7 +96,7 @@ TEST_CASE("approximate search on the synthetic LiDAR pair: NN, kNN, radius, MQMN
   PointCloud queries;
   for (std::size_t i = 0; i < pair.frame1.size(); i += 29) queries.push_back(pair.frame1[i]);
   auto mqmn = units(16, 8, 16, 10);
-  mqmn.be.issue_policy = hw::IssuePolicyKind::Mqmn;
+  mqmn.be.issue_policy = "mqmn";
   const std::vector<Case> cases = {
       {"nn", units(64, 32, 32, 10), approximate(mode(Mode::NN), 1.2f)},
       {"knn10", units(64, 32, 32, 10), approximate(mode(Mode::KNN, 10), 1.2f)},

@@ -64,7 +64,7 @@ std::vector<Pin> pins() {
   plain.fe.forwarding = plain.fe.bypassing = false;
   configs.emplace_back("no-fwd-byp", plain);
   hw::AcceleratorConfig mqmn;
-  mqmn.be.issue_policy = hw::IssuePolicyKind::Mqmn;
+  mqmn.be.issue_policy = "mqmn";
   configs.emplace_back("mqmn", mqmn);
   hw::AcceleratorConfig no_cache;
   no_cache.node_cache.bytes = 0;

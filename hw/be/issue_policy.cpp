@@ -1,13 +1,13 @@
 #include "hw/be/issue_policy.hpp"
 
-#include "hw/be/mqmn_policy.hpp"
-#include "hw/be/mqsn_policy.hpp"
+#include <stdexcept>
 
 namespace tigris::hw {
 
 std::unique_ptr<IssuePolicy> make_issue_policy(const AcceleratorConfig& config) {
-  if (config.be.issue_policy == IssuePolicyKind::Mqmn) return std::make_unique<MqmnPolicy>();
-  return std::make_unique<MqsnPolicy>(config.be.issue_search_width);
+  const IssuePolicies::Entry* e = IssuePolicies::find(config.be.issue_policy);
+  if (!e) throw std::invalid_argument("no issue policy '" + config.be.issue_policy + "' in this build");
+  return e->make(config);
 }
 
 }  // namespace tigris::hw

@@ -1,7 +1,7 @@
 // The Search Unit's query issue logic (paper section 5.3), behind one small interface so the
-// policies are interchangeable, one file each: MQSN (mqsn_policy.cpp: all PEs scan one Node
-// Set, found by an associative search of the BE Query Buffer) and MQMN (mqmn_policy.cpp: any
-// query to any free PE, each streaming its own Node Set).
+// policies are interchangeable, one self-registering file each in hw/be/policies/
+// (policy_registry.hpp): MQSN (all PEs scan one Node Set, found by an associative search of the
+// BE Query Buffer), MQMN (any query to any free PE, each streaming its own Node Set), ...
 #pragma once
 
 #include <cstdint>
@@ -10,6 +10,7 @@
 
 #include "hw/config.hpp"
 #include "hw/job.hpp"
+#include "hw/policy_registry.hpp"
 
 namespace tigris::hw {
 

@@ -1,10 +1,13 @@
 #include "hw/be/replacement_policy.hpp"
 
+#include <stdexcept>
+
 namespace tigris::hw {
 
-std::unique_ptr<ReplacementPolicy> make_replacement_policy(ReplacementPolicyKind kind) {
-  if (kind == ReplacementPolicyKind::Fifo) return make_fifo_replacement();
-  return make_lru_replacement();
+std::unique_ptr<ReplacementPolicy> make_replacement_policy(const AcceleratorConfig& config) {
+  const ReplacementPolicies::Entry* e = ReplacementPolicies::find(config.node_cache.policy);
+  if (!e) throw std::invalid_argument("no replacement policy '" + config.node_cache.policy + "' in this build");
+  return e->make(config);
 }
 
 }  // namespace tigris::hw

@@ -1,11 +1,12 @@
-// Which Node Set the Node Cache evicts: one small interface, one file per policy
-// (lru_replacement.cpp, fifo_replacement.cpp); node_cache.policy chooses.
+// Which Node Set the Node Cache evicts: one small interface, one self-registering file per
+// policy in hw/be/policies/ (policy_registry.hpp); node_cache.policy chooses by name.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 
 #include "hw/config.hpp"
+#include "hw/policy_registry.hpp"
 
 namespace tigris::hw {
 
@@ -18,9 +19,7 @@ class ReplacementPolicy {
   virtual std::uint32_t evict() = 0;              // chooses and forgets a victim (cache not empty)
 };
 
-std::unique_ptr<ReplacementPolicy> make_lru_replacement();
-std::unique_ptr<ReplacementPolicy> make_fifo_replacement();
 // The policy node_cache.policy names.
-std::unique_ptr<ReplacementPolicy> make_replacement_policy(ReplacementPolicyKind kind);
+std::unique_ptr<ReplacementPolicy> make_replacement_policy(const AcceleratorConfig& config);
 
 }  // namespace tigris::hw

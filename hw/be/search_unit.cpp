@@ -120,7 +120,7 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   const std::uint32_t leaf = tokens.front().leaf;
   for (const QueryToken& t : tokens)  // one Node Set streams past the batch's PEs
     if (t.leaf != leaf)
-      throw std::logic_error("issue policy " + std::string(to_string(config_.be.issue_policy)) +
+      throw std::logic_error("issue policy " + config_.be.issue_policy +
                              " put queries of leaves " + std::to_string(leaf) + " and " + std::to_string(t.leaf) +
                              " in one batch (a batch streams one Node Set)");
   const std::uint64_t n = tree_.leaf_size(leaf);

@@ -5,7 +5,6 @@
 #include "hw/be/replacement_policy.hpp"
 
 namespace tigris::hw {
-
 namespace {
 
 class LruReplacement final : public ReplacementPolicy {
@@ -31,8 +30,8 @@ class LruReplacement final : public ReplacementPolicy {
   std::unordered_map<std::uint32_t, std::list<std::uint32_t>::iterator> where_;
 };
 
+const bool registered = ReplacementPolicies::add(
+    "lru", "least recently read or filled", [](const AcceleratorConfig&) { return std::make_unique<LruReplacement>(); });
+
 }  // namespace
-
-std::unique_ptr<ReplacementPolicy> make_lru_replacement() { return std::make_unique<LruReplacement>(); }
-
 }  // namespace tigris::hw

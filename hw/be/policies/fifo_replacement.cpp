@@ -4,7 +4,6 @@
 #include "hw/be/replacement_policy.hpp"
 
 namespace tigris::hw {
-
 namespace {
 
 class FifoReplacement final : public ReplacementPolicy {
@@ -22,8 +21,9 @@ class FifoReplacement final : public ReplacementPolicy {
   std::deque<std::uint32_t> order_;  // oldest fill first
 };
 
+const bool registered = ReplacementPolicies::add("fifo", "oldest filled; hits do not count", [](const AcceleratorConfig&) {
+  return std::make_unique<FifoReplacement>();
+});
+
 }  // namespace
-
-std::unique_ptr<ReplacementPolicy> make_fifo_replacement() { return std::make_unique<FifoReplacement>(); }
-
 }  // namespace tigris::hw
