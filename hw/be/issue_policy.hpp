@@ -14,7 +14,15 @@
 
 namespace tigris::hw {
 
-class NodeCache;
+// The Node Cache as the issue logic sees it: which Node Sets it holds, read-only (NodeCache
+// implements it; a policy file needs no SystemC).
+class NodeCacheView {
+ public:
+  virtual bool resident(std::uint32_t leaf) const = 0;
+
+ protected:
+  ~NodeCacheView() = default;
+};
 
 struct IssueDecision {
   // The batches to start now, one after another in `positions`: each a list of BE Query Buffer
@@ -36,7 +44,7 @@ struct IssueView {
   const std::vector<QueryToken>& bqb;
   std::uint32_t free_pes, pes;
   std::uint64_t now;
-  const NodeCache& cache;
+  const NodeCacheView& cache;
 };
 
 // One instance per Search Unit, so a policy may keep its own state (ages, round-robin

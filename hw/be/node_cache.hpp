@@ -10,6 +10,7 @@
 
 #include <systemc>
 
+#include "hw/be/issue_policy.hpp"
 #include "hw/be/replacement_policy.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -17,13 +18,13 @@
 
 namespace tigris::hw {
 
-class NodeCache : public sc_core::sc_module {
+class NodeCache : public sc_core::sc_module, public NodeCacheView {
  public:
   NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter);
 
   void start();  // a job starts cold
   bool enabled() const { return capacity_ > 0; }
-  bool resident(std::uint32_t leaf) const { return sets_.count(leaf) != 0; }  // no side effect
+  bool resident(std::uint32_t leaf) const override { return sets_.count(leaf) != 0; }  // no side effect
   // True on a hit; on a miss the Node Set is filled (evicting as the policy says).
   bool lookup(std::uint32_t leaf, std::uint64_t bytes);
   StatGroup& stats() { return stats_; }

@@ -5,7 +5,6 @@
 #include <algorithm>
 
 #include "hw/be/issue_policy.hpp"
-#include "hw/be/node_cache.hpp"
 
 namespace tigris::hw {
 namespace {
