@@ -205,5 +205,54 @@ class Document(unittest.TestCase):
         self.assertIn("no such CSV", p.stderr)
 
 
+class PipelineClaims(unittest.TestCase):
+    """The section-3 claims from a hand-made dse.json (tigris pipeline-dse's summary)."""
+    STAGES = ("outlier removal", "normal estimation", "key-point detection", "descriptor calculation",
+              "KPCE", "rejection", "RPCE", "transformation estimation")
+
+    def dp(self, name, kd, stages, t=1.0):
+        return {"dp": name, "point": f"P{name}", "seconds_per_pair": t, "rpe_translation_m": 0.01,
+                "rpe_rotation_deg": 0.1, "kdtree_share": kd, "values": {},
+                "stages": dict(zip(self.STAGES, stages))}
+
+    def dse(self, dps, presets=None):
+        return {"dps": dps, "presets": presets or {}, "sampling": "s", "points": 9, "sequence": "q"}
+
+    def test_claims(self):
+        dps = [self.dp("DP1", 0.82, (1, 6, 0, 1, 0, 0, 1, 1)),   # normals largest; big three 80%
+               self.dp("DP2", 0.41, (1, 2, 5, 1, 0, 0, 1, 0)),   # key points largest; 40%
+               self.dp("DP3", 0.62, (0, 3, 1, 5, 0, 0, 1, 0))]   # descriptors largest; 90%
+        ok = lambda t, e: {"status": "ok", "seconds_per_pair": t, "rpe_translation_m": e,  # noqa: E731
+                           "rpe_rotation_deg": e, "kdtree_share": 0.7, "dp": ""}
+        c = {x.cid: x for x in report.claims_pipeline(self.dse(dps, {"dp4": ok(7, 0.006), "dp7": ok(55, 0.0003)}))}
+        self.assertEqual(c["pipe_kd"].measured, "41%-82%")
+        self.assertFalse(c["pipe_kd"].direction)           # DP2 is below 50%
+        self.assertIn("DP2", c["pipe_kd"].explanation)
+        self.assertIn("key-point detection", c["pipe_kd"].explanation)
+        self.assertEqual(c["pipe_big3"].measured, "at least 40% (lowest DP2)")
+        self.assertFalse(c["pipe_big3"].direction)
+        self.assertTrue(c["pipe_no_dominant"].direction)   # three different largest stages
+        self.assertTrue(c["pipe_presets"].direction)       # dp4 faster, dp7 more accurate
+        self.assertIn("7.9x", c["pipe_presets"].explanation)
+        # One stage dominating every DP fails the no-single-stage claim; all above 50% holds.
+        same = [self.dp("DP1", 0.7, (0, 9, 0, 1, 0, 0, 0, 0)), self.dp("DP2", 0.8, (0, 8, 0, 1, 0, 0, 1, 0))]
+        c = {x.cid: x for x in report.claims_pipeline(self.dse(same))}
+        self.assertFalse(c["pipe_no_dominant"].direction)
+        self.assertTrue(c["pipe_kd"].direction)
+        self.assertIn("needs", c["pipe_presets"].explanation)  # no anchors: not measured
+        # No Pareto point: every claim says what it needs.
+        for x in report.claims_pipeline(self.dse([])):
+            self.assertEqual(x.measured, "not measured")
+
+    def test_bad_dse_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaisesRegex(ValueError, "not a tigris pipeline-dse folder"):
+                report.read_dse(d)
+            with open(os.path.join(d, "dse.json"), "w") as f:
+                f.write("{}")
+            with self.assertRaisesRegex(ValueError, "no \"dps\" list"):
+                report.read_dse(d)
+
+
 if __name__ == "__main__":
     unittest.main()
