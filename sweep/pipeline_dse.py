@@ -408,15 +408,9 @@ def plot(out, points, fronts, dps, title):
 # ----------------------------------------------------------------------------------------------
 
 def parse_args(argv):
-    fixed, i = [], 0                             # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`
-    while i < len(argv):
-        if argv[i] == "--sbatch-arg" and i + 1 < len(argv):
-            fixed.append(f"--sbatch-arg={argv[i + 1]}")
-            i += 2
-        else:
-            fixed.append(argv[i])
-            i += 1
-    argv = fixed
+    sys.path.insert(0, HERE)
+    from tigris_sweep import joined_sbatch_args  # the sweep's own reading of --sbatch-arg
+    argv = joined_sbatch_args(argv)
     ap = argparse.ArgumentParser(prog=PROG, description="The paper's section 3: samples the registration "
                                  "pipeline's design space, runs every point as tigris odometry over one sequence "
                                  "(locally or as one Slurm job array) and finds the Pareto frontiers of error "

@@ -1052,8 +1052,8 @@ def run_task(tasks_file, index):
 
 # ----------------------------------------------------------------------------------------------
 
-def parse_args(argv):
-    # `--sbatch-arg --qos=x` as well as `--sbatch-arg=--qos=x`
+def joined_sbatch_args(argv):
+    """`--sbatch-arg --qos=x` as `--sbatch-arg=--qos=x` (argparse would take --qos=x for a flag)."""
     fixed, i = [], 0
     while i < len(argv):
         if argv[i] == "--sbatch-arg" and i + 1 < len(argv):
@@ -1062,6 +1062,11 @@ def parse_args(argv):
         else:
             fixed.append(argv[i])
             i += 1
+    return fixed
+
+
+def parse_args(argv):
+    fixed = joined_sbatch_args(argv)
     ap = argparse.ArgumentParser(
         prog=os.path.basename(sys.argv[0]), description="Runs the points of a sweep spec (`tigris run`, "
         "or `tigris register` / `tigris odometry` with \"command\") "
