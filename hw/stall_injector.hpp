@@ -19,7 +19,8 @@ class StallInjector {
   // Counts the injected cycles as `stall_cycles.injected` in `group`.
   StallInjector(const AcceleratorConfig::Stall& config, const std::string& point, StatGroup& group)
       : rate_(config.rate), seed_(mix(config.seed ^ hash(point))), state_(seed_),
-        injected_(group, "stall_cycles.injected") {}
+        injected_(group, "stall_cycles.injected", "cycles",
+                  "random stall cycles injected at this block's hand-off (`stall.rate`; 0 when off)") {}
 
   void start() { state_ = seed_; }
   // Cycles to hold the current hand-off back (0 unless stalls are on).

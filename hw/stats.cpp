@@ -14,7 +14,8 @@ nlohmann::json::json_pointer pointer(const std::string& dotted) {
 
 }  // namespace
 
-StatGroup::StatGroup(std::string name, std::string kind) : name_(std::move(name)), kind_(std::move(kind)) {}
+StatGroup::StatGroup(std::string name, std::string kind, std::string description)
+    : name_(std::move(name)), kind_(std::move(kind)), description_(std::move(description)) {}
 
 void StatGroup::reset() {
   for (Counter* c : counters_) c->reset();

@@ -1,5 +1,7 @@
 // Statistics as a tree (after DRAMSys): every unit owns a StatGroup, declares its counters at
-// the field (`Counter busy{stats, "busy_cycles"}`) and registers the group with its parent's.
+// the field with their unit and meaning (`Counter busy{stats, "busy_cycles", "cycles", "..."}`)
+// and registers the group with its parent's. The schema of the stats JSON (`tigris run
+// --stats-schema`, docs/stats.md) is walked from these declarations.
 // The root is walked into JSON; reset() at START clears the whole tree, so a second job on the
 // same accelerator starts from zero. Sums over units of one kind are made in one place, sum().
 #pragma once
@@ -18,13 +20,17 @@ class StatGroup {
  public:
   // `kind` names what the group describes ("recursion_unit", "buffer", ...), so sums over
   // every unit of a kind need not know where the units sit in the tree.
-  explicit StatGroup(std::string name, std::string kind = {});
+  // `description` names the block for the schema when several groups share a kind ("Point
+  // Buffer" for the buffer group "points").
+  explicit StatGroup(std::string name, std::string kind = {}, std::string description = {});
   StatGroup(const StatGroup&) = delete;
   StatGroup& operator=(const StatGroup&) = delete;
 
   void add(StatGroup& child) { children_.push_back(&child); }
   const std::string& name() const { return name_; }
   const std::string& kind() const { return kind_; }
+  const std::string& description() const { return description_; }
+  const std::vector<Counter*>& counters() const { return counters_; }
   const std::vector<StatGroup*>& children() const { return children_; }
 
   void reset();  // this group and every group below it
@@ -37,7 +43,7 @@ class StatGroup {
 
  private:
   friend class Counter;
-  std::string name_, kind_;
+  std::string name_, kind_, description_;
   std::vector<Counter*> counters_;
   std::vector<StatGroup*> children_;
 };
@@ -45,8 +51,10 @@ class StatGroup {
 class Counter {
  public:
   enum class Merge { Sum, Max };  // how sum() combines the counter across units
-  Counter(StatGroup& group, std::string name, Merge merge = Merge::Sum)
-      : name_(std::move(name)), merge_(merge) {
+  // `unit`: "cycles", "bytes" or "count"; `description`: what one increment means, for the
+  // schema and the docs.
+  Counter(StatGroup& group, std::string name, std::string unit, std::string description, Merge merge = Merge::Sum)
+      : name_(std::move(name)), unit_(std::move(unit)), description_(std::move(description)), merge_(merge) {
     group.counters_.push_back(this);
   }
   Counter(const Counter&) = delete;
@@ -62,11 +70,13 @@ class Counter {
   std::uint64_t value() const { return value_; }
   operator std::uint64_t() const { return value_; }
   const std::string& name() const { return name_; }
+  const std::string& unit() const { return unit_; }
+  const std::string& description() const { return description_; }
   Merge merge() const { return merge_; }
   void reset() { value_ = 0; }
 
  private:
-  std::string name_;
+  std::string name_, unit_, description_;
   Merge merge_;
   std::uint64_t value_ = 0;
 };

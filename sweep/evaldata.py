@@ -14,26 +14,70 @@ does not name (or leaves empty) takes the model's default (DEFAULTS); machine si
 policy come from the stats when present (they are what ran). Rows with the same effective
 settings are kept once (runs are deterministic).
 """
+import collections.abc
 import csv
 import math
 import os
 import sys
 
-# The model's defaults (tigris run --list-config; docs/model.md), by effective name.
-DEFAULTS = {
-    "mode": "nn", "radius": None, "k": None, "height": 10, "ru": 64, "su": 32, "pe": 32,
-    "policy": "mqsn", "bypass": True, "forward": True, "nc_bytes": 131072, "approx": None,
-    "cloud": "", "queries": "",
-}
-DEFAULT_RADIUS = 0.30
-DEFAULT_K = 10
-# Spec column -> effective name.
+# Spec column -> effective name; the model's defaults of these, asked of the tigris binary, are
+# DEFAULTS below.
 SPEC_NAMES = {
     "mode": "mode", "radius": "radius", "k": "k", "height": "height", "tree.top_height": "height",
     "fe.recursion_units": "ru", "be.search_units": "su", "be.pes_per_su": "pe",
     "be.issue_policy": "policy", "fe.bypassing": "bypass", "fe.forwarding": "forward",
     "node_cache.bytes": "nc_bytes", "approx-thd": "approx", "cloud": "cloud", "queries": "queries",
 }
+
+
+class _ModelDefaults(collections.abc.Mapping):
+    """The model's defaults by effective name, read once from the tigris binary's own lists
+    (`tigris run --list-flags` and `--list-config --json`, via tigris_sweep), so no copy of them
+    lives here. The binary is the one tigris_sweep would use ($TIGRIS, or this tree's build)."""
+    def __init__(self):
+        self._d, self._radius, self._k = None, None, None
+
+    @property
+    def radius(self):  # --radius
+        self._load()
+        return self._radius
+
+    @property
+    def k(self):  # --k
+        self._load()
+        return self._k
+
+    def _load(self):
+        if self._d is None:
+            import tigris_sweep as ts
+            path = ts.default_tigris()
+            try:
+                run = ts.tigris_at(path, "run")
+            except ts.SpecError as e:
+                raise RuntimeError(f"the model's defaults come from the tigris binary: {e}") from None
+            d = {"cloud": "", "queries": "", "radius": None, "k": None, "approx": None}
+            for col, name in SPEC_NAMES.items():
+                if "." in col and col in run.config:
+                    d[name] = run.config[col]
+            d["mode"] = run.flags["mode"]
+            d["height"] = parse_height(str(d["height"]))
+            self._radius, self._k = float(run.flags["radius"]), int(run.flags["k"])
+            self._d = d
+        return self._d
+
+    def __getitem__(self, key):
+        return self._load()[key]
+
+    def __iter__(self):
+        return iter(self._load())
+
+    def __len__(self):
+        return len(self._load())
+
+
+DEFAULTS = _ModelDefaults()
+
+
 # Columns of the contract that are neither settings nor stats.
 META = ("point", "status", "error", "wall_seconds")
 # Stats that name what ran (preferred over the spec column).
@@ -94,7 +138,7 @@ def _approx(v, mode, radius):
     if s in ("exact", "false", "off"):
         return None
     if s == "default":  # tigris run: 1.2 m for nn/knn, 0.4 r for radius
-        return 0.4 * (radius if radius is not None else DEFAULT_RADIUS) if mode == "radius" else 1.2
+        return 0.4 * (radius if radius is not None else DEFAULTS.radius) if mode == "radius" else 1.2
     return float(s)
 
 
@@ -203,9 +247,9 @@ class Sweep:
         if "mode" in raw:
             eff["mode"] = raw["mode"].lower()
         if eff["mode"] == "radius":
-            eff["radius"] = float(raw["radius"]) if "radius" in raw else DEFAULT_RADIUS
+            eff["radius"] = float(raw["radius"]) if "radius" in raw else DEFAULTS.radius
         if eff["mode"] == "knn":
-            eff["k"] = int(float(raw["k"])) if "k" in raw else DEFAULT_K
+            eff["k"] = int(float(raw["k"])) if "k" in raw else DEFAULTS.k
         if "height" in raw:
             eff["height"] = parse_height(raw["height"])
         for name in ("ru", "su", "pe", "nc_bytes"):
@@ -263,9 +307,9 @@ def workload_text(sw):
 def default_value(name, eff):
     """The default of an effective setting, given the row's mode."""
     if name == "radius":
-        return DEFAULT_RADIUS if eff.get("mode") == "radius" else None
+        return DEFAULTS.radius if eff.get("mode") == "radius" else None
     if name == "k":
-        return DEFAULT_K if eff.get("mode") == "knn" else None
+        return DEFAULTS.k if eff.get("mode") == "knn" else None
     return DEFAULTS.get(name, "")
 
 

@@ -20,7 +20,8 @@ from decimal import Decimal
 PROG = "tigris_sweep"
 TOP_KEYS = ("command", "base", "grid", "points", "comment")
 PER_RUN = "per-run output files are not swept"
-NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "", "list-config": "",
+NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "", "list-config": "", "list-flags": "",
+                 "json": "", "stats-schema": "",
                  "set": "write configuration keys as dotted keys (or under \"set\" in base/points)",
                  "vcd": PER_RUN, "timeline": PER_RUN, "timeline-queries": PER_RUN,
                  "schedule": "tigris run does not replay", "dump-results": PER_RUN, "dump-schedule": PER_RUN,
@@ -197,37 +198,42 @@ def tigris_at(path, command="run", _seen={}):
 
 
 class Tigris:
-    """A tigris binary's flags and configuration keys for one sub-command, read off its --help
-    and --list-config (so the sweep never carries a copy of them)."""
+    """A tigris binary's flags and configuration keys for one sub-command, as the binary lists
+    them for tools (`tigris COMMAND --list-flags`, `tigris COMMAND --list-config --json`), so the
+    sweep never carries a copy of them."""
     def __init__(self, path, command=COMMANDS["run"]):
         self.path, self.command = os.path.abspath(path), command
         if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
             raise SpecError(f"tigris binary not found or not executable: {self.path} "
                             "(give --tigris PATH or set $TIGRIS)")
-        help_text = self._ask(command.name, "--help")
         self.flags = {}                          # flag -> default (None: no default)
-        for m in re.finditer(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)(?:\s+(\S+))?", help_text, re.M):
-            d = re.search(r"=(\S+)$", m.group(2) or "")
-            self.flags[m.group(1)] = typed(d.group(1)) if d else None
+        for f in self._ask_json(command.name, "--list-flags").get("flags", []):
+            self.flags[f["flag"]] = typed(f["default"]) if f.get("default") not in (None, "") else None
         self.config = {}                         # configuration key -> default
-        listing = self._ask(command.config_from, "--list-config")
-        if command.config_from == "run":         # a Markdown table
-            for m in re.finditer(r"^\| `([a-z0-9_.]+)` \| ([^|]*)\|", listing, re.M):
-                self.config[m.group(1)] = typed(m.group(2).split()[0].strip("`") if m.group(2).split() else "")
-        else:                                    # `key  default  allowed: meaning` (the dp4 preset's)
-            for m in re.finditer(r"^([a-z0-9_]+\.[a-z0-9_.]+)\s+(\S+)\s", listing, re.M):
-                self.config[m.group(1)] = typed(m.group(2).strip('"'))
+        self.key_info = {}                       # configuration key -> its entry (type, unit, range, doc)
+        for k in self._ask_json(command.config_from, "--list-config", "--json").get("keys", []):
+            self.config[k["key"]] = k["default"]
+            self.key_info[k["key"]] = k
         if command.required not in self.flags or not self.config:
-            raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --help` "
-                            "and `--list-config` gave no flags or keys")
+            raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --list-flags` "
+                            "and `--list-config --json` gave no flags or keys")
 
-    def _ask(self, sub, flag):
+    def _ask_json(self, sub, *flags):
+        text = self._ask(sub, *flags)
         try:
-            p = subprocess.run([self.path, sub, flag], capture_output=True, text=True, timeout=60)
+            return json.loads(text)
+        except ValueError as e:
+            raise SpecError(f"{self.path} {sub} {' '.join(flags)} did not print JSON ({e}): is it tigris "
+                            "of this source tree?")
+
+    def _ask(self, sub, *flags):
+        what = " ".join(flags)
+        try:
+            p = subprocess.run([self.path, sub, *flags], capture_output=True, text=True, timeout=60)
         except (OSError, subprocess.TimeoutExpired) as e:
-            raise SpecError(f"cannot run {self.path} {sub} {flag}: {e}")
+            raise SpecError(f"cannot run {self.path} {sub} {what}: {e}")
         if p.returncode != 0:
-            raise SpecError(f"{self.path} {sub} {flag} failed (exit {p.returncode}): {p.stderr.strip()}")
+            raise SpecError(f"{self.path} {sub} {what} failed (exit {p.returncode}): {p.stderr.strip()}")
         return p.stdout
 
 

@@ -49,6 +49,10 @@ nlohmann::json config_to_json(const hw::AcceleratorConfig& cfg);
 // `tigris run --list-config`).
 std::string config_reference();
 
+// The same as JSON for tools: {"keys": [{key, type (integer, bytes, number, bool, enum), unit,
+// default, doc, and min / above (exclusive) / max, named values, or an enum's values}]}.
+nlohmann::json config_reference_json();
+
 // Every dotted key, in declaration order (hw::AcceleratorConfig::visit).
 std::vector<std::string> config_keys();
 

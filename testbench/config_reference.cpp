@@ -44,4 +44,28 @@ std::string config_reference() {
   return s;
 }
 
+json config_reference_json() {
+  static const char* const type_names[] = {"integer", "bytes", "number", "bool", "enum"};
+  json keys = json::array();
+  for (const Key& k : config_table::keys()) {
+    const hw::Allowed& a = k.spec.allowed;
+    json j = {{"key", k.name},
+              {"type", type_names[static_cast<int>(k.type)]},
+              {"unit", k.spec.unit},
+              {"default", config_table::get(hw::AcceleratorConfig{}, k)},
+              {"doc", k.spec.doc}};
+    if (k.type == config_table::Type::Enum) {
+      j["values"] = json::array();
+      for (const auto& n : a.names) j["values"].push_back(n.name);
+    } else if (k.type != config_table::Type::Bool) {
+      // JSON has no infinity: an open end is left out.
+      if (std::isfinite(a.lo)) j[a.lo_open ? "above" : "min"] = a.lo;
+      if (std::isfinite(a.hi)) j["max"] = a.hi;
+      for (const auto& n : a.names) j["named"][n.name] = n.value;
+    }
+    keys.push_back(j);
+  }
+  return {{"keys", keys}};
+}
+
 }  // namespace tigris

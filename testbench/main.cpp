@@ -142,6 +142,16 @@ int main(int argc, char** argv) {
                                      "error against time, stage and KD-tree shares of the Pareto points "
                                      "(sweep/pipeline_dse.py; tigris pipeline-dse --help)");
 
+  // `tigris COMMAND --list-flags`: before parsing, so a command's required flags need not be given.
+  for (CLI::App* c : {ref, run, reg, odo, syn})
+    c->add_flag("--list-flags", "Print this command's flags as JSON (flag, type, default, meaning) for tools, and exit");
+  if (argc == 3 && std::string(argv[2]) == "--list-flags")
+    for (CLI::App* c : {ref, run, reg, odo, syn})
+      if (c->get_name() == argv[1]) {
+        std::cout << tigris::flags_json(*c).dump(2) << '\n';
+        return 0;
+      }
+
   try {
     tigris::reject_empty_arguments(argc, argv);
   } catch (const std::exception& e) {

@@ -143,4 +143,18 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
   return p;
 }
 
+nlohmann::json flags_json(const CLI::App& command) {
+  nlohmann::json flags = nlohmann::json::array();
+  for (const CLI::Option* opt : command.get_options()) {
+    if (opt->get_lnames().empty()) continue;  // positional
+    const bool takes_value = opt->get_expected_max() != 0;
+    flags.push_back({{"flag", opt->get_lnames().front()},
+                     {"takes_value", takes_value},
+                     {"type", takes_value ? opt->get_type_name() : ""},
+                     {"default", opt->get_default_str()},
+                     {"doc", opt->get_description()}});
+  }
+  return {{"command", command.get_name()}, {"flags", flags}};
+}
+
 }  // namespace tigris

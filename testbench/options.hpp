@@ -6,6 +6,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
@@ -43,6 +44,11 @@ void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t 
 
 // --height: a number from 0 to the full height, or "full" (-1).
 int parse_height(const std::string& text);
+
+// A command's flags for tools (`tigris COMMAND --list-flags`): {"command", "flags": [{"flag"
+// (without dashes), "takes_value", "type" (CLI11's: INT, FLOAT, TEXT, ...; "" for a switch),
+// "default" (as its --help shows it, "" when none), "doc"}]}, so no tool scrapes --help.
+nlohmann::json flags_json(const CLI::App& command);
 
 // The default top height (10) for a cloud of `points`: clamped to the cloud's full height, with
 // a note on stderr, when nobody asked for it (`chosen` false); an explicit height is kept as is

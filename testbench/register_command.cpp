@@ -224,6 +224,8 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                "and with the golden model, on the accelerator exact and approximate; print one table "
                "(KD-tree time, end to end, KD-tree energy, error) and write OUT/comparison.json");
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
+  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, default, range or names, "
+                                 "meaning), for tools");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
 }
 
@@ -267,6 +269,11 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                 " needs --search exact, flann or accel (error injection measures exact search; "
                                 "got search " + (in_loop ? o.search : std::string("approx")) + ")");
   registration::validate(config, "tigris register");
+  if (o.list_config && o.json) {
+    std::cout << registration::key_reference_json(config).dump(2) << '\n';
+    return 0;
+  }
+  if (app.count("--json") && !o.list_config) throw std::invalid_argument("--json goes with --list-config");
   if (o.list_config) {
     std::printf("%-42s %-16s %s\n", "key", o.preset.c_str(), "allowed: meaning");
     for (const auto& k : registration::key_reference(config))

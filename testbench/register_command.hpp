@@ -27,6 +27,7 @@ struct RegisterOptions {
   std::string inject_shell;  // "R1,R2"; empty: inject.normals_shell_inner/_outer
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
+  bool json = false;  // --list-config as JSON
   double max_work = 1e10;
   std::string record_trace;  // workload trace of every 3D search (traces/README.md)
   std::string accel_config;             // --search accel*: the accelerator's configuration file

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <exception>
+#include <optional>
 #include <thread>
 #include <cstdio>
 #include <iostream>
@@ -20,6 +21,8 @@
 #include "report.hpp"
 #include "run_report.hpp"
 #include "scoreboard.hpp"
+#include "stat_formulas.hpp"
+#include "stats_schema.hpp"
 #include "tlm/tree_image.hpp"
 #include "workload.hpp"
 
@@ -67,17 +70,41 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                                    "figures do not depend on it)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_flag("--list-config", o.list_config, "Print every configuration key with its default and exit");
+  app.add_flag("--list-config", o.list_config,
+               "Print every configuration key with its default, unit, allowed values and meaning as a Markdown "
+               "table, and exit");
+  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, unit, default, range or names, "
+                                 "meaning), for tools");
+  app.add_flag("--stats-schema", o.stats_schema,
+               "Print the schema of stats.json as JSON (every field's path, unit and meaning; derived fields with "
+               "their formula) and exit");
 }
 
-int run_run_command(const CLI::App& app, const RunOptions& o) {
-  if (o.list_config) {
-    std::cout << config_reference();
-    return 0;
-  }
-  if (!o.trace.empty()) return run_trace_replay(app, o);
-  if (app.count("--trace-stages") || app.count("--jobs"))
-    throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
+namespace {
+
+// What `tigris run` simulates: the checked configuration, the workload, its tree and the job.
+struct RunSetup {
+  SearchParams params;
+  hw::AcceleratorConfig cfg;
+  Workload w;
+  nlohmann::json inputs;
+  KdTree tree;
+  tlm_if::TreeImage image;
+  HostJob job;
+  WorkEstimate estimate;
+};
+
+// What the run measured: the golden model's search, the simulation and its check.
+struct RunMeasured {
+  SearchOutput golden;
+  SimOutcome sim;
+  Verdict verdict;
+  double golden_s = 0, sim_s = 0;
+};
+
+// Configure: the flags, the configuration (file, --set, flags over them), the workload and its
+// tree; refuses a job that does not fit the buffers or exceeds the work limits.
+RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
                        {{"--out (stats.json)", o.search.out + "/stats.json"},
                         {"--vcd", o.vcd},
@@ -85,8 +112,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
                         {"--timeline", o.timeline},
                         {"--dump-results", o.search.dump_results},
                         {"--dump-schedule", o.search.dump_schedule}});
-  SearchParams params = search_params(app, o.search);
-  hw::AcceleratorConfig cfg;
+  RunSetup r;
+  r.params = search_params(app, o.search);
+  hw::AcceleratorConfig& cfg = r.cfg;
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
   for (const std::string& s : o.settings) apply_setting(cfg, s);
   if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
@@ -94,49 +122,55 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
   if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
   validate_config(cfg);
-  params.leader_capacity = cfg.leader.capacity_per_leaf;
+  r.params.leader_capacity = cfg.leader.capacity_per_leaf;
 
-  const Workload w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
-  note_k_above_cloud("tigris run", params, w.cloud.size(), w.cloud_name);
-  const nlohmann::json inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
+  r.w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  const Workload& w = r.w;
+  note_k_above_cloud("tigris run", r.params, w.cloud.size(), w.cloud_name);
+  r.inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
   // The default top height only: one from --height, --set or --config stays as asked.
   const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
   cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
-  const KdTree tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
-  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  const HostJob job = host_job(params);
-  const std::string fit = hw::job_fit_error(cfg, image.bytes.size(), w.queries.size(), tree.top_height, job.mode, job.k);
+  r.tree = build_kdtree(w.cloud, cfg.tree.top_height, cfg.tree.split_axis);
+  r.image = tlm_if::encode_tree_image(r.tree);
+  r.job = host_job(r.params);
+  const std::string fit =
+      hw::job_fit_error(cfg, r.image.bytes.size(), w.queries.size(), r.tree.top_height, r.job.mode, r.job.k);
   if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
-  WorkEstimate estimate = estimate_work(tree, w.queries, params);
-  if (params.mode != Mode::Radius)
-    add_slot_traffic(estimate, w.queries.size(), hw::ResultSlots::slot_bytes(job.k),
-                     cfg.sram.results.word_bytes);
-  check_work(estimate, o.search.limits, w.queries.size());
+  r.estimate = estimate_work(r.tree, w.queries, r.params);
+  if (r.params.mode != Mode::Radius)
+    add_slot_traffic(r.estimate, w.queries.size(), hw::ResultSlots::slot_bytes(r.job.k), cfg.sram.results.word_bytes);
+  check_work(r.estimate, o.search.limits, w.queries.size());
+  return r;
+}
 
-  // Golden model first: exact search in query order. Its results and visit counts are what an
-  // exact run must reproduce; an approximate run is checked against the replay of its own
-  // schedule and measured against these exact results.
-  SearchParams exact = params;
+// Simulate: the golden model's exact search in query order (what an exact run must reproduce;
+// an approximate run is checked against the replay of its own schedule and measured against
+// these exact results), then the accelerator, then the check. Nullopt after a deadlock, which
+// it reports.
+std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, TimelineRecorder& timeline) {
+  RunMeasured m;
+  SearchParams exact = r.params;
   exact.approximate = false;
   auto t0 = std::chrono::steady_clock::now();
-  const SearchOutput golden = search(tree, w.queries, exact);
-  const double golden_s = seconds_since(t0);
+  m.golden = search(r.tree, r.w.queries, exact);
+  m.golden_s = seconds_since(t0);
 
   SimSetup setup;
-  setup.config = cfg;
-  setup.image = &image;
-  setup.queries = &w.queries;
-  setup.num_points = static_cast<std::uint32_t>(w.cloud.size());
-  setup.job = job;
+  setup.config = r.cfg;
+  setup.image = &r.image;
+  setup.queries = &r.w.queries;
+  setup.num_points = static_cast<std::uint32_t>(r.w.cloud.size());
+  setup.job = r.job;
   setup.vcd_path = o.vcd;
   if (o.sim_threads) setup.sim_threads = o.sim_threads;
-  const std::uint32_t shown = o.timeline_queries == 0 ? static_cast<std::uint32_t>(w.queries.size()) : o.timeline_queries;
-  TimelineRecorder timeline(1000.0 / cfg.clock_mhz, shown);
+  const auto queries = static_cast<std::uint32_t>(r.w.queries.size());
   if (!o.timeline.empty()) {
     setup.observers.push_back(&timeline);
-    const std::uint32_t stride = TimelineRecorder::stride_for(static_cast<std::uint32_t>(w.queries.size()), shown);
-    const double sampled = static_cast<double>(w.queries.size()) / stride;
-    const double bytes = TimelineRecorder::estimated_bytes(sampled, estimate.leaf_visits_per_query);
+    const std::uint32_t shown = o.timeline_queries == 0 ? queries : o.timeline_queries;
+    const std::uint32_t stride = TimelineRecorder::stride_for(queries, shown);
+    const double sampled = static_cast<double>(queries) / stride;
+    const double bytes = TimelineRecorder::estimated_bytes(sampled, r.estimate.leaf_visits_per_query);
     if (bytes > 100e6)
       std::fprintf(stderr,
                    "tigris run: note: the timeline of %.0f queries (--timeline-queries %u) will be about %.0f MB of JSON "
@@ -149,83 +183,81 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   // SystemC runs on a thread of its own: its coroutine stack switches leave AddressSanitizer
   // unsure of the running thread's stack, so an error raised on that thread afterwards (an
   // unwritable --dump-schedule, say) would give false reports in the sanitizer build.
-  SimOutcome sim;
   std::exception_ptr failure;
   std::thread([&] {
     try {
-      sim = simulate({setup}, [&](std::uint32_t done, std::uint32_t total) { progress(done, total); }).front();
+      m.sim = simulate({setup}, [&](std::uint32_t done, std::uint32_t total) { progress(done, total); }).front();
     } catch (...) {
       failure = std::current_exception();
     }
   }).join();
   if (failure) std::rethrow_exception(failure);
-  const double sim_s = seconds_since(t0);
-  if (!sim.error.empty()) throw std::invalid_argument(sim.error);
-  if (!sim.finished) {
-    std::cerr << "tigris run: DEADLOCK: the simulation ran out of events with work left:\n" << sim.deadlock;
-    return 1;
+  m.sim_s = seconds_since(t0);
+  if (!m.sim.error.empty()) throw std::invalid_argument(m.sim.error);
+  if (!m.sim.finished) {
+    std::cerr << "tigris run: DEADLOCK: the simulation ran out of events with work left:\n" << m.sim.deadlock;
+    return std::nullopt;
   }
+  m.verdict = check_against_golden(r.tree, r.w.queries, r.params, m.golden, m.sim.results, m.sim.visits);
+  return m;
+}
 
-  const Verdict verdict = check_against_golden(tree, w.queries, params, golden, sim.results, sim.visits);
-  if (!o.search.dump_schedule.empty())
-    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, sim.visits.schedule); });
-  const std::uint64_t cycles = sim.cycles;
-  const double seconds = static_cast<double>(cycles) / (cfg.clock_mhz * 1e6);
-  const SearchOutput& hw_view = sim.visits;
-
+// The stats JSON (docs/stats.md): the run, the accelerator's statistics, the derived fields from
+// their formulas, the bottleneck and the configuration that produced them.
+nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptions& o, Accuracy& accuracy) {
+  const SearchOutput& hw_view = m.sim.visits;
   nlohmann::json stats;
   stats["command"] = "run";
   stats["command_line"] = o.search.command_line;
-  stats["inputs"] = inputs;
-  stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
-  stats["cycles"] = cycles;
-  stats["seconds"] = seconds;
-  stats["queries"] = w.queries.size();
-  stats["verdict"] = verdict.match ? "match" : "mismatch";
-  stats["mismatches"] = {{"results", verdict.result_mismatches}, {"visits", verdict.visit_mismatches},
-                         {"first", verdict.first}};
+  stats["inputs"] = r.inputs;
+  stats["workload"] = {{"cloud", r.w.cloud_name}, {"queries", r.w.queries_name}, {"points", r.w.cloud.size()}};
+  stats["cycles"] = m.sim.cycles;
+  stats["queries"] = r.w.queries.size();
+  stats["verdict"] = m.verdict.match ? "match" : "mismatch";
+  stats["mismatches"] = {{"results", m.verdict.result_mismatches}, {"visits", m.verdict.visit_mismatches},
+                         {"first", m.verdict.first}};
   stats["visits"] = visits_json(hw_view);
-  Accuracy accuracy;
-  if (params.approximate) {
-    accuracy = measure_accuracy(params.mode, golden.results, sim.results);
+  if (r.params.approximate) {
+    accuracy = measure_accuracy(r.params.mode, m.golden.results, m.sim.results);
     stats["leaders"] = leaders_json(hw_view);
     stats["accuracy"] = accuracy_json(accuracy);
   }
-  stats["lower_bound_cycles"] = sim.lower_bound_cycles;
-  stats["units"] = sim.units;
-  stats["buffers"] = sim.buffers;
-  stats["energy_pj"] = sim.energy;
-  stats["power_w"] = sim.power_w;
-  stats["area_mm2"] = sim.area;
-  stats["latency_cycles"] = sim.latency;
-  stats["bottleneck"] = bottleneck_json(stats);
-  stats["config"] = config_to_json(cfg);
-  const nlohmann::json search_config = search_config_json(params, tree);
+  stats["units"] = m.sim.units;
+  stats["buffers"] = m.sim.buffers;
+  stats["energy_pj"] = m.sim.energy;
+  stats["area_mm2"] = m.sim.area;
+  stats["latency_cycles"] = m.sim.latency;
+  stats["config"] = config_to_json(r.cfg);
+  const nlohmann::json search_config = search_config_json(r.params, r.tree);
   stats["config"]["search"] = search_config["search"];
   stats["config"]["approx"] = search_config["approx"];  // the threshold and leader width of this run
-  stats["tree"] = tree_json(tree);
-  stats["wall_seconds"] = {{"golden", golden_s}, {"simulation", sim_s}};
+  add_derived(stats);
+  stats["bottleneck"] = bottleneck_json(stats);
+  stats["tree"] = tree_json(r.tree);
+  stats["wall_seconds"] = {{"golden", m.golden_s}, {"simulation", m.sim_s}};
   if (const std::string bad = non_finite_field(stats); !bad.empty())
     throw std::invalid_argument("the model computed a non-finite " + bad +
                                 " (NaN or infinity) from this configuration; check the energy.*, area.* and "
                                 "cost.* keys that feed it (tigris run --list-config)");
-  const std::string stats_path = o.search.out + "/stats.json";
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
-  if (!o.timeline.empty())
-    write_file(o.timeline, [&](std::ostream& f) { f << timeline.trace().dump() << '\n'; });
-  if (!o.search.dump_results.empty())
-    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, sim.results); });
+  return stats;
+}
 
+// The summary lines of a run on stdout.
+void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions& o, const nlohmann::json& stats,
+                       const Accuracy& accuracy, const std::string& stats_path, const TimelineRecorder& timeline) {
+  const hw::AcceleratorConfig& cfg = r.cfg;
+  const SearchParams& params = r.params;
+  const SearchOutput& hw_view = m.sim.visits;
   const auto& u = stats["units"];
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
-              w.queries.size(), w.cloud.size(), verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
+              r.w.queries.size(), r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
   std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
   std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
               cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(),
-              tree.top_height, tree.full_height, cfg.clock_mhz);
+              r.tree.top_height, r.tree.full_height, cfg.clock_mhz);
   std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
-              static_cast<unsigned long long>(cycles), seconds * 1e3, cfg.clock_mhz,
+              static_cast<unsigned long long>(m.sim.cycles), stats["seconds"].get<double>() * 1e3, cfg.clock_mhz,
               stats["lower_bound_cycles"].get<double>());
   std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
   std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
@@ -236,7 +268,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
               static_cast<unsigned long long>(hw_view.visits.top),
               static_cast<unsigned long long>(hw_view.visits.pruned),
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
-  const auto& lat = sim.latency;
+  const auto& lat = m.sim.latency;
   std::printf("  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
               lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
               lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
@@ -259,17 +291,54 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
                   100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
   }
   std::fputs(energy_area_summary(stats).c_str(), stdout);
-  std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", sim_s, golden_s,
+  std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", m.sim_s, m.golden_s,
               stats_path.c_str());
   if (!o.timeline.empty())
     std::printf("  timeline %s (slices: %s; counters: every query; open in ui.perfetto.dev)\n", o.timeline.c_str(),
                 timeline.trace_note().c_str());
   if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
-  if (!verdict.match) {
+}
+
+}  // namespace
+
+int run_run_command(const CLI::App& app, const RunOptions& o) {
+  if (o.list_config) {
+    std::cout << (o.json ? config_reference_json().dump(2) + "\n" : config_reference());
+    return 0;
+  }
+  if (o.stats_schema) {
+    std::cout << stats_schema_json().dump(2) << '\n';
+    return 0;
+  }
+  if (app.count("--json")) throw std::invalid_argument("--json goes with --list-config");
+  if (!o.trace.empty()) return run_trace_replay(app, o);
+  if (app.count("--trace-stages") || app.count("--jobs"))
+    throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
+
+  const RunSetup r = configure_run(app, o);
+  const std::uint32_t shown =
+      o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
+  TimelineRecorder timeline(1000.0 / r.cfg.clock_mhz, shown);
+  const std::optional<RunMeasured> m = simulate_run(r, o, timeline);
+  if (!m) return 1;
+
+  if (!o.search.dump_schedule.empty())
+    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
+  Accuracy accuracy;
+  const nlohmann::json stats = run_stats(r, *m, o, accuracy);
+  const std::string stats_path = o.search.out + "/stats.json";
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
+  if (!o.timeline.empty())
+    write_file(o.timeline, [&](std::ostream& f) { f << timeline.trace().dump() << '\n'; });
+  if (!o.search.dump_results.empty())
+    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
+
+  print_run_summary(r, *m, o, stats, accuracy, stats_path, timeline);
+  if (!m->verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
-                 static_cast<unsigned long long>(verdict.result_mismatches),
-                 static_cast<unsigned long long>(verdict.visit_mismatches));
-    for (const std::string& m : verdict.first) std::fprintf(stderr, "  %s\n", m.c_str());
+                 static_cast<unsigned long long>(m->verdict.result_mismatches),
+                 static_cast<unsigned long long>(m->verdict.visit_mismatches));
+    for (const std::string& line : m->verdict.first) std::fprintf(stderr, "  %s\n", line.c_str());
     return 1;
   }
   return 0;

@@ -15,6 +15,8 @@ struct RunOptions {
   std::string config_file;
   std::vector<std::string> settings;  // --set key=value
   bool list_config = false;
+  bool json = false;          // --list-config as JSON
+  bool stats_schema = false;  // print the stats.json schema
   std::string vcd;
   std::string timeline;                 // Chrome trace-event JSON
   std::uint32_t timeline_queries = 2000;  // about this many queries appear in it

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "config.hpp"
 #include "hw/area_model.hpp"
+#include "stat_formulas.hpp"
 
 namespace tigris {
 
@@ -13,60 +15,68 @@ using nlohmann::json;
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
 
-const hw::StatGroup& child(const hw::StatGroup& g, const std::string& name) {
-  for (const hw::StatGroup* c : g.children())
-    if (c->name() == name) return *c;
-  throw std::logic_error("no statistics group '" + name + "' under '" + g.name() + "'");
+json::json_pointer pointer(const std::string& dotted) {
+  std::string p = "/" + dotted;
+  std::replace(p.begin(), p.end(), '.', '/');
+  return json::json_pointer(p);
 }
-
-// The units of one kind: their sums, and each unit's own counters under `per_unit`.
-json unit_kind(const hw::StatGroup& root, const std::string& kind, int count) {
-  const auto groups = root.find(kind);
-  json j = hw::StatGroup::sum(groups);
-  j["count"] = count;
-  j["per_unit"] = json::array();
-  for (const hw::StatGroup* g : groups) j["per_unit"].push_back(g->counters_json());
-  return j;
-}
-
-std::uint64_t at(const json& j, const char* pointer) { return j.at(json::json_pointer(pointer)).get<std::uint64_t>(); }
 
 }  // namespace
+
+const std::vector<Placement>& placements() {
+  static const std::vector<Placement> table = {
+      {"recursion_unit", "units.recursion_units", true},
+      {"search_unit", "units.search_units", true},
+      {"qdn", "units.qdn", false},
+      {"front_end", "units.fqq", false},  // the FE's counters are its Query Queue's
+      {"buffer", "buffers.{name}", false},
+      {"node_cache", "buffers.node_cache", false},
+      {"leader_buffer", "buffers.leader_buffer", false},  // one per SU, summed
+      {"dram", "buffers.dram", false},
+  };
+  return table;
+}
+
+std::string placed_at(const Placement& p, const hw::StatGroup& group) {
+  std::string path = p.path;
+  if (const std::size_t at = path.find("{name}"); at != std::string::npos) path.replace(at, 6, group.name());
+  return path;
+}
 
 json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
   const hw::AcceleratorConfig& cfg = accel.config();
   const hw::StatGroup& root = accel.stats();
-  const double c = static_cast<double>(cycles);
-  const double seconds = c / (cfg.clock_mhz * 1e6);
-  const hw::Area area = hw::area_of(cfg);
-  const json energy = accel.energy_pj(hw::leakage_pj(cfg, cycles));
-
-  json ru = unit_kind(root, "recursion_unit", cfg.fe.recursion_units);
-  ru["utilization"] = ratio(static_cast<double>(at(ru, "/busy_cycles")), cfg.fe.recursion_units * c);
-  json su = unit_kind(root, "search_unit", cfg.be.search_units);
+  json j = json::object();
+  for (const Placement& p : placements()) {
+    const auto groups = root.find(p.kind);
+    if (groups.empty()) throw std::logic_error(std::string("no statistics group of kind '") + p.kind + "'");
+    if (std::string(p.path).find("{name}") != std::string::npos) {
+      for (const hw::StatGroup* g : groups) j[pointer(placed_at(p, *g))] = g->counters_json();
+      continue;
+    }
+    json& at = j[pointer(p.path)];
+    if (at.is_null()) at = json::object();
+    at.update(hw::StatGroup::sum(groups), true);
+    if (p.per_unit) {
+      at["per_unit"] = json::array();
+      for (const hw::StatGroup* g : groups) at["per_unit"].push_back(g->counters_json());
+    }
+  }
+  json& ru = j["units"]["recursion_units"];
+  ru["count"] = cfg.fe.recursion_units;
+  json& su = j["units"]["search_units"];
+  su["count"] = cfg.be.search_units;
   su["pes_per_su"] = cfg.be.pes_per_su;
   su["issue_policy"] = cfg.be.issue_policy;
-  su["queries_per_batch"] = ratio(static_cast<double>(at(su, "/queries")), static_cast<double>(at(su, "/batches")));
-  su["utilization"] = ratio(static_cast<double>(at(su, "/busy_cycles")), cfg.be.search_units * c);
-  su["pe_utilization"] = ratio(static_cast<double>(at(su, "/pe_busy_cycles")),
-                               static_cast<double>(cfg.be.search_units) * cfg.be.pes_per_su * c);
-
-  json buffers = json::object();
-  for (const hw::StatGroup* b : root.find("buffer")) buffers[b->name()] = b->counters_json();
-  buffers["node_cache"] = child(root, "node_cache").counters_json();
-  buffers["node_cache"]["policy"] = cfg.node_cache.policy;
-  buffers["leader_buffer"] = hw::StatGroup::sum(root.find("leader_buffer"));  // all SUs' together
-  buffers["dram"] = child(root, "dram").counters_json();
-
-  return {{"units",
-           {{"recursion_units", ru},
-            {"search_units", su},
-            {"qdn", child(root, "qdn").counters_json()},
-            {"fqq", child(root, "fe").counters_json()["fqq"]}}},
-          {"buffers", buffers},
-          {"energy_pj", energy},
-          {"power_w", seconds > 0 ? energy["total"].get<double>() * 1e-12 / seconds : 0.0},
-          {"area_mm2", area.to_json()}};
+  j["buffers"]["node_cache"]["policy"] = cfg.node_cache.policy;
+  j["energy_pj"] = accel.energy_pj(hw::leakage_pj(cfg, cycles));
+  j["area_mm2"] = hw::area_of(cfg).to_json();
+  // The derived fields (utilizations, seconds, power) from their formulas, over these fields.
+  j["cycles"] = cycles;
+  j["config"] = config_to_json(cfg);
+  add_derived(j);
+  j.erase("config");
+  return j;
 }
 
 std::string energy_area_summary(const json& stats) {
@@ -89,11 +99,6 @@ std::string energy_area_summary(const json& stats) {
                 stats.at("power_w").get<double>(), a.at("total").get<double>(), a.at("sram").get<double>(),
                 a.at("logic").get<double>());
   return buf;
-}
-
-double lower_bound_cycles(const hw::AcceleratorConfig& cfg, const VisitTotals& v) {
-  return std::max(static_cast<double>(v.top) / cfg.fe.recursion_units,
-                  static_cast<double>(v.leaf_points) / (static_cast<double>(cfg.be.search_units) * cfg.be.pes_per_su));
 }
 
 }  // namespace tigris

@@ -79,7 +79,6 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.power_w = std::move(stats["power_w"]);
     o.area = std::move(stats["area_mm2"]);
     o.latency = benches[i].latency->json();
-    o.lower_bound_cycles = lower_bound_cycles(a.config(), o.visits.visits);
     if (benches[i].vcd) {
       benches[i].vcd->close();
       const std::string& vcd = setups[i].vcd_path;

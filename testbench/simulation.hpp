@@ -56,7 +56,6 @@ struct SimOutcome {
   // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
   nlohmann::json units, buffers, energy, power_w, area;
   nlohmann::json latency;  // `latency_cycles`: per query and per BQB wait
-  double lower_bound_cycles = 0.0;
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };
 

@@ -3,8 +3,9 @@
 
   inputs     stats.json records the command line and each input's path, size and SHA-256, and the
              summary prints them and the bound
-  schema     every leaf of real runs' stats.json is documented in docs/stats.md, every row there
-             matches a leaf
+  schema     every leaf of real runs' stats.json is in the stats schema (tigris run --stats-schema)
+             and every schema field in some run; derived fields equal their formulas evaluated
+             here; docs/stats.md's tables are the schema's (scripts/stats_doc.py --check)
   diff       `tigris diff` on two known runs: configuration, headline ratios, exit status, --json
   plot       `tigris plot` writes the figures, titled with the workload, a flat axis labelled
   waves      the VCD's machine-wide counts average to the statistics' utilizations and stall shares
@@ -118,14 +119,32 @@ def leaves(obj, prefix=""):
         yield prefix
 
 
+def formula_value(formula, stats):
+    """The formula evaluated independently of the C++ one: paths become look-ups, a division
+    by zero is 0 (as documented)."""
+    def look(m):
+        v = stats
+        for k in m.group(0).split("."):
+            v = v[k]
+        return repr(float(v))
+    expr = re.sub(r"[a-z_][a-z0-9_]*(?:\.[a-z0-9_]+)+|\b(?!max\b)[a-z_][a-z0-9_]*\b", look, formula)
+
+    class Z(float):  # x / 0 -> 0
+        def __truediv__(self, o):
+            return Z(0.0 if float(o) == 0 else float(self) / float(o))
+    expr = re.sub(r"(\d[\d.]*(?:e[+-]?\d+)?)", r"Z(\1)", expr)
+    return float(eval(expr, {"Z": Z, "max": max, "__builtins__": {}}))
+
+
 def part_schema(d):
-    rows = []
-    with open(os.path.join(ROOT, "docs", "stats.md")) as f:
-        for line in f:
-            m = re.match(r"\|\s*`([^`]+)`\s*\|", line)
-            if m:
-                rows.append(m.group(1))
-    check(len(rows) > 100, f"docs/stats.md has its field rows ({len(rows)})")
+    p = tig("run", "--stats-schema", code=0)
+    schema = json.loads(p.stdout)
+    fields = schema["fields"]
+    check(len(fields) > 200, f"the schema has its fields ({len(fields)})")
+    for f in fields:
+        check(f["unit"] and f["meaning"], f"schema field {f['path']} has a unit and a meaning: {f}")
+    rows = [f["path"] for f in fields]
+    check(len(rows) == len(set(rows)), "every schema path is listed once")
     pats = {r: re.compile("^" + re.escape(r).replace(r"\*", r"[^.\[\]]+") + "$") for r in rows}
     cloud = os.path.join(d, "c.bin")
     if not os.path.exists(cloud):
@@ -141,9 +160,21 @@ def part_schema(d):
         for leaf in leaves(s):
             seen.add(leaf)
             hits = [r for r, p in pats.items() if p.match(leaf)]
-            check(hits, f"stats.json field {leaf} ({s['command_line']}) is documented in docs/stats.md")
+            check(hits, f"stats.json field {leaf} ({s['command_line']}) is in the stats schema")
+        for f in fields:
+            if "formula" in f:
+                want = formula_value(f["formula"], s)
+                got = s
+                for k in f["path"].split("."):
+                    got = got[k]
+                check(got == want or abs(got - want) <= 1e-12 * abs(want),
+                      f"{f['path']} = {got}, its formula {f['formula']} gives {want} ({s['command_line']})")
     for r, p in pats.items():
-        check(any(p.match(leaf) for leaf in seen), f"docs/stats.md row `{r}` matches a field of a real run")
+        check(any(p.match(leaf) for leaf in seen), f"schema field `{r}` matches a field of a real run")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "stats_doc.py"), "--tigris", TIGRIS, "--check"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0, "docs/stats.md's tables are the schema's (scripts/stats_doc.py):\n" + p.stdout[-3000:]
+          + p.stderr)
 
 
 # ------------------------------------------------------------------------------------------------

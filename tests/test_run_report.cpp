@@ -1,5 +1,5 @@
-// What a run says about itself: the bottleneck classification on crafted statistics, and the
-// inputs' SHA-256 against the published test vector.
+// What a run says about itself: the bottleneck classification on crafted statistics, the derived
+// fields' formulas, and the inputs' SHA-256 against the published test vector.
 #include <catch2/catch.hpp>
 
 #include <cstdio>
@@ -7,6 +7,7 @@
 
 #include "bottleneck.hpp"
 #include "run_inputs.hpp"
+#include "stat_formulas.hpp"
 
 using nlohmann::json;
 
@@ -109,4 +110,40 @@ TEST_CASE("bottleneck: PI/RS dependency stalls are busy cycles, not added again"
       stats(1000, 0.80, {{"pi_rs_dependency", 0.30}, {"sram", 0.10}}, 0.50, json::object()));
   CHECK(b["occupancy"].get<double>() == Approx(0.90));
   CHECK(b["summary"].get<std::string>().find("pi_rs") == std::string::npos);
+}
+
+TEST_CASE("stat formulas: arithmetic left to right, max, missing fields and division by zero", "[stats]") {
+  const json s = {{"cycles", 1000}, {"units", {{"a", {{"busy", 250}, {"count", 2}}}}}, {"zero", 0}, {"text", "x"}};
+  CHECK(*tigris::evaluate("units.a.busy / (units.a.count * cycles)", s) == 0.125);
+  CHECK(*tigris::evaluate("1 + 2 * 3 - 4 / 2", s) == 5.0);
+  CHECK(*tigris::evaluate("max(cycles / 8, units.a.busy)", s) == 250.0);
+  CHECK(*tigris::evaluate("cycles * 1e-3", s) == 1.0);
+  CHECK(*tigris::evaluate("cycles / zero", s) == 0.0);  // an idle unit has no utilization
+  CHECK_FALSE(tigris::evaluate("units.b.busy / cycles", s).has_value());
+  CHECK_FALSE(tigris::evaluate("max(cycles, nothing)", s).has_value());
+  CHECK_THROWS_WITH(tigris::evaluate("cycles / (units.a.count", s), Catch::Contains("expected ')'"));
+  CHECK_THROWS_WITH(tigris::evaluate("cycles +", s), Catch::Contains("ends early"));
+  CHECK_THROWS_WITH(tigris::evaluate("text * 2", s), Catch::Contains("field text is not a number"));
+  CHECK_THROWS_WITH(tigris::evaluate("cycles cycles", s), Catch::Contains("unexpected 'c'"));
+}
+
+TEST_CASE("stat formulas: every derived field names fields that a run writes", "[stats]") {
+  // Each formula parses, and over a stats JSON holding every field it names it gives a value.
+  json s = {{"cycles", 1000},
+            {"config", {{"clock_mhz", 500}, {"fe", {{"recursion_units", 4}}}, {"be", {{"search_units", 2}, {"pes_per_su", 8}}}}},
+            {"visits", {{"top", 100}, {"leaf_points", 800}}},
+            {"energy_pj", {{"total", 5e6}}},
+            {"units",
+             {{"recursion_units", {{"busy_cycles", 2000}, {"count", 4}}},
+              {"search_units", {{"busy_cycles", 500}, {"pe_busy_cycles", 4000}, {"count", 2}, {"pes_per_su", 8},
+                                {"queries", 30}, {"batches", 10}}}}}};
+  tigris::add_derived(s);
+  CHECK(s["seconds"].get<double>() == 1000 / 500e6);
+  CHECK(s["units"]["recursion_units"]["utilization"].get<double>() == 0.5);
+  CHECK(s["units"]["search_units"]["utilization"].get<double>() == 0.25);
+  CHECK(s["units"]["search_units"]["pe_utilization"].get<double>() == 0.25);
+  CHECK(s["units"]["search_units"]["queries_per_batch"].get<double>() == 3.0);
+  CHECK(s["power_w"].get<double>() == Approx(5e6 * 1e-12 / (1000 / 500e6)));
+  CHECK(s["lower_bound_cycles"].get<double>() == 50.0);
+  for (const tigris::DerivedStat& d : tigris::derived_stats()) CHECK(tigris::evaluate(d.formula, s).has_value());
 }

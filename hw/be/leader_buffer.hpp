@@ -60,10 +60,12 @@ class LeaderBuffer {
   std::uint64_t area_base_ = 0, area_bytes_ = 0, area_used_ = 0;
   std::vector<tlm_if::PointEntry> dram_;  // lists kept in DRAM
   StatGroup stats_;
-  Counter read_bytes_{stats_, "read_bytes"}, write_bytes_{stats_, "write_bytes"};
-  Counter list_bytes_{stats_, "list_bytes"};            // local lists written
-  Counter dram_lists_{stats_, "dram_lists"};            // lists that found the area full
-  Counter max_leaders_{stats_, "max_leaders_per_leaf", Counter::Merge::Max};
+  Counter read_bytes_{stats_, "read_bytes", "bytes", "Leader Buffer bytes read by the Leader Checks (12 bytes a leader)"};
+  Counter write_bytes_{stats_, "write_bytes", "bytes", "Leader Buffer bytes written (new leaders' points)"};
+  Counter list_bytes_{stats_, "list_bytes", "bytes", "leaders' local result lists written (16-byte entries), wherever they live"};
+  Counter dram_lists_{stats_, "dram_lists", "count",
+                      "lists that found their SU's share of the Result Buffer full and were kept in DRAM"};
+  Counter max_leaders_{stats_, "max_leaders_per_leaf", "count", "most leaders any leaf held", Counter::Merge::Max};
   Counter& read_energy_;
   Counter& write_energy_;
 };

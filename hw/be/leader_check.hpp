@@ -22,9 +22,10 @@ class LeaderCheck {
   };
 
   LeaderCheck(StatGroup& su_stats, EnergyMeter& meter)
-      : checks_(su_stats, "leader_check.checks"), followers_(su_stats, "leader_check.followers"),
-        leaders_(su_stats, "leader_check.leaders"),
-        full_(su_stats, "leader_check.leader_buffer_full"),
+      : checks_(su_stats, "leader_check.checks", "count", "leader distances computed by the Leader Checks"),
+        followers_(su_stats, "leader_check.followers", "count", "queries that followed a leader"),
+        leaders_(su_stats, "leader_check.leaders", "count", "queries that became leaders"),
+        full_(su_stats, "leader_check.leader_buffer_full", "count", "exact scans that found their leaf's leaders full"),
         energy_(meter.line("pe.leader_check", EnergyMeter::Component::Pe, meter.table().leader_check_pj)) {}
 
   // Follower of the closest leader within thd, else Leader (or LeaderBufferFull when L cannot

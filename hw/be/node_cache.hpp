@@ -35,8 +35,11 @@ class NodeCache : public sc_core::sc_module, public NodeCacheView {
   std::unordered_map<std::uint32_t, std::uint64_t> sets_;  // leaf -> Node Set bytes
   std::unique_ptr<ReplacementPolicy> policy_;
   StatGroup stats_{"node_cache", "node_cache"};
-  Counter hits_{stats_, "hits"}, misses_{stats_, "misses"}, evictions_{stats_, "evictions"};
-  Counter read_bytes_{stats_, "read_bytes"}, fill_bytes_{stats_, "fill_bytes"};
+  Counter hits_{stats_, "hits", "count", "Node Sets served from the Node Cache"};
+  Counter misses_{stats_, "misses", "count", "Node Sets read from the Point Buffer (and filled, unless larger than the cache)"};
+  Counter evictions_{stats_, "evictions", "count", "Node Sets evicted to make room"};
+  Counter read_bytes_{stats_, "read_bytes", "bytes", "bytes streamed from the Node Cache on hits"};
+  Counter fill_bytes_{stats_, "fill_bytes", "bytes", "bytes written into the Node Cache on misses"};
   Counter& energy_;
 };
 

@@ -118,14 +118,21 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;
   StatGroup stats_;
-  Counter batches_{stats_, "batches"};              // Node Set streams through the PE array
-  Counter queries_{stats_, "queries"};              // query-leaf visits served
-  Counter busy_cycles_{stats_, "busy_cycles"};      // PE array streaming (fill, stream, drain)
-  Counter issue_stall_{stats_, "stall_cycles.issue_search"};  // associative search + issue
-  Counter sram_stall_{stats_, "stall_cycles.sram"};  // streaming slowed by buffer banks
-  Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // hits wait for the stream
-  Counter pe_busy_cycles_{stats_, "pe_busy_cycles"};  // sum over PEs of cycles holding a query
-  Counter bqb_max_{stats_, "bqb_max_occupancy", Counter::Merge::Max};
+  Counter batches_{stats_, "batches", "count", "batches issued: Node Set (or leader-list) streams through a PE array"};
+  Counter queries_{stats_, "queries", "count", "query-leaf visits served"};
+  Counter busy_cycles_{stats_, "busy_cycles", "cycles",
+                       "cycles with the PE array streaming (fill, stream, drain; overlapping MQMN batches count once)"};
+  // A cycle counts once, as busy or as the first stall cause any batch waits on (OccupancyLedger).
+  Counter issue_stall_{stats_, "stall_cycles.issue_search", "cycles",
+                       "the issue logic's associative search and issue cycle, when no stream runs or waits"};
+  Counter sram_stall_{stats_, "stall_cycles.sram", "cycles",
+                      "a stream waiting for its data (Point Buffer banks, Result Buffer slots, leader lists), when no "
+                      "PE computes"};
+  Counter writeback_stall_{stats_, "stall_cycles.result_writeback", "cycles",
+                           "radius hits waiting for the write-back stream, when no PE computes and no stream waits "
+                           "for data"};
+  Counter pe_busy_cycles_{stats_, "pe_busy_cycles", "cycles", "sum over PEs of the cycles each holds a query in a stream"};
+  Counter bqb_max_{stats_, "bqb_max_occupancy", "count", "largest BE Query Buffer occupancy", Counter::Merge::Max};
   // Busy and stall cycles of the unit, each cycle once (batches of MQMN overlap).
   enum State : std::size_t { kBusy, kSram, kWriteback, kIssue };
   OccupancyLedger ledger_{{&busy_cycles_, &sram_stall_, &writeback_stall_, &issue_stall_}};

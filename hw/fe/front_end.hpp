@@ -75,8 +75,12 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   Scheduler& scheduler_;
   StatGroup stats_{"fe", "front_end"};
   StallInjector stall_;  // FQQ -> RU
-  Counter fqq_max_{stats_, "fqq.max_occupancy", Counter::Merge::Max};
-  Counter in_flight_{stats_, "fqq.queries_in_flight", Counter::Merge::Max};  // slots of the job
+  Counter fqq_max_{stats_, "max_occupancy", "count", "largest number of query tokens in the FE Query Queue",
+                   Counter::Merge::Max};
+  Counter in_flight_{stats_, "queries_in_flight", "count",
+                     "queries the job may hold in flight: the smallest of Query Stack slots, FQQ entries, Result "
+                     "Buffer slots (NN/kNN) and the query count",
+                     Counter::Merge::Max};
   Probe fqq_wave_, finished_wave_;
 };
 

@@ -118,13 +118,19 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   std::uint64_t blocked_since_ = 0;
   void wake() override { on_done(); }
   StatGroup stats_;
-  Counter activations_{stats_, "activations"};  // queries taken from the FQQ
-  Counter busy_cycles_{stats_, "busy_cycles"};  // pipeline cycles (FQ, nodes, stalls in the walk)
-  Counter pi_rs_stall_{stats_, "stall_cycles.pi_rs_dependency"};  // of busy: no forwarding
-  Counter sram_stall_{stats_, "stall_cycles.sram"};  // waiting for buffer banks beyond the pipeline
-  Counter bqb_full_stall_{stats_, "stall_cycles.bqb_full"};  // holding a query the BQB cannot take
-  Counter writeback_stall_{stats_, "stall_cycles.result_writeback"};  // results wait for the stream
-  Counter prune_cycles_{stats_, "prune_cycles"};  // of busy: pruned nodes
+  Counter activations_{stats_, "activations", "count", "queries taken from the FQQ: one walk each"};
+  Counter busy_cycles_{stats_, "busy_cycles", "cycles",
+                       "pipeline cycles of the walks (FQ, nodes, prunes, drain, and the PI->RS stalls)"};
+  Counter pi_rs_stall_{stats_, "stall_cycles.pi_rs_dependency", "cycles",
+                       "PI->RS dependency stalls without forwarding; part of `busy_cycles` (so not added again to "
+                       "the bottleneck's occupancy)"};
+  Counter sram_stall_{stats_, "stall_cycles.sram", "cycles",
+                      "a walk waiting for buffer banks or ports beyond its pipeline cycles"};
+  Counter bqb_full_stall_{stats_, "stall_cycles.bqb_full", "cycles", "holding a query whose BE Query Buffer is full"};
+  Counter writeback_stall_{stats_, "stall_cycles.result_writeback", "cycles",
+                           "finished results (NN/kNN lists, radius hits at top nodes) waiting for the write-back "
+                           "stream"};
+  Counter prune_cycles_{stats_, "prune_cycles", "cycles", "the part of `busy_cycles` spent on pruned nodes"};
   Counter& node_energy_;
   Counter& replica_bytes_;             // node reads from the RU's own top-level copy
   std::uint32_t replicated_nodes_ = 0;  // heap nodes below this id are in the copy

@@ -5,6 +5,20 @@
 
 namespace tigris::hw {
 
+namespace {
+
+// The paper's name of a global buffer, for the statistics schema.
+std::string title(const std::string& name) {
+  if (name == "points") return "Point Buffer";
+  if (name == "queries") return "Query Buffer";
+  if (name == "query_stack") return "Query Stack Buffer";
+  if (name == "results") return "Result Buffer";
+  return name;
+}
+
+}  // namespace
+
+
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
                        EnergyMeter& meter, const AcceleratorConfig::Stall& stall)
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
@@ -16,7 +30,7 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
       word_in_row_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
-      ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer"),
+      ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer", title(basename())),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
       write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",

@@ -101,9 +101,12 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   bool word_in_row_;
   PortCalendar ports_;
   StatGroup stats_;
-  Counter reads_{stats_, "reads"}, writes_{stats_, "writes"};
-  Counter read_bytes_{stats_, "read_bytes"}, write_bytes_{stats_, "write_bytes"};
-  Counter conflict_cycles_{stats_, "conflict_cycles"};
+  // Words count accesses (`word_bytes` each: an access of a few bytes is one word).
+  Counter reads_{stats_, "reads", "count", "words read"};
+  Counter writes_{stats_, "writes", "count", "words written during the job (the host's loads before START are not counted)"};
+  Counter read_bytes_{stats_, "read_bytes", "bytes", "bytes read"};
+  Counter write_bytes_{stats_, "write_bytes", "bytes", "bytes written during the job"};
+  Counter conflict_cycles_{stats_, "conflict_cycles", "cycles", "cycles accesses waited for a busy bank or port beyond the ideal"};
   Counter& read_energy_;
   Counter& write_energy_;
   StallInjector stall_;

@@ -55,9 +55,14 @@ class ResultWriteback : public sc_core::sc_module {
   double drain_free_ = 0.0;   // cycles after START at which the channel is idle again
   std::uint64_t buffer_bytes_ = 0;
   StatGroup stats_{"dram", "dram"};
-  Counter writes_{stats_, "writes"}, write_bytes_{stats_, "write_bytes"};  // result records
-  Counter reads_{stats_, "reads"}, read_bytes_{stats_, "read_bytes"};      // the host's reads
-  Counter list_writes_{stats_, "leader_list.write_bytes"}, list_reads_{stats_, "leader_list.read_bytes"};
+  Counter writes_{stats_, "writes", "count", "result records written to DRAM (12 bytes each: query, index, dist2)"};
+  Counter write_bytes_{stats_, "write_bytes", "bytes", "result bytes written to DRAM"};
+  Counter reads_{stats_, "reads", "count", "the host's read transactions of the result region after done"};
+  Counter read_bytes_{stats_, "read_bytes", "bytes",
+                      "bytes the host read (the driver reads the region twice: to count per query, then to place)"};
+  Counter list_writes_{stats_, "leader_list.write_bytes", "bytes",
+                       "leader lists written to DRAM (approximate search, lists that did not fit)"};
+  Counter list_reads_{stats_, "leader_list.read_bytes", "bytes", "leader lists read back from DRAM by followers"};
   Counter& dram_energy_;
   Counter& dram_read_energy_;
   Probe* backlog_wave_ = nullptr;

@@ -40,7 +40,8 @@ class DistributionNetwork : public sc_core::sc_module {
   std::vector<std::uint64_t> port_free_;
   std::vector<std::deque<RecursionUnit*>> waiting_;
   StatGroup stats_{"qdn", "qdn"};
-  Counter port_wait_{stats_, "port_wait_cycles"};  // queries waited for their SU port
+  Counter port_wait_{stats_, "port_wait_cycles", "cycles",
+                     "cycles queries waited for their SU's QDN port (one query per cycle per port)"};
   StallInjector stall_;  // QDN -> BQB
 };
 

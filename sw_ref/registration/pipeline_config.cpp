@@ -333,4 +333,25 @@ std::vector<KeyInfo> key_reference(const PipelineConfig& config) {
   return out;
 }
 
+json key_reference_json(const PipelineConfig& config) {
+  json keys = json::array();
+  PipelineConfig c = config;
+  visit(c, [&](const char* key, auto& field, const Spec& spec) {
+    using T = std::remove_reference_t<decltype(field)>;
+    json k = {{"key", key}, {"unit", "-"}, {"default", field}, {"doc", spec.doc}};
+    if constexpr (std::is_same_v<T, bool>) {
+      k["type"] = "bool";
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      k["type"] = "enum";
+      k["values"] = spec.names;
+    } else {
+      k["type"] = std::is_same_v<T, int> ? "integer" : "number";
+      k[spec.lo_open ? "above" : "min"] = spec.lo;
+      k["max"] = spec.hi;
+    }
+    keys.push_back(k);
+  });
+  return {{"keys", keys}};
+}
+
 }  // namespace tigris::registration

@@ -95,5 +95,10 @@ struct KeyInfo {
   std::string name, value, allowed, doc;
 };
 std::vector<KeyInfo> key_reference(const PipelineConfig& config);
+// The same for tools (`tigris register --list-config --json`), in the accelerator's format
+// (testbench/config.hpp, config_reference_json): {"keys": [{key, type (integer, number, bool,
+// enum), unit, default (the given configuration's value), doc, and min / above (exclusive) / max
+// or an enum's values}]}.
+nlohmann::json key_reference_json(const PipelineConfig& config);
 
 }  // namespace tigris::registration

@@ -42,7 +42,7 @@ def alive(pid):
 
 
 # A tigris whose real runs with --seed 9 first sleep (recording the shell's and sleep's PIDs),
-# so a sweep is caught mid-run; --help, --list-config and the dry check pass straight through.
+# so a sweep is caught mid-run; --help, --list-flags, --list-config and the dry check pass straight through.
 SLOW = """#!/bin/sh
 case " $* " in
   *" --seed 9 "*".dry-check-no-such-folder"*) ;;
@@ -53,7 +53,7 @@ exec "{real}" "$@"
 # A tigris whose real runs all fail.
 FAILING = """#!/bin/sh
 case " $* " in
-  *--help*|*--list-config*|*".dry-check-no-such-folder"*) exec "{real}" "$@" ;;
+  *--help*|*--list-flags*|*--list-config*|*".dry-check-no-such-folder"*) exec "{real}" "$@" ;;
 esac
 echo "tigris run: error: injected failure" >&2
 exit 2

@@ -1,0 +1,270 @@
+#include "stats_schema.hpp"
+
+#include <algorithm>
+#include <tuple>
+#include <utility>
+
+#include "config.hpp"
+#include "config_keys.hpp"
+#include "hw/top.hpp"
+#include "run_report.hpp"
+#include "stat_formulas.hpp"
+
+namespace tigris {
+
+namespace {
+
+using nlohmann::json;
+
+struct Section {
+  const char* id;
+  const char* title;    // the heading of its table in docs/stats.md
+  const char* prefix;   // the fields it holds, by path prefix ("" for the run's own)
+};
+
+const std::vector<Section>& sections() {
+  static const std::vector<Section> table = {
+      {"run", "The run and its inputs", ""},
+      {"visits", "Visits: the accelerator's own counts", "visits"},
+      {"units", "Units: busy and stall cycles", "units"},
+      {"buffers", "Buffers: traffic and contention", "buffers"},
+      {"energy", "Energy, power and area", "energy_pj power_w area_mm2"},
+      {"latency", "Latency", "latency_cycles"},
+      {"bottleneck", "Bottleneck", "bottleneck"},
+      {"approx", "Approximate search", "leaders accuracy"},
+      {"tree", "The tree", "tree"},
+      {"config", "Configuration echo", "config"},
+  };
+  return table;
+}
+
+// The section of a path: the one whose prefix names its first component, else the run's.
+std::string section_of(const std::string& path) {
+  const std::string head = path.substr(0, path.find_first_of(".["));
+  for (const Section& s : sections()) {
+    const std::string p = std::string(" ") + s.prefix + " ";
+    if (!head.empty() && p.find(" " + head + " ") != std::string::npos) return s.id;
+  }
+  return "run";
+}
+
+// The fields that are neither counters, derived nor configuration keys: what the run, the
+// golden check, the observers and the energy and area models write.
+struct Row {
+  const char* path;
+  const char* unit;
+  const char* meaning;
+};
+const std::vector<Row>& other_fields() {
+  static const std::vector<Row> table = {
+      {"command", "text", "`run`"},
+      {"command_line", "text", "the full command line as typed, so the run can be repeated"},
+      {"inputs[].role", "text", "what the input is: `cloud` (the tree's points), `queries`, or `config` (the `--config` file)"},
+      {"inputs[].path", "text", "the file's path as given (file inputs only)"},
+      {"inputs[].bytes", "bytes", "the file's size (file inputs only)"},
+      {"inputs[].sha256", "text", "SHA-256 of the file's contents, hex (file inputs only)"},
+      {"inputs[].builtin", "text", "the built-in workload used instead of a file, e.g. `synthetic:frame0 (seed 1)`"},
+      {"inputs[].same_as", "text", "`cloud`: the queries are the cloud itself (`--cloud` without `--queries`)"},
+      {"workload.cloud", "text", "the tree cloud: its path, or the built-in frame's name"},
+      {"workload.queries", "text", "the query set: its path, the built-in frame's name, or `FILE (the cloud itself)`"},
+      {"workload.points", "count", "points in the tree cloud"},
+      {"queries", "count", "queries searched"},
+      {"cycles", "cycles", "the job's cycles, from START to the done interrupt (the last result record reached DRAM)"},
+      {"verdict", "text", "`match` (every query's results and visit counts equal the golden model's) or `mismatch`"},
+      {"mismatches.results", "count", "queries whose results differ from the golden model's"},
+      {"mismatches.visits", "count", "queries whose visit counts differ from the golden model's"},
+      {"mismatches.first[]", "text", "descriptions of the first (at most five) mismatching queries, both answers shown"},
+      {"wall_seconds.golden", "s", "host time of the golden model's exact search of the same queries"},
+      {"wall_seconds.simulation", "s", "host time of the simulation, SystemC elaboration to the last result, statistics included"},
+      {"visits.top", "count", "top-tree nodes visited (one `dist2` each) by the Recursion Units"},
+      {"visits.pruned", "count", "popped far children pruned (`plane2 > bound`)"},
+      {"visits.leaf_points", "count", "leaf-set points scanned by the PEs (exact scans)"},
+      {"visits.follower_points", "count", "leader-list entries scanned by followers (approximate search; else 0)"},
+      {"visits.leader_checks", "count", "query-to-leader distances of the Leader Check (approximate search; else 0)"},
+      {"visits.leaf_visits", "count", "non-empty leaf visits (rows of the schedule)"},
+      {"visits.per_query.*.mean", "count", "mean over queries of that per-query count: `top`, `pruned`, `leaf_points`, `follower_points`, `leader_checks`, `leaf_visits`, and `nodes` = top + leaf points + follower points + leader checks (every distance a query costs)"},
+      {"visits.per_query.*.p50", "count", "median (nearest-rank) of that per-query count"},
+      {"visits.per_query.*.p99", "count", "99th percentile (nearest-rank) of that per-query count"},
+      {"visits.per_query.*.max", "count", "largest per-query value"},
+      {"units.recursion_units.count", "count", "Recursion Units (`fe.recursion_units`)"},
+      {"units.search_units.count", "count", "Search Units (`be.search_units`)"},
+      {"units.search_units.pes_per_su", "count", "PEs per Search Unit"},
+      {"units.search_units.issue_policy", "text", "the Search Units' issue policy (`be.issue_policy`)"},
+      {"buffers.node_cache.policy", "text", "the Node Cache's replacement policy (`node_cache.policy`)"},
+      {"energy_pj.pe", "pJ", "PE distance computations (Node Set and list scans) and Leader Check distances"},
+      {"energy_pj.ru", "pJ", "RU node operations, and reads of replicated top levels (`fe.top_levels_replicated`)"},
+      {"energy_pj.sram_read", "pJ", "reads of the Point, Query, Query Stack and Result Buffers"},
+      {"energy_pj.sram_write", "pJ", "writes of those buffers"},
+      {"energy_pj.node_cache", "pJ", "Node Cache reads and fills"},
+      {"energy_pj.leader_buffer", "pJ", "Leader Buffer reads and writes"},
+      {"energy_pj.dram", "pJ", "DRAM bytes: result write-back, leader lists kept in DRAM"},
+      {"energy_pj.leakage", "pJ", "`leakage_pj_per_mm2_cycle` x `area_mm2.total` x cycles"},
+      {"energy_pj.total", "pJ", "the sum of the components above"},
+      {"energy_pj.by_unit.search_units", "pJ", "the total spent by the Search Units' PEs (lines `pe.*`)"},
+      {"energy_pj.by_unit.recursion_units", "pJ", "spent by the Recursion Units (lines `ru.*`)"},
+      {"energy_pj.by_unit.points", "pJ", "Point Buffer reads and writes"},
+      {"energy_pj.by_unit.queries", "pJ", "Query Buffer reads and writes"},
+      {"energy_pj.by_unit.query_stack", "pJ", "Query Stack Buffer reads and writes"},
+      {"energy_pj.by_unit.results", "pJ", "Result Buffer reads and writes"},
+      {"energy_pj.by_unit.node_cache", "pJ", "Node Cache"},
+      {"energy_pj.by_unit.leader_buffer", "pJ", "Leader Buffer"},
+      {"energy_pj.by_unit.dram", "pJ", "DRAM"},
+      {"energy_pj.by_unit.leakage", "pJ", "leakage (as `energy_pj.leakage`)"},
+      {"area_mm2.sram", "mm2", "all on-chip storage (the blocks under `by_block.sram`)"},
+      {"area_mm2.logic", "mm2", "RUs, PEs and issue logic"},
+      {"area_mm2.total", "mm2", "sram + logic"},
+      {"area_mm2.by_block.sram.points", "mm2", "Point Buffer"},
+      {"area_mm2.by_block.sram.queries", "mm2", "Query Buffer"},
+      {"area_mm2.by_block.sram.query_stack", "mm2", "Query Stack Buffer"},
+      {"area_mm2.by_block.sram.results", "mm2", "Result Buffer"},
+      {"area_mm2.by_block.sram.fqq", "mm2", "FE Query Queue (one bank)"},
+      {"area_mm2.by_block.sram.bqb", "mm2", "all SUs' BE Query Buffers (`be.bqb_entries` x `be.bqb_entry_bytes` each)"},
+      {"area_mm2.by_block.sram.node_cache", "mm2", "Node Cache (one bank per SU; 0 when `node_cache.bytes` is 0)"},
+      {"area_mm2.by_block.sram.leader_buffer", "mm2", "Leader Buffer (2^top height x `leader.capacity_per_leaf` x 12 bytes; 0 for the canonical tree)"},
+      {"area_mm2.by_block.sram.top_level_replicas", "mm2", "every RU's registers for `fe.top_levels_replicated` levels (0 by default)"},
+      {"area_mm2.by_block.logic.recursion_units", "mm2", "RUs x `area.ru_mm2`"},
+      {"area_mm2.by_block.logic.pes", "mm2", "SUs x PEs per SU x `area.pe_mm2`"},
+      {"area_mm2.by_block.logic.issue_logic", "mm2", "SUs x `area.issue_logic_mm2`"},
+      {"latency_cycles.query.count", "count", "queries measured (all)"},
+      {"latency_cycles.query.mean", "cycles", "mean query latency: from admission (a Query Stack slot taken) to its last results entering the write-back stream"},
+      {"latency_cycles.query.p50", "cycles", "median query latency"},
+      {"latency_cycles.query.p99", "cycles", "99th percentile query latency"},
+      {"latency_cycles.query.max", "cycles", "longest query latency"},
+      {"latency_cycles.bqb_wait.count", "count", "leaf visits measured"},
+      {"latency_cycles.bqb_wait.mean", "cycles", "mean wait of a leaf visit from its arrival in a BE Query Buffer to the start of its batch"},
+      {"latency_cycles.bqb_wait.p50", "cycles", "median BQB wait"},
+      {"latency_cycles.bqb_wait.p99", "cycles", "99th percentile BQB wait"},
+      {"latency_cycles.bqb_wait.max", "cycles", "longest BQB wait"},
+      {"bottleneck.bound", "text", "`front-end`, `back-end` or `result write-back`"},
+      {"bottleneck.unit", "text", "the bounding unit kind: `recursion_units` or `search_units`"},
+      {"bottleneck.occupancy", "fraction", "the share of that kind's unit-cycles busy or stalled (busy_cycles + stall cycles, `pi_rs_dependency` not added again)"},
+      {"bottleneck.cause", "text", "the largest part of that occupancy: `busy` or a stall cause (`sram stall`, `bqb_full stall`, ...; `result_writeback stall` when write-back bound)"},
+      {"bottleneck.share", "fraction", "that part's share of the kind's unit-cycles"},
+      {"bottleneck.runner_up.unit", "text", "the other unit kind"},
+      {"bottleneck.runner_up.occupancy", "fraction", "its occupancy"},
+      {"bottleneck.runner_up.cause", "text", "the largest part of its occupancy"},
+      {"bottleneck.runner_up.share", "fraction", "that part's share"},
+      {"bottleneck.cycles_over_lower_bound", "ratio", "cycles / `lower_bound_cycles`"},
+      {"bottleneck.summary", "text", "the printed line, e.g. `front-end (RU) bound: RUs 95% occupied: sram stall 49%, busy 45%, ...`"},
+      {"leaders.leaders", "count", "exact scans that joined the Leader Buffer"},
+      {"leaders.followers", "count", "follower visits"},
+      {"leaders.leader_buffer_full", "count", "exact scans that found their leaf's leaders full"},
+      {"accuracy.queries", "count", "queries compared"},
+      {"accuracy.exact_matches", "count", "queries whose results equal exact search's (index and `dist2`)"},
+      {"accuracy.exact_match_fraction", "fraction", "exact_matches / queries"},
+      {"accuracy.mean_extra_distance_m", "m", "NN/kNN: mean over neighbour ranks of sqrt(dist2) - sqrt(exact dist2)"},
+      {"accuracy.max_extra_distance_m", "m", "NN/kNN: the largest such difference"},
+      {"accuracy.missing_neighbors", "count", "NN/kNN: ranks the exact list holds and the approximate one does not"},
+      {"accuracy.recall", "fraction", "radius: true hits / exact hits, pooled over queries"},
+      {"accuracy.precision", "fraction", "radius: true hits / returned hits"},
+      {"accuracy.exact_hits", "count", "radius: hits of exact search"},
+      {"accuracy.returned_hits", "count", "radius: hits returned by approximate search"},
+      {"tree.points", "count", "points in the tree"},
+      {"tree.top_height", "count", "top-tree height h (levels)"},
+      {"tree.full_height", "count", "ceil(log2(n + 1)): the canonical tree's height"},
+      {"tree.split_axis", "text", "`widest` or `round-robin`"},
+      {"tree.top_nodes", "count", "2^h - 1"},
+      {"tree.leaves", "count", "2^h leaf sets (0 for the canonical tree)"},
+      {"tree.nonempty_leaves", "count", "leaf sets holding points"},
+      {"tree.leaf_set_mean", "ratio", "mean points per non-empty leaf set"},
+      {"tree.leaf_set_max", "count", "largest leaf set"},
+      {"config.search.mode", "text", "`nn`, `knn` or `radius`"},
+      {"config.search.k", "count", "neighbours per query (1 for NN)"},
+      {"config.search.radius", "m", "radius search only: the radius"},
+      {"config.search.max_nn", "count", "radius search only: hits kept per query (0: all)"},
+      {"config.approx.enabled", "bool", "approximate (leader/follower) search on"},
+      {"config.approx.thd", "m", "approximate search only: the leader threshold"},
+      {"config.approx.leader_result_width", "count", "approximate search only: the leader result width R in effect (`--leader-width`, 0 meaning k; used by nn and knn)"},
+  };
+  return table;
+}
+
+// Sorting key within a section: units and buffers by block (in placement order), then the
+// block's own fields, its counters, its derived fields, its per-unit counters.
+enum Origin { kOther, kCounter, kDerived, kPerUnit };
+struct Keyed {
+  StatField f;
+  std::size_t section, block;
+  int origin;
+  std::size_t order;
+};
+
+std::string counter_meaning(const hw::Counter& c, std::size_t groups) {
+  if (groups < 2) return c.description();
+  return c.description() +
+         (c.merge() == hw::Counter::Merge::Max ? "; the largest of any unit" : "; summed over the units");
+}
+
+}  // namespace
+
+std::vector<StatField> stats_schema() {
+  std::vector<Keyed> rows;
+  std::vector<std::string> blocks;  // placement paths, in order
+  const auto block_of = [&](const std::string& path) {
+    std::size_t best = blocks.size(), len = 0;
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+      if (path.compare(0, blocks[i].size(), blocks[i]) == 0 && blocks[i].size() > len &&
+          (path.size() == blocks[i].size() || path[blocks[i].size()] == '.'))
+        best = i, len = blocks[i].size();
+    return best;
+  };
+  const auto section_index = [](const std::string& id) {
+    for (std::size_t i = 0; i < sections().size(); ++i)
+      if (id == sections()[i].id) return i;
+    return sections().size();
+  };
+  const auto add = [&](std::string path, std::string unit, std::string meaning, std::string formula, int origin) {
+    StatField f{section_of(path), path, std::move(unit), std::move(meaning), std::move(formula)};
+    const std::size_t s = section_index(f.section);
+    rows.push_back({std::move(f), s, 0, origin, rows.size()});
+  };
+
+  // The counters, where run_stats_json puts them, from an accelerator of the default
+  // configuration (every group exists in any configuration).
+  const hw::TigrisAccelerator accel("stats_schema", hw::AcceleratorConfig{});
+  for (const Placement& p : placements()) {
+    const auto groups = accel.stats().find(p.kind);
+    if (groups.empty()) continue;
+    const bool by_name = std::string(p.path).find("{name}") != std::string::npos;
+    for (const hw::StatGroup* g : groups) {
+      const std::string at = placed_at(p, *g);
+      if (std::find(blocks.begin(), blocks.end(), at) == blocks.end()) blocks.push_back(at);
+      const std::string title = g->description().empty() ? "" : g->description() + ": ";
+      for (const hw::Counter* c : g->counters()) {
+        add(at + "." + c->name(), c->unit(), title + counter_meaning(*c, by_name ? 1 : groups.size()), "", kCounter);
+        if (p.per_unit)
+          add(at + ".per_unit[]." + c->name(), c->unit(), "per unit, in id order: " + c->description(), "", kPerUnit);
+      }
+      if (!by_name) break;  // the groups of a kind share their counters
+    }
+  }
+  for (const Row& r : other_fields()) add(r.path, r.unit, r.meaning, "", kOther);
+  for (const DerivedStat& d : derived_stats()) add(d.path, d.unit, d.meaning, d.formula, kDerived);
+  for (const config_table::Key& k : config_table::keys()) {
+    std::string unit = k.spec.unit;
+    if (unit == "-")
+      unit = k.type == config_table::Type::Bool ? "bool" : k.type == config_table::Type::Enum ? "text" : "number";
+    add("config." + k.name, unit, k.spec.doc, "", kOther);
+  }
+  for (Keyed& k : rows) k.block = block_of(k.f.path);
+  std::stable_sort(rows.begin(), rows.end(), [](const Keyed& a, const Keyed& b) {
+    return std::make_tuple(a.section, a.block, a.origin, a.order) < std::make_tuple(b.section, b.block, b.origin, b.order);
+  });
+  std::vector<StatField> out;
+  for (Keyed& k : rows) out.push_back(std::move(k.f));
+  return out;
+}
+
+json stats_schema_json() {
+  json secs = json::array();
+  for (const Section& s : sections()) secs.push_back({{"id", s.id}, {"title", s.title}});
+  json fields = json::array();
+  for (const StatField& f : stats_schema()) {
+    json j = {{"section", f.section}, {"path", f.path}, {"unit", f.unit}, {"meaning", f.meaning}};
+    if (!f.formula.empty()) j["formula"] = f.formula;
+    fields.push_back(j);
+  }
+  return {{"sections", secs}, {"fields", fields}};
+}
+
+}  // namespace tigris
