@@ -1,6 +1,8 @@
 #include "banked_sram.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace tigris::hw {
@@ -30,7 +32,11 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
       word_in_row_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
-      ports_(static_cast<std::uint32_t>(config.ports)), stats_(basename(), "buffer", title(basename())),
+      ports_(static_cast<std::uint32_t>(config.ports)),
+#ifdef TIGRIS_CHECK_SRAM
+      reference_(word_bytes_, num_banks_, static_cast<std::uint64_t>(config.ports)),
+#endif
+      stats_(basename(), "buffer", title(basename())),
       read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
                               EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
       write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
@@ -57,6 +63,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
     n = words;
     finish = std::max(finish, reserve_words(first, words, start, now));
   }
+  check(start, a, now, finish);
   if (n == 0) return start;
   const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
   conflict_cycles_ += finish - ideal;
@@ -119,9 +126,25 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
     last = served + 1;
     n += words;
   }
+  check(start, a, now, last);
   conflict_cycles_ += stall;
   count(a.write, n, a.bytes);
   return a.pipeline_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
+}
+
+void BankedSram::check([[maybe_unused]] std::uint64_t start, [[maybe_unused]] const tlm_if::AccessProfile& a,
+                       [[maybe_unused]] std::uint64_t now, [[maybe_unused]] std::uint64_t served) {
+#ifdef TIGRIS_CHECK_SRAM
+  const std::uint64_t want = reference_.charge(start, a, now);
+  if (want == served) return;
+  std::fprintf(stderr,
+               "TIGRIS_CHECK_SRAM: %s: an access from cycle %llu (%s, %s, %llu bytes) was served by cycle %llu; "
+               "one-at-a-time booking serves it by cycle %llu\n",
+               name(), static_cast<unsigned long long>(start), a.write ? "write" : "read",
+               a.pipeline ? "pipeline" : a.scatter ? "scatter" : "burst", static_cast<unsigned long long>(a.bytes),
+               static_cast<unsigned long long>(served), static_cast<unsigned long long>(want));
+  std::abort();
+#endif
 }
 
 void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {

@@ -21,6 +21,9 @@
 #include "hw/mem/bank_calendar.hpp"
 #include "hw/mem/fast_divider.hpp"
 #include "hw/mem/port_calendar.hpp"
+#ifdef TIGRIS_CHECK_SRAM
+#include "hw/mem/sram_reference.hpp"
+#endif
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 #include "tlm/access_profile.hpp"
@@ -45,6 +48,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   void start() {
     banks_.clear();
     ports_.clear();
+#ifdef TIGRIS_CHECK_SRAM
+    reference_.clear();
+#endif
     stall_.start();
   }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
@@ -69,6 +75,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // or after `cycle`, one after another); returns the cycle after the last one booked.
   std::uint64_t reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle, std::uint64_t now);
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
+  // With TIGRIS_CHECK_SRAM: the naive model books the access too and must agree on `served`, the
+  // cycle after its last word; else nothing.
+  void check(std::uint64_t start, const tlm_if::AccessProfile& access, std::uint64_t now, std::uint64_t served);
   // The words an access of `bytes` at `first_byte` touches: (first word, how many).
   std::pair<std::uint64_t, std::uint64_t> words_of(std::uint64_t first_byte, std::uint64_t bytes) const {
     if (bytes == 0) return {word_index(first_byte), 0};
@@ -100,6 +109,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // within one word finds its bank with a shift and a mask (charge_in_order's short path).
   bool word_in_row_;
   PortCalendar ports_;
+#ifdef TIGRIS_CHECK_SRAM
+  SramReference reference_;
+#endif
   StatGroup stats_;
   // Words count accesses (`word_bytes` each: an access of a few bytes is one word).
   Counter reads_{stats_, "reads", "count", "words read"};
