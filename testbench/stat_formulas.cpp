@@ -5,17 +5,13 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "config_keys.hpp"
+
 namespace tigris {
 
 namespace {
 
 using nlohmann::json;
-
-json::json_pointer pointer(const std::string& dotted) {
-  std::string p = "/" + dotted;
-  std::replace(p.begin(), p.end(), '.', '/');
-  return json::json_pointer(p);
-}
 
 // Recursive descent over  sum := product (('+'|'-') product)*,  product := atom (('*'|'/') atom)*,
 // atom := number | path | max '(' sum ',' sum ')' | '(' sum ')'. Left to right, as C++ would
@@ -82,7 +78,7 @@ class Parser {
       if (!a || !b) return std::nullopt;
       return std::max(*a, *b);
     }
-    const json::json_pointer p = pointer(name);
+    const json::json_pointer p = config_table::pointer(name);
     if (!stats_.contains(p)) return std::nullopt;
     const json& v = stats_[p];
     if (!v.is_number()) fail("field " + name + " is not a number");
@@ -134,7 +130,7 @@ std::optional<double> evaluate(const std::string& formula, const json& stats) {
 
 void add_derived(json& stats) {
   for (const DerivedStat& d : derived_stats())
-    if (const std::optional<double> v = evaluate(d.formula, stats)) stats[pointer(d.path)] = *v;
+    if (const std::optional<double> v = evaluate(d.formula, stats)) stats[config_table::pointer(d.path)] = *v;
 }
 
 }  // namespace tigris
