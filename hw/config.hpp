@@ -1,6 +1,7 @@
 // Every parameter of the accelerator model (docs/model.md), with the paper's defaults.
 // Each block's visit() declares its keys' JSON names, units, allowed values and meaning
-// (hw/config_spec.hpp); the JSON configuration (testbench/config.*) is built from them.
+// (config/spec.hpp); the JSON configuration (config/apply.hpp, testbench/config.hpp) is built
+// from them.
 #pragma once
 
 #include <cstdint>
@@ -231,7 +232,9 @@ struct AcceleratorConfig {
   EnergyTable energy;
   AreaTable area;
 
-  // Every key, in the order the reference and the dump list them.
+  // Every key, in the order the reference and the dump list them (config/key_table.hpp).
+  static constexpr const char* kListCommand = "tigris run --list-config";
+  static constexpr const char* kSetExample = "fe.recursion_units=32";
   template <class V>
   void visit(V&& v) {
     v("clock_mhz", clock_mhz,

@@ -29,9 +29,6 @@ class JobObserver {
  public:
   virtual ~JobObserver() = default;
   virtual void job_started(std::uint32_t /*num_queries*/) {}
-  // A host hint, no hardware event: `query` will be reported on soon (its next walk is a few
-  // dispatches away), so an observer may start loading what it keeps of it into the cache.
-  virtual void prefetch(std::uint32_t /*query*/) {}
   // A Recursion Unit activation of `query`: `top` nodes compared, `pruned` subtrees skipped.
   virtual void walked(std::uint32_t /*query*/, std::uint32_t /*top*/, std::uint32_t /*pruned*/) {}
   // A leaf-visit decision, in simulated-time order: how `query` is served at `leaf`.
@@ -67,9 +64,6 @@ class ObserverList final : public JobObserver {
   void attach(JobObserver& o) { list_.push_back(&o); }
   void job_started(std::uint32_t n) override {
     for (JobObserver* o : list_) o->job_started(n);
-  }
-  void prefetch(std::uint32_t q) override {
-    for (JobObserver* o : list_) o->prefetch(q);
   }
   void walked(std::uint32_t q, std::uint32_t top, std::uint32_t pruned) override {
     for (JobObserver* o : list_) o->walked(q, top, pruned);

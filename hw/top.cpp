@@ -11,22 +11,24 @@ namespace tigris::hw {
 using namespace tlm_if;
 
 TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                                     bool reverse_construction)
-    : sc_module(name), config_(config), meter_(config_.energy), host("host"), irq("irq"),
+                                     const HostOptions& host_options)
+    : sc_module(name), config_(config), meter_(config_.energy), scans_(make_scan_service(host_options.scan_thread)),
+      host("host"), irq("irq"),
       clock_{config_.period()}, scheduler_("scheduler", clock_),
       points_("points", config_.sram.points, clock_, meter_, config_.stall),
       queries_("queries", config_.sram.queries, clock_, meter_, config_.stall),
       query_stack_("query_stack", config_.sram.query_stack, clock_, meter_, config_.stall),
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
       qdn_("qdn", config_, observers_),
-      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, scans_, reverse_construction),
+      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, *scans_,
+          host_options.reverse_construction),
       to_points_("to_points"), to_queries_("to_queries"),
       to_dram_("to_dram") {
-  const SearchUnit::Links links{fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, leaf_bounds_, scans_};
+  const SearchUnit::Links links{fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, *scans_};
   const int n = config_.be.search_units;
   sus_.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
-    const int i = reverse_construction ? n - 1 - k : k;
+    const int i = host_options.reverse_construction ? n - 1 - k : k;
     sus_[static_cast<std::size_t>(i)] = std::make_unique<SearchUnit>(
         ("su" + std::to_string(i)).c_str(), static_cast<std::uint32_t>(i), config_, job_, links);
   }
@@ -197,8 +199,7 @@ void TigrisAccelerator::do_start() {
   for (BankedSram* b : {&points_, &queries_, &query_stack_}) b->start();
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();
-  leaf_bounds_.build(TreeView(to_points_.data(), job_), job_.num_leaves);
-  scans_.start(job_.slots, scan_thread_);
+  scans_->start(job_, TreeView(to_points_.data(), job_));
   for (auto& su : sus_) su->start();
   node_cache_.start();
   observers_.job_started(job_.num_queries);

@@ -15,13 +15,12 @@
 #include <tlm_utils/simple_target_socket.h>
 
 #include "hw/be/issue_policy.hpp"
-#include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
-#include "hw/be/scan_worker.hpp"
 #include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/fe/front_end.hpp"
+#include "hw/host/scan_service.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/banked_sram.hpp"
 #include "hw/mem/buffer_port.hpp"
@@ -33,6 +32,15 @@
 
 namespace tigris::hw {
 
+// How the simulator runs on the host, none of it hardware; the figures are the same either way
+// (tests check).
+struct HostOptions {
+  // Builds the RUs and SUs in reverse id order: the figures must not depend on it, since
+  // same-cycle work runs in unit order (hw/scheduler.hpp).
+  bool reverse_construction = false;
+  bool scan_thread = false;  // exact NN/kNN scans on a second host thread (hw/host/scan_service.hpp)
+};
+
 class TigrisAccelerator : public sc_core::sc_module {
   // Declared first: the units below keep references to them, so they must be built first.
   AcceleratorConfig config_;
@@ -41,22 +49,16 @@ class TigrisAccelerator : public sc_core::sc_module {
   ObserverList observers_;
   StatGroup stats_{"tigris"};
   StatGroup be_stats_{"be"};
-  LeafBounds leaf_bounds_;  // host-side speed-up for the PEs' scans (hw/be/leaf_bounds.hpp)
-  ScanWorker scans_;        // host-side: NN/kNN scans on a second thread (hw/be/scan_worker.hpp)
+  std::unique_ptr<ScanService> scans_;  // the host's speed-ups, no hardware (hw/host/scan_service.hpp)
 
  public:
   SC_HAS_PROCESS(TigrisAccelerator);
   tlm_utils::simple_target_socket<TigrisAccelerator> host;
   sc_core::sc_out<bool> irq;
 
-  // `reverse_construction` builds the RUs and SUs in reverse id order: the figures must not
-  // depend on it (a test checks), since same-cycle work runs in unit order (hw/scheduler.hpp).
-  TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, bool reverse_construction = false);
-  ~TigrisAccelerator() override { scans_.drain(); }  // no scan may outlive its Search Unit
-
-  // Host setting, no hardware: exact NN/kNN scans run on a second host thread (from the next
-  // START on). The figures are the same either way; a test checks.
-  void use_scan_thread(bool on) { scan_thread_ = on; }
+  TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                    const HostOptions& host_options = {});
+  ~TigrisAccelerator() override { scans_->drain(); }  // no scan may outlive its Search Unit
 
   const AcceleratorConfig& config() const { return config_; }
   const JobDescriptor& job() const { return job_; }  // the last job started
@@ -71,6 +73,8 @@ class TigrisAccelerator : public sc_core::sc_module {
   // The energy meter's picojoules, with `leakage_pj` (hw/area_model.hpp) added.
   nlohmann::json energy_pj(double leakage_pj) const { return meter_.energy_pj(leakage_pj); }
   void attach_observer(JobObserver& observer) { observers_.attach(observer); }
+  // A host speed-up: `hint` hears of each query shortly before the observers do.
+  void attach_hint(QueryHint& hint) { scans_->attach(hint); }
   // What every queue and unit holds: the report of a run that stopped before it finished.
   std::string describe_state() const;
   // Records unit busy flags, queue occupancies and query ids into `vcd` from now on.
@@ -107,7 +111,6 @@ class TigrisAccelerator : public sc_core::sc_module {
   sc_core::sc_event start_, finish_, irq_changed_;
   std::uint64_t start_cycle_ = 0, done_cycle_ = 0;
   bool done_ = false;
-  bool scan_thread_ = false;
   std::string error_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;
   AggregateProbes waves_;

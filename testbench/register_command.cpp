@@ -236,7 +236,10 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   for (const std::string& s : o.sets) registration::apply_set(config, s);
   // accel / accel-approx: the golden back-end's searches (exact / approx) on the model.
   const bool in_loop = o.search == "accel" || o.search == "accel-approx";
-  if (!o.search.empty()) config.search.backend = o.search == "accel" ? "exact" : o.search == "accel-approx" ? "approx" : o.search;
+  if (!o.search.empty())
+    config.search.backend = registration::parse_backend(o.search == "accel"          ? "exact"
+                                                        : o.search == "accel-approx" ? "approx"
+                                                                                     : o.search);
   if (!in_loop && (!o.accel_config.empty() || !o.accel_sets.empty()))
     throw std::invalid_argument(std::string(o.accel_config.empty() ? "--accel-set" : "--accel-config") +
                                 " configures the accelerator in the loop: it needs --search accel or accel-approx");
@@ -251,7 +254,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     if (!o.search.empty() && o.search != "approx" && o.search != "accel-approx")
       throw std::invalid_argument("--approx-thd needs --search approx or accel-approx (got --search " + o.search + ")");
     const double t = parse_number("--approx-thd", o.approx_thd);
-    config.search.backend = "approx";
+    config.search.backend = registration::Backend::Approx;
     // Through the keys, so the flag has the key's range and registration.json reads back.
     registration::apply_set(config, "search.nn_thd=" + o.approx_thd, "--approx-thd");
     config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
@@ -264,7 +267,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     registration::apply_set(config, "inject.normals_shell_inner=" + o.inject_shell.substr(0, at), "--inject-shell");
     registration::apply_set(config, "inject.normals_shell_outer=" + o.inject_shell.substr(at + 1), "--inject-shell");
   }
-  if (injecting && config.search.backend == "approx")
+  if (injecting && config.search.backend == registration::Backend::Approx)
     throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
                                 " needs --search exact, flann or accel (error injection measures exact search; "
                                 "got search " + (in_loop ? o.search : std::string("approx")) + ")");
@@ -275,9 +278,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   }
   if (app.count("--json") && !o.list_config) throw std::invalid_argument("--json goes with --list-config");
   if (o.list_config) {
-    std::printf("%-42s %-16s %s\n", "key", o.preset.c_str(), "allowed: meaning");
-    for (const auto& k : registration::key_reference(config))
-      std::printf("%-42s %-16s %s: %s\n", k.name.c_str(), k.value.c_str(), k.allowed.c_str(), k.doc.c_str());
+    std::cout << registration::key_reference(config, o.preset);
     return 0;
   }
   if (app.count("--source") != app.count("--target"))
@@ -348,7 +349,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   }
   std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
                source_name.c_str(), source.size(), target_name.c_str(), target.size(), o.preset.c_str(),
-               config.search.backend.c_str(), injection.c_str());
+               registration::to_string(config.search.backend), injection.c_str());
   auto budget = std::make_shared<registration::WorkBudget>();
   budget->limit = o.max_work;
   std::string stage_now;
@@ -407,7 +408,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   doc["source"] = {{"name", source_name}, {"points", source.size()}};
   doc["target"] = {{"name", target_name}, {"points", target.size()}};
   doc["preset"] = o.preset;
-  doc["search"] = in_loop ? o.search : config.search.backend;
+  doc["search"] = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
   // The injected error (also in config.inject): null when none.
   doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
                       {"normals_shell", config.inject.normals_shell_outer > 0
@@ -493,7 +494,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   write_file(path, [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });  // paths: any bytes
 
   std::printf("tigris register: preset %s, search %s, %zu -> %zu points%s\n", o.preset.c_str(),
-              config.search.backend.c_str(), source.size(), target.size(), injection.c_str());
+              registration::to_string(config.search.backend), source.size(), target.size(), injection.c_str());
   std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
   for (const auto& s : r.stages)
     std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,

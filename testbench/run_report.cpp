@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "config.hpp"
-#include "config_keys.hpp"
+#include "config/key_table.hpp"
 #include "hw/area_model.hpp"
 #include "stat_formulas.hpp"
 
@@ -46,10 +46,10 @@ json run_stats_json(const hw::TigrisAccelerator& accel, std::uint64_t cycles) {
     const auto groups = root.find(p.kind);
     if (groups.empty()) throw std::logic_error(std::string("no statistics group of kind '") + p.kind + "'");
     if (std::string(p.path).find("{name}") != std::string::npos) {
-      for (const hw::StatGroup* g : groups) j[config_table::pointer(placed_at(p, *g))] = g->counters_json();
+      for (const hw::StatGroup* g : groups) j[config::pointer(placed_at(p, *g))] = g->counters_json();
       continue;
     }
-    json& at = j[config_table::pointer(p.path)];
+    json& at = j[config::pointer(p.path)];
     if (at.is_null()) at = json::object();
     at.update(hw::StatGroup::sum(groups), true);
     if (p.per_unit) {

@@ -13,16 +13,19 @@
 #include <utility>
 #include <vector>
 
+#include "hw/host/scan_service.hpp"
 #include "hw/observer.hpp"
 #include "sw_ref/search.hpp"
 
 namespace tigris {
 
 // Records what the accelerator reports, in the golden model's shape.
-class VisitRecorder final : public hw::JobObserver {
+// It also takes the host's prefetch hints (hw/host/scan_service.hpp): its per-query records are
+// megabytes touched at random.
+class VisitRecorder final : public hw::JobObserver, public hw::QueryHint {
  public:
   void job_started(std::uint32_t num_queries) override;
-  void prefetch(std::uint32_t query) override { __builtin_prefetch(out_.per_query.data() + query, 1); }
+  void soon(std::uint32_t query) override { __builtin_prefetch(out_.per_query.data() + query, 1); }
   void walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) override;
   void leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) override;
   // Per-query counts, their totals and the schedule (results left empty).

@@ -33,8 +33,8 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     const SimSetup& s = setups[i];
     const std::string tag = setups.size() == 1 ? "" : std::to_string(i);
     Bench b;
-    b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config, s.reverse_construction);
-    b.accel->use_scan_thread(s.sim_threads >= 2);
+    b.accel = std::make_unique<hw::TigrisAccelerator>(("tigris" + tag).c_str(), s.config,
+                                                      hw::HostOptions{s.reverse_construction, s.sim_threads >= 2});
     b.host = std::make_unique<HostDriver>(("host" + tag).c_str(), *s.image, *s.queries, s.num_points, s.job);
     b.irq = std::make_unique<sc_core::sc_signal<bool>>(("irq" + tag).c_str());
     b.accel->irq(*b.irq);
@@ -42,6 +42,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     b.host->socket.bind(b.accel->host);
     b.recorder = std::make_unique<VisitRecorder>();
     b.accel->attach_observer(*b.recorder);
+    b.accel->attach_hint(*b.recorder);
     b.latency = std::make_unique<LatencyRecorder>();
     b.accel->attach_observer(*b.latency);
     if (s.job.runs > 1) {

@@ -34,7 +34,7 @@ struct SimSetup {
   bool reverse_construction = false;  // tests: RUs and SUs built in reverse id order
   std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)
   // Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread
-  // (hw/be/scan_worker.hpp); the figures do not depend on it.
+  // (hw/host/threaded_scans.hpp); the figures do not depend on it.
   int sim_threads = default_sim_threads();
 };
 

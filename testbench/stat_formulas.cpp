@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "config_keys.hpp"
+#include "config/key_table.hpp"
 
 namespace tigris {
 
@@ -78,7 +78,7 @@ class Parser {
       if (!a || !b) return std::nullopt;
       return std::max(*a, *b);
     }
-    const json::json_pointer p = config_table::pointer(name);
+    const json::json_pointer p = config::pointer(name);
     if (!stats_.contains(p)) return std::nullopt;
     const json& v = stats_[p];
     if (!v.is_number()) fail("field " + name + " is not a number");
@@ -130,7 +130,7 @@ std::optional<double> evaluate(const std::string& formula, const json& stats) {
 
 void add_derived(json& stats) {
   for (const DerivedStat& d : derived_stats())
-    if (const std::optional<double> v = evaluate(d.formula, stats)) stats[config_table::pointer(d.path)] = *v;
+    if (const std::optional<double> v = evaluate(d.formula, stats)) stats[config::pointer(d.path)] = *v;
 }
 
 }  // namespace tigris

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "config.hpp"
-#include "config_keys.hpp"
+#include "config/key_table.hpp"
 #include "hw/top.hpp"
 #include "run_report.hpp"
 #include "stat_formulas.hpp"
@@ -240,10 +240,10 @@ std::vector<StatField> stats_schema() {
   }
   for (const Row& r : other_fields()) add(r.path, r.unit, r.meaning, "", kOther);
   for (const DerivedStat& d : derived_stats()) add(d.path, d.unit, d.meaning, d.formula, kDerived);
-  for (const config_table::Key& k : config_table::keys()) {
+  for (const config::Key& k : config::keys<hw::AcceleratorConfig>()) {
     std::string unit = k.spec.unit;
     if (unit == "-")
-      unit = k.type == config_table::Type::Bool ? "bool" : k.type == config_table::Type::Enum ? "text" : "number";
+      unit = k.type == config::Type::Bool ? "bool" : k.type == config::Type::Enum ? "text" : "number";
     add("config." + k.name, unit, k.spec.doc, "", kOther);
   }
   for (Keyed& k : rows) k.block = block_of(k.f.path);

@@ -133,7 +133,7 @@ if grep -q '"transform"' "$tmp/reg/registration.json" && grep -q '"kdtree_share"
    grep -q '"rotation_deg"' "$tmp/reg/registration.json"; then passes=$((passes + 1))
 else echo "FAIL: register's registration.json"; failures=$((failures + 1)); fi
 expect 2 "unknown key 'icp.max_iteration' (did you mean 'icp.max_iterations'?)" -- register --set icp.max_iteration=3 --out "$tmp/reg2"
-expect 2 "'normals.radius' = -1 is out of range" -- register --set normals.radius=-1 --out "$tmp/reg2"
+expect 2 "'normals.radius' = -1.0 is out of range" -- register --set normals.radius=-1 --out "$tmp/reg2"
 expect 2 "$tmp/missing.json: cannot open" -- register --config "$tmp/missing.json" --out "$tmp/reg2"
 expect 2 "$tmp/missing.bin" -- register --source "$tmp/missing.bin" --target "$tmp/three.bin" --out "$tmp/reg2"
 expect 2 "--source and --target go together" -- register --source "$tmp/three.bin" --out "$tmp/reg2"

@@ -11,6 +11,10 @@
   waves      the VCD's machine-wide counts average to the statistics' utilizations and stall shares
   timeline   the whole-machine counters sum to the same, sampled tracks say so, a large request warns
   help       a command's --help lists its own flags with defaults; typos get suggestions
+  layers     what extending relies on (docs/extending.md): fe/ includes nothing of be/, host speed
+             (threads, prefetch hints) stays in hw/host/, observers see hardware events only, hw/
+             takes from sw_ref/ only arith.hpp and kdtree.hpp; the accelerator's and the pipeline's
+             configurations share one mechanism (the same reference table, errors and suggestions)
 
     tests/newcomer_test.py --tigris build/testbench/tigris [--part NAME ...]
 """
@@ -339,8 +343,53 @@ def part_help(d):
     check("--k 50 is more than the 20 points" in p.stderr, f"k above the cloud gets a note: {p.stderr}")
 
 
+def includes(folder):
+    """{file: [quoted includes]} of every source under hw/`folder`."""
+    out = {}
+    base = os.path.join(ROOT, "hw", folder)
+    for dirpath, _, files in os.walk(base):
+        for name in files:
+            if name.endswith((".hpp", ".cpp")):
+                path = os.path.join(dirpath, name)
+                with open(path) as f:
+                    text = f.read()
+                out[os.path.relpath(path, ROOT)] = (re.findall(r'#include "([^"]+)"', text), text)
+    return out
+
+
+def part_layers(d):
+    everything = includes("")
+    check(len(everything) > 40, f"hw/ sources found: {len(everything)}")
+    for path, (incs, text) in everything.items():
+        if path.startswith("hw/fe/"):
+            check(not [i for i in incs if i.startswith("hw/be/")], f"{path} includes be/: {incs}")
+        if not path.startswith("hw/host/"):
+            check(not re.search(r"std::thread|<thread>|<atomic>|__builtin_prefetch", text),
+                  f"{path}: host threads or prefetches outside hw/host/")
+        check(not [i for i in incs if i.startswith("sw_ref/") and i not in ("sw_ref/arith.hpp", "sw_ref/kdtree.hpp")],
+              f"{path} takes more than arith.hpp and kdtree.hpp from sw_ref/: {incs}")
+    check("prefetch" not in everything["hw/observer.hpp"][1], "the observer interface has no prefetch hint")
+    run_ref = tig("run", "--list-config", code=0).stdout
+    reg_ref = tig("register", "--list-config", code=0).stdout
+    check(run_ref.startswith("| key | default | unit | allowed | meaning |"), f"run reference: {run_ref[:80]}")
+    check(reg_ref.startswith("| key | dp4 | unit | allowed | meaning |"), f"register reference: {reg_ref[:80]}")
+    check("| `icp.error` | point_to_plane | - | `point_to_point`, `point_to_plane` |" in reg_ref,
+          "register's reference lists an enum key as run's does")
+    # run --list-config lists the defaults; its --set is checked before anything runs.
+    out = ["--out", os.path.join(d, "layers")]
+    for cmd, bad, want in (("run", "fe.recursion_unit=3", "fe.recursion_units"),
+                           ("register", "icp.max_iteration=3", "icp.max_iterations")):
+        p = tig(cmd, "--set", bad, *out, code=2)
+        check(f"--set '{bad}': unknown key '{bad.split('=')[0]}' (did you mean '{want}'?)" in p.stderr,
+              f"{cmd} --set {bad}: {p.stderr}")
+    for cmd, bad, want in (("run", "be.issue_policy=x", "'be.issue_policy' must be one of `"),
+                           ("register", "icp.solver=x", "'icp.solver' must be one of `svd`, `lm`, got \"x\"")):
+        p = tig(cmd, "--set", bad, *out, code=2)
+        check(want in p.stderr, f"{cmd} --set {bad}: {p.stderr}")
+
+
 PARTS = {"inputs": part_inputs, "schema": part_schema, "diff": part_diff, "plot": part_plot,
-         "waves": part_waves, "timeline": part_timeline, "help": part_help}
+         "waves": part_waves, "timeline": part_timeline, "help": part_help, "layers": part_layers}
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

@@ -645,7 +645,7 @@ TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not g
 }
 
 TEST_CASE("scan thread: one or two host threads give the same results and figures", "[hw][timing]") {
-  // NN/kNN scans of an exact search may run on a second host thread (hw/be/scan_worker.hpp).
+  // NN/kNN scans of an exact search may run on a second host thread (hw/host/threaded_scans.hpp).
   // A query stack of a few slots brings each query back to an RU right after its scan, so the
   // walk often has to wait for the worker; a large one lets the worker fall far behind.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 68);

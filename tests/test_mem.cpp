@@ -10,7 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "hw/fifo_ring.hpp"
+#include "hw/host/fifo_ring.hpp"
 #include "hw/mem/bank_calendar.hpp"
 #include "hw/mem/fast_divider.hpp"
 #include "hw/mem/result_slots.hpp"

@@ -102,7 +102,7 @@ TEST_CASE("pipeline: flann, exact and approx back-ends all register the pair", "
   const Pair& p = synthetic(900);
   for (const char* backend : {"flann", "exact", "approx"}) {
     PipelineConfig c = preset("dp4");
-    c.search.backend = backend;
+    c.search.backend = parse_backend(backend);
     const RegistrationResult r = register_clouds(p.source, p.target, c);
     const PoseError e = pose_error(p.truth, r.transform);
     INFO(backend << ": translation " << e.translation_m << " m, rotation " << e.rotation_deg << " deg");
@@ -126,7 +126,7 @@ TEST_CASE("pipeline: approximate search with thresholds 0 gives the exact transf
   const Pair& p = synthetic(900);
   PipelineConfig exact = preset("dp4");
   PipelineConfig approx = exact;
-  approx.search.backend = "approx";
+  approx.search.backend = Backend::Approx;
   approx.search.nn_thd = 0.0;
   approx.search.radius_thd = 0.0;
   const RegistrationResult a = register_clouds(p.source, p.target, exact);
@@ -189,8 +189,8 @@ TEST_CASE("pipeline: the injected shell reaches normal estimation only", "[pipel
 
 TEST_CASE("pipeline config: error injection values are checked, naming the keys", "[pipeline]") {
   PipelineConfig c = preset("dp4");
-  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=0"), Catch::Contains("'inject.rpce_kth' = 0 is out of range (>= 1"));
-  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=two"), Catch::Contains("'inject.rpce_kth' must be a number"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=0"), Catch::Contains("'inject.rpce_kth' = 0 is out of range (1..100000)"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=two"), Catch::Contains("'inject.rpce_kth' must be an integer, got 'two'"));
   CHECK_THROWS_WITH(apply_set(c, "inject.normals_shell_inner=-0.1"),
                     Catch::Contains("'inject.normals_shell_inner' = -0.1 is out of range"));
   CHECK_NOTHROW(validate(c, "x"));
@@ -205,14 +205,14 @@ TEST_CASE("pipeline config: error injection values are checked, naming the keys"
   CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("R1 < r < R2"));
   c.inject.normals_shell_outer = 0.4;
   CHECK_NOTHROW(validate(c, "x"));
-  c.search.backend = "approx";
+  c.search.backend = Backend::Approx;
   CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("needs 'search.backend' flann or exact"));
   c.inject.normals_shell_outer = 0.0;
   c.inject.rpce_kth = 2;
   CHECK_THROWS_WITH(register_clouds(synthetic(900).source, synthetic(900).target, c),
                     Catch::Contains("needs 'search.backend' flann or exact"));
   // The echo carries the injection and reads back.
-  c.search.backend = "exact";
+  c.search.backend = Backend::Exact;
   PipelineConfig d = preset("dp7");
   apply_json(d, to_json(c), "echo");
   CHECK(d.inject.rpce_kth == 2);
@@ -227,9 +227,9 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   CHECK_THROWS_WITH(apply_set(c, "icp.max_iteration=3"),
                     Catch::Contains("unknown key 'icp.max_iteration'") && Catch::Contains("icp.max_iterations"));
   CHECK_THROWS_WITH(apply_set(c, "normals.radius=-1"),
-                    Catch::Contains("'normals.radius' = -1 is out of range (> 0"));
+                    Catch::Contains("'normals.radius' = -1.0 is out of range (> 0, <= 100)"));
   CHECK_THROWS_WITH(apply_set(c, "icp.max_iterations=2.5"), Catch::Contains("'icp.max_iterations' must be an integer"));
-  CHECK_THROWS_WITH(apply_set(c, "icp.solver=qr"), Catch::Contains("'icp.solver' must be one of svd, lm"));
+  CHECK_THROWS_WITH(apply_set(c, "icp.solver=qr"), Catch::Contains("'icp.solver' must be one of `svd`, `lm`, got \"qr\""));
   CHECK_THROWS_WITH(apply_set(c, "kpce.reciprocal=maybe"), Catch::Contains("'kpce.reciprocal' must be true"));
   CHECK_THROWS_WITH(apply_set(c, "normals"), Catch::Contains("expected key=value"));
   apply_set(c, "icp.max_iterations=30");
@@ -269,7 +269,7 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   apply_json(d, to_json(c), "echo");
   CHECK(to_json(d) == to_json(c));
   apply_json(d, nlohmann::json::parse(R"({"// note": "x", "icp": {"error": "point_to_point"}})"), "inline");
-  CHECK(d.icp.error == "point_to_point");
+  CHECK(d.icp.error == IcpError::PointToPoint);
 }
 
 TEST_CASE("poses: files, KITTI camera poses to the Velodyne frame, relative pose error", "[pipeline]") {
@@ -360,7 +360,7 @@ TEST_CASE("pipeline: the accelerator in the loop batches the announced stages an
     for (const char* backend : {"exact", "approx"}) {
       INFO(preset_name << " " << backend);
       PipelineConfig c = preset(preset_name);
-      c.search.backend = backend;
+      c.search.backend = parse_backend(backend);
       const RegistrationResult cpu = register_clouds(p.source, p.target, c);
       auto port = std::make_shared<GoldenPort>();
       PipelineHooks hooks;
@@ -387,7 +387,7 @@ TEST_CASE("pipeline: the accelerator in the loop batches the announced stages an
     }
   }
   PipelineConfig flann = preset("dp4");
-  flann.search.backend = "flann";
+  flann.search.backend = Backend::Flann;
   PipelineHooks hooks;
   hooks.accelerator = std::make_shared<GoldenPort>();
   CHECK_THROWS_WITH(register_clouds(p.source, p.target, flann, hooks), Catch::Contains("not flann"));

@@ -31,7 +31,7 @@ const Recorded& recorded(const std::string& preset_name = "dp4", const std::stri
   sc.azimuth_steps = 900;
   const SyntheticPair p = make_synthetic_pair(sc);
   PipelineConfig c = preset(preset_name);
-  c.search.backend = backend;
+  c.search.backend = parse_backend(backend);
   Recorded r;
   r.plain = register_clouds(p.frame1, p.frame0, c);
   PipelineHooks hooks;

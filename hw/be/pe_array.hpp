@@ -11,7 +11,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "hw/be/leaf_bounds.hpp"
+#include "hw/host/leaf_bounds.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "hw/tree_view.hpp"

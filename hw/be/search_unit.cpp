@@ -38,10 +38,7 @@ void SearchUnit::start() {
 
 void SearchUnit::accept(const QueryToken& token) {
   bqb_.push_back(token);
-  // Host speed-ups: what the batch's issue reads of the query (its slot, when scanned here, and
-  // the observers' records of it).
-  if (!job_.radius() && !links_.scans.threaded()) pe_array_.prefetch_slot(token.slot);
-  links_.observer.prefetch(token.query);
+  links_.scans.queued(pe_array_, token);  // host prefetch hints
   bqb_wave_.set(bqb_.size());
   bqb_max_.max(bqb_.size());
   const std::uint64_t now = clock_.now();
@@ -191,14 +188,14 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
-  const LeafBounds::Box* box = &links_.bounds.box(leaf);  // holds the Node Set and its leaders' lists
+  const LeafBounds::Box* box = &links_.scans.box(leaf);  // holds the Node Set and its leaders' lists
   for (const QueryToken& t : tokens) {
     LeafVisit v;
     if (!job_.approximate) {
       if (job_.radius())
         pe_array_.scan(t, set, n, hits, nullptr, box);
       else  // the slot is next read by the query's next walk (which waits for it)
-        links_.scans.submit(pe_array_, t, set, n, box);
+        links_.scans.scan(pe_array_, t, set, n, box);
       v.leaf_points = n;
       ++plan.exact;
     } else {

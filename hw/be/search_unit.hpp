@@ -12,13 +12,12 @@
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/leader_buffer.hpp"
 #include "hw/be/leader_check.hpp"
-#include "hw/be/leaf_bounds.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/pe_array.hpp"
-#include "hw/be/scan_worker.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
+#include "hw/host/scan_service.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
 #include "hw/observer.hpp"
@@ -47,8 +46,7 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
     EnergyMeter& meter;
     JobObserver& observer;
     Scheduler& scheduler;
-    const LeafBounds& bounds;
-    ScanWorker& scans;
+    ScanService& scans;  // the host's side of the NN/kNN scans (deferred results) and leaf boxes
   };
   SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
              const JobDescriptor& job, Links links);

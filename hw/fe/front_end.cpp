@@ -2,11 +2,13 @@
 
 #include <string>
 
+#include "hw/host/prefetch.hpp"
+
 namespace tigris::hw {
 
 FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
                    const JobDescriptor& job, DistributionNetwork& qdn, ResultBuffer& result_buffer,
-                   EnergyMeter& meter, JobObserver& observer, Scheduler& scheduler, ScanWorker& scans,
+                   EnergyMeter& meter, JobObserver& observer, Scheduler& scheduler, ScanService& scans,
                    bool reverse_construction)
     : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job), observer_(observer),
       clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
@@ -100,7 +102,7 @@ void FrontEnd::dispatch() {
     fqq_.pop_front();
     // The FQQ is served in order: warm the host's cache for the query a few dispatches ahead
     // (its token itself a few more ahead, as the query's data is found through it).
-    if (fqq_.size() > 2 * kPrefetchAhead) __builtin_prefetch(&fqq_[2 * kPrefetchAhead]);
+    if (fqq_.size() > 2 * kPrefetchAhead) prefetch_span(&fqq_[2 * kPrefetchAhead], sizeof(QueryToken));
     if (fqq_.size() > kPrefetchAhead) ru->prefetch(fqq_[kPrefetchAhead]);
     fqq_wave_.set(fqq_.size());
     ru->start(t);

@@ -13,7 +13,7 @@
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/fe/recursion_unit.hpp"
-#include "hw/fifo_ring.hpp"
+#include "hw/host/fifo_ring.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
@@ -30,7 +30,7 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   // the figures do not depend on it); their links point at this front-end.
   FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
            DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter,
-           JobObserver& observer, Scheduler& scheduler, ScanWorker& scans, bool reverse_construction = false);
+           JobObserver& observer, Scheduler& scheduler, ScanService& scans, bool reverse_construction = false);
 
   // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
   void start(std::function<void(std::uint64_t)> on_all_done);

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "hw/fe/front_end.hpp"
-#include "hw/host_prefetch.hpp"
+#include "hw/host/prefetch.hpp"
 #include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 
@@ -39,7 +39,7 @@ void RecursionUnit::start(const QueryToken& token) {
   query_wave_.set(token.query);
   ++activations_;
   const std::uint64_t now = clock_.now();
-  links_.scans.wait_slot(token.slot);
+  links_.scans.ready(token.slot);  // the deferred-result contract (hw/host/scan_service.hpp)
   const std::uint64_t pipeline = walk();
   busy_cycles_ += pipeline;
 
@@ -187,8 +187,7 @@ void RecursionUnit::prefetch(const QueryToken& token) const {
   if (token.started)
     prefetch_span_to_write(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
   if (!job_.radius()) slots_.prefetch(token.slot);
-  links_.observer.prefetch(token.query);
-  links_.scans.prefetch(token.slot);
+  links_.scans.walk_soon(token);
 }
 
 void RecursionUnit::on_done() {

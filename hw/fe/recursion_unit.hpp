@@ -9,10 +9,10 @@
 
 #include <systemc>
 
-#include "hw/be/scan_worker.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
+#include "hw/host/scan_service.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/buffer_port.hpp"
 #include "hw/mem/result_slots.hpp"
@@ -65,7 +65,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     JobObserver& observer;
     Scheduler& scheduler;
     WalkLog& log;
-    ScanWorker& scans;  // the query's slot may still be written by its last scan
+    ScanService& scans;  // the query's slot may still be written by its last scan (deferred results)
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                 const JobDescriptor& job, Links links);
@@ -75,7 +75,8 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
   void retry_dispatch();                // the BE Query Buffer it waits for has room again
   // A host speed-up, no hardware: starts loading the host cache lines a walk of `token` will
-  // read first (its query record, stack and result slot), so the walk need not wait for them.
+  // read first (its query record, stack and result slot, and the scan service's hints), so the
+  // walk need not wait for them.
   void prefetch(const QueryToken& token) const;
   StatGroup& stats() { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }

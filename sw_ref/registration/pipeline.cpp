@@ -25,7 +25,7 @@ SearchSettings settings_for(const PipelineConfig& c, bool approximable, const Pi
   SearchSettings s;
   s.budget = hooks.budget;
   s.recorder = hooks.recorder;
-  s.backend = parse_backend(c.search.backend);
+  s.backend = c.search.backend;
   if (s.backend == Backend::Approx && !approximable) s.backend = Backend::Exact;
   if (s.backend == Backend::Flann && hooks.accelerator)
     throw std::invalid_argument("the accelerator in the loop runs the golden model's searches: search.backend must be "
@@ -114,12 +114,12 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
 
   Cloud::Ptr src_k, tgt_k;
   {
-    const bool searches = c.keypoints.method == "harris3d";
+    const bool searches = c.keypoints.method == KeypointMethod::Harris3d;
     StageRun st(r, "keypoints", on_stage, searches ? &exact : nullptr);
     src_k = detect_keypoints(src, src_n, c, exact, st.counters());
     tgt_k = detect_keypoints(tgt, tgt_n, c, exact, st.counters());
-    st.info() = {{"method", c.keypoints.method}, {"source", src_k->size()}, {"target", tgt_k->size()}};
-    if (c.keypoints.method == "sift") st.info()["note"] = "PCL's SIFT searches its own FLANN trees (not counted)";
+    st.info() = {{"method", to_string(c.keypoints.method)}, {"source", src_k->size()}, {"target", tgt_k->size()}};
+    if (c.keypoints.method == KeypointMethod::Sift) st.info()["note"] = "PCL's SIFT searches its own FLANN trees (not counted)";
     st.done();
   }
 
@@ -128,7 +128,7 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
     StageRun st(r, "descriptors", on_stage, &exact);
     src_d = describe(src_k, src, src_n, c, exact, st.counters());
     tgt_d = describe(tgt_k, tgt, tgt_n, c, exact, st.counters());
-    st.info() = {{"method", c.descriptors.method}, {"source", src_d.keypoints->size()},
+    st.info() = {{"method", to_string(c.descriptors.method)}, {"source", src_d.keypoints->size()},
                  {"target", tgt_d.keypoints->size()}, {"source_dropped", src_d.dropped},
                  {"target_dropped", tgt_d.dropped}};
     st.done();
@@ -148,7 +148,7 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
     StageRun st(r, "rejection", on_stage, nullptr);
     const Rejection rej = reject(src_d, tgt_d, pairs, c);
     r.initial = rej.initial;
-    st.info() = {{"method", c.rejection.method}, {"inliers", rej.inliers.size()},
+    st.info() = {{"method", to_string(c.rejection.method)}, {"inliers", rej.inliers.size()},
                  {"identity_fallback", rej.fallback}};
     st.done();
   }

@@ -64,7 +64,7 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
                      const Counters& counters) {
   Descriptors d;
   const double r = c.descriptors.radius;
-  if (c.descriptors.method == "fpfh") {
+  if (c.descriptors.method == DescriptorMethod::Fpfh) {
     pcl::FPFHEstimation<pcl::PointXYZ, pcl::Normal, pcl::FPFHSignature33> est;  // never the OMP one
     est.setInputCloud(keypoints);
     est.setSearchSurface(surface);
@@ -85,7 +85,7 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     pcl::PointCloud<pcl::FPFHSignature33> all;
     est.compute(all);
     keep_finite(d, keypoints, all, d.fpfh);
-  } else if (c.descriptors.method == "shot") {
+  } else {
     // SHOT's own reference-frame estimation would make its own search object: the frames are
     // computed here with the plug-in and handed over.
     auto tree = make_tree<pcl::PointXYZ>(s, counters);
@@ -116,8 +116,6 @@ Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& su
     pcl::PointCloud<pcl::SHOT352> all;
     est.compute(all);
     keep_finite(d, keypoints, all, d.shot);
-  } else {
-    throw std::invalid_argument("descriptors.method '" + c.descriptors.method + "' is not fpfh or shot");
   }
   return d;
 }

@@ -149,11 +149,11 @@ Cloud::Ptr sift(const Cloud::ConstPtr& cloud, const PipelineConfig& c) {
 
 Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals,
                             const PipelineConfig& c, const SearchSettings& s, const Counters& counters) {
-  const std::string& m = c.keypoints.method;
-  if (m == "narf") return narf(cloud, c);
-  if (m == "harris3d") return harris(cloud, normals, c, s, counters);
-  if (m == "sift") return sift(cloud, c);
-  throw std::invalid_argument("keypoints.method '" + m + "' is not narf, harris3d or sift");
+  switch (c.keypoints.method) {
+    case KeypointMethod::Narf: return narf(cloud, c);
+    case KeypointMethod::Harris3d: return harris(cloud, normals, c, s, counters);
+    default: return sift(cloud, c);
+  }
 }
 
 }  // namespace tigris::registration::stages

@@ -165,7 +165,7 @@ Rejection reject(const Descriptors& source, const Descriptors& target, const pcl
     return r;
   }
   const auto all_ptr = std::make_shared<pcl::Correspondences>(all);
-  if (c.rejection.method == "ransac") {
+  if (c.rejection.method == RejectionMethod::Ransac) {
     pcl::registration::CorrespondenceRejectorSampleConsensus<pcl::PointXYZ> sac;
     sac.setInputSource(source.keypoints);
     sac.setInputTarget(target.keypoints);
@@ -206,7 +206,7 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
   icp.setSearchMethodTarget(make_tree<PN>(s, counters));
   icp.setSearchMethodSource(make_tree<PN>(s, counters));
   icp.setCorrespondenceEstimation(std::make_shared<BatchedCorrespondences>());
-  const bool plane = c.icp.error == "point_to_plane", lm = c.icp.solver == "lm";
+  const bool plane = c.icp.error == IcpError::PointToPlane, lm = c.icp.solver == IcpSolver::Lm;
   using TE = pcl::registration::TransformationEstimation<PN, PN>;
   std::shared_ptr<TE> te;
   if (plane && lm) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlane<PN, PN>>();

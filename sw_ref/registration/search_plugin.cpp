@@ -2,13 +2,6 @@
 
 namespace tigris::registration {
 
-Backend parse_backend(const std::string& name) {
-  if (name == "flann") return Backend::Flann;
-  if (name == "exact") return Backend::Exact;
-  if (name == "approx") return Backend::Approx;
-  throw std::invalid_argument("unknown search back-end '" + name + "' (use flann, exact or approx)");
-}
-
 void SearchSettings::validate_injection() const {
   if (inject_kth < 1)
     throw std::invalid_argument("search plug-in: inject_kth must be >= 1 (1: the nearest, no error), got " +
@@ -18,14 +11,6 @@ void SearchSettings::validate_injection() const {
       !(shell_inner < shell_outer))
     throw std::invalid_argument("search plug-in: the injected shell needs 0 <= shell_inner < shell_outer, got " +
                                 std::to_string(shell_inner) + ", " + std::to_string(shell_outer));
-}
-
-const char* to_string(Backend backend) {
-  switch (backend) {
-    case Backend::Flann: return "flann";
-    case Backend::Exact: return "exact";
-    default: return "approx";
-  }
 }
 
 }  // namespace tigris::registration

@@ -41,12 +41,11 @@
 
 #include "sw_ref/kdtree.hpp"
 #include "accelerator_port.hpp"
+#include "pipeline_config.hpp"  // Backend
 #include "sw_ref/search.hpp"
 #include "trace_recorder.hpp"
 
 namespace tigris::registration {
-
-enum class Backend { Flann, Exact, Approx };
 
 // A new id for every plug-in tree build, whatever its point type (the host resends the tree
 // image when a job's id differs from the last job's). Single-threaded pipeline.
@@ -54,8 +53,6 @@ inline std::uint64_t next_tree_id() {
   static std::uint64_t id = 0;
   return ++id;
 }
-Backend parse_backend(const std::string& name);  // "flann" | "exact" | "approx"
-const char* to_string(Backend backend);
 
 // The work bound of a whole registration (issue 18): every search adds the distances it
 // computed (golden back-ends: top-tree nodes, leaf and follower points) and the neighbours it

@@ -1,4 +1,4 @@
-#include "scan_worker.hpp"
+#include "threaded_scans.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -18,7 +18,7 @@ void relax() {
 
 }  // namespace
 
-ScanWorker::~ScanWorker() {
+ThreadedScans::~ThreadedScans() {
   if (!thread_.joinable()) return;
   stop_.store(true);
   wake_.store(false);
@@ -26,20 +26,15 @@ ScanWorker::~ScanWorker() {
   thread_.join();
 }
 
-void ScanWorker::start(std::uint32_t slots, bool threaded) {
+void ThreadedScans::begin(std::uint32_t slots) {
   drain();
   seen_done_ = submitted_;
-  threaded_ = threaded;
   slot_ticket_.assign(slots, 0);
-  if (threaded_ && !thread_.joinable()) thread_ = std::thread([this] { run(); });
+  if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
 }
 
-void ScanWorker::submit(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set,
-                        std::uint32_t count, const LeafBounds::Box* box) {
-  if (!threaded_) {
-    pe.scan_nearest(token, set, count, box);
-    return;
-  }
+void ThreadedScans::scan(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set,
+                         std::uint32_t count, const LeafBounds::Box* box) {
   if (submitted_ - seen_done_ >= kRing) wait(submitted_ - kRing + 1);  // the ring is full
   ring_[submitted_ & (kRing - 1)] = Job{&pe, token, set, box, count};
   __builtin_prefetch(&ring_[(submitted_ + 8) & (kRing - 1)], 1);  // the worker read it last
@@ -51,7 +46,7 @@ void ScanWorker::submit(PeArray& pe, const QueryToken& token, const tlm_if::Poin
   }
 }
 
-void ScanWorker::wait(std::uint64_t ticket) {
+void ThreadedScans::wait(std::uint64_t ticket) {
   for (unsigned spins = 0; (seen_done_ = done_.load(std::memory_order_acquire)) < ticket; ++spins) {
     if (sleeping_.load(std::memory_order_seq_cst)) wake();
     if (spins < 4096)
@@ -61,13 +56,13 @@ void ScanWorker::wait(std::uint64_t ticket) {
   }
 }
 
-void ScanWorker::wake() {
+void ThreadedScans::wake() {
   if (wake_.exchange(true)) return;  // asked already: one notification per sleep
   { std::lock_guard<std::mutex> lock(mutex_); }  // the worker is in cv_.wait or sees wake_ before it
   cv_.notify_one();
 }
 
-void ScanWorker::run() {
+void ThreadedScans::run() {
   std::uint64_t next = 0;  // only this thread advances done_
   for (;;) {
     const std::uint64_t published = published_.load(std::memory_order_acquire);
