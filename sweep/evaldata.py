@@ -15,6 +15,7 @@ policy come from the stats when present (they are what ran). Rows with the same 
 settings are kept once (runs are deterministic).
 """
 import collections.abc
+import contextlib
 import csv
 import math
 import os
@@ -27,6 +28,7 @@ SPEC_NAMES = {
     "fe.recursion_units": "ru", "be.search_units": "su", "be.pes_per_su": "pe",
     "be.issue_policy": "policy", "fe.bypassing": "bypass", "fe.forwarding": "forward",
     "node_cache.bytes": "nc_bytes", "approx-thd": "approx", "cloud": "cloud", "queries": "queries",
+    "leader-width": "leader_width",
 }
 
 
@@ -36,6 +38,19 @@ class _ModelDefaults(collections.abc.Mapping):
     lives here. The binary is the one tigris_sweep would use ($TIGRIS, or this tree's build)."""
     def __init__(self):
         self._d, self._radius, self._k = None, None, None
+        self._over = {}
+
+    @contextlib.contextmanager
+    def overridden(self, values):
+        """Within the block, `values` (effective name -> value) are the defaults: rows of a
+        design variant (sweep/variants.py) whose keys differ from the model's are then its
+        'default configuration', so the claims find them."""
+        self._load()
+        old, self._over = self._over, dict(self._over, **values)
+        try:
+            yield self
+        finally:
+            self._over = old
 
     @property
     def radius(self):  # --radius
@@ -60,13 +75,15 @@ class _ModelDefaults(collections.abc.Mapping):
                 if "." in col and col in run.config:
                     d[name] = run.config[col]
             d["mode"] = run.flags["mode"]
+            d["leader_width"] = int(run.flags["leader-width"])
             d["height"] = parse_height(str(d["height"]))
             self._radius, self._k = float(run.flags["radius"]), int(run.flags["k"])
             self._d = d
         return self._d
 
     def __getitem__(self, key):
-        return self._load()[key]
+        d = self._load()
+        return self._over[key] if key in self._over else d[key]
 
     def __iter__(self):
         return iter(self._load())
@@ -179,8 +196,11 @@ class Sweep:
     """Rows of one or more sweep CSVs. rows: every row (dicts of strings, plus `_csv`), ok: the
     rows with status ok, deduplicated, each with `eff`; setting_columns: the settings named."""
 
-    def __init__(self, paths):
+    def __init__(self, paths, assume=None):
+        """assume: setting column -> value for rows whose CSV lacks that column (a design
+        variant's keys, on the default's rows of experiments the variant leaves alone)."""
         self.paths = list(paths)
+        assume = dict(assume or {})
         self.rows, self.columns, self.setting_columns = [], [], []
         for p in self.paths:
             with open(p, newline="") as f:
@@ -189,6 +209,9 @@ class Sweep:
                 if "status" not in cols:
                     raise ValueError(f"{p}: no `status` column (not a sweep CSV)")
                 settings = setting_positions(p, cols)
+                for c in assume:
+                    if c not in self.setting_columns and c not in cols:
+                        self.setting_columns.append(c)
                 for i, c in enumerate(cols):
                     if i in settings:
                         if c not in META and c not in self.setting_columns:
@@ -202,6 +225,8 @@ class Sweep:
                         raise ValueError(f"{p}:{line}: {len(cells)} fields, the header has {len(cols)}")
                     row = {c: v for i, (c, v) in enumerate(zip(cols, cells)) if i not in settings}
                     row["_set"] = {c: v for i, (c, v) in enumerate(zip(cols, cells)) if i in settings}
+                    for c, v in assume.items():
+                        row["_set"].setdefault(c, v)
                     # A stat whose name a setting takes is written `stats.<path>`.
                     for c in list(row):
                         if c.startswith("stats.") and c[6:] not in row:
@@ -262,6 +287,8 @@ class Sweep:
                 eff[name] = parse_bool(raw[name])
         if "approx" in raw:
             eff["approx"] = _approx(raw["approx"], eff["mode"], eff["radius"])
+        if "leader_width" in raw:  # an approximate run's; exact rows keep the default
+            eff["leader_width"] = int(float(raw["leader_width"]))
         for name in ("cloud", "queries"):  # tigris_sweep.py writes `synthetic` for the built-in pair
             eff[name] = "" if raw.get(name, "") == "synthetic" else raw.get(name, "")
         for name, col in STAT_SETTINGS.items():

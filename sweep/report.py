@@ -788,7 +788,7 @@ def claim_table(claims):
     return "\n".join(lines)
 
 
-def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None):
+def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None, robust=None):
     measured = [c for c in claims if c.measured != "not measured"]
     dir_n = [c for c in measured if c.direction is not None]
     size_n = [c for c in measured if c.within is not None]
@@ -820,8 +820,9 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
           "*within 2x* is measured / paper in [0.5, 2] (for a '+x%' or '-x%' claim, the gains or "
           "cuts are compared; a gain of the wrong sign is not within 2x). A change of less than "
           f"{100 * NO_CHANGE:.0f}% counts as no change: the direction does not hold. n/a: the paper "
-          "gives no number, or the claim has no direction.", "",
-          "## How each claim is measured", ""]
+          "gives no number, or the claim has no direction.", ""]
+    L += robust or []
+    L += ["## How each claim is measured", ""]
     seen = set()
     for c in claims:
         if c.how in seen:
@@ -861,18 +862,48 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
     return "\n".join(L)
 
 
-def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None):
+def variant_columns(claims, variants):
+    """The default's claims and each variant's, as sweep/variants.py's columns. variants:
+    [(name, Variant, CSVs)]; a variant's rows are read with its keys as the defaults."""
+    import variants as vt
+    cols = [vt.Column(vt.DEFAULT, None, claims)]
+    for name, v, csvs in variants:
+        with ed.DEFAULTS.overridden(vt.overrides(v, ed.SPEC_NAMES)):
+            vclaims = all_claims(ed.Sweep(csvs, assume=vt.assumed_columns(v))) if csvs else []
+        cols.append(vt.Column(name, v, vclaims))
+    return cols
+
+
+def variants_section(cols, figures_dir, out, draw, log=ed.note):
+    """REPORT.md's robustness section and, when drawing, figures_dir/variants.png."""
+    import variants as vt
+    import tigris_sweep as ts
+    tig = ts.tigris_at(ts.default_tigris(), "run")
+    defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
+    rel = None
+    if draw:
+        png = vt.figure(cols, defaults, os.path.join(figures_dir, "variants.png"))
+        log(f"report: wrote {png}")
+        rel = os.path.relpath(png, out)
+    return vt.render(cols, defaults, rel, md_cell)
+
+
+def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None,
+                 variants=None):
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
     dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
     figs = skipped = None
+    figures_dir = figures_dir or os.path.join(out, "figures")
     if draw:
         import plots
-        figs, skipped = plots.make_figures(sw, figures_dir or os.path.join(out, "figures"), log=log)
+        figs, skipped = plots.make_figures(sw, figures_dir, log=log)
     os.makedirs(out, exist_ok=True)
+    robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
+        if variants else None
     path = os.path.join(out, "REPORT.md")
     with open(path, "w") as f:
-        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse))
+        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust))
     log(f"report: wrote {path}")
     return path, claims
 

@@ -3,6 +3,7 @@
 
     sweep/reproduce.py [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
                        [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
+                       [--variants [NAME ...]] [--variants-file FILE]
                        [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                                 [--sbatch-arg ARG ...] [--no-wait]]
 
@@ -11,7 +12,9 @@ beside this script (tigris_sweep.py SPEC --out DIR/sweeps/<exp>), locally (--job
 job arrays (--slurm and its options are passed through), then plots.py's figures into
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
-once the Slurm jobs are done). Default workload: the built-in synthetic frame pair; a cloud
+once the Slurm jobs are done). --variants also runs the experiments under design variants
+(sweep/variants.py: details the paper leaves open) into DIR/variants/<name>/, and REPORT.md gets
+the robustness matrix of the claims and DIR/figures/variants.png. Default workload: the built-in synthetic frame pair; a cloud
 without --queries is searched in itself. DIR/workload.json records the workload of DIR's
 results: a rerun without --cloud reuses it, one with another workload is refused.
 Exit codes: 0 REPORT.md written, 1 every point failed (REPORT.md lists them) or no sweep.csv,
@@ -169,6 +172,53 @@ def write_specs(out, names, quick, cloud, queries):
     return made
 
 
+def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
+    """[(variant, [(exp, spec path or None, sweep folder)])]: each variant's specs in
+    DIR/variants/<name>/specs/; an experiment the variant cannot change has no spec and is read
+    from the default's sweep folder. DIR/variants/<name>/variant.json records the definition its
+    results belong to: a rerun with another definition under that name is refused."""
+    import variants as vt
+    exps = experiments(quick)
+    made = []
+    for v in chosen:
+        vdir = os.path.join(out, "variants", v.name)
+        rec_path = os.path.join(vdir, vt.VARIANT_FILE)
+        if glob.glob(os.path.join(glob.escape(vdir), "sweeps", "*", "plan.json")) and os.path.exists(rec_path):
+            try:
+                with open(rec_path) as f:
+                    rec = json.load(f)
+            except (OSError, ValueError, RecursionError) as e:
+                raise Refused(f"{rec_path}: unreadable ({e}); it records the variant of {vdir}'s "
+                              "results: repair or delete it")
+            if rec != v.as_json():
+                raise Refused(f"{vdir} holds results of variant {v.name!r} defined as {json.dumps(rec)}; "
+                              f"it is now {json.dumps(v.as_json())}: the results would mix. Give the "
+                              "variant another name, or delete that folder")
+        entries = []
+        try:
+            os.makedirs(os.path.join(vdir, "specs"), exist_ok=True)
+            with open(rec_path, "w") as f:
+                json.dump(v.as_json(), f, indent=1)
+                f.write("\n")
+            for name, _spec, folder in plan:
+                what, spec = exps[name]
+                if not vt.affects(v, name, spec):
+                    entries.append((name, None, folder))
+                    continue
+                spec = with_workload(vt.apply(spec, v, defaults), cloud, queries)
+                spec["comment"] = (f"sweep/reproduce.py{' --quick' if quick else ''}: {what}; "
+                                   f"variant {v.name}: {v.describe()}")
+                path = os.path.join(vdir, "specs", name + ".json")
+                with open(path, "w") as f:
+                    json.dump(spec, f, indent=1)
+                    f.write("\n")
+                entries.append((name, path, os.path.join(vdir, "sweeps", name)))
+        except OSError as e:
+            raise Refused(f"cannot write {e.filename or vdir}: {e.strerror or e}")
+        made.append((v, entries))
+    return made
+
+
 def driver_command(spec, folder, a):
     cmd = [sys.executable, a.driver, spec, "--out", folder]
     if a.tigris:
@@ -210,6 +260,12 @@ def parse_args(argv):
     ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds the "
                     "paper's section-3 claims measured there")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
+    import variants as vt
+    ap.add_argument("--variants", nargs="*", metavar="NAME", help="also run the experiments under "
+                    "design variants (all of them, or the NAMEs): " + ", ".join(vt.by_name()) +
+                    "; REPORT.md gets the robustness matrix (sweep/variants.py says what each is)")
+    ap.add_argument("--variants-file", metavar="FILE", help="your own variants (JSON, see "
+                    "docs/sweeps.md), added to the built-in list; implies --variants")
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--specs-only", action="store_true", help="write the specs, run nothing")
     g.add_argument("--report-only", action="store_true",
@@ -276,6 +332,8 @@ def main(argv=None):
         if signal.getsignal(s) != signal.SIG_IGN:
             signal.signal(s, _interrupt)
     a = parse_args(argv)
+    if a.tigris:  # the report's model defaults come from the binary that ran
+        os.environ["TIGRIS"] = os.path.abspath(a.tigris)
     out = os.path.abspath(a.out)
     try:
         if os.path.exists(out) and not os.path.isdir(out):
@@ -287,42 +345,78 @@ def main(argv=None):
             except ValueError as e:
                 raise Refused(f"--dse: {e}")
         w = workload(out, a.cloud, a.queries)
+        chosen, defaults = choose_variants(a)
         plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
+        vplan = variant_plan(out, plan, chosen, defaults, a.quick, w["cloud"], w["queries"]) if chosen else []
     except Refused as e:
         print(f"reproduce: error: {e}", file=sys.stderr)
         return 2
     try:
-        return run(a, out, plan)
+        return run(a, out, plan, vplan)
     except KeyboardInterrupt:
         note(f"interrupted ({signal.Signals(interrupted_by[0]).name}); finished points are kept")
         return 128 + interrupted_by[0]
 
 
-def run(a, out, plan):
-    note(f"{len(plan)} sweep specs in {os.path.join(out, 'specs')}")
+def choose_variants(a):
+    """The variants to run ([] without --variants) and the model's defaults they replace."""
+    if a.variants is None and not a.variants_file:
+        return [], {}
+    import variants as vt
+    import tigris_sweep as ts
+    try:
+        tig = ts.tigris_at(a.tigris or ts.default_tigris(), "run")
+    except ts.SpecError as e:
+        raise Refused(f"--variants: the model's keys and defaults come from the tigris binary: {e}")
+    defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
+    try:
+        user = vt.load(a.variants_file, list(experiments(a.quick)), tig.config) if a.variants_file else []
+        return vt.choose(a.variants or [], user), defaults
+    except vt.VariantError as e:
+        raise Refused(str(e))
+
+
+def run_sweeps(a, entries, failed, pending, prefix=""):
+    """Runs (or with --report-only collects) each (name, spec, folder); entries without a spec
+    are another configuration's folders. Returns the driver's fatal exit code, or 0."""
+    for name, spec, folder in entries:
+        if spec is None:
+            continue
+        label = prefix + name
+        if a.report_only:
+            if not os.path.isfile(os.path.join(folder, "plan.json")):
+                print(f"reproduce: {label}: no sweep in {folder} (not run)", file=sys.stderr)
+                continue
+            cmd = [sys.executable, a.driver, "collect", folder]
+        else:
+            cmd = driver_command(spec, folder, a)
+        note(f"{label}: {' '.join(cmd)}")
+        rc = call_driver(cmd)
+        if rc == 2 or rc == 3 or rc >= 128:
+            print(f"reproduce: {label}: the driver failed (exit {rc})", file=sys.stderr)
+            return rc
+        if rc == 1:
+            failed.append(label)
+        if a.slurm and a.no_wait and not a.report_only:
+            pending.append(label)
+    return 0
+
+
+def run(a, out, plan, vplan=()):
+    note(f"{len(plan)} sweep specs in {os.path.join(out, 'specs')}"
+         + (f"; {len(vplan)} variant(s) in {os.path.join(out, 'variants')}: "
+            + ", ".join(f"{v.name} ({sum(1 for e in ent if e[1])} sweeps)" for v, ent in vplan) if vplan else ""))
     if a.specs_only:
         return 0
     if not os.path.isfile(a.driver):
         print(f"reproduce: the sweep driver {a.driver} is missing", file=sys.stderr)
         return 2
     failed, pending = [], []
-    for name, spec, folder in plan:
-        if a.report_only:
-            if not os.path.isfile(os.path.join(folder, "plan.json")):
-                print(f"reproduce: {name}: no sweep in {folder} (not run)", file=sys.stderr)
-                continue
-            cmd = [sys.executable, a.driver, "collect", folder]
-        else:
-            cmd = driver_command(spec, folder, a)
-        note(f"{name}: {' '.join(cmd)}")
-        rc = call_driver(cmd)
-        if rc == 2 or rc == 3 or rc >= 128:
-            print(f"reproduce: {name}: the driver failed (exit {rc})", file=sys.stderr)
-            return rc
-        if rc == 1:
-            failed.append(name)
-        if a.slurm and a.no_wait and not a.report_only:
-            pending.append(name)
+    rc = run_sweeps(a, plan, failed, pending)
+    for v, entries in vplan:
+        rc = rc or run_sweeps(a, entries, failed, pending, prefix=f"{v.name}/")
+    if rc:
+        return rc
     if pending:
         print(f"reproduce: submitted {len(pending)} Slurm sweep(s); when they are done, run the "
               f"same command with --report-only instead of --no-wait", file=sys.stderr)
@@ -340,8 +434,11 @@ def run(a, out, plan):
               "with /usr/bin/python3): REPORT.md without figures", file=sys.stderr)
         draw = False
     title = "Tigris TLM: the paper's evaluation, reproduced" + (" (--quick)" if a.quick else "")
+    vcsvs = [(v.name, v, [os.path.join(f, "sweep.csv") for _, _, f in entries
+                          if os.path.isfile(os.path.join(f, "sweep.csv"))]) for v, entries in vplan]
     try:
-        path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title, dse_dir=a.dse)
+        path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title,
+                                           dse_dir=a.dse, variants=vcsvs)
     except (OSError, ValueError) as e:
         print(f"reproduce: error: the report: {e}", file=sys.stderr)
         return 2

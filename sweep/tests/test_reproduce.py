@@ -47,6 +47,8 @@ FAKE_DRIVER = textwrap.dedent('''\
         kw["cycles"] = 1e5 * 64 / kw["ru"] + 1e3 * abs(kw["top_height"] - 10) + (
             0 if s.get("fe.forwarding", True) else 5e3)
         kw["nodes"] = 60.0 if h == "full" else 60.0 + 2 ** max(0, 17 - kw["top_height"]) / 2
+        if kw["policy"] == "mqmn":  # a design variant's DRAM bandwidth speeds MQMN up
+            kw["cycles"] /= (s.get("dram.bytes_per_cycle", 51.2) / 51.2) ** 0.5
         if "approx-thd" in s:
             kw["accuracy"] = {{"exact_match_fraction": 0.5, "mean_extra_distance_m": 0.1,
                                "max_extra_distance_m": 1.0, "recall": 0.9, "precision": 1.0}}
@@ -182,6 +184,26 @@ class Flow(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertIn(" collect ", p.stderr)
         self.assertTrue(os.path.isfile(os.path.join(out, "REPORT.md")))
+
+    def test_variants_run_then_report(self):
+        out = os.path.join(self.tmp.name, "out")
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
+                            "--driver", self.driver, "--variants", "dram-8x", "leader-width-4"],
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("dram-8x (8 sweeps), leader-width-4 (1 sweeps)", p.stderr)
+        self.assertTrue(os.path.isfile(os.path.join(out, "variants", "dram-8x", "sweeps", "units-su", "sweep.csv")))
+        self.assertEqual(os.listdir(os.path.join(out, "variants", "leader-width-4", "sweeps")), ["approx-nn"])
+        with open(os.path.join(out, "variants", "dram-8x", "variant.json")) as f:
+            self.assertEqual(json.load(f)["set"], {"dram.bytes_per_cycle": 409.6})
+        with open(os.path.join(out, "REPORT.md")) as f:
+            text = f.read()
+        self.assertIn("| # | claim | default | dram-8x | leader-width-4 | class |", text)
+        mqmn = next(x for x in text.splitlines() if x.startswith("| ") and "MQMN ~2x faster" in x and "· " in x)
+        self.assertIn("1.00x · size only | 2.83x · holds | 1.00x · size only | **depends** |", mqmn)
+        self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)
+        self.assertIn("![the claims under the design variants](figures/variants.png)", text)
+        self.assertTrue(os.path.isfile(os.path.join(out, "figures", "variants.png")))
 
     def test_missing_driver(self):
         p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--out",

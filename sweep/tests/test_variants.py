@@ -1,0 +1,327 @@
+#!/usr/bin/python3
+"""sweep/variants.py and `reproduce --variants`: verdicts and the classification of claims over
+design variants (from hand-made claims and hand-made CSVs), the variants' specs, user variants
+and their errors, and a small variant run end to end with tigris (the synthetic pair).
+Run: python3 sweep/tests/test_variants.py [--tigris PATH]"""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = os.path.dirname(HERE)
+sys.path.insert(0, SWEEP)
+sys.path.insert(0, HERE)
+
+TIGRIS = None
+if "--tigris" in sys.argv:
+    i = sys.argv.index("--tigris")
+    TIGRIS = os.path.abspath(sys.argv[i + 1])
+    os.environ["TIGRIS"] = TIGRIS
+    del sys.argv[i:i + 2]
+
+import evaldata as ed  # noqa: E402
+import plot_fixtures as fx  # noqa: E402
+import report  # noqa: E402
+import reproduce  # noqa: E402
+import variants as vt  # noqa: E402
+
+DEFAULTS = {"dram.bytes_per_cycle": 51.2, "node_cache.bytes": 131072, "leader-width": 0,
+            "fe.top_levels_replicated": 0}
+
+
+def claim(cid, measured, direction, within, explanation="facts"):
+    c = report.Claim(cid, "9", f"claim {cid}", "1x", "how")
+    return c.set(measured, direction, within, explanation)
+
+
+def col(name, variant, *claims):
+    return vt.Column(name, variant, list(claims))
+
+
+class Verdicts(unittest.TestCase):
+    def test_verdict(self):
+        self.assertEqual(vt.verdict(claim("a", "1", True, True)), vt.HOLDS)
+        self.assertEqual(vt.verdict(claim("a", "1", True, None)), vt.HOLDS)
+        self.assertEqual(vt.verdict(claim("a", "1", None, True)), vt.HOLDS)
+        self.assertEqual(vt.verdict(claim("a", "1", True, False)), vt.DIRECTION_ONLY)
+        self.assertEqual(vt.verdict(claim("a", "1", False, True)), vt.SIZE_ONLY)
+        self.assertEqual(vt.verdict(claim("a", "1", False, False)), vt.FAILS)
+        self.assertEqual(vt.verdict(claim("a", "1", False, None)), vt.FAILS)
+        self.assertEqual(vt.verdict(claim("a", "1", None, None)), vt.NO_TEST)
+        self.assertEqual(vt.verdict(report.Claim("a", "9", "t", "p", "h")), vt.NOT_MEASURED)
+        self.assertEqual(vt.verdict(None), vt.NOT_MEASURED)
+
+
+class Classify(unittest.TestCase):
+    def setUp(self):
+        self.d2 = vt.Variant("dram-2x", "", set={"dram.bytes_per_cycle": 102.4})
+        self.d8 = vt.Variant("dram-8x", "", set={"dram.bytes_per_cycle": 409.6})
+        self.nc = vt.Variant("nc-512k", "", set={"node_cache.bytes": 524288})
+
+    def cols(self, base, d2, d8, nc):
+        return [col("default", None, base), col("dram-2x", self.d2, d2), col("dram-8x", self.d8, d8),
+                col("nc-512k", self.nc, nc)]
+
+    def test_holds_everywhere(self):
+        cols = self.cols(*(claim("x", f"{v}x", True, True) for v in (1.1, 1.2, 1.3, 1.1)))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "holds everywhere")
+        self.assertIn("all 4 configurations", text)
+
+    def test_fails_everywhere_gives_the_defaults_reason(self):
+        cols = self.cols(claim("x", "1.00x", False, False, "write-back bound: 95% stalled"),
+                         claim("x", "1.01x", False, False, "other"),
+                         claim("x", "1.00x", False, False, "other"),
+                         claim("x", "1.00x", False, False, "other"))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "fails everywhere")
+        self.assertIn("Measured reason at the default: write-back bound: 95% stalled", text)
+        self.assertIn("dram-2x 1.01x", text)
+
+    def test_direction_only_everywhere_is_a_fail_with_its_words(self):
+        cols = self.cols(*(claim("x", "1.5x", True, False) for _ in range(4)))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "fails everywhere")
+        self.assertIn("the direction holds but the size misses", text)
+
+    def test_depends_names_the_detail_and_direction(self):
+        cols = self.cols(claim("x", "1.00x", False, False), claim("x", "1.40x", True, False),
+                         claim("x", "4.80x", True, True), claim("x", "1.00x", False, False))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "depends")
+        self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)
+        self.assertIn("fails at 51.2 (default) (1.00x); direction only at 102.4 (1.40x); holds at 409.6 (4.80x)", text)
+        self.assertNotIn("node_cache", text)  # the Node Cache's verdict equals the default's
+
+    def test_depends_falling_and_not_monotone(self):
+        cols = self.cols(claim("x", "a", True, True), claim("x", "b", True, True),
+                         claim("x", "c", True, True), claim("x", "d", False, False))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertIn("`node_cache.bytes`: better as node_cache.bytes falls", text)
+        cols = self.cols(claim("x", "a", True, True), claim("x", "b", False, False),
+                         claim("x", "c", True, True), claim("x", "d", True, True))
+        self.assertIn("`dram.bytes_per_cycle`: not monotone", vt.classify("x", cols, DEFAULTS)[1])
+
+    def test_not_measured_somewhere(self):
+        cols = self.cols(claim("x", "1x", True, True), report.Claim("x", "9", "t", "p", "h"),
+                         claim("x", "1x", True, True), claim("x", "1x", True, True))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "holds everywhere")
+        self.assertIn("Not measured under dram-2x", text)
+
+    def test_matrix_and_render(self):
+        cols = self.cols(claim("x", "1.00x", False, False), claim("x", "1.40x", True, False),
+                         claim("x", "4.80x", True, True), claim("x", "1.00x", False, False))
+        cols[0].claims["y"] = claim("y", "2x", True, True)
+        cols[0].order.append("y")
+        rows = vt.matrix(cols, DEFAULTS)
+        self.assertEqual([r[3] for r in rows], ["depends", "holds everywhere"])  # y: only measured by default
+        md = "\n".join(vt.render(cols, DEFAULTS, "figures/variants.png"))
+        self.assertIn("| 1 | claim x | 1.00x · fails | 1.40x · direction only | 4.80x · holds | 1.00x · fails | **depends** |", md)
+        self.assertIn("| 2 | claim y | 2x · holds | not measured | not measured | not measured | holds everywhere |", md)
+        self.assertIn("![the claims under the design variants](figures/variants.png)", md)
+        self.assertIn("| dram-8x | `dram.bytes_per_cycle=409.6` |", md)
+
+
+class Specs(unittest.TestCase):
+    def test_node_cache_grid_takes_the_variants_size(self):
+        exps = reproduce.experiments(False)
+        nc = vt.by_name()["nc-512k"]
+        spec = vt.apply(exps["node-cache"][1], nc, DEFAULTS)
+        self.assertEqual(spec["grid"]["node_cache.bytes"], [524288, 0])
+        self.assertNotIn("set", spec["base"])
+        spec = vt.apply(exps["optimizations"][1], nc, DEFAULTS)
+        self.assertEqual(spec["base"]["set"], {"node_cache.bytes": 524288})
+        self.assertEqual(spec["points"], exps["optimizations"][1]["points"])
+
+    def test_leader_width_goes_on_approximate_points_only(self):
+        exps = reproduce.experiments(False)
+        lw = vt.by_name()["leader-width-4"]
+        self.assertFalse(vt.affects(lw, "heights-nn", exps["heights-nn"][1]))
+        self.assertFalse(vt.affects(lw, "approx-radius", exps["approx-radius"][1]))
+        self.assertTrue(vt.affects(lw, "approx-nn", exps["approx-nn"][1]))
+        spec = vt.apply(exps["approx-nn"][1], lw, DEFAULTS)
+        self.assertNotIn("grid", spec)
+        self.assertIn({}, spec["points"])
+        approx = [p for p in spec["points"] if "approx-thd" in p]
+        self.assertEqual(len(approx), len(exps["approx-nn"][1]["grid"]["approx-thd"]))
+        self.assertTrue(all(p["leader-width"] == 4 for p in approx))
+
+    def test_built_in_list(self):
+        names = vt.by_name()
+        for n in ("top-6", "top-10", "dram-2x", "dram-8x", "pb-banks-64", "pb-banks-256", "nc-32k",
+                  "nc-512k", "leader-width-4", "leader-width-16"):
+            self.assertIn(n, names)
+            self.assertTrue(names[n].why)
+
+    def test_user_variants_and_their_errors(self):
+        tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, tmp)
+        exps = list(reproduce.experiments(False))
+
+        def load(obj):
+            p = os.path.join(tmp, "v.json")
+            with open(p, "w") as f:
+                f.write(obj if isinstance(obj, str) else json.dumps(obj))
+            return vt.load(p, exps, DEFAULTS)
+        v = load({"variants": [{"name": "dram-4x", "set": {"dram.bytes_per_cycle": 204.8}, "why": "HBM",
+                                "experiments": ["heights-radius"]}]})
+        self.assertEqual((v[0].name, v[0].set, v[0].experiments), ("dram-4x", {"dram.bytes_per_cycle": 204.8},
+                                                                    ["heights-radius"]))
+        for bad, msg in (("{", "unreadable"), ({"x": 1}, "expected a list"),
+                         ([{"name": "a b", "set": {"dram.bytes_per_cycle": 1}}], "\"name\" must be"),
+                         ([{"name": "default", "set": {"dram.bytes_per_cycle": 1}}], "\"name\" must be"),
+                         ([{"name": "a", "set": {"dram.bytes_per_cycl": 1}}], "did you mean 'dram.bytes_per_cycle'"),
+                         ([{"name": "a"}], "changes nothing"),
+                         ([{"name": "a", "leader_width": -1}], "leader_width"),
+                         ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "experiments": ["nope"]}],
+                          "not an experiment: nope"),
+                         ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "colour": 1}], "unknown field")):
+            with self.assertRaises(vt.VariantError) as e:
+                load(bad)
+            self.assertIn(msg, str(e.exception))
+            self.assertIn("v.json", str(e.exception))
+        with self.assertRaises(vt.VariantError) as e:
+            vt.choose([], [vt.Variant("dram-8x", "", set={"dram.bytes_per_cycle": 1})])
+        self.assertIn("defined twice", str(e.exception))
+        with self.assertRaises(vt.VariantError) as e:
+            vt.choose(["dram-9x"], [])
+        self.assertIn("unknown variant(s) dram-9x", str(e.exception))
+
+
+def add_column(path, name, value, replace=None):
+    """Adds a base setting column after `mode` (or rewrites it), as the driver writes a
+    variant's base key; replace: {old: new} for its values."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    head = rows[0]
+    if name in head:
+        i = head.index(name)
+        for r in rows[1:]:
+            r[i] = (replace or {}).get(r[i], r[i])
+    else:
+        i = head.index("mode") + 1
+        head.insert(i, name)
+        for r in rows[1:]:
+            r.insert(i, value)
+    with open(path, "w", newline="") as f:
+        csv.writer(f).writerows(rows)
+
+
+def set_cells(path, match, col, value):
+    """Sets `col` to value in the rows whose cells include every (column, value) of match."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    head = rows[0]
+    for r in rows[1:]:
+        if all(r[head.index(c)] == v for c, v in match.items()):
+            r[head.index(col)] = value
+    with open(path, "w", newline="") as f:
+        csv.writer(f).writerows(rows)
+
+
+class HandMadeCsvs(unittest.TestCase):
+    """The claims of plot_fixtures.hand_made_csvs under three variants whose CSVs are edited by
+    hand: the classification follows from the values written."""
+    def test_classification_from_csvs(self):
+        tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, tmp)
+        base = fx.hand_made_csvs(os.path.join(tmp, "default"))
+        # dram-8x: every CSV carries the key; MQMN at 50,000 cycles: 2.00x, within 2x of the paper
+        d8 = fx.hand_made_csvs(os.path.join(tmp, "dram-8x"))
+        for p in d8.values():
+            add_column(p, "dram.bytes_per_cycle", "409.6")
+        set_cells(d8["optimizations"], {"be.issue_policy": "mqmn"}, "cycles", "50000")
+        # nc-512k: the Node Cache experiment at 512 KiB, the others with the key as a base column
+        nc = fx.hand_made_csvs(os.path.join(tmp, "nc-512k"))
+        for name, p in nc.items():
+            add_column(p, "node_cache.bytes", "524288", replace={"131072": "524288"})
+        # leader-width-4 runs approx-nn only: its approximate rows at 0.9 of the default's nodes
+        lw_dir = os.path.join(tmp, "leader-width-4")
+        os.makedirs(lw_dir)
+        lw_csv = os.path.join(lw_dir, "approx-nn.csv")
+        shutil.copy(base["approx-nn"], lw_csv)
+        add_column(lw_csv, "leader-width", "4")
+        set_cells(lw_csv, {"approx-thd": "1.2"}, "visits.per_query.nodes.mean", "100.0")
+        set_cells(lw_csv, {"approx-thd": ""}, "leader-width", "")
+        lw_all = [p for n, p in base.items() if n != "approx-nn"] + [lw_csv]
+        v = vt.by_name()
+        claims = report.all_claims(ed.Sweep(list(base.values())))
+        cols = report.variant_columns(claims, [("dram-8x", v["dram-8x"], list(d8.values())),
+                                               ("nc-512k", v["nc-512k"], list(nc.values())),
+                                               ("leader-width-4", v["leader-width-4"], lw_all)])
+        rows = {c.cid: (cells, cls, text) for _, c, cells, cls, text in vt.matrix(cols, DEFAULTS)}
+        cells, cls, text = rows["mqmn-speed-nn"]
+        self.assertEqual([x[0] for x in cells], [vt.DIRECTION_ONLY, vt.HOLDS, vt.DIRECTION_ONLY, vt.DIRECTION_ONLY])
+        self.assertEqual(cells[1][1], "2.00x")
+        self.assertEqual(cls, "depends")
+        self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)
+        self.assertEqual(rows["bypass-nn"][1], "holds everywhere")
+        self.assertEqual(rows["acc2skd-vs-acckd-nn"][1], "fails everywhere")  # 1.50x: direction only
+        self.assertIn("Measured reason at the default: Acc-KD 150,000 cycles", rows["acc2skd-vs-acckd-nn"][2])
+        # the Node Cache claims are measured under nc-512k: its rows are that variant's default
+        for cid in ("pb-share-with-nc-nn", "nc-energy-nn"):
+            self.assertNotEqual(rows[cid][0][2][0], vt.NOT_MEASURED, cid)
+            self.assertEqual(rows[cid][0][2][1], rows[cid][0][0][1], cid)
+        # approximate NN under leader width 4: 1 - 100/200 = 50% instead of 75%, the rest shared
+        cells = rows["approx-visits-nn"][0]
+        self.assertEqual((cells[0][1], cells[3][1]), ("-75.0%", "-50.0%"))
+        self.assertEqual(rows["bypass-nn"][0][3], rows["bypass-nn"][0][0])
+
+
+class EndToEnd(unittest.TestCase):
+    """A small variant run with tigris on the built-in synthetic pair: two variants over the
+    optimizations and Node Cache experiments (quick), then REPORT.md's matrix and its figure."""
+    def test_small_variant_run(self):
+        tigris = TIGRIS or os.environ.get("TIGRIS")
+        if not tigris:
+            import tigris_sweep as ts
+            tigris = ts.default_tigris()
+        tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, tmp)
+        out = os.path.join(tmp, "out")
+        user = os.path.join(tmp, "mine.json")
+        with open(user, "w") as f:
+            json.dump([{"name": "slow-nc", "set": {"node_cache.bytes": 16384}, "why": "a small cache",
+                        "experiments": ["node-cache"]}], f)
+        cmd = [sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--only", "optimizations",
+               "node-cache", "--variants", "dram-8x", "slow-nc", "--variants-file", user, "--out", out,
+               "--jobs", "2", "--tigris", tigris]
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        self.assertEqual(p.returncode, 0, p.stderr[-3000:])
+        self.assertIn("2 variant(s)", p.stderr)
+        with open(os.path.join(out, "variants", "dram-8x", "specs", "optimizations.json")) as f:
+            self.assertEqual(json.load(f)["base"]["set"], {"dram.bytes_per_cycle": 409.6})
+        with open(os.path.join(out, "variants", "slow-nc", "specs", "node-cache.json")) as f:
+            self.assertEqual(json.load(f)["grid"]["node_cache.bytes"], [16384, 0])
+        self.assertFalse(os.path.exists(os.path.join(out, "variants", "slow-nc", "specs", "optimizations.json")))
+        with open(os.path.join(out, "variants", "dram-8x", "sweeps", "optimizations", "sweep.csv")) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual({r["status"] for r in rows}, {"ok"})
+        self.assertEqual({r["dram.bytes_per_cycle"] for r in rows}, {"409.6"})
+        with open(os.path.join(out, "REPORT.md")) as f:
+            text = f.read()
+        self.assertIn("## Robustness: the claims under design variants", text)
+        self.assertIn("| # | claim | default | dram-8x | slow-nc | class |", text)
+        line = next(x for x in text.splitlines() if x.startswith("| ") and "bypassing helps" in x
+                    and "· " in x)
+        self.assertNotIn("not measured", line)
+        nc = next(x for x in text.splitlines() if x.startswith("| ") and "the Node Cache saves energy" in x
+                  and "· " in x)
+        self.assertNotIn("not measured", nc)
+        self.assertTrue(os.path.getsize(os.path.join(out, "figures", "variants.png")) > 10000)
+        # a rerun with another definition under the same name is refused: the results would mix
+        with open(user, "w") as f:
+            json.dump([{"name": "slow-nc", "set": {"node_cache.bytes": 8192}}], f)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("holds results of variant 'slow-nc'", p.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

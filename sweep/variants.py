@@ -1,0 +1,440 @@
+"""Design variants: details the paper leaves open, and which of its claims survive them.
+
+A variant is a set of configuration keys (and, for approximate NN, a leader result width) that
+the paper does not fix, with the reason a real Tigris might have chosen it. `tigris reproduce
+--variants` runs the claim experiments under each variant beside the default configuration;
+this module writes each variant's specs, then turns the per-variant claims of report.py into a
+robustness matrix (claim x variant: the measured value and its verdict), a classification per
+claim (holds everywhere / depends on a named detail, and in which direction / fails
+everywhere, with the default's measured reason) and a figure of the matrix.
+
+User variants come from a JSON file (`--variants-file`), a list of objects or {"variants": [...]}:
+    {"name": "dram-4x", "set": {"dram.bytes_per_cycle": 204.8},
+     "why": "an HBM stack for the results", "experiments": ["heights-radius"]}
+`set`: configuration keys (`tigris run --list-config`) applied to every run of the variant; a key
+an experiment already sweeps keeps its other values, its value at the model's default becomes the
+variant's. `leader_width`: `--leader-width` of the approximate runs (exact runs refuse it).
+`experiments`: the experiments the variant can change (default: all); the others' rows are taken
+from the default configuration's sweeps, so list only those you know the keys leave alone.
+"""
+import itertools
+import json
+import os
+import re
+
+NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,62}$")
+DEFAULT = "default"
+VARIANT_FILE = "variant.json"  # in DIR/variants/<name>/: the definition its results belong to
+
+
+class VariantError(ValueError):
+    """A bad variant definition; the message names the file and the variant."""
+
+
+class Variant:
+    def __init__(self, name, why, set=None, leader_width=None, experiments=None):
+        self.name, self.why = name, why
+        self.set = dict(set or {})
+        self.leader_width = leader_width
+        self.experiments = list(experiments) if experiments is not None else None
+
+    def keys(self):
+        """The detail this variant changes: its configuration keys (and leader-width)."""
+        return sorted(self.set) + (["leader-width"] if self.leader_width is not None else [])
+
+    def values(self):
+        return [self.set[k] for k in sorted(self.set)] + \
+            ([self.leader_width] if self.leader_width is not None else [])
+
+    def as_json(self):
+        d = {"name": self.name, "why": self.why}
+        if self.set:
+            d["set"] = self.set
+        if self.leader_width is not None:
+            d["leader_width"] = self.leader_width
+        if self.experiments is not None:
+            d["experiments"] = self.experiments
+        return d
+
+    def describe(self):
+        parts = [f"`{k}={_show(v)}`" for k, v in sorted(self.set.items())]
+        if self.leader_width is not None:
+            parts.append(f"`--leader-width {self.leader_width}` (approximate runs)")
+        return ", ".join(parts)
+
+
+def _show(v):
+    return json.dumps(v) if isinstance(v, (bool, str)) else f"{v:g}" if isinstance(v, float) else str(v)
+
+
+# The details the paper leaves open (docs/model.md says what the default assumes for each). The
+# default column is the model's default configuration: 0 top levels replicated, DRAM 51.2
+# bytes/cycle, 128 Point Buffer banks and ports, a 128 KiB Node Cache, leader width k (1 for NN).
+VARIANTS = [
+    Variant("top-6", "each RU keeps the top tree's first 6 levels (63 nodes, 1 KiB) in registers: "
+            "the root's bank is the front-end's hot spot, and a few registers are the cheap fix",
+            set={"fe.top_levels_replicated": 6}),
+    Variant("top-10", "each RU keeps the whole top tree of the default height 10 (1,023 nodes, "
+            "16 KiB): no top-tree read reaches the Point Buffer (taller top trees and the canonical "
+            "tree keep their first 10 levels)", set={"fe.top_levels_replicated": 10}),
+    Variant("dram-2x", "the result write-back at 102.4 bytes/cycle (2x): the paper gives no DRAM "
+            "bandwidth; two LPDDR4 channels instead of one", set={"dram.bytes_per_cycle": 102.4}),
+    Variant("dram-8x", "the result write-back at 409.6 bytes/cycle (8x, ~205 GB/s at 500 MHz): an "
+            "HBM-class interface", set={"dram.bytes_per_cycle": 409.6}),
+    Variant("pb-banks-64", "a Point Buffer of 64 banks and ports (the paper gives its size only): "
+            "one per RU, the SUs' streams share them", set={"sram.points.banks": 64, "sram.points.ports": 64}),
+    Variant("pb-banks-256", "a Point Buffer of 256 banks and ports: fewer bank conflicts for twice "
+            "the periphery", set={"sram.points.banks": 256, "sram.points.ports": 256}),
+    Variant("nc-32k", "a 32 KiB Node Cache (a quarter of the default): the paper does not say "
+            "how big it is", set={"node_cache.bytes": 32768}),
+    Variant("nc-512k", "a 512 KiB Node Cache (4x the default 128 KiB)", set={"node_cache.bytes": 524288}),
+    Variant("leader-width-4", "approximate NN: each leader keeps its 4 nearest points for its "
+            "followers (the default keeps k = 1)", leader_width=4, experiments=["approx-nn"]),
+    Variant("leader-width-16", "approximate NN: each leader keeps its 16 nearest points",
+            leader_width=16, experiments=["approx-nn"]),
+]
+
+
+def by_name():
+    return {v.name: v for v in VARIANTS}
+
+
+def load(path, known_experiments, config_defaults):
+    """User variants from a JSON file; errors name the file and the variant (VariantError)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError, RecursionError) as e:
+        raise VariantError(f"{path}: unreadable ({e})")
+    if isinstance(data, dict):
+        data = data.get("variants")
+    if not isinstance(data, list):
+        raise VariantError(f"{path}: expected a list of variants or {{\"variants\": [...]}}")
+    out = []
+    for i, d in enumerate(data):
+        where = f"{path}: variants[{i}]"
+        if not isinstance(d, dict):
+            raise VariantError(f"{where}: must be an object")
+        unknown = sorted(set(d) - {"name", "why", "set", "leader_width", "experiments"})
+        if unknown:
+            raise VariantError(f"{where}: unknown field(s) {', '.join(unknown)} (name, why, set, "
+                               "leader_width, experiments)")
+        name = d.get("name")
+        if not isinstance(name, str) or not NAME_RE.match(name) or name == DEFAULT:
+            raise VariantError(f"{where}: \"name\" must be 1-63 letters, digits, '.', '_', '+' or '-' "
+                               f"(not \"{DEFAULT}\"), got {json.dumps(name)}")
+        where = f"{path}: variant {name!r}"
+        s = d.get("set", {})
+        if not isinstance(s, dict):
+            raise VariantError(f"{where}: \"set\" must be an object {{\"dotted.key\": value}}")
+        for k, v in s.items():
+            if k not in config_defaults:
+                import difflib
+                near = difflib.get_close_matches(k, list(config_defaults), 1)
+                raise VariantError(f"{where}: \"set\": unknown configuration key {k!r}"
+                                   + (f" (did you mean {near[0]!r}?)" if near else
+                                      " (tigris run --list-config lists them)"))
+            if not isinstance(v, (int, float, str, bool)) or isinstance(v, float) and v != v:
+                raise VariantError(f"{where}: \"set\"[{k!r}] must be a number, string or boolean")
+        lw = d.get("leader_width")
+        if lw is not None and (not isinstance(lw, int) or isinstance(lw, bool) or not 0 <= lw <= 4096):
+            raise VariantError(f"{where}: \"leader_width\" must be an integer 0..4096, got {json.dumps(lw)}")
+        if not s and lw is None:
+            raise VariantError(f"{where}: changes nothing (give \"set\" or \"leader_width\")")
+        exps = d.get("experiments")
+        if exps is not None:
+            if not isinstance(exps, list) or not exps or not all(isinstance(e, str) for e in exps):
+                raise VariantError(f"{where}: \"experiments\" must be a non-empty list of names")
+            bad = [e for e in exps if e not in known_experiments]
+            if bad:
+                raise VariantError(f"{where}: \"experiments\": not an experiment: {', '.join(bad)} "
+                                   f"({', '.join(known_experiments)})")
+        why = d.get("why", "")
+        if not isinstance(why, str):
+            raise VariantError(f"{where}: \"why\" must be text")
+        out.append(Variant(name, why or "(user variant)", s, lw, exps))
+    return out
+
+
+def choose(names, user):
+    """The variants to run: the built-in list and the user's (a user name may not repeat a
+    built-in one), all of them or those `names` lists."""
+    table = by_name()
+    for v in user:
+        if v.name in table:
+            raise VariantError(f"variant {v.name!r} is defined twice (the built-in list has it)")
+        table[v.name] = v
+    if not names:
+        return list(table.values())
+    bad = [n for n in names if n not in table]
+    if bad:
+        raise VariantError(f"--variants: unknown variant(s) {', '.join(bad)} ({', '.join(table)})")
+    return [table[n] for n in dict.fromkeys(names)]
+
+
+# ---------------------------------------------------------------------------------- the specs
+
+def affects(variant, exp_name, spec):
+    """Whether the variant can change this experiment's rows."""
+    if variant.experiments is not None and exp_name not in variant.experiments:
+        return False
+    if not variant.set:  # a leader width only: experiments with approximate runs
+        return any("approx-thd" in p for p in _own_points(spec)) or "approx-thd" in spec.get("base", {})
+    return True
+
+
+def _own_points(spec):
+    g = spec.get("grid") or {}
+    own = [dict(zip(g, c)) for c in itertools.product(*g.values())] if g else []
+    return own + list(spec.get("points") or [])
+
+
+def apply(spec, variant, defaults):
+    """The experiment's spec under the variant. A key the experiment sweeps or sets keeps its
+    values, except that its value at the model's default (`defaults`) becomes the variant's (the
+    Node Cache experiment's [default, 0] becomes [variant, 0]); a key it does not name goes into
+    base.set. A leader width goes on every point with an approximation threshold, so the grid
+    is written out as points."""
+    spec = json.loads(json.dumps(spec))
+    base = spec.setdefault("base", {})
+    named = set(base) | set(base.get("set", {})) | set(spec.get("grid") or {}) | \
+        {k for p in spec.get("points") or [] for k in p} | \
+        {k for p in spec.get("points") or [] for k in p.get("set", {})}
+
+    def swap(k, v):
+        return variant.set[k] if k in variant.set and v == defaults.get(k) else v
+
+    for k, v in variant.set.items():
+        if k not in named:
+            base.setdefault("set", {})[k] = v
+    for holder in [base, base.get("set", {})] + list(spec.get("points") or []) + \
+            [p.get("set", {}) for p in spec.get("points") or []]:
+        for k in list(holder):
+            if k in variant.set:
+                holder[k] = swap(k, holder[k])
+    for k, vals in (spec.get("grid") or {}).items():
+        if k in variant.set:
+            spec["grid"][k] = list(dict.fromkeys(swap(k, v) for v in vals))
+    if variant.leader_width is not None:
+        pts = _own_points(spec)
+        spec.pop("grid", None)
+        approx_base = "approx-thd" in base
+        spec["points"] = [dict(p, **{"leader-width": variant.leader_width})
+                          if "approx-thd" in p or approx_base else p for p in pts]
+    return spec
+
+
+def overrides(variant, spec_names):
+    """evaldata.DEFAULTS overrides under which the variant's rows are 'the default': its keys
+    that the report knows by an effective name (node_cache.bytes -> nc_bytes, leader width)."""
+    o = {spec_names[k]: v for k, v in variant.set.items() if k in spec_names}
+    if variant.leader_width is not None:
+        o["leader_width"] = variant.leader_width
+    return o
+
+
+def assumed_columns(variant):
+    """Setting columns the rows of the default's sweeps are read with when the variant shares
+    them (experiments it leaves alone): its keys at its values."""
+    cols = {k: _show(v) for k, v in variant.set.items()}
+    return cols
+
+
+# ----------------------------------------------------------------------- matrix, verdicts, classes
+
+HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED = (
+    "holds", "direction only", "size only", "fails", "no test", "not measured")
+SCORE = {HOLDS: 3, DIRECTION_ONLY: 2, SIZE_ONLY: 1, FAILS: 0}
+COLOURS = {HOLDS: "#1a9850", DIRECTION_ONLY: "#a6d96a", SIZE_ONLY: "#fdae61", FAILS: "#d73027",
+           NO_TEST: "#d9d9d9", NOT_MEASURED: "#f7f7f7"}
+
+
+def verdict(claim):
+    """One word for a claim's two tests: holds (every test it has passes), direction only, size
+    only, fails (every test fails), no test (neither applies), not measured."""
+    if claim is None or claim.measured == "not measured":
+        return NOT_MEASURED
+    d, w = claim.direction, claim.within
+    if d is None and w is None:
+        return NO_TEST
+    if (d is None or d) and (w is None or w):
+        return HOLDS
+    if d is not None and w is not None and d != w:
+        return DIRECTION_ONLY if d else SIZE_ONLY
+    return FAILS
+
+
+class Column:
+    """One configuration's claims: `default` or a variant (None for the default)."""
+    def __init__(self, name, variant, claims):
+        self.name, self.variant = name, variant
+        self.claims = {c.cid: c for c in claims}
+        self.order = [c.cid for c in claims]
+
+
+def _number(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def classify(cid, columns, defaults):
+    """(class, text) of one claim over the columns (the first is the default). Classes: holds
+    everywhere, fails everywhere (the same failing verdict in every measured column), depends
+    (the verdict changes: on which detail, at which values, in which direction), not measured."""
+    cells = [(col, verdict(col.claims.get(cid))) for col in columns]
+    measured = [(col, v) for col, v in cells if v not in (NOT_MEASURED, NO_TEST)]
+    missing = [col.name for col, v in cells if v == NOT_MEASURED]
+    tail = f" Not measured under {', '.join(missing)}." if missing and measured else ""
+    if not measured:
+        if any(v == NO_TEST for _, v in cells):
+            return "no test", "measured, but the claim has no direction test and no paper number." + tail
+        return "not measured", "not measured under any variant." + tail
+    vals = [col.claims[cid].measured for col, _ in measured]
+    span = vals[0] if len(set(vals)) == 1 else f"{vals[0]} (default) ... " + \
+        ", ".join(f"{col.name} {col.claims[cid].measured}" for col, _ in measured[1:])
+    kinds = {v for _, v in measured}
+    if kinds == {HOLDS}:
+        return "holds everywhere", f"holds under all {len(measured)} configurations measured ({span})." + tail
+    if len(kinds) == 1:
+        v = next(iter(kinds))
+        what = {FAILS: "fails", DIRECTION_ONLY: "the direction holds but the size misses",
+                SIZE_ONLY: "the size is within 2x but the direction does not hold"}[v]
+        base = columns[0].claims.get(cid)
+        reason = base.explanation if base is not None and base.measured != "not measured" else \
+            measured[0][0].claims[cid].explanation
+        return "fails everywhere", (f"{what} under all {len(measured)} configurations ({span}). "
+                                    f"Measured reason at the default: {reason}." + tail)
+    return "depends", depends_text(cid, columns, defaults) + tail
+
+
+def depends_text(cid, columns, defaults):
+    """Which details change the verdict: variants grouped by the keys they set, each group's
+    verdicts along its values with the default's, and the direction when it is monotone."""
+    base = columns[0]
+    bv = verdict(base.claims.get(cid))
+    groups = {}
+    for col in columns[1:]:
+        groups.setdefault(tuple(col.variant.keys()), []).append(col)
+    parts = []
+    for keys, cols in groups.items():
+        series = [(tuple(defaults.get(k) for k in keys), f"{base.name}", bv, base.claims.get(cid))]
+        series += [(tuple(col.variant.values()), col.name, verdict(col.claims.get(cid)), col.claims.get(cid))
+                   for col in cols]
+        if len({v for _, _, v, _ in series if v not in (NOT_MEASURED, NO_TEST)}) <= 1:
+            continue
+        nums = [_number(x[0][0]) if len(x[0]) == 1 else None for x in series]
+        if all(n is not None for n in nums):
+            series = [s for _, s in sorted(zip(nums, series), key=lambda t: t[0])]
+            nums = sorted(nums)
+        steps = "; ".join(f"{s[2]} at {_show(s[0][0]) if len(s[0]) == 1 else s[1]}"
+                          f"{' (default)' if s[1] == base.name else ''} ({s[3].measured if s[3] else '-'})"
+                          for s in series)
+        direction = ""
+        scores = [SCORE.get(s[2]) for s in series]
+        if all(n is not None for n in nums) and None not in scores:
+            if all(a <= b for a, b in zip(scores, scores[1:])):
+                direction = f": better as {' + '.join(keys)} rises"
+            elif all(a >= b for a, b in zip(scores, scores[1:])):
+                direction = f": better as {' + '.join(keys)} falls"
+            else:
+                direction = ": not monotone"
+        parts.append(f"`{' + '.join(keys)}`{direction} ({steps})")
+    if not parts:
+        return "the verdict changes, but not along any one detail."
+    return "depends on " + "; ".join(parts) + "."
+
+
+def matrix(columns, defaults):
+    """Rows [(index, claim at the default (or the first column that has it), [(verdict, value)], class, text)]."""
+    order = list(columns[0].order)
+    for col in columns[1:]:
+        order += [c for c in col.order if c not in order]
+    rows = []
+    for i, cid in enumerate(order, 1):
+        first = next(col.claims[cid] for col in columns if cid in col.claims)
+        cells = [(verdict(col.claims.get(cid)), col.claims[cid].measured if cid in col.claims else "-")
+                 for col in columns]
+        cls, text = classify(cid, columns, defaults)
+        rows.append((i, first, cells, cls, text))
+    return rows
+
+
+def _cell(v, value):
+    return f"{value} · {v}" if v not in (NOT_MEASURED,) else "not measured"
+
+
+def render(columns, defaults, figure_rel=None, md_cell=str):
+    """The REPORT.md section: the variants, the matrix, the classification."""
+    rows = matrix(columns, defaults)
+    counts = {}
+    for r in rows:
+        counts[r[3]] = counts.get(r[3], 0) + 1
+    L = ["## Robustness: the claims under design variants", "",
+         "Each variant changes details the paper leaves open; every claim experiment ran under "
+         "each (rows the variant cannot change are the default's). A cell is the measured value "
+         "and its verdict: *holds* (every test the claim has passes), *direction only*, *size "
+         "only*, *fails* (every test fails), *no test*.", "",
+         "| variant | keys | why it is plausible |", "|---|---|---|",
+         f"| {DEFAULT} | the model's defaults | the configuration of the table above |"]
+    for col in columns[1:]:
+        v = col.variant
+        scope = f" (runs only {', '.join(v.experiments)})" if v.experiments else ""
+        L.append(f"| {col.name} | {md_cell(v.describe())}{scope} | {md_cell(v.why)} |")
+    L += ["", "Classification: " + ", ".join(f"{n} {k}" for k, n in sorted(counts.items(), key=lambda t: -t[1]))
+          + f" (of {len(rows)} claims).", ""]
+    head = ["#", "claim"] + [c.name for c in columns] + ["class"]
+    L += ["| " + " | ".join(head) + " |", "|" + "|".join(["---:"] + ["---"] * (len(head) - 1)) + "|"]
+    for i, c, cells, cls, _ in rows:
+        L.append("| " + " | ".join([str(i), md_cell(c.text)] + [md_cell(_cell(v, val)) for v, val in cells]
+                                   + [f"**{cls}**" if cls == "depends" else cls]) + " |")
+    L.append("")
+    if figure_rel:
+        L += [f"![the claims under the design variants]({figure_rel})", ""]
+    L += ["### Per claim", ""]
+    for i, c, _, cls, text in rows:
+        L.append(f"- #{i} {md_cell(c.text)}: **{cls}**: {md_cell(text)}")
+    L.append("")
+    return L
+
+
+def figure(columns, defaults, path):
+    """The matrix as a picture: claims by configurations, coloured by verdict, the measured value
+    written in each cell. Returns the path."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+    rows = matrix(columns, defaults)
+    kinds = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED]
+    grid = [[kinds.index(v) for v, _ in cells] for _, _, cells, _, _ in rows]
+    ncol, nrow = len(columns), len(rows)
+    fig, ax = plt.subplots(figsize=(4.5 + 1.15 * ncol, 1.6 + 0.32 * nrow))
+    ax.imshow(grid, cmap=ListedColormap([COLOURS[k] for k in kinds]), vmin=-0.5,
+              vmax=len(kinds) - 0.5, aspect="auto")
+    for y, (_, _, cells, _, _) in enumerate(rows):
+        for x, (v, val) in enumerate(cells):
+            text = val if len(val) <= 15 else val[:14] + "…"
+            ax.text(x, y, text if v != NOT_MEASURED else "-", ha="center", va="center", fontsize=6,
+                    color="white" if v in (HOLDS, FAILS) else "black")
+    ax.set_xticks(range(ncol))
+    ax.set_xticklabels([c.name for c in columns], rotation=35, ha="right", fontsize=8)
+    ax.set_yticks(range(nrow))
+    ax.set_yticklabels([f"#{i} {c.text[:58]}{'…' if len(c.text) > 58 else ''}" + (" *" if cls == "depends" else "")
+                        for i, c, _, cls, _ in rows], fontsize=6.5)
+    ax.set_xticks([x - 0.5 for x in range(1, ncol)], minor=True)
+    ax.set_yticks([y - 0.5 for y in range(1, nrow)], minor=True)
+    ax.grid(which="minor", color="white", linewidth=1)
+    ax.axvline(0.5, color="black", linewidth=1.5)  # the default | the variants
+    ax.tick_params(which="minor", length=0)
+    ax.legend(handles=[Patch(color=COLOURS[k], label=k) for k in kinds], loc="upper left",
+              bbox_to_anchor=(1.01, 1), fontsize=7, title="verdict", title_fontsize=7)
+    ax.set_title("The paper's claims under design variants (* = the verdict depends on a variant)",
+                 fontsize=9)
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
