@@ -326,6 +326,45 @@ def claims(points, dps):
             "dominant_stage_counts": dominant}
 
 
+# Where a label may go, in points from its marker: beside it first, then further out on a leader
+# line, so a cluster of frontier points (several within a second and a few per cent of error)
+# still gets one readable label each.
+NEAR = [(7, 5), (7, -5), (-7, 5), (-7, -5)]
+FAR = [(dx, dy) for dy in (18, -22, 30, -34, 42, -46, 54, -58, 66, -70) for dx in (26, -26, 60, -60)]
+
+
+def place_labels(fig, ax, items):
+    """Annotates items [(x, y, text, style)] in order, each at the first offset whose text box is
+    clear of every label placed so far, every marker and the legend, and inside the axes."""
+    from matplotlib.text import Text
+    from matplotlib.transforms import Bbox
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    taken = [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else []
+    for x, y, _, _ in items:
+        px, py = ax.transData.transform((x, y))
+        taken.append(Bbox.from_extents(px - 5, py - 5, px + 5, py + 5))
+    for x, y, text, style in items:
+        chosen = None
+        for dx, dy in NEAR + FAR:  # a leader on every label: in a cluster, which marker is whose shows
+            ann = ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy),
+                              ha="left" if dx > 0 else "right", va="bottom" if dy > 0 else "top", zorder=6,
+                              arrowprops=dict(arrowstyle="-", lw=0.6, color=style.get("color", "k"),
+                                              shrinkA=0, shrinkB=3), **style)
+            ann.update_positions(renderer)
+            box = Text.get_window_extent(ann, renderer)  # the text alone: its leader may cross markers
+            if (frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
+                    and not any(box.overlaps(t) for t in taken)):
+                chosen = box
+                break
+            ann.remove()
+        if chosen is None:  # nowhere clear: beside the marker, as before
+            ann = ax.annotate(text, (x, y), textcoords="offset points", xytext=NEAR[0], zorder=6, **style)
+            ann.update_positions(renderer)
+            chosen = Text.get_window_extent(ann, renderer)
+        taken.append(chosen)
+
+
 def plot(out, points, fronts, dps, title):
     import matplotlib
     matplotlib.use("Agg")
@@ -338,6 +377,7 @@ def plot(out, points, fronts, dps, title):
            and p["rpe_translation_m"] is not None]
     failed = len(points) - len(ok) - len(bad)
     fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.2))
+    labels = {}
     for ax, key, front, what in ((axes[0], "rpe_translation_m", fronts[0], "translation (m)"),
                                  (axes[1], "rpe_rotation_deg", fronts[1], "rotation (deg)")):
         ax.scatter([p["seconds_per_pair"] for p in ok], [p[key] for p in ok], s=14, color="0.6",
@@ -349,15 +389,14 @@ def plot(out, points, fronts, dps, title):
         fy = [points[i][key] for i in front]
         ax.step(fx, fy, where="post", color="C0", lw=1.2, zorder=3)
         ax.scatter(fx, fy, s=30, color="C0", label="Pareto frontier", zorder=4)
-        for i in front:
-            ax.annotate(dps[i], (points[i]["seconds_per_pair"], points[i][key]), textcoords="offset points",
-                        xytext=(5, 4), fontsize=9, color="C0", weight="bold")
         presets = [p for p in points if p["point"].startswith("preset") and p["valid"]]
         for k, p in enumerate(presets):
             ax.scatter([p["seconds_per_pair"]], [p[key]], s=70, facecolors="none", edgecolors="k",
                        marker="s", zorder=5, label=None if k else "the presets (anchors)")
-            ax.annotate(p["point"].split("=")[1] + " preset", (p["seconds_per_pair"], p[key]),
-                        textcoords="offset points", xytext=(6, -12), fontsize=8)
+        labels[ax] = ([(points[i]["seconds_per_pair"], points[i][key], dps[i], dict(fontsize=9, color="C0", weight="bold"))
+                       for i in sorted(front, key=lambda i: points[i]["seconds_per_pair"])]
+                      + [(p["seconds_per_pair"], p[key], p["point"].split("=")[1] + " preset", dict(fontsize=8))
+                         for p in presets])
         ax.set_yscale("log")
         ax.set_xlim(0, max([p["seconds_per_pair"] for p in ok + bad] + [1]) * 1.08)
         ax.set_xlabel("registration time, mean seconds per pair")
@@ -367,6 +406,8 @@ def plot(out, points, fronts, dps, title):
         ax.legend(fontsize=8, loc="upper right")
     fig.suptitle(f"Pipeline design space: {len(points)} points" + (f", {failed} failed (no result)" if failed else ""))
     figure_truth.name_workload(fig, title)
+    for ax, items in labels.items():  # after the layout is final: placement works in pixels
+        place_labels(fig, ax, items)
     fig.savefig(os.path.join(out, "fig4.png"), dpi=110)
     plt.close(fig)
 
