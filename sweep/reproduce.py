@@ -149,23 +149,25 @@ def workload(out, cloud, queries):
     return rec
 
 
+def write_json(path, data):
+    with open(path, "w") as f:
+        json.dump(data, f, indent=1)
+        f.write("\n")
+
+
 def write_specs(out, names, quick, cloud, queries):
     """Writes DIR/specs/<exp>.json and DIR/workload.json; returns [(name, spec path, sweep folder)]."""
     exps = experiments(quick)
     made = []
     try:
         os.makedirs(os.path.join(out, "specs"), exist_ok=True)
-        with open(os.path.join(out, WORKLOAD), "w") as f:
-            json.dump({"cloud": cloud, "queries": queries}, f, indent=1)
-            f.write("\n")
+        write_json(os.path.join(out, WORKLOAD), {"cloud": cloud, "queries": queries})
         for name in names:
             what, spec = exps[name]
             spec = with_workload(spec, cloud, queries)
             spec["comment"] = f"sweep/reproduce.py{' --quick' if quick else ''}: {what}"
             path = os.path.join(out, "specs", name + ".json")
-            with open(path, "w") as f:
-                json.dump(spec, f, indent=1)
-                f.write("\n")
+            write_json(path, spec)
             made.append((name, path, os.path.join(out, "sweeps", name)))
     except OSError as e:
         raise Refused(f"cannot write {e.filename or out}: {e.strerror or e}")
@@ -197,9 +199,7 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
         entries = []
         try:
             os.makedirs(os.path.join(vdir, "specs"), exist_ok=True)
-            with open(rec_path, "w") as f:
-                json.dump(v.as_json(), f, indent=1)
-                f.write("\n")
+            write_json(rec_path, v.as_json())
             for name, _spec, folder in plan:
                 what, spec = exps[name]
                 if not vt.affects(v, name, spec):
@@ -209,9 +209,7 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
                 spec["comment"] = (f"sweep/reproduce.py{' --quick' if quick else ''}: {what}; "
                                    f"variant {v.name}: {v.describe()}")
                 path = os.path.join(vdir, "specs", name + ".json")
-                with open(path, "w") as f:
-                    json.dump(spec, f, indent=1)
-                    f.write("\n")
+                write_json(path, spec)
                 entries.append((name, path, os.path.join(vdir, "sweeps", name)))
         except OSError as e:
             raise Refused(f"cannot write {e.filename or vdir}: {e.strerror or e}")

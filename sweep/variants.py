@@ -236,8 +236,7 @@ def overrides(variant, spec_names):
 def assumed_columns(variant):
     """Setting columns the rows of the default's sweeps are read with when the variant shares
     them (experiments it leaves alone): its keys at its values."""
-    cols = {k: _show(v) for k, v in variant.set.items()}
-    return cols
+    return {k: _show(v) for k, v in variant.set.items()}
 
 
 # ----------------------------------------------------------------------- matrix, verdicts, classes
