@@ -368,8 +368,9 @@ def choose_variants(a):
         raise Refused(f"--variants: the model's keys and defaults come from the tigris binary: {e}")
     defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
     try:
-        user = vt.load(a.variants_file, list(experiments(a.quick)), tig.config) if a.variants_file else []
-        return vt.choose(a.variants or [], user), defaults
+        user = vt.load(a.variants_file, list(experiments(a.quick)), tig.key_info,
+                       set(ts.FLAG_KEYS["run"].values())) if a.variants_file else []
+        return vt.choose(a.variants or [], user, a.variants_file), defaults
     except vt.VariantError as e:
         raise Refused(str(e))
 
@@ -446,15 +447,28 @@ def run(a, out, plan, vplan=()):
           f"{sum(1 for c in measured if c.direction is not None)}, within 2x for "
           f"{sum(1 for c in measured if c.within)} of {sum(1 for c in measured if c.within is not None)}"
           + (f"; sweeps with failed points: {', '.join(failed)}" if failed else ""), file=sys.stderr)
-    statuses = []
-    for p in csvs:
-        with open(p, newline="") as f:
-            statuses += [r.get("status") for r in csv.DictReader(f)]
+    statuses = csv_statuses(csvs)
     if "ok" not in statuses:
         print(f"reproduce: every point failed ({len(statuses)} points in {len(csvs)} sweep{'s' if len(csvs) > 1 else ''}): no claim "
               f"could be measured; the errors are in {path}, section \"Rows not ok\"", file=sys.stderr)
         return 1
+    dead = [v.name for v, entries in vplan
+            if "ok" not in csv_statuses(os.path.join(f, "sweep.csv") for _, spec, f in entries if spec)
+            and any(spec for _, spec, _ in entries)]
+    if dead:  # its column would hold the default's shared rows only: a robustness that was not measured
+        print(f"reproduce: every run of variant(s) {', '.join(dead)} failed (their sweep.csv under "
+              f"{os.path.join(out, 'variants')} say why): their columns are not measured", file=sys.stderr)
+        return 1
     return 0
+
+
+def csv_statuses(paths):
+    statuses = []
+    for p in paths:
+        if os.path.isfile(p):
+            with open(p, newline="") as f:
+                statuses += [r.get("status") for r in csv.DictReader(f)]
+    return statuses
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ from the default configuration's sweeps, so list only those you know the keys le
 """
 import itertools
 import json
+import math
 import os
 import re
 
@@ -99,8 +100,29 @@ def by_name():
     return {v.name: v for v in VARIANTS}
 
 
-def load(path, known_experiments, config_defaults):
-    """User variants from a JSON file; errors name the file and the variant (VariantError)."""
+def check_value(key, v, info):
+    """Why `v` cannot be `key`'s value ('' when it can), from `--list-config --json`'s entry."""
+    kind = info.get("type") if isinstance(info, dict) else None
+    if isinstance(v, float) and not math.isfinite(v):
+        return "must be finite"
+    if kind == "bool":
+        return "" if isinstance(v, bool) else "must be true or false"
+    if kind == "enum":
+        return "" if v in info.get("values", []) else f"must be one of {', '.join(info.get('values', []))}"
+    if kind in ("integer", "bytes", "number"):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or kind != "number" and v != int(v):
+            return f"must be {'a number' if kind == 'number' else 'an integer'}"
+        lo, hi = info.get("min"), info.get("max")
+        if lo is not None and v < lo or hi is not None and v > hi:
+            return f"must be in {_show(lo) if lo is not None else '-inf'}..{_show(hi) if hi is not None else 'inf'}"
+    return ""
+
+
+def load(path, known_experiments, key_info, flag_keys=()):
+    """User variants from a JSON file; errors name the file and the variant (VariantError).
+    key_info: `tigris run --list-config --json`'s entries by key (type, range, values);
+    flag_keys: keys the experiments set through a flag (e.g. tree.top_height by --height), which
+    a variant may not set too."""
     try:
         with open(path, encoding="utf-8") as f:
             data = json.load(f)
@@ -123,19 +145,28 @@ def load(path, known_experiments, config_defaults):
         if not isinstance(name, str) or not NAME_RE.match(name) or name == DEFAULT:
             raise VariantError(f"{where}: \"name\" must be 1-63 letters, digits, '.', '_', '+' or '-' "
                                f"(not \"{DEFAULT}\"), got {json.dumps(name)}")
+        if any(v.name == name for v in out):
+            raise VariantError(f"{where}: the name {name!r} is taken by an earlier variant of the file")
         where = f"{path}: variant {name!r}"
         s = d.get("set", {})
         if not isinstance(s, dict):
             raise VariantError(f"{where}: \"set\" must be an object {{\"dotted.key\": value}}")
         for k, v in s.items():
-            if k not in config_defaults:
+            if k not in key_info:
                 import difflib
-                near = difflib.get_close_matches(k, list(config_defaults), 1)
+                near = difflib.get_close_matches(k, list(key_info), 1)
                 raise VariantError(f"{where}: \"set\": unknown configuration key {k!r}"
                                    + (f" (did you mean {near[0]!r}?)" if near else
                                       " (tigris run --list-config lists them)"))
-            if not isinstance(v, (int, float, str, bool)) or isinstance(v, float) and v != v:
+            if k in flag_keys:
+                raise VariantError(f"{where}: \"set\": {k!r} is what the experiments sweep through a "
+                                   "flag (e.g. --height): a variant cannot fix it")
+            if not isinstance(v, (int, float, str, bool)):
                 raise VariantError(f"{where}: \"set\"[{k!r}] must be a number, string or boolean")
+            why = check_value(k, v, key_info[k])
+            if why:
+                raise VariantError(f"{where}: \"set\"[{k!r}] = {json.dumps(v)}: {why} "
+                                   "(tigris run --list-config)")
         lw = d.get("leader_width")
         if lw is not None and (not isinstance(lw, int) or isinstance(lw, bool) or not 0 <= lw <= 4096):
             raise VariantError(f"{where}: \"leader_width\" must be an integer 0..4096, got {json.dumps(lw)}")
@@ -156,13 +187,14 @@ def load(path, known_experiments, config_defaults):
     return out
 
 
-def choose(names, user):
+def choose(names, user, source="the variants file"):
     """The variants to run: the built-in list and the user's (a user name may not repeat a
     built-in one), all of them or those `names` lists."""
     table = by_name()
     for v in user:
         if v.name in table:
-            raise VariantError(f"variant {v.name!r} is defined twice (the built-in list has it)")
+            raise VariantError(f"{source}: variant {v.name!r} has the name of a built-in variant "
+                               "(tigris reproduce --help lists them): give it another name")
         table[v.name] = v
     if not names:
         return list(table.values())
@@ -281,7 +313,8 @@ def _number(v):
 def classify(cid, columns, defaults):
     """(class, text) of one claim over the columns (the first is the default). Classes: holds
     everywhere, fails everywhere (the same failing verdict in every measured column), depends
-    (the verdict changes: on which detail, at which values, in which direction), not measured."""
+    (the verdict changes: on which detail, at which values, in which direction), one
+    configuration only (the others did not measure it), no test, not measured."""
     cells = [(col, verdict(col.claims.get(cid))) for col in columns]
     measured = [(col, v) for col, v in cells if v not in (NOT_MEASURED, NO_TEST)]
     missing = [col.name for col, v in cells if v == NOT_MEASURED]
@@ -290,6 +323,10 @@ def classify(cid, columns, defaults):
         if any(v == NO_TEST for _, v in cells):
             return "no test", "measured, but the claim has no direction test and no paper number." + tail
         return "not measured", "not measured under any variant." + tail
+    if len(measured) == 1 and len(columns) > 1:
+        col, v = measured[0]
+        return "one configuration only", (f"{v} at {col.name} ({col.claims[cid].measured}), not measured "
+                                          "under any other configuration: no robustness to speak of." + tail)
     vals = [col.claims[cid].measured for col, _ in measured]
     span = vals[0] if len(set(vals)) == 1 else f"{vals[0]} (default) ... " + \
         ", ".join(f"{col.name} {col.claims[cid].measured}" for col, _ in measured[1:])
@@ -300,17 +337,22 @@ def classify(cid, columns, defaults):
         v = next(iter(kinds))
         what = {FAILS: "fails", DIRECTION_ONLY: "the direction holds but the size misses",
                 SIZE_ONLY: "the size is within 2x but the direction does not hold"}[v]
-        base = columns[0].claims.get(cid)
-        reason = base.explanation if base is not None and base.measured != "not measured" else \
-            measured[0][0].claims[cid].explanation
+        first = measured[0][0]  # the default when it is measured
         return "fails everywhere", (f"{what} under all {len(measured)} configurations ({span}). "
-                                    f"Measured reason at the default: {reason}." + tail)
+                                    f"Measured reason at {'the default' if first is columns[0] else first.name}: "
+                                    f"{first.claims[cid].explanation}." + tail)
     return "depends", depends_text(cid, columns, defaults) + tail
+
+
+def _value(key, v):
+    """A detail's value as the report shows it: the default leader width (0) means k."""
+    return "k" if key == "leader-width" and v == 0 else _show(v)
 
 
 def depends_text(cid, columns, defaults):
     """Which details change the verdict: variants grouped by the keys they set, each group's
-    verdicts along its values with the default's, and the direction when it is monotone."""
+    verdicts along its values with the default's, and the direction when it is monotone (a
+    group of several keys, as banks and ports, has one when its keys rise together)."""
     base = columns[0]
     bv = verdict(base.claims.get(cid))
     groups = {}
@@ -318,28 +360,31 @@ def depends_text(cid, columns, defaults):
         groups.setdefault(tuple(col.variant.keys()), []).append(col)
     parts = []
     for keys, cols in groups.items():
-        series = [(tuple(defaults.get(k) for k in keys), f"{base.name}", bv, base.claims.get(cid))]
+        series = [(tuple(defaults.get(k) for k in keys), base.name, bv, base.claims.get(cid))]
         series += [(tuple(col.variant.values()), col.name, verdict(col.claims.get(cid)), col.claims.get(cid))
                    for col in cols]
         if len({v for _, _, v, _ in series if v not in (NOT_MEASURED, NO_TEST)}) <= 1:
             continue
-        nums = [_number(x[0][0]) if len(x[0]) == 1 else None for x in series]
-        if all(n is not None for n in nums):
+        nums = [tuple(_number(x) for x in s[0]) for s in series]
+        ordered = all(None not in n for n in nums)
+        if ordered:
             series = [s for _, s in sorted(zip(nums, series), key=lambda t: t[0])]
             nums = sorted(nums)
-        steps = "; ".join(f"{s[2]} at {_show(s[0][0]) if len(s[0]) == 1 else s[1]}"
+            ordered = all(all(a[j] <= b[j] for a, b in zip(nums, nums[1:])) for j in range(len(keys)))
+        steps = "; ".join(f"{s[2]} at {'/'.join(_value(k, x) for k, x in zip(keys, s[0]))}"
                           f"{' (default)' if s[1] == base.name else ''} ({s[3].measured if s[3] else '-'})"
                           for s in series)
         direction = ""
         scores = [SCORE.get(s[2]) for s in series]
-        if all(n is not None for n in nums) and None not in scores:
+        name = " + ".join(keys)
+        if ordered and None not in scores:
             if all(a <= b for a, b in zip(scores, scores[1:])):
-                direction = f": better as {' + '.join(keys)} rises"
+                direction = f": better as {name} {'rise' if len(keys) > 1 else 'rises'}"
             elif all(a >= b for a, b in zip(scores, scores[1:])):
-                direction = f": better as {' + '.join(keys)} falls"
+                direction = f": better as {name} {'fall' if len(keys) > 1 else 'falls'}"
             else:
                 direction = ": not monotone"
-        parts.append(f"`{' + '.join(keys)}`{direction} ({steps})")
+        parts.append(f"`{name}`{direction} ({steps})")
     if not parts:
         return "the verdict changes, but not along any one detail."
     return "depends on " + "; ".join(parts) + "."
@@ -405,7 +450,7 @@ def figure(columns, defaults, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Patch
+    from matplotlib.patches import Patch, Rectangle
     rows = matrix(columns, defaults)
     kinds = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED]
     grid = [[kinds.index(v) for v, _ in cells] for _, _, cells, _, _ in rows]
@@ -415,6 +460,8 @@ def figure(columns, defaults, path):
               vmax=len(kinds) - 0.5, aspect="auto")
     for y, (_, _, cells, _, _) in enumerate(rows):
         for x, (v, val) in enumerate(cells):
+            if v == NOT_MEASURED:  # hatched: a white cell alone would vanish between white lines
+                ax.add_patch(Rectangle((x - 0.5, y - 0.5), 1, 1, fill=False, hatch="///", edgecolor="0.55", lw=0))
             text = val if len(val) <= 15 else val[:14] + "…"
             ax.text(x, y, text if v != NOT_MEASURED else "-", ha="center", va="center", fontsize=6,
                     color="white" if v in (HOLDS, FAILS) else "black")
@@ -428,7 +475,8 @@ def figure(columns, defaults, path):
     ax.grid(which="minor", color="white", linewidth=1)
     ax.axvline(0.5, color="black", linewidth=1.5)  # the default | the variants
     ax.tick_params(which="minor", length=0)
-    ax.legend(handles=[Patch(color=COLOURS[k], label=k) for k in kinds], loc="upper left",
+    ax.legend(handles=[Patch(facecolor=COLOURS[k], label=k, hatch="///" if k == NOT_MEASURED else None,
+                             edgecolor="0.55" if k == NOT_MEASURED else COLOURS[k]) for k in kinds], loc="upper left",
               bbox_to_anchor=(1.01, 1), fontsize=7, title="verdict", title_fontsize=7)
     ax.set_title("The paper's claims under design variants (* = the verdict depends on a variant)",
                  fontsize=9)

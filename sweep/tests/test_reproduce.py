@@ -53,6 +53,9 @@ FAKE_DRIVER = textwrap.dedent('''\
             kw["accuracy"] = {{"exact_match_fraction": 0.5, "mean_extra_distance_m": 0.1,
                                "max_extra_distance_m": 1.0, "recall": 0.9, "precision": 1.0}}
             kw["nodes"] /= 3
+        if s.get("dram.bytes_per_cycle") == 7.5:  # a variant whose every point fails
+            rows.append({{"settings": s, "stats": None, "status": "error", "error": "refused"}})
+            continue
         rows.append({{"settings": s, "stats": fx.fake_stats(**kw)}})
     fx.write_csv(os.path.join(out, "sweep.csv"), rows,
                  base=[k for k in base if k not in ("cloud", "queries", "mode")], sidecar=True)
@@ -204,6 +207,19 @@ class Flow(unittest.TestCase):
         self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)
         self.assertIn("![the claims under the design variants](figures/variants.png)", text)
         self.assertTrue(os.path.isfile(os.path.join(out, "figures", "variants.png")))
+
+    def test_a_variant_whose_runs_all_fail_exits_1_after_the_report(self):
+        out = os.path.join(self.tmp.name, "out")
+        mine = os.path.join(self.tmp.name, "mine.json")
+        with open(mine, "w") as f:
+            json.dump([{"name": "odd-nc", "set": {"dram.bytes_per_cycle": 7.5}, "experiments": ["units-su"]}], f)
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
+                            "--driver", self.driver, "--variants", "odd-nc", "--variants-file", mine],
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("every run of variant(s) odd-nc failed", p.stderr)
+        with open(os.path.join(out, "REPORT.md")) as f:
+            self.assertIn("| # | claim | default | odd-nc | class |", f.read())
 
     def test_missing_driver(self):
         p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--out",

@@ -34,6 +34,15 @@ DEFAULTS = {"dram.bytes_per_cycle": 51.2, "node_cache.bytes": 131072, "leader-wi
             "fe.top_levels_replicated": 0}
 
 
+# `tigris run --list-config --json`'s entries for the keys the tests use.
+KEY_INFO = {"dram.bytes_per_cycle": {"type": "number", "min": 0.001, "max": 1e6, "default": 51.2},
+            "node_cache.bytes": {"type": "bytes", "min": 0, "default": 131072},
+            "node_cache.policy": {"type": "enum", "values": ["fifo", "lru"], "default": "lru"},
+            "fe.forwarding": {"type": "bool", "default": True},
+            "fe.top_levels_replicated": {"type": "integer", "min": 0, "max": 16, "default": 0},
+            "tree.top_height": {"type": "integer", "min": 1, "max": 24, "default": 10}}
+
+
 def claim(cid, measured, direction, within, explanation="facts"):
     c = report.Claim(cid, "9", f"claim {cid}", "1x", "how")
     return c.set(measured, direction, within, explanation)
@@ -107,6 +116,32 @@ class Classify(unittest.TestCase):
                          claim("x", "c", True, True), claim("x", "d", True, True))
         self.assertIn("`dram.bytes_per_cycle`: not monotone", vt.classify("x", cols, DEFAULTS)[1])
 
+    def test_two_keys_rising_together_have_a_direction(self):
+        banks = {"sram.points.banks": 128, "sram.points.ports": 128}
+        lo = vt.Variant("pb-64", "", set={"sram.points.banks": 64, "sram.points.ports": 64})
+        hi = vt.Variant("pb-256", "", set={"sram.points.banks": 256, "sram.points.ports": 256})
+        cols = [col("default", None, claim("x", "1.0x", False, False)), col("pb-256", hi, claim("x", "2.0x", True, True)),
+                col("pb-64", lo, claim("x", "0.9x", False, False))]
+        text = vt.classify("x", cols, dict(DEFAULTS, **banks))[1]
+        self.assertIn("`sram.points.banks + sram.points.ports`: better as sram.points.banks + sram.points.ports rise "
+                      "(fails at 64/64 (0.9x); fails at 128/128 (default) (1.0x); holds at 256/256 (2.0x))", text)
+        odd = vt.Variant("pb-odd", "", set={"sram.points.banks": 256, "sram.points.ports": 64})
+        cols.append(col("pb-odd", odd, claim("x", "1.5x", True, True)))
+        text = vt.classify("x", cols, dict(DEFAULTS, **banks))[1]
+        self.assertIn("`sram.points.banks + sram.points.ports` (", text)  # the keys move apart: no direction
+
+    def test_leader_width_default_reads_k(self):
+        lw4 = vt.Variant("leader-width-4", "", leader_width=4)
+        cols = [col("default", None, claim("x", "1x", False, False)), col("leader-width-4", lw4, claim("x", "2x", True, True))]
+        self.assertIn("(fails at k (default) (1x); holds at 4 (2x))", vt.classify("x", cols, DEFAULTS)[1])
+
+    def test_fails_everywhere_names_where_its_reason_comes_from(self):
+        cols = self.cols(report.Claim("x", "9", "t", "p", "h"), claim("x", "1x", False, False, "bound A"),
+                         claim("x", "1x", False, False, "bound B"), claim("x", "1x", False, False, "bound C"))
+        cls, text = vt.classify("x", cols, DEFAULTS)
+        self.assertEqual(cls, "fails everywhere")
+        self.assertIn("Measured reason at dram-2x: bound A", text)
+
     def test_not_measured_somewhere(self):
         cols = self.cols(claim("x", "1x", True, True), report.Claim("x", "9", "t", "p", "h"),
                          claim("x", "1x", True, True), claim("x", "1x", True, True))
@@ -120,10 +155,10 @@ class Classify(unittest.TestCase):
         cols[0].claims["y"] = claim("y", "2x", True, True)
         cols[0].order.append("y")
         rows = vt.matrix(cols, DEFAULTS)
-        self.assertEqual([r[3] for r in rows], ["depends", "holds everywhere"])  # y: only measured by default
+        self.assertEqual([r[3] for r in rows], ["depends", "one configuration only"])  # y: the default only
         md = "\n".join(vt.render(cols, DEFAULTS, "figures/variants.png"))
         self.assertIn("| 1 | claim x | 1.00x · fails | 1.40x · direction only | 4.80x · holds | 1.00x · fails | **depends** |", md)
-        self.assertIn("| 2 | claim y | 2x · holds | not measured | not measured | not measured | holds everywhere |", md)
+        self.assertIn("| 2 | claim y | 2x · holds | not measured | not measured | not measured | one configuration only |", md)
         self.assertIn("![the claims under the design variants](figures/variants.png)", md)
         self.assertIn("| dram-8x | `dram.bytes_per_cycle=409.6` |", md)
 
@@ -168,7 +203,7 @@ class Specs(unittest.TestCase):
             p = os.path.join(tmp, "v.json")
             with open(p, "w") as f:
                 f.write(obj if isinstance(obj, str) else json.dumps(obj))
-            return vt.load(p, exps, DEFAULTS)
+            return vt.load(p, exps, KEY_INFO, {"tree.top_height"})
         v = load({"variants": [{"name": "dram-4x", "set": {"dram.bytes_per_cycle": 204.8}, "why": "HBM",
                                 "experiments": ["heights-radius"]}]})
         self.assertEqual((v[0].name, v[0].set, v[0].experiments), ("dram-4x", {"dram.bytes_per_cycle": 204.8},
@@ -181,14 +216,28 @@ class Specs(unittest.TestCase):
                          ([{"name": "a", "leader_width": -1}], "leader_width"),
                          ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "experiments": ["nope"]}],
                           "not an experiment: nope"),
-                         ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "colour": 1}], "unknown field")):
+                         ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "colour": 1}], "unknown field"),
+                         ([{"name": "a", "set": {"fe.top_levels_replicated": 20}}], "must be in 0..16"),
+                         ([{"name": "a", "set": {"fe.top_levels_replicated": 2.5}}], "must be an integer"),
+                         ([{"name": "a", "set": {"node_cache.bytes": "big"}}], "must be an integer"),
+                         ([{"name": "a", "set": {"node_cache.bytes": True}}], "must be an integer"),
+                         ('[{"name": "a", "set": {"dram.bytes_per_cycle": Infinity}}]', "must be finite"),
+                         ([{"name": "a", "set": {"node_cache.policy": "mru"}}], "must be one of fifo, lru"),
+                         ([{"name": "a", "set": {"fe.forwarding": 1}}], "must be true or false"),
+                         ([{"name": "a", "set": {"tree.top_height": 12}}], "through a flag"),
+                         ([{"name": "a", "set": {"fe.forwarding": False}}, {"name": "a", "leader_width": 4}],
+                          "the name 'a' is taken")):
             with self.assertRaises(vt.VariantError) as e:
                 load(bad)
             self.assertIn(msg, str(e.exception))
             self.assertIn("v.json", str(e.exception))
         with self.assertRaises(vt.VariantError) as e:
             vt.choose([], [vt.Variant("dram-8x", "", set={"dram.bytes_per_cycle": 1})])
-        self.assertIn("defined twice", str(e.exception))
+        self.assertIn("has the name of a built-in variant", str(e.exception))
+        self.assertEqual(load([{"name": "a", "set": {"node_cache.policy": "fifo", "fe.forwarding": False,
+                                                      "node_cache.bytes": 0, "dram.bytes_per_cycle": 3}}])[0].set,
+                         {"node_cache.policy": "fifo", "fe.forwarding": False, "node_cache.bytes": 0,
+                          "dram.bytes_per_cycle": 3})
         with self.assertRaises(vt.VariantError) as e:
             vt.choose(["dram-9x"], [])
         self.assertIn("unknown variant(s) dram-9x", str(e.exception))
