@@ -13,8 +13,9 @@ Writes into DIR:
   fig4.png           error against time, translation (a) and rotation (b), frontiers and DP1..DPn
   fig5.png           the DPs' time across the seven stages (a), KD-tree search against the rest (b)
   pareto/DPi.json    each Pareto point's pipeline configuration (tigris register --config)
-  dse.json           all of it as data, with the paper's section-3 claims measured (tigris reproduce
-                     puts them in its report)
+  dse.json           all of it as data, with the paper's section-3 claims measured
+  REPORT.md          those claims against the paper (direction / within 2x, measured explanations),
+                     the figures and the DPs: the section `tigris reproduce --dse DIR` adds to its report
 
 Sampling: the default space has some 440,000 points, so a full factorial is out of reach; the
 tool draws a seeded Latin-hypercube-like sample over the knobs' levels (each level of each knob
@@ -240,6 +241,14 @@ def stage_seconds(row):
     return out
 
 
+def stage_search_seconds(row):
+    """Mean seconds per pair of KD-tree search inside each of STAGES' parts."""
+    out = {title: num(row.get(f"stages.{part}.per_pair_mean.kdtree_search_seconds")) for title, part in STAGES if part}
+    out["RPCE"] = num(row.get("stages.icp.per_pair_mean.kdtree_search_seconds"))
+    out["transformation estimation"] = 0.0 if out["RPCE"] is not None else None
+    return out
+
+
 def read_points(out, names):
     sweep = json.load(open(os.path.join(out, "sweep", "sweep.json")))
     by_id = {r["point"]: r for r in sweep["rows"]}
@@ -251,6 +260,7 @@ def read_points(out, names):
              "rpe_translation_m": num(r.get("rpe.mean_translation_m")),
              "rpe_rotation_deg": num(r.get("rpe.mean_rotation_deg")),
              "kdtree_share": num(r.get("totals.kdtree_share")), "stages": stage_seconds(r),
+             "stage_kdtree_seconds": stage_search_seconds(r),
              "not_converged_pairs": r.get("not_converged_pairs"), "pairs": r.get("pairs"),
              "values": {k: r.get(k) for k in sweep["swept_keys"] if "." in k}}
         p["valid"] = p["status"] == "ok" and None not in (p["seconds_per_pair"], p["rpe_translation_m"],
@@ -448,6 +458,21 @@ def plot(out, points, fronts, dps, title):
 
 # ----------------------------------------------------------------------------------------------
 
+def write_report(out, summary):
+    """DIR/REPORT.md: the paper's section-3 claims against this exploration, in the words and
+    verdicts of `tigris reproduce`'s report (which adds the same section with --dse DIR)."""
+    import report
+    lines, claims = report.pipeline_section(summary, out, out)
+    lines[0] = "# The pipeline's design space: the paper's section 3 against this pipeline"
+    lines[2] = lines[2].replace(f"From `{out}` (`{summary.get('command_line')}`)", f"From `{summary.get('command_line')}`")
+    held = [c for c in claims if c.direction]
+    lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
+                  f"holds for {len(held)} of {sum(c.direction is not None for c in claims)} "
+                  "(docs/registration.md explains the space and the stages)."]
+    with open(os.path.join(out, "REPORT.md"), "w") as f:
+        f.write("\n".join(lines))
+
+
 def parse_args(argv):
     sys.path.insert(0, HERE)
     from tigris_sweep import joined_sbatch_args  # the sweep's own reading of --sbatch-arg
@@ -578,7 +603,7 @@ def main(argv):
         raise Bad(f"{spec_path}: {len(pts) - len(ids)} points repeat another (the sweep ran each once)")
     points = read_points(out, [(n, i, p) for n, i, p in zip(names, ids, pts)])
     valid = [k for k, p in enumerate(points) if p["valid"]]
-    for stale in ("fig4.png", "fig5.png", "dse.json", "points.csv"):
+    for stale in ("fig4.png", "fig5.png", "dse.json", "points.csv", "REPORT.md"):
         if os.path.exists(os.path.join(out, stale)):
             os.remove(os.path.join(out, stale))
     fronts = [[valid[j] for j in pareto([(points[k]["seconds_per_pair"], points[k][e]) for k in valid])]
@@ -606,7 +631,8 @@ def main(argv):
                "frontier_translation": [points[i]["point"] for i in fronts[0]],
                "frontier_rotation": [points[i]["point"] for i in fronts[1]],
                "dps": [dict({k: points[i][k] for k in ("point", "seconds_per_pair", "rpe_translation_m",
-                                                         "rpe_rotation_deg", "kdtree_share", "stages", "values")},
+                                                         "rpe_rotation_deg", "kdtree_share", "stages",
+                                                         "stage_kdtree_seconds", "values")},
                             dp=dps[i], config=configs[i]) for i in sorted(dps, key=lambda i: int(dps[i][2:]))],
                "presets": {p["point"].split("=")[1]: {k: p[k] for k in ("status", "seconds_per_pair", "rpe_translation_m",
                                                                           "rpe_rotation_deg", "kdtree_share", "dp")}
@@ -615,6 +641,7 @@ def main(argv):
     with open(os.path.join(out, "dse.json"), "w") as f:
         json.dump(summary, f, indent=1)
         f.write("\n")
+    write_report(out, summary)
     print(f"{'DP':5} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
     for d in summary["dps"]:
         i = next(k for k, p in enumerate(points) if p["point"] == d["point"])
@@ -628,7 +655,7 @@ def main(argv):
               f"{c['dps']} Pareto points (paper: 50-85%); normal estimation + descriptors + RPCE at least "
               f"{100 * c['normals_descriptors_rpce_share_min']:.0f}% (paper: over 90%)")
     print(f"{summary['ok']} ok, {summary['not_converged']} not converged, {summary['failed']} failed of {len(points)}; "
-          f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/DP*.json, dse.json")
+          f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/DP*.json, dse.json, REPORT.md")
     return 0
 
 

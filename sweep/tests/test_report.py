@@ -239,7 +239,20 @@ class PipelineClaims(unittest.TestCase):
         c = {x.cid: x for x in report.claims_pipeline(self.dse(same))}
         self.assertFalse(c["pipe_no_dominant"].direction)
         self.assertTrue(c["pipe_kd"].direction)
+        self.assertIn("normal estimation over half the time on every Pareto point", c["pipe_no_dominant"].explanation)
         self.assertIn("needs", c["pipe_presets"].explanation)  # no anchors: not measured
+        # One stage largest almost everywhere but under half the time somewhere: holds, with counts.
+        mostly = [self.dp("DP1", 0.7, (0, 4, 3, 3, 0, 0, 0, 0)), self.dp("DP2", 0.8, (0, 8, 0, 1, 0, 0, 1, 0))]
+        c = {x.cid: x for x in report.claims_pipeline(self.dse(mostly))}
+        self.assertTrue(c["pipe_no_dominant"].direction)
+        self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: normal estimation on 2 of 2")
+        self.assertIn("normal estimation takes 40%-80%", c["pipe_no_dominant"].explanation)
+        # With per-stage search seconds the lowest KD-tree share is explained by the stage's own work.
+        low = self.dp("DP1", 0.5, (0, 4, 0, 4, 0, 0, 2, 0))
+        low["stage_kdtree_seconds"] = dict(zip(self.STAGES, (0, 3.5, 0, 0.5, 0, 0, 2, 0)))
+        c = {x.cid: x for x in report.claims_pipeline(self.dse([low]))}
+        self.assertIn("mostly descriptor calculation's own computation (35% of the time, 88% of that stage)",
+                      c["pipe_kd"].explanation)
         # No Pareto point: every claim says what it needs.
         for x in report.claims_pipeline(self.dse([])):
             self.assertEqual(x.measured, "not measured")
