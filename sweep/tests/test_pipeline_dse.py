@@ -155,6 +155,10 @@ def test_tiny_dse():
         dps = {r["dp"]: r for r in rows if r["dp"]}
         assert set(dps) == {d_["dp"] for d_ in summary["dps"]} and dps, dps
         assert sorted(os.listdir(os.path.join(out, "pareto"))) == sorted(f"{k}.json" for k in dps)
+        with open(os.path.join(out, "REPORT.md")) as fh:
+            md = fh.read()
+        assert "| 1 | §3 | KD-tree search takes 50-85% of the time on every Pareto point |" in md, md
+        assert "![error against time](fig4.png)" in md and f"| {summary['dps'][0]['dp']} | " in md, md
         for f in ("fig4.png", "fig5.png"):
             with open(os.path.join(out, f), "rb") as fh:
                 assert fh.read(8) == b"\x89PNG\r\n\x1a\n", f
