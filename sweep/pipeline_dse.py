@@ -11,7 +11,7 @@ Writes into DIR:
   spec.json, sweep/  the sweep spec and the sweep folder (points/<id>/, sweep.csv); a rerun resumes
   points.csv         every point: knobs, status, seconds per pair, errors, KD-tree share, stages, DP
   fig4.png           error against time, translation (a) and rotation (b), frontiers and DP1..DPn
-  fig5.png           the DPs' time across the seven stages (a), KD-tree search against the rest (b)
+  fig5.png           the DPs' time across the stages (a), KD-tree search against the rest (b)
   pareto/DPi.json    each Pareto point's pipeline configuration (tigris register --config)
   dse.json           all of it as data, with the paper's section-3 claims measured
   REPORT.md          those claims against the paper (direction / within 2x, measured explanations),
@@ -32,7 +32,8 @@ import argparse, csv, io, json, math, os, random, shlex, signal, subprocess, sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 PROG = "tigris pipeline-dse"
 DEFAULT_SPACE = os.path.join(HERE, "pipeline_space.json")
-# The paper's seven stages (its Figure 5a) and the pipeline's parts that make them. ICP is one
+# The paper's seven stages (its Figure 5a), outlier removal (a stage of this pipeline the paper
+# does not have) and the pipeline's parts that make them. ICP is one
 # stage in the pipeline; its KD-tree searches are RPCE, the rest is transformation estimation.
 STAGES = [("outlier removal", "outlier_removal"), ("normal estimation", "normals"),
           ("key-point detection", "keypoints"), ("descriptor calculation", "descriptors"),
