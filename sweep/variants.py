@@ -312,7 +312,8 @@ def _number(v):
 
 def classify(cid, columns, defaults):
     """(class, text) of one claim over the columns (the first is the default). Classes: holds
-    everywhere, fails everywhere (the same failing verdict in every measured column), depends
+    everywhere, fails everywhere (the same failing verdict in every measured column; "(direction
+    holds)" or "(size within 2x)" when that verdict is direction only or size only), depends
     (the verdict changes: on which detail, at which values, in which direction), one
     configuration only (the others did not measure it), no test, not measured."""
     cells = [(col, verdict(col.claims.get(cid))) for col in columns]
@@ -338,7 +339,8 @@ def classify(cid, columns, defaults):
         what = {FAILS: "fails", DIRECTION_ONLY: "the direction holds but the size misses",
                 SIZE_ONLY: "the size is within 2x but the direction does not hold"}[v]
         first = measured[0][0]  # the default when it is measured
-        return "fails everywhere", (f"{what} under all {len(measured)} configurations ({span}). "
+        cls = "fails everywhere" + {FAILS: "", DIRECTION_ONLY: " (direction holds)", SIZE_ONLY: " (size within 2x)"}[v]
+        return cls, (f"{what} under all {len(measured)} configurations ({span}). "
                                     f"Measured reason at {'the default' if first is columns[0] else first.name}: "
                                     f"{first.claims[cid].explanation}." + tail)
     return "depends", depends_text(cid, columns, defaults) + tail

@@ -95,7 +95,7 @@ class Classify(unittest.TestCase):
     def test_direction_only_everywhere_is_a_fail_with_its_words(self):
         cols = self.cols(*(claim("x", "1.5x", True, False) for _ in range(4)))
         cls, text = vt.classify("x", cols, DEFAULTS)
-        self.assertEqual(cls, "fails everywhere")
+        self.assertEqual(cls, "fails everywhere (direction holds)")
         self.assertIn("the direction holds but the size misses", text)
 
     def test_depends_names_the_detail_and_direction(self):
@@ -311,7 +311,7 @@ class HandMadeCsvs(unittest.TestCase):
         self.assertEqual(cls, "depends")
         self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)
         self.assertEqual(rows["bypass-nn"][1], "holds everywhere")
-        self.assertEqual(rows["acc2skd-vs-acckd-nn"][1], "fails everywhere")  # 1.50x: direction only
+        self.assertEqual(rows["acc2skd-vs-acckd-nn"][1], "fails everywhere (direction holds)")  # 1.50x
         self.assertIn("Measured reason at the default: Acc-KD 150,000 cycles", rows["acc2skd-vs-acckd-nn"][2])
         # the Node Cache claims are measured under nc-512k: its rows are that variant's default
         for cid in ("pb-share-with-nc-nn", "nc-energy-nn"):
