@@ -74,6 +74,13 @@ def within_2x(measured, paper):
     return r > 0 and 1 / TWO_X <= r <= TWO_X
 
 
+def within_2x_gain(measured, paper):
+    """For a speed-up or ratio claim ("2x"): the gains over 1 within 2x of each other, as for a
+    '+x%' claim. On the factors themselves any result from 1.0x to 4x would be within 2x of a 2x
+    claim, no change included."""
+    return None if measured is None or paper is None else within_2x(measured - 1, paper - 1)
+
+
 def pct(x, digits=1):
     return f"{100 * x:.{digits}f}%"
 
@@ -175,7 +182,7 @@ def claims_redundancy(sw):
                 f"({(num(r, 'visits.leaf_points') or 0) / q:.0f} leaf points, "
                 f"{(num(r, 'visits.top') or 0) / q:.0f} top nodes); redundancy "
                 + ", ".join(f"{p[1]:.2f}x@{p[0]:.0f}" for p in pts) + f"; value {where}")
-        c.set(xf(v), grows(pts), within_2x(v, PAPER[key]), fact)
+        c.set(xf(v), grows(pts), within_2x_gain(v, PAPER[key]), fact)
     c = Claim("redundancy-nn-vs-radius", "9", "redundancy grows faster for NN than for radius "
               "(NN / radius redundancy at leaf-set 32)",
               f"{PAPER['redundancy_nn_32']:g}x / {PAPER['redundancy_radius_32']:g}x = "
@@ -185,7 +192,7 @@ def claims_redundancy(sw):
         ratio = at32["nn"] / at32["radius"]
         paper = PAPER["redundancy_nn_32"] / PAPER["redundancy_radius_32"]
         c.set(f"{at32['nn']:.2f}x / {at32['radius']:.2f}x = {ratio:.2f}", up(ratio),
-              within_2x(ratio, paper), "from the two rows above")
+              within_2x_gain(ratio, paper), "from the two rows above")
     else:
         c.missing("both the NN and the radius height sweeps with a canonical row")
     return out
@@ -207,7 +214,7 @@ def claims_acc_kd(sw):
         v = num(kd, "cycles") / num(two, "cycles")
         c = Claim(f"acc2skd-vs-acckd-{s['mode']}", "9", f"Acc-2SKD beats Acc-KD ({label(s)}; "
                   "speed-up of Acc-2SKD over Acc-KD)", f"{PAPER['acc2skd_over_acckd']:.1f}x", how)
-        c.set(xf(v), up(v), within_2x(v, PAPER["acc2skd_over_acckd"]),
+        c.set(xf(v), up(v), within_2x_gain(v, PAPER["acc2skd_over_acckd"]),
               f"Acc-KD {num(kd, 'cycles'):,.0f} cycles, {short_bound(kd)}. "
               f"Acc-2SKD {num(two, 'cycles'):,.0f} cycles, {short_bound(two)}")
         out.append(c)
@@ -261,7 +268,7 @@ def claims_optimizations(sw):
                 fact = (f"MQSN: {num(ra, 'units.search_units.queries_per_batch') or 0:.2f} queries/batch, "
                         f"{short_bound(ra)}. MQMN: {short_bound(rb)}")
             if cid == "mqmn-speed":
-                c.set(xf(sp), up(sp), within_2x(sp, PAPER[key]), fact)
+                c.set(xf(sp), up(sp), within_2x_gain(sp, PAPER[key]), fact)
             else:
                 c.set(f"{100 * (sp - 1):+.1f}%", up(sp), within_2x(sp - 1, PAPER[key]), fact)
             out.append(c)
@@ -548,7 +555,7 @@ def claims_energy(sw):
                        for p in ("pe", "ru", "sram_read", "sram_write", "node_cache", "dram", "leakage"))
         c = Claim(f"acckd-energy-{s['mode']}", "14", f"Acc-KD uses more energy than Acc-2SKD "
                   f"({label(s)}; energy ratio)", f"{PAPER['acckd_energy']:g}x", how)
-        c.set(xf(v), up(v), within_2x(v, PAPER["acckd_energy"]),
+        c.set(xf(v), up(v), within_2x_gain(v, PAPER["acckd_energy"]),
               f"{ek / 1e6:,.1f} vs {e2 / 1e6:,.1f} uJ; cycles {num(kd, 'cycles') / num(two, 'cycles'):.2f}x; "
               f"largest changes: " + ", ".join(f"{p} {d / 1e6:+,.1f} uJ" for d, p in
                                                 (diffs[0], diffs[-1])) +
@@ -569,7 +576,7 @@ def claims_energy(sw):
         v = num(b, "power_w") / num(a, "power_w")
         c = Claim(f"mqmn-power-{s['mode']}", "14", f"MQMN draws more power than MQSN(+Forward) "
                   f"({label(s)}; power ratio)", f"{PAPER['mqmn_power']:g}x", how)
-        c.set(xf(v), up(v), within_2x(v, PAPER["mqmn_power"]),
+        c.set(xf(v), up(v), within_2x_gain(v, PAPER["mqmn_power"]),
               f"power ratio = energy ratio {num(b, 'energy_pj.total') / num(a, 'energy_pj.total'):.2f}x "
               f"x speed-up {num(a, 'cycles') / num(b, 'cycles'):.2f}x; SRAM read energy "
               f"{(num(a, 'energy_pj.sram_read') or 0) / 1e6:,.1f} -> {(num(b, 'energy_pj.sram_read') or 0) / 1e6:,.1f} uJ; "
@@ -812,7 +819,7 @@ def claim_table(claims):
     return "\n".join(lines)
 
 
-def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None, robust=None):
+def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None, robust=None, command=None):
     measured = [c for c in claims if c.measured != "not measured"]
     dir_n = [c for c in measured if c.direction is not None]
     size_n = [c for c in measured if c.within is not None]
@@ -826,7 +833,7 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
     L = [f"# {title or 'Tigris TLM: the paper evaluation, reproduced'}", "",
          "Generated by `sweep/report.py` from " + ", ".join(
              f"`{os.path.relpath(p, fig_rel) if fig_rel else p}`" for p in sw.paths) + ".", "",
-         f"- Workload: {wtxt}.",
+         f"- Workload: {wtxt}."] + ([f"- Command: `{command}`."] if command else []) + [
          f"- Rows: " + ", ".join(f"{n} {s}" for s, n in sorted(counts.items())) +
          f"; {len(sw.ok)} distinct ok runs used.",
          "- Every number below is measured by the model on this workload; nothing is tuned toward "
@@ -842,7 +849,8 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
           claim_table(claims), "",
           "Verdicts: *direction holds* is the claim's qualitative test (stated per claim below); "
           "*within 2x* is measured / paper in [0.5, 2] (for a '+x%' or '-x%' claim, the gains or "
-          "cuts are compared; a gain of the wrong sign is not within 2x). A change of less than "
+          "cuts are compared, and for a speed-up or ratio ('2x') its gain over 1: a 1.03x against "
+          "a 2x claim is +3% against +100%; a gain of the wrong sign is not within 2x). A change of less than "
           f"{100 * NO_CHANGE:.0f}% counts as no change: the direction does not hold. n/a: the paper "
           "gives no number, or the claim has no direction.", ""]
     L += robust or []
@@ -913,7 +921,7 @@ def variants_section(cols, figures_dir, out, draw, log=ed.note):
 
 
 def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None,
-                 variants=None):
+                 variants=None, command=None):
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
     dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
@@ -927,7 +935,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
         if variants else None
     path = os.path.join(out, "REPORT.md")
     with open(path, "w") as f:
-        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust))
+        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust, command=command))
     log(f"report: wrote {path}")
     return path, claims
 

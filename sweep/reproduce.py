@@ -26,6 +26,7 @@ import csv
 import glob
 import json
 import os
+import shlex
 import signal
 import subprocess
 import sys
@@ -330,6 +331,7 @@ def main(argv=None):
         if signal.getsignal(s) != signal.SIG_IGN:
             signal.signal(s, _interrupt)
     a = parse_args(argv)
+    a.command_line = "tigris reproduce " + shlex.join(sys.argv[1:] if argv is None else argv)
     if a.tigris:  # the report's model defaults come from the binary that ran
         os.environ["TIGRIS"] = os.path.abspath(a.tigris)
     out = os.path.abspath(a.out)
@@ -437,7 +439,7 @@ def run(a, out, plan, vplan=()):
                           if os.path.isfile(os.path.join(f, "sweep.csv"))]) for v, entries in vplan]
     try:
         path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title,
-                                           dse_dir=a.dse, variants=vcsvs)
+                                           dse_dir=a.dse, variants=vcsvs, command=a.command_line)
     except (OSError, ValueError) as e:
         print(f"reproduce: error: the report: {e}", file=sys.stderr)
         return 2
