@@ -101,7 +101,7 @@ double stage_sum(const ordered_json& reg, const char* key) {
   return s;
 }
 
-// KITTI 00's first ~15 poses advance in equal steps (0.86 m, 0.139 deg; ../shared/data/README.md):
+// KITTI 00's first ~15 poses advance in equal steps (0.86 m, 0.139 deg; docs/registration.md):
 // the number of steps from the start whose length and rotation equal the first step's to 2 mm
 // and 0.005 deg (KITTI 00's stay within 1.2 mm and 0.002 deg). Steady driving can do that too,
 // so the warning says "may".
@@ -465,7 +465,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       std::snprintf(b, sizeof b,
                     "the ground truth's first %zu steps are equal (length to 2 mm, angle to 0.005 deg), as in "
                     "KITTI 00's first ~15 frames, whose poses advance a constant 0.86 m while LiDAR registration measures 0.68-0.76 m "
-                    "(../shared/data/README.md): per-pair errors there may measure the ground truth, not the "
+                    "(docs/registration.md): per-pair errors there may measure the ground truth, not the "
                     "registration",
                     steps);
       m["ground_truth_warning"] = b;

@@ -364,8 +364,11 @@ def part_layers(d):
         if path.startswith("hw/fe/"):
             check(not [i for i in incs if i.startswith("hw/be/")], f"{path} includes be/: {incs}")
         if not path.startswith("hw/host/"):
-            check(not re.search(r"std::thread|<thread>|<atomic>|__builtin_prefetch", text),
-                  f"{path}: host threads or prefetches outside hw/host/")
+            check(not re.search(r"std::thread|<thread>|<atomic>|__builtin_prefetch|prefetch_span|LeafBounds", text),
+                  f"{path}: host threads, prefetches or leaf boxes outside hw/host/")
+            host = [i for i in incs if i.startswith("hw/host/")]
+            check(set(host) <= {"hw/host/scan_service.hpp", "hw/host/fifo_ring.hpp"},
+                  f"{path} takes more of hw/host/ than the seam (scan_service.hpp) and the FIFO: {host}")
         check(not [i for i in incs if i.startswith("sw_ref/") and i not in ("sw_ref/arith.hpp", "sw_ref/kdtree.hpp")],
               f"{path} takes more than arith.hpp and kdtree.hpp from sw_ref/: {incs}")
     check("prefetch" not in everything["hw/observer.hpp"][1], "the observer interface has no prefetch hint")

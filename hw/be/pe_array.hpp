@@ -11,7 +11,6 @@
 #include <emmintrin.h>
 #endif
 
-#include "hw/host/leaf_bounds.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "hw/tree_view.hpp"
@@ -37,7 +36,9 @@ class PeArray {
   void start(const JobDescriptor& job, TreeView tree, ResultSlots slots) {
     job_ = &job, tree_ = tree, slots_ = slots;
   }
-  void prefetch_slot(std::uint32_t slot) const { slots_.prefetch(slot); }  // a host speed-up
+  const ResultSlots& slots() const { return slots_; }
+  // The distance a point must not exceed to enter `slot`'s list (its k-th best so far).
+  float bound(std::uint32_t slot) const { return slots_.bound(slot); }
   // The Node Set of `leaf`: its first entry and size.
   const tlm_if::PointEntry* node_set(std::uint32_t leaf) const { return tree_.leaf_entries() + tree_.leaf_begin(leaf); }
 
@@ -45,24 +46,20 @@ class PeArray {
   // NN/kNN results go to its Result Buffer slot, radius hits to `hits`. With `local`, the PE
   // also keeps the query's local result list as a new leader (docs/model.md): its
   // in-radius entries (radius) or its job.leader_width best in (dist2, index) order (NN/kNN).
-  // `box` (optional) holds every entry scanned: a scan it proves fruitless is skipped.
   void scan(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-            std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr,
-            const LeafBounds::Box* box = nullptr) {
+            std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local = nullptr) {
     if (job_->radius())
-      scan_radius(token, set, count, hits, local, box);
+      scan_radius(token, set, count, hits, local);
     else if (local)
       scan_leader(token, set, count, *local);
     else
-      scan_nearest(token, set, count, box);
+      scan_nearest(token, set, count);
   }
 
   // NN/kNN. The PE holds its query's k-th best distance: a point farther than it cannot enter
   // the list (equal ones still may, by index), so only closer ones go through the insert.
-  void scan_nearest(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-                    const LeafBounds::Box* box) {
+  void scan_nearest(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count) {
     float bound = slots_.bound(token.slot);
-    if (box && LeafBounds::min_dist2(token.point, *box) > bound) return;
     std::uint32_t i = 0;
 #if defined(__SSE2__)
     const Lanes q(token.point);
@@ -106,10 +103,8 @@ class PeArray {
   }
   // Radius: every hit is streamed out; a new leader keeps its in-radius entries.
   void scan_radius(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-                   std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local,
-                   const LeafBounds::Box* box) {
+                   std::vector<tlm_if::ResultRecord>& hits, std::vector<tlm_if::PointEntry>* local) {
     const float r2 = job_->r2;
-    if (box && LeafBounds::min_dist2(token.point, *box) > r2) return;
     const auto hit = [&](std::uint32_t i, float d) {
       hits.push_back({token.query, set[i].tag, d});
       if (local) local->push_back(set[i]);

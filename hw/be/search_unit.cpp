@@ -188,14 +188,13 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
-  const LeafBounds::Box* box = &links_.scans.box(leaf);  // holds the Node Set and its leaders' lists
   for (const QueryToken& t : tokens) {
     LeafVisit v;
     if (!job_.approximate) {
       if (job_.radius())
-        pe_array_.scan(t, set, n, hits, nullptr, box);
+        links_.scans.scan_now(pe_array_, t, leaf, set, n, hits);
       else  // the slot is next read by the query's next walk (which waits for it)
-        links_.scans.scan(pe_array_, t, set, n, box);
+        links_.scans.scan(pe_array_, t, leaf, set, n);
       v.leaf_points = n;
       ++plan.exact;
     } else {
@@ -205,7 +204,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
       plan.max_checks = std::max<std::uint64_t>(plan.max_checks, d.checks);
       if (d.kind == LeafVisit::Kind::Follower) {
         const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, d.leader);
-        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits, nullptr, box);
+        links_.scans.scan_now(pe_array_, t, leaf, leader_buffer_.list(l), l.list_length, hits);
         v.follower_points = l.list_length;
         if (std::find(plan.followed.begin(), plan.followed.end(), d.leader) == plan.followed.end())
           plan.followed.push_back(d.leader);
@@ -216,7 +215,7 @@ SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::u
         v.leaf_points = n;
         ++plan.exact;
       } else {
-        pe_array_.scan(t, set, n, hits, nullptr, box);
+        links_.scans.scan_now(pe_array_, t, leaf, set, n, hits);
         v.leaf_points = n;
         ++plan.exact;
       }

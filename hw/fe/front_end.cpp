@@ -2,7 +2,6 @@
 
 #include <string>
 
-#include "hw/host/prefetch.hpp"
 
 namespace tigris::hw {
 
@@ -102,8 +101,8 @@ void FrontEnd::dispatch() {
     fqq_.pop_front();
     // The FQQ is served in order: warm the host's cache for the query a few dispatches ahead
     // (its token itself a few more ahead, as the query's data is found through it).
-    if (fqq_.size() > 2 * kPrefetchAhead) prefetch_span(&fqq_[2 * kPrefetchAhead], sizeof(QueryToken));
-    if (fqq_.size() > kPrefetchAhead) ru->prefetch(fqq_[kPrefetchAhead]);
+    if (fqq_.size() > 2 * kPrefetchAhead) ScanService::read_soon(&fqq_[2 * kPrefetchAhead], sizeof(QueryToken));
+    if (fqq_.size() > kPrefetchAhead) ru->walk_soon(fqq_[kPrefetchAhead]);
     fqq_wave_.set(fqq_.size());
     ru->start(t);
   }

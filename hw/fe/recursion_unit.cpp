@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "hw/fe/front_end.hpp"
-#include "hw/host/prefetch.hpp"
 #include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 
@@ -182,12 +181,13 @@ std::uint64_t RecursionUnit::walk() {
   return cycles + static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
 }
 
-void RecursionUnit::prefetch(const QueryToken& token) const {
-  prefetch_span(query_records_ + token.query, sizeof(tlm_if::QueryRecord));
+void RecursionUnit::walk_soon(const QueryToken& token) const {
+  ScanService& s = links_.scans;
+  s.read_soon(query_records_ + token.query, sizeof(tlm_if::QueryRecord));
   if (token.started)
-    prefetch_span_to_write(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
-  if (!job_.radius()) slots_.prefetch(token.slot);
-  links_.scans.walk_soon(token);
+    s.write_soon(stacks_ + std::uint64_t{token.slot} * job_.stack_entries, job_.stack_entries * sizeof(StackEntry));
+  if (!job_.radius()) s.write_soon(slots_.address(token.slot), slots_.bytes());
+  s.walk_soon(token);
 }
 
 void RecursionUnit::on_done() {

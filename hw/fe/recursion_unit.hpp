@@ -74,10 +74,10 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   void start_job();                     // views onto the new job's data through the ports
   void start(const QueryToken& token);  // the FE hands over a query; the RU must be idle
   void retry_dispatch();                // the BE Query Buffer it waits for has room again
-  // A host speed-up, no hardware: starts loading the host cache lines a walk of `token` will
-  // read first (its query record, stack and result slot, and the scan service's hints), so the
-  // walk need not wait for them.
-  void prefetch(const QueryToken& token) const;
+  // A walk of `token` is a few dispatches away: tells the scan service (the host's seam, no
+  // hardware) what the walk will read first (its query record, stack and result slot), so the
+  // host may warm its cache.
+  void walk_soon(const QueryToken& token) const;
   StatGroup& stats() { return stats_; }
   bool busy_flag() const { return state_ != State::Idle; }
   std::uint32_t current_query() const { return token_.query; }

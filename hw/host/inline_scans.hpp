@@ -9,15 +9,15 @@ namespace tigris::hw {
 
 class InlineScans final : public ScanService {
  public:
-  void scan(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-            const LeafBounds::Box* box) override {
-    pe.scan_nearest(token, set, count, box);
+  void scan(PeArray& pe, const QueryToken& token, std::uint32_t leaf, const tlm_if::PointEntry* set,
+            std::uint32_t count) override {
+    if (!fruitless(pe, token, box(leaf))) pe.scan_nearest(token, set, count);
   }
   void ready(std::uint32_t) override {}
   void drain() override {}
   // The batch's issue reads the query's slot on this thread: warm it.
   void queued(const PeArray& pe, const QueryToken& token) override {
-    if (!radius()) pe.prefetch_slot(token.slot);
+    if (!radius()) write_soon(pe.slots().address(token.slot), pe.slots().bytes());
     hint(token.query);
   }
 

@@ -1,7 +1,8 @@
 // The one seam between the model and the host's speed-ups, none of which is hardware: the PEs'
 // exact NN/kNN scans (inline, or on a second host thread), the leaf sets' bounding boxes that
-// let a fruitless scan be skipped, and the prefetch hints. The units call this; fe/ and be/
-// know nothing of threads, and the observers (hw/observer.hpp) see hardware events only.
+// let a fruitless scan be skipped, and the host cache hints. The units call this and nothing
+// else of hw/host/: fe/ and be/ know nothing of threads, boxes or prefetch instructions, and the
+// observers (hw/observer.hpp) see hardware events only.
 //
 // The deferred-result contract. An NN/kNN scan's results never feed the timing: a batch's cycles
 // come from its Node Set's size, and the only reader of a query's result slot is that query's
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "hw/host/leaf_bounds.hpp"
+#include "hw/host/prefetch.hpp"
 #include "hw/job.hpp"
 #include "hw/tree_view.hpp"
 
@@ -40,21 +42,26 @@ class ScanService {
   void start(const JobDescriptor& job, const TreeView& tree) {
     bounds_.build(tree, job.num_leaves);
     radius_ = job.radius();
+    r2_ = job.r2;
     begin(job.slots);
   }
-  // Holds every entry of `leaf`'s Node Set and of its leaders' lists (hw/host/leaf_bounds.hpp).
-  const LeafBounds::Box& box(std::uint32_t leaf) const { return bounds_.box(leaf); }
 
-  // PE array `pe` scans `count` entries at `set` (within `box`) for `token`'s NN/kNN result slot:
-  // now or later, under the contract above.
-  virtual void scan(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-                    const LeafBounds::Box* box) = 0;
+  // PE array `pe` scans `count` entries at `set`, all of leaf `leaf`'s Node Set or of its
+  // leaders' lists, for `token`'s NN/kNN result slot: now or later, under the contract above.
+  virtual void scan(PeArray& pe, const QueryToken& token, std::uint32_t leaf, const tlm_if::PointEntry* set,
+                    std::uint32_t count) = 0;
+  // The same for a scan whose results the Search Unit reads at once (radius hits, approximate
+  // search): it runs now, into `hits` for radius.
+  void scan_now(PeArray& pe, const QueryToken& token, std::uint32_t leaf, const tlm_if::PointEntry* set,
+                std::uint32_t count, std::vector<tlm_if::ResultRecord>& hits);
   // Returns once every scan submitted for `slot` has written it.
   virtual void ready(std::uint32_t slot) = 0;
   // Returns once every scan submitted so far is done (no scan may outlive its Search Unit).
   virtual void drain() = 0;
 
-  // Prefetch hints (host cache lines only, no hardware event).
+  // Cache hints: host memory the model will read or write soon (no hardware event).
+  static void read_soon(const void* p, std::size_t bytes) { prefetch_span(p, bytes); }
+  static void write_soon(const void* p, std::size_t bytes) { prefetch_span_to_write(p, bytes); }
   void attach(QueryHint& hint) { hints_.push_back(&hint); }
   // `token`'s next walk is a few FQQ dispatches away: what ready() reads, and the hints.
   virtual void walk_soon(const QueryToken& token) { hint(token.query); }
@@ -65,6 +72,10 @@ class ScanService {
  protected:
   virtual void begin(std::uint32_t slots) = 0;
   bool radius() const { return radius_; }
+  const LeafBounds::Box& box(std::uint32_t leaf) const { return bounds_.box(leaf); }
+  // Whether `leaf`'s box proves a scan for `token` changes nothing: every distance beyond the
+  // radius, or beyond the slot's bound read now (a deferred scan asks when it runs).
+  bool fruitless(const PeArray& pe, const QueryToken& token, const LeafBounds::Box& box) const;
   void hint(std::uint32_t query) const {
     for (QueryHint* h : hints_) h->soon(query);
   }
@@ -73,6 +84,7 @@ class ScanService {
   LeafBounds bounds_;
   std::vector<QueryHint*> hints_;
   bool radius_ = false;
+  float r2_ = 0.0f;
 };
 
 // `threaded` false: every scan runs inline in scan() (hw/host/inline_scans.hpp); true: on a

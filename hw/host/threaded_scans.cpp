@@ -33,10 +33,10 @@ void ThreadedScans::begin(std::uint32_t slots) {
   if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
 }
 
-void ThreadedScans::scan(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set,
-                         std::uint32_t count, const LeafBounds::Box* box) {
+void ThreadedScans::scan(PeArray& pe, const QueryToken& token, std::uint32_t leaf, const tlm_if::PointEntry* set,
+                         std::uint32_t count) {
   if (submitted_ - seen_done_ >= kRing) wait(submitted_ - kRing + 1);  // the ring is full
-  ring_[submitted_ & (kRing - 1)] = Job{&pe, token, set, box, count};
+  ring_[submitted_ & (kRing - 1)] = Job{&pe, token, set, &box(leaf), count};
   __builtin_prefetch(&ring_[(submitted_ + 8) & (kRing - 1)], 1);  // the worker read it last
   slot_ticket_[token.slot] = ++submitted_;
   published_.store(submitted_, std::memory_order_seq_cst);
@@ -70,9 +70,9 @@ void ThreadedScans::run() {
       const Job& j = ring_[next & (kRing - 1)];
       if (next + 1 < published) {  // warm the next job's slot
         const Job& n = ring_[(next + 1) & (kRing - 1)];
-        n.pe->prefetch_slot(n.token.slot);
+        write_soon(n.pe->slots().address(n.token.slot), n.pe->slots().bytes());
       }
-      j.pe->scan_nearest(j.token, j.set, j.count, j.box);
+      if (!fruitless(*j.pe, j.token, *j.box)) j.pe->scan_nearest(j.token, j.set, j.count);  // the bound as of now
       done_.store(++next, std::memory_order_release);
       continue;
     }

@@ -27,8 +27,8 @@ class ThreadedScans final : public ScanService {
   ThreadedScans(const ThreadedScans&) = delete;
   ThreadedScans& operator=(const ThreadedScans&) = delete;
 
-  void scan(PeArray& pe, const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,
-            const LeafBounds::Box* box) override;
+  void scan(PeArray& pe, const QueryToken& token, std::uint32_t leaf, const tlm_if::PointEntry* set,
+            std::uint32_t count) override;
   void ready(std::uint32_t slot) override {
     if (slot_ticket_[slot] > seen_done_) wait(slot_ticket_[slot]);
   }

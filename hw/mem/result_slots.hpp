@@ -10,7 +10,6 @@
 #include <cstdint>
 #include <cstring>
 
-#include "hw/host/prefetch.hpp"
 #include "sw_ref/arith.hpp"
 
 namespace tigris::hw {
@@ -52,8 +51,9 @@ class ResultSlots {
     std::push_heap(e, e + c, closer_order);
     return true;
   }
-  // Host speed-up: starts loading the slot into the host's cache (hw/host/prefetch.hpp).
-  void prefetch(std::uint32_t slot) const { prefetch_span_to_write(at(slot), slot_bytes(k_)); }
+  // Where a slot lives in host memory, for the host's cache hints (hw/host/scan_service.hpp).
+  const void* address(std::uint32_t slot) const { return at(slot); }
+  std::uint64_t bytes() const { return slot_bytes(k_); }
   // The query is done: its list in canonical order, closest first (entries() then reads it).
   void finish(std::uint32_t slot) {
     Neighbor* e = mutable_entries(slot);
