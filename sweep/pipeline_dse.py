@@ -463,9 +463,7 @@ def write_report(out, summary):
     """DIR/REPORT.md: the paper's section-3 claims against this exploration, in the words and
     verdicts of `tigris reproduce`'s report (which adds the same section with --dse DIR)."""
     import report
-    lines, claims = report.pipeline_section(summary, out, out)
-    lines[0] = "# The pipeline's design space: the paper's section 3 against this pipeline"
-    lines[2] = lines[2].replace(f"From `{out}` (`{summary.get('command_line')}`)", f"From `{summary.get('command_line')}`")
+    lines, claims = report.pipeline_section(summary, out, out, standalone=True)
     held = [c for c in claims if c.direction]
     lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
                   f"holds for {len(held)} of {sum(c.direction is not None for c in claims)} "

@@ -770,11 +770,15 @@ def claims_pipeline(dse):
     return out
 
 
-def pipeline_section(dse, dse_dir, fig_rel):
+def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
+    """The section's lines and claims; `standalone`: the report of the exploration's own folder
+    (a title of its own, the folder not named)."""
     claims = claims_pipeline(dse)
     rel = lambda f: os.path.relpath(os.path.join(dse_dir, f), fig_rel) if fig_rel else os.path.join(dse_dir, f)  # noqa: E731
-    L = ["## The pipeline's design space (the paper's section 3)", "",
-         f"From `{dse_dir}` (`{dse.get('command_line')}`): {dse.get('points')} points, {dse.get('ok')} ok, "
+    source = f"`{dse.get('command_line')}`" if standalone else f"`{dse_dir}` (`{dse.get('command_line')}`)"
+    L = ["# The pipeline's design space: the paper's section 3 against this pipeline" if standalone else
+         "## The pipeline's design space (the paper's section 3)", "",
+         f"From {source}: {dse.get('points')} points, {dse.get('ok')} ok, "
          f"{dse.get('not_converged')} with a pair not converged, {dse.get('failed')} failed; "
          f"{len(dse.get('dps', []))} Pareto points (the paper found 8).", "",
          claim_table(claims).replace("| model.md |", "| paper § |"), "",
