@@ -4,18 +4,14 @@
 // is an error (the JSON library would keep the last one silently).
 #pragma once
 
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "sw_ref/io/input_file.hpp"
 #include "sw_ref/visible_text.hpp"
 
 namespace tigris {
@@ -25,7 +21,8 @@ inline nlohmann::json parse_json_text(const std::string& text, const std::string
                                       bool ignore_comments = false) {
   using nlohmann::json;
   std::vector<std::set<std::string>> keys;  // the keys seen in each open object
-  const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
+  const json::parser_callback_t check = [&](int depth, json::parse_event_t event, json& parsed) {
+    if (depth > 512) throw std::invalid_argument(source + ": JSON nested deeper than 512 levels; not a tigris file");
     if (event == json::parse_event_t::object_start) keys.emplace_back();
     if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
     if (event == json::parse_event_t::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
@@ -44,17 +41,9 @@ inline nlohmann::json parse_json_text(const std::string& text, const std::string
   }
 }
 
-// Reads and parses a file; errors name it.
+// Reads and parses a file through the one input opener; errors name it.
 inline nlohmann::json read_json_file(const std::string& path, bool ignore_comments = false) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": cannot read configuration file: is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open configuration file: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::invalid_argument(path + ": cannot read configuration file");
-  return parse_json_text(text.str(), path, ignore_comments);
+  return parse_json_text(read_input(path, "configuration file", kMaxSettingsBytes), path, ignore_comments);
 }
 
 }  // namespace tigris

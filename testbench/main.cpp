@@ -1,5 +1,6 @@
 // `tigris`: the command-line front end (docs/cli.md).
-// Exit codes: 0 success, 1 golden mismatch (tigris run), 2 bad input or configuration.
+// Exit codes: 0 success, 1 golden mismatch (tigris run), 2 bad input or configuration, 3 a Slurm
+// submission failed, 128 + the signal when stopped (130 SIGINT, 143 SIGTERM, 129 SIGHUP).
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +12,9 @@
 #include <string>
 
 #include "arg_checks.hpp"
+#include "children.hpp"
+#include "out_folder.hpp"
+#include "slurm_array.hpp"
 #include "python_tools.hpp"
 #include "ref_command.hpp"
 #include "odometry_command.hpp"
@@ -90,6 +94,8 @@ extern "C" int sc_main(int, char**) { return 2; }
 int main(int argc, char** argv) {
   ask_for_huge_pages(argv);
   if (const int code = tigris::run_python_tool(argc, argv); code >= 0) return code;
+  tigris::install_stop_handlers("tigris");
+  tigris::record_command_line(argc, argv);
   setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 1);
   // The host driver ends every run with sc_stop(); that is not news for the user.
   sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
@@ -182,6 +188,12 @@ int main(int argc, char** argv) {
     odometry_options.argv = register_options.argv;
     if (*odo) return tigris::run_odometry_command(*odo, odometry_options);
     if (*syn) return tigris::run_synth_command(*syn, synth_options);
+  } catch (const tigris::Interrupted& e) {
+    std::cerr << "tigris: " << e.what() << ": child processes stopped\n";
+    return 128 + e.signal;
+  } catch (const tigris::SlurmError& e) {
+    std::cerr << "tigris: error: " << printable(e.what()) << '\n';
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "tigris: error: " << printable(e.what()) << '\n';
     return 2;

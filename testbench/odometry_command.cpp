@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,7 +21,10 @@
 #include <nlohmann/json.hpp>
 
 #include "arg_checks.hpp"
-#include "child_process.hpp"
+#include "children.hpp"
+#include "out_folder.hpp"
+#include "run_inputs.hpp"
+#include "sw_ref/json_file.hpp"
 #include "python_tools.hpp"
 #include "report.hpp"
 #include "slurm_array.hpp"
@@ -68,6 +73,29 @@ std::vector<std::string> forwarded(const OdometryOptions& o) {
   return a;
 }
 
+void check_register_flags(const OdometryOptions& o) {
+  std::vector<std::string> args{"/proc/self/exe", "register"};
+  for (const std::string& a : forwarded(o)) args.push_back(a);
+  args.push_back("--check-flags");
+  if (wait_child(start_child(args)) != 0)
+    throw std::invalid_argument("the flags tigris odometry gives each pair's tigris register do not hold" +
+                                (o.search.empty() ? std::string() : " (--search " + o.search + ")") +
+                                ": its message is above; nothing was run or written");
+}
+
+nlohmann::json config_inputs(const OdometryOptions& o) {
+  nlohmann::json in = nlohmann::json::array();
+  if (!o.config.empty()) in.push_back(input_file("config", o.config));
+  if (!o.accel_config.empty()) in.push_back(input_file("accelerator config", o.accel_config));
+  return in;
+}
+
+std::vector<std::string> odometry_outputs(bool compare) {
+  if (compare) return {"comparison.json", "flann/", "exact/", "approx/", "accel/", "sequence/"};
+  return {"poses.txt", "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png", "errors.png",
+          "pairs/",    "slurm/",         "sequence/"};
+}
+
 std::string last_line(const std::string& path) {
   std::ifstream f(path);
   std::string line, last;
@@ -76,16 +104,37 @@ std::string last_line(const std::string& path) {
   return last;
 }
 
-// A pair's registration.json when it is there and complete (a rerun reuses it).
+// A pair's registration.json: false when it is not there (the pair runs); a report that is
+// there but not whole (edited, truncated) is an error naming the file and the key.
 bool read_pair(const std::string& path, ordered_json& out) {
-  std::ifstream f(path);
-  if (!f) return false;
-  try {
-    f >> out;
-  } catch (const std::exception&) {
-    return false;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return false;
+  out = parse_json_text(read_input(path, "a pair's registration report", kMaxSettingsBytes), path);
+  const auto need = [&](bool ok, const std::string& what) {
+    if (!ok)
+      throw std::invalid_argument(path + ": " + what + "; not a whole tigris register report (remove the pair's "
+                                  "folder to register it again)");
+  };
+  need(out.is_object(), "not a JSON object");
+  need(out.contains("status") && out["status"].is_string(), "no 'status' text");
+  need(out.contains("transform") && (out["transform"].is_null() || out["transform"].is_array()), "no 'transform'");
+  need(out.contains("seconds") && out["seconds"].is_number() && out["seconds"].get<double>() >= 0,
+       "no 'seconds' (a number, at least 0)");
+  need(out.contains("stages") && out["stages"].is_object() && !out["stages"].empty(), "no 'stages'");
+  for (const auto& [name, st] : out["stages"].items()) {
+    need(st.is_object(), "stage '" + name + "' is not an object");
+    for (const char* key : {"seconds", "search_seconds", "searches"})
+      need(!st.contains(key) || (st[key].is_number() && st[key].get<double>() >= 0),
+           "stage '" + name + "': '" + key + "' is not a number at least 0");
   }
-  return out.is_object() && out.contains("status") && out.contains("transform");
+  if (out["transform"].is_array()) {
+    bool ok = out["transform"].size() == 4;
+    for (const auto& row : out["transform"])
+      ok = ok && row.is_array() && row.size() == 4 &&
+           std::all_of(row.begin(), row.end(), [](const ordered_json& x) { return x.is_number() && std::isfinite(x.get<double>()); });
+    need(ok, "'transform' is not a 4x4 matrix of finite numbers");
+  }
+  return true;
 }
 
 Pose pose_of(const ordered_json& m) {
@@ -172,7 +221,21 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       if (app.count(flag))
         throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs flann, exact, approx and "
                                     "accel one after the other)");
+  // Every flag the pairs get is checked by `tigris register` itself before anything is written.
+  if (o.compare)
+    for (const OdometryOptions& b : compare_variants(o)) check_register_flags(b);
+  else
+    check_register_flags(o);
+  std::unique_ptr<OutFolder> folder;
+  const std::vector<std::string> flags = forwarded(o);
   if (o.synthetic > 0) {
+    // The drive is an output (OUT/sequence, written by the synth core): the settings decide it.
+    FolderSpec spec{"odometry", {}, nlohmann::json({{"synthetic", o.synthetic}, {"seed", o.seed},
+                                                          {"frames", o.frames}, {"register_flags", flags},
+                                                          {"compare", o.compare}}),
+                    config_inputs(o), odometry_outputs(o.compare)};
+    spec.resumable = true;
+    folder = std::make_unique<OutFolder>(o.out, spec);
     DriveConfig drive;
     drive.frames = o.synthetic;
     drive.seed = o.seed;
@@ -181,38 +244,39 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
                  static_cast<unsigned long long>(o.seed), o.synthetic, o.sequence.c_str());
     write_synthetic_drive(drive, o.sequence, o.jobs, false);
   }
-  if (o.compare) return run_odometry_compare(o);
-  // OUT/poses.txt must not be the sequence's own ground truth (--out DIR would overwrite it).
-  check_distinct_paths({{"--sequence (poses.txt)", o.sequence + "/poses.txt"}, {"--config", o.config},
-                        {"--accel-config", o.accel_config}},
-                       {{"--out (poses.txt)", o.out + "/poses.txt"}, {"--out (metrics.json)", o.out + "/metrics.json"}});
+  if (o.compare) {
+    if (!folder) {  // each back-end's odometry checks (and records) the sequence's files itself
+      FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                                            {"frames", o.frames}, {"register_flags", flags},
+                                                            {"compare", true}}),
+                      config_inputs(o), odometry_outputs(true)};
+      spec.resumable = true;
+      folder = std::make_unique<OutFolder>(o.out, spec);
+    }
+    const int code = run_odometry_compare(o);
+    folder->finish(code == 0 ? "done" : "failed");
+    return code;
+  }
   const registration::KittiSequence seq = registration::read_kitti_sequence(o.sequence);
   if (seq.scans.size() < 2) throw std::invalid_argument(o.sequence + ": a sequence needs two frames or more");
   const auto [first, last] = parse_frames(o.frames, seq.scans.size());
-  const std::vector<std::string> flags = forwarded(o);
-
-  // The run's settings: a rerun into the same folder must have the same ones.
-  ordered_json settings;
-  settings["sequence"] = fs::absolute(o.sequence).lexically_normal().string();
-  settings["frames"] = {first, last};
-  settings["register_flags"] = flags;
-  const std::string settings_path = o.out + "/odometry.json";
-  {
-    std::ifstream f(settings_path);
-    ordered_json before;
-    if (f) {
-      try {
-        f >> before;
-      } catch (const std::exception&) {
-        throw std::invalid_argument(settings_path + " is not a tigris odometry settings file: use another --out");
-      }
-      if (before != settings)
-        throw std::invalid_argument(o.out + " holds a run with other settings (" + settings_path + ": " +
-                                    before.dump() + "): use another --out, or remove the folder");
+  if (!folder) {
+    // A rerun resumes only with the same flags, frames and file contents (every scan of the
+    // range, poses.txt and calib.txt included): changed inputs never mix with old pairs.
+    nlohmann::json inputs = config_inputs(o);
+    for (std::size_t i = first; i <= last; ++i) inputs.push_back(input_file("scan " + frame_tag(i), seq.scans[i]));
+    for (const char* name : {"poses.txt", "calib.txt"}) {
+      const std::string path = o.sequence + "/" + name;
+      std::error_code ec;
+      if (fs::exists(fs::symlink_status(path, ec))) inputs.push_back(input_file(name, path));
     }
+    FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                                          {"frames", {first, last}}, {"register_flags", flags}}),
+                    inputs, odometry_outputs(false)};
+    spec.resumable = true;
+    folder = std::make_unique<OutFolder>(o.out, spec);
   }
   fs::create_directories(o.out + "/pairs");
-  write_file(settings_path, [&](std::ostream& f) { f << settings.dump(2) << '\n'; });
 
   // Each pair: frame i + 1 (source) into frame i (target), in OUT/pairs/<i>/.
   const std::size_t pairs = last - first;
@@ -241,11 +305,13 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       c.argv.insert(c.argv.end(), flags.begin(), flags.end());
       c.argv.insert(c.argv.end(), {"--out", dir});
       c.log = dir + "/log.txt";
+      c.parent_outputs = "log.txt";
       commands.push_back(c);
     }
     const std::string job = submit_array(o.slurm, commands, o.out, "tigris-odometry");
     if (o.slurm.no_wait) {
       std::printf("job %s\ncollect when it has ended: rerun the same command (the pairs done are reused)\n", job.c_str());
+      folder->finish("submitted");
       return 0;
     }
     std::size_t seen = 0;
@@ -276,20 +342,16 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
                                       seq.scans[first + k]};
         args.insert(args.end(), flags.begin(), flags.end());
         args.insert(args.end(), {"--out", dir});
-        running[start_self(args, dir + "/log.txt")] = k;
+        running[start_child(args, dir + "/log.txt", "log.txt")] = k;
       }
       if (running.empty()) break;  // a failure stopped the scheduling
-      int status = 0;
-      pid_t pid;
-      while ((pid = ::wait(&status)) < 0 && errno == EINTR) {
-      }
-      if (pid < 0) throw std::runtime_error("lost a pair's process");
+      pid_t pid = 0;
+      const int code = wait_child(-1, &pid);
       const auto it = running.find(pid);
       if (it == running.end()) continue;
       const std::size_t k = it->second;
       running.erase(it);
       ++done;
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
       const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
       const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
       std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s)\n", done, todo.size(),
@@ -302,8 +364,8 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
     }
     } catch (...) {  // no pair left running into OUT behind the error
       for (const auto& [pid, k] : running) {
-        ::kill(pid, SIGTERM);
-        ::waitpid(pid, nullptr, 0);
+        ::kill(-pid, SIGTERM);
+        wait_child(pid);
       }
       throw;
     }
@@ -505,6 +567,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
                  plotted < 0 || !why.empty() ? why.c_str() : ("sweep/odometry_plots.py exit " + std::to_string(plotted)).c_str());
   std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n",
               o.out.c_str(), plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
+  folder->finish(not_converged > 0 ? "not converged" : "done");
   return not_converged > 0 ? 1 : 0;
 }
 

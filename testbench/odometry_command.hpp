@@ -37,6 +37,9 @@ struct OdometryOptions {
 };
 
 void add_odometry_options(CLI::App& app, OdometryOptions& o);
+// --compare: the options of each back-end's odometry (flann, exact, approx, accel).
+std::vector<OdometryOptions> compare_variants(const OdometryOptions& o);
+
 int run_odometry_command(const CLI::App& app, const OdometryOptions& o);
 int run_odometry_compare(const OdometryOptions& o);
 

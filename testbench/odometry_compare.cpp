@@ -13,7 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "child_process.hpp"
+#include "children.hpp"
+#include "sw_ref/json_file.hpp"
 #include "odometry_command.hpp"
 #include "report.hpp"
 
@@ -51,6 +52,22 @@ std::string cell(double x, const char* fmt) {
 
 }  // namespace
 
+std::vector<OdometryOptions> compare_variants(const OdometryOptions& o) {
+  std::vector<OdometryOptions> v;
+  for (const Backend& b : kBackends) {
+    OdometryOptions x = o;
+    x.compare = false;
+    x.search = b.search;
+    if (x.search != "approx") x.approx_thd.clear();
+    if (x.search != "accel") {
+      x.accel_config.clear();
+      x.accel_sets.clear();
+    }
+    v.push_back(x);
+  }
+  return v;
+}
+
 int run_odometry_compare(const OdometryOptions& o) {
   if (o.argv.empty()) throw std::logic_error("--compare: the command's arguments were not kept");
   ordered_json rows = ordered_json::array();
@@ -61,19 +78,14 @@ int run_odometry_compare(const OdometryOptions& o) {
     if (search != "approx") drop.push_back("--approx-thd");
     if (search != "accel") drop.insert(drop.end(), {"--accel-config", "--accel-set"});
     std::fprintf(stderr, "tigris odometry --compare: %s (--search %s --out %s)\n", b.label, b.search, out.c_str());
-    const int code = wait_child(start_self(
+    const int code = wait_child(start_child(
         rerun_args(o.argv, {"--compare"}, drop, {"--sequence", o.sequence, "--search", search, "--out", out})));
     if (code != 0 && code != 1)
       throw std::invalid_argument("--compare: the " + search + " run failed (exit " + std::to_string(code) +
                                   "; its message is above); a rerun resumes");
     worst = std::max(worst, code);
-    ordered_json m;
-    try {
-      std::ifstream f(out + "/metrics.json");
-      f >> m;
-    } catch (const std::exception& e) {
-      throw std::runtime_error("--compare: cannot read " + out + "/metrics.json: " + e.what());
-    }
+    const ordered_json m = parse_json_text(read_input(out + "/metrics.json", "a back-end's metrics", kMaxSettingsBytes),
+                                           out + "/metrics.json");
     const bool accel = search == "accel";
     ordered_json r;
     r["back_end"] = search;

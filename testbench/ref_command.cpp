@@ -41,6 +41,8 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   const KdTree tree = build_kdtree(w.cloud, height, split);
   const double build_s = seconds_since(t0);
   check_work(estimate_work(tree, w.queries, params), o.limits, w.queries.size());
+  const nlohmann::json inputs = search_inputs(o.cloud, o.queries, w.cloud_name, w.queries_name, "");
+  OutFolder folder(o.out, {"ref", {}, nlohmann::json::object(), inputs, {"stats.json"}});
   ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");
   t0 = std::chrono::steady_clock::now();
   SearchOutput out;
@@ -54,7 +56,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   nlohmann::json stats;
   stats["command"] = "ref";
   stats["command_line"] = o.command_line;
-  stats["inputs"] = search_inputs(o.cloud, o.queries, w.cloud_name, w.queries_name, "");
+  stats["inputs"] = inputs;
   stats["workload"] = {{"cloud", w.cloud_name}, {"queries", w.queries_name}, {"points", w.cloud.size()}};
   stats["queries"] = w.queries.size();
   stats["config"] = search_config_json(params, tree);
@@ -97,6 +99,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
                 static_cast<unsigned long long>(v.follower_points));
   std::printf("  results %zu neighbours\n  stats   %s\n", out.results.neighbors.size(),
               stats_path.c_str());
+  folder.finish();
   return 0;
 }
 

@@ -15,6 +15,7 @@
 #include "options.hpp"
 #include "simulation.hpp"
 #include "report.hpp"
+#include "run_inputs.hpp"
 #include "sw_ref/io/cloud_io.hpp"
 #include "sw_ref/registration/pipeline.hpp"
 #include "sw_ref/registration/pose.hpp"
@@ -227,6 +228,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
   app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, default, range or names, "
                                  "meaning), for tools");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
+  app.add_flag("--check-flags", o.check_flags,
+               "Check every flag and configuration, then exit 0 without reading a file or running "
+               "(odometry and --compare check the flags they forward this way)");
 }
 
 int run_register_command(const CLI::App& app, const RegisterOptions& o) {
@@ -297,6 +301,16 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                         {"--accel-config", o.accel_config}},
                        {{"--out (registration.json)", o.out + "/registration.json"},
                         {"--record-trace", o.record_trace}});
+
+  if (o.check_flags) return 0;
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
+                                  {"config", o.config}, {"ground truth", o.ground_truth},
+                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+    if (!path.empty()) inputs.push_back(input_file(role, path));
+  FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}};
+  spec.also_written = {o.record_trace};
+  OutFolder folder(o.out, spec);
 
   // The model server starts while the process is small (accel_in_loop.hpp).
   std::shared_ptr<ModelInTheLoop> model;
@@ -524,7 +538,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
       std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
                   r.transform(i, 3));
   }
-  if (err && err->travelled_m > 0)
+  if (err && std::isfinite(err->translation_per_m))
     std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
                 err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
                 err->travelled_m);
@@ -536,8 +550,10 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
                  r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),
                  r.status.c_str(), path.c_str());
+    folder.finish(r.status);
     return 1;
   }
+  folder.finish();
   return 0;
 }
 

@@ -32,6 +32,7 @@ struct RegisterOptions {
   std::string record_trace;  // workload trace of every 3D search (traces/README.md)
   std::string accel_config;             // --search accel*: the accelerator's configuration file
   std::vector<std::string> accel_sets;  // --search accel*: its KEY=VALUE settings
+  bool check_flags = false;  // --check-flags: validate, then exit 0
   bool compare = false;     // --compare: the four back-ends side by side (register_compare.cpp)
   std::string command_line;  // as typed, for the trace's record (set by main)
   std::vector<std::string> argv;  // as given (set by main; --compare re-runs the command)

@@ -13,7 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "child_process.hpp"
+#include "children.hpp"
+#include "run_inputs.hpp"
+#include "sw_ref/json_file.hpp"
 #include "register_command.hpp"
 #include "report.hpp"
 
@@ -56,6 +58,22 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs the paper's back-ends " +
                                   "flann, exact, accel and accel-approx without error injection)");
   if (o.argv.empty()) throw std::logic_error("--compare: the command's arguments were not kept");
+  // Every back-end's flags are checked before the first one runs (and before the folder).
+  for (const Variant& v : kVariants) {
+    std::vector<std::string> args = variant_args(o.argv, v, o.out + "/" + v.search);
+    args.push_back("--check-flags");
+    if (wait_child(start_child(args)) != 0)
+      throw std::invalid_argument(std::string("--compare: the flags do not hold for the ") + v.search +
+                                  " back-end (its message is above); nothing was run");
+  }
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
+                                  {"config", o.config}, {"ground truth", o.ground_truth},
+                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+    if (!path.empty()) inputs.push_back(input_file(role, path));
+  std::vector<std::string> outputs{"comparison.json"};
+  for (const Variant& v : kVariants) outputs.push_back(std::string(v.search) + "/");
+  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs});
   ordered_json rows = ordered_json::array();
   ordered_json runs = ordered_json::object();
   const std::string flann_out = o.out + "/flann";
@@ -63,20 +81,13 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   for (const Variant& v : kVariants) {
     const std::string out = o.out + "/" + v.search;
     std::fprintf(stderr, "tigris register --compare: %s (--search %s --out %s)\n", v.label, v.search, out.c_str());
-    std::error_code ec;
-    std::filesystem::remove(out + "/registration.json", ec);  // never read an earlier run's
-    const int code = wait_child(start_self(variant_args(o.argv, v, out)));
+    const int code = wait_child(start_child(variant_args(o.argv, v, out)));
     if (code != 0 && code != 1)
       throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +
                                   std::to_string(code) + "; its message is above)");
     worst = std::max(worst, code);
-    std::ifstream f(out + "/registration.json");
-    ordered_json reg;
-    try {
-      f >> reg;
-    } catch (const std::exception& e) {
-      throw std::runtime_error("--compare: cannot read " + out + "/registration.json: " + e.what());
-    }
+    const std::string path = out + "/registration.json";
+    const ordered_json reg = parse_json_text(read_input(path, "the back-end's report", kMaxSettingsBytes), path);
     ordered_json row;
     row["back_end"] = v.search;
     row["label"] = v.label;
@@ -136,6 +147,7 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   }
   std::printf("  KD-tree: searches only (tree builds stay on the CPU); accelerator rows modeled, CPU rows measured;\n"
               "  CPU energy is not modeled. Table: %s/comparison.json\n", o.out.c_str());
+  folder.finish();
   return worst;
 }
 

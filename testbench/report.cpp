@@ -118,37 +118,4 @@ std::string non_finite_field(const nlohmann::json& j, const std::string& prefix)
   return "";
 }
 
-void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  namespace fs = std::filesystem;
-  const fs::path parent = fs::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) fs::create_directories(parent, ec);
-  // A device or pipe (/dev/null, /dev/stdout) is written as it is. A file is written beside its
-  // path and renamed over it: a failed write leaves the old file whole, and a symbolic link is
-  // replaced, never written through (it could point at an input).
-  const fs::file_status st = fs::symlink_status(path, ec);
-  const bool special = fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st);
-  if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
-  const std::string tmp = special ? path : path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error(path + ": cannot open for writing");
-    write(f);
-    f.flush();
-    if (!f) {
-      f.close();
-      if (!special) fs::remove(tmp, ec);
-      throw std::runtime_error(path + ": write failed");
-    }
-  }
-  if (!special) {
-    fs::rename(tmp, path, ec);
-    if (ec) {
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      throw std::runtime_error(path + ": cannot write: " + ec.message());
-    }
-  }
-}
-
 }  // namespace tigris

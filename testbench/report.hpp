@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "out_folder.hpp"  // write_file
 #include "sw_ref/accuracy.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
@@ -27,11 +28,5 @@ nlohmann::json search_config_json(const SearchParams& p, const KdTree& tree);
 // The dotted path of the first number in `j` that is NaN or infinite ("" when none): JSON has
 // no such numbers (they would be written as null), so a run that computes one is an error.
 std::string non_finite_field(const nlohmann::json& j, const std::string& prefix = "");
-
-// Writes `path` (creating its folder) through `write`: into a file beside it, renamed over it
-// when complete, so a failed write keeps the old file and a symbolic link is replaced, not
-// written through; devices (/dev/null) are written directly. Throws a clear std::runtime_error
-// naming the path when it cannot be written.
-void write_file(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace tigris

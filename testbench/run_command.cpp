@@ -316,11 +316,18 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
 
   const RunSetup r = configure_run(app, o);
+  OutFolder folder(o.search.out, {"run", {}, nlohmann::json::object(),
+                                  search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name,
+                                                o.config_file),
+                                  {"stats.json"}});
   const std::uint32_t shown =
       o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
   TimelineRecorder timeline(1000.0 / r.cfg.clock_mhz, shown);
   const std::optional<RunMeasured> m = simulate_run(r, o, timeline);
-  if (!m) return 1;
+  if (!m) {
+    folder.finish("failed");
+    return 1;
+  }
 
   if (!o.search.dump_schedule.empty())
     write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
@@ -339,8 +346,10 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
                  static_cast<unsigned long long>(m->verdict.result_mismatches),
                  static_cast<unsigned long long>(m->verdict.visit_mismatches));
     for (const std::string& line : m->verdict.first) std::fprintf(stderr, "  %s\n", line.c_str());
+    folder.finish("failed");
     return 1;
   }
+  folder.finish();
   return 0;
 }
 

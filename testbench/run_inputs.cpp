@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sw_ref/io/input_file.hpp"
+
 namespace tigris {
 
 std::string sha256_of_file(const std::string& path) {
@@ -35,9 +37,7 @@ std::string sha256_of_file(const std::string& path) {
 }
 
 nlohmann::json input_file(const std::string& role, const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw std::invalid_argument(path + ": cannot read the file to record it as the run's " + role);
-  const auto bytes = static_cast<std::uint64_t>(in.tellg());
+  const std::uint64_t bytes = check_input(path, "the " + role);  // a FIFO or device: an error, never a hang
   return {{"role", role}, {"path", path}, {"bytes", bytes}, {"sha256", sha256_of_file(path)}};
 }
 

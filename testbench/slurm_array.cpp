@@ -17,7 +17,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "children.hpp"
 #include "report.hpp"
+#include "sw_ref/json_file.hpp"
 
 namespace tigris {
 namespace {
@@ -81,31 +83,6 @@ int queued(const std::string& job) {
   return n;
 }
 
-volatile sig_atomic_t interrupted = 0;
-void on_signal(int) { interrupted = 1; }
-
-// SIGINT and SIGTERM set `interrupted` while it lives (system calls restart).
-class SignalGuard {
- public:
-  SignalGuard() {
-    struct sigaction sa {};
-    sa.sa_handler = on_signal;
-    sa.sa_flags = SA_RESTART;
-    ::sigaction(SIGINT, &sa, &old_int_);
-    ::sigaction(SIGTERM, &sa, &old_term_);
-    interrupted = 0;
-  }
-  ~SignalGuard() {
-    ::sigaction(SIGINT, &old_int_, nullptr);
-    ::sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  SignalGuard(const SignalGuard&) = delete;
-  SignalGuard& operator=(const SignalGuard&) = delete;
-
- private:
-  struct sigaction old_int_ {}, old_term_ {};
-};
-
 }  // namespace
 
 void add_slurm_options(CLI::App& app, SlurmOptions& o) {
@@ -136,6 +113,7 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
       f << t << ")\n";
       for (std::size_t k = t * o.chunk; k < std::min(commands.size(), (t + 1) * o.chunk); ++k) {
         f << " ";
+        if (!commands[k].parent_outputs.empty()) f << " TIGRIS_PARENT_OUTPUTS=" << quote(commands[k].parent_outputs);
         for (const std::string& a : commands[k].argv) f << ' ' << quote(a);
         f << " > " << quote(commands[k].log) << " 2>&1 || status=$?\n";
       }
@@ -159,16 +137,16 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
   for (const std::string& a : cmd) shown += (shown.empty() ? "" : " ") + quote(a);
   const int code = capture(cmd, out, &err);
   if (code == 127 && err.find("not found") != std::string::npos)
-    throw std::runtime_error("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)");
+    throw SlurmError("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)");
   if (code != 0)
-    throw std::runtime_error("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(err + out) +
+    throw SlurmError("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(err + out) +
                              "\n  command: " + shown);
   // --parsable prints "jobid[;cluster]" as its last line of stdout; warnings go to stderr.
   std::string last = trimmed(out);
   last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
   const std::string job = last.substr(0, last.find(';'));
   if (job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
-    throw std::runtime_error("sbatch printed no job id (stdout: '" + trimmed(out) + "', stderr: '" + trimmed(err) +
+    throw SlurmError("sbatch printed no job id (stdout: '" + trimmed(out) + "', stderr: '" + trimmed(err) +
                              "')\n  command: " + shown);
   if (!trimmed(err).empty()) std::fprintf(stderr, "tigris: sbatch said: %s\n", trimmed(err).c_str());
   nlohmann::ordered_json j{{"job", job}, {"script", script}, {"tasks", tasks}, {"commands", commands.size()},
@@ -180,32 +158,29 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
 }
 
 void wait_array(const std::string& job, const std::function<void()>& tick) {
-  const SignalGuard guard;
+  const DeferStop defer;  // a stop signal cancels the array here, then ends the command
   int misses = 0;
   while (true) {
     const int active = queued(job);  // asked before the tick: no result is missed
     tick();
-    if (interrupted) {
+    if (const int sig = stop_signal()) {
       std::string out;
       capture({"scancel", job}, out);
-      throw std::runtime_error("interrupted: cancelled Slurm job " + job + "; the pairs finished are kept, a rerun resumes");
+      std::fprintf(stderr, "tigris: cancelled Slurm job %s; the pairs finished are kept, a rerun resumes\n", job.c_str());
+      throw Interrupted(sig);
     }
     if (active == 0) break;
     misses = active < 0 ? misses + 1 : 0;
     if (misses > 60) throw std::runtime_error("squeue cannot report Slurm job " + job + " (60 tries)");
-    for (int i = 0; i < 10 && !interrupted; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    for (int i = 0; i < 10 && !stop_signal(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
 }
 
 std::string active_array(const std::string& dir) {
-  std::ifstream f(dir + "/slurm/job.json");
-  if (!f) return "";
-  nlohmann::json j;
-  try {
-    f >> j;
-  } catch (const std::exception&) {
-    return "";
-  }
+  const std::string path = dir + "/slurm/job.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return "";
+  const nlohmann::json j = parse_json_text(read_input(path, "the Slurm job record", kMaxSettingsBytes), path);
   const std::string job = j.value("job", std::string());
   return !job.empty() && queued(job) > 0 ? job : "";
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,15 @@ struct SlurmOptions {
 
 void add_slurm_options(CLI::App& app, SlurmOptions& o);
 
+// sbatch is missing or refused the array: exit 3 in every command (as `tigris sweep --slurm`).
+struct SlurmError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct ArrayCommand {
   std::vector<std::string> argv;  // argv[0] an absolute path
   std::string log;                // stdout and stderr
+  std::string parent_outputs;     // TIGRIS_PARENT_OUTPUTS for the command (children.hpp)
 };
 
 // Submits the commands; returns the job id. `dir` gets slurm/array-<stamp>.sh, slurm/job.json
@@ -34,7 +41,7 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
                          const std::string& name);
 
 // Waits until `job` has no task queued or running, calling tick() about once a second. On
-// SIGINT or SIGTERM it cancels the job (scancel) and throws std::runtime_error.
+// SIGINT, SIGTERM or SIGHUP it cancels the job (scancel) and throws Interrupted.
 void wait_array(const std::string& job, const std::function<void()>& tick);
 
 // The job id of dir/slurm/job.json when that job is still queued or running, else "".

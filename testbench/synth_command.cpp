@@ -62,27 +62,13 @@ void write_calib(std::ostream& f) {
 void write_synthetic_drive(const DriveConfig& config, const std::string& dir, int jobs, bool quiet) {
   const ordered_json settings = settings_of(config);
   const std::string meta = dir + "/drive.json";
-  if (fs::exists(meta)) {
-    ordered_json before;
-    bool parsed = true;
-    try {
-      std::ifstream f(meta);
-      f >> before;
-    } catch (const std::exception&) {
-      parsed = false;  // (a failed parse may leave a partial value behind)
-    }
-    if (!parsed || !before.is_object() || !before.contains("settings"))
-      throw std::invalid_argument(meta + " is not a tigris synth drive file: use another folder");
-    if (before["settings"] != settings)
-      throw std::invalid_argument(dir + " holds another synthetic drive (" + meta + ": " + before["settings"].dump() +
-                                  "): use another folder, or remove it");
-  } else if (fs::exists(dir + "/poses.txt") || fs::exists(dir + "/velodyne")) {
-    throw std::invalid_argument(dir + " holds a sequence tigris synth did not write (poses.txt or velodyne/): "
-                                "use another folder");
-  } else {
-    // Claimed before the first scan: an interrupted run is completed by the next one.
-    write_file(meta, [&](std::ostream& f) { f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n'; });
-  }
+  // The folder's manifest is the claim: an interrupted run is completed by the next one with the
+  // same settings; a folder holding anything else (a user's calib.txt) is refused.
+  FolderSpec spec{"synth", {}, nlohmann::json(settings), nlohmann::json::array(),
+                  {"velodyne/", "poses.txt", "calib.txt", "times.txt", "drive.json"}};
+  spec.resumable = true;
+  OutFolder folder(dir, spec);
+  write_file(meta, [&](std::ostream& f) { f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n'; });
   const auto t0 = std::chrono::steady_clock::now();
   const SyntheticDrive drive(config);
   fs::create_directories(dir + "/velodyne");
@@ -90,7 +76,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   // Scans: the ones missing, `jobs` threads (each scan is independent and deterministic). A scan
   // is written beside its name and renamed when whole; leftovers of an interrupted run go.
   for (const auto& e : fs::directory_iterator(dir + "/velodyne"))
-    if (e.path().filename().string().find(".bin.tmp") != std::string::npos) fs::remove(e.path());
+    if (e.path().filename().string().rfind(".tigris-tmp-", 0) == 0) fs::remove(e.path());
   std::vector<int> todo;
   for (int i = 0; i < config.frames; ++i)
     if (!fs::exists(dir + "/velodyne/" + frame_name(i))) todo.push_back(i);
@@ -158,6 +144,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
     frames.push_back({{"time_s", f.time_s}, {"speed_m_per_s", f.speed_m_per_s}, {"distance_m", f.distance_m}});
   m["frames"] = frames;
   write_file(meta, [&](std::ostream& f) { f << m.dump(1) << '\n'; });
+  folder.finish();
   if (!quiet)
     std::fprintf(stderr, "tigris synth: %s: %d frames (%zu scans cast now), %.0f m of route, %.0f s\n", dir.c_str(),
                  config.frames, todo.size(), s.route_length_m,

@@ -19,6 +19,8 @@
 #include <sstream>
 
 #include "accel_job.hpp"
+#include "children.hpp"
+#include "sw_ref/json_file.hpp"
 #include "arg_checks.hpp"
 #include "config.hpp"
 #include "report.hpp"
@@ -167,7 +169,10 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
     last_tree = t.jobs[i].tree_serial;
   }
   const std::string stats_path = o.search.out + "/stats.json";
-  check_distinct_paths({{"--trace", o.trace}, {"--config", o.config_file}}, {{"--out (stats.json)", stats_path}});
+  json inputs = json::array({input_file("trace", o.trace)});
+  if (!o.config_file.empty()) inputs.push_back(input_file("config", o.config_file));
+  // A fresh start: an earlier replay's jobs/ never sits beside this one's stats.json.
+  OutFolder folder(o.search.out, {"run", {}, json::object(), inputs, {"stats.json", "jobs/"}});
 
   // Each job in a child process (SystemC elaborates once per process), o.jobs at a time.
   const int parallel = std::max(1, o.jobs);
@@ -179,9 +184,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   while (done < plan.size()) {
     while (next < plan.size() && running.size() < static_cast<std::size_t>(parallel)) {
-      const pid_t pid = fork();
-      if (pid < 0) throw std::runtime_error("cannot start a process for job " + std::to_string(plan[next].index));
-      if (pid == 0) {
+      const pid_t pid = fork_child([&]() -> int {
         int code = 2;
         json r;
         const trace::Job& j = t.jobs[plan[next].index];
@@ -197,21 +200,17 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
           std::fprintf(stderr, "tigris run: %s\n", e.what());
           code = 2;
         }
-        std::fflush(nullptr);
-        _exit(code);
-      }
+        return code;
+      });
       running[pid] = next++;
     }
-    int status = 0;
-    pid_t pid;
-    while ((pid = wait(&status)) < 0 && errno == EINTR) {
-    }
-    if (pid < 0) throw std::runtime_error("lost a job's process");
+    pid_t pid = 0;
+    const int code = wait_child(-1, &pid);
     const auto it = running.find(pid);
     if (it == running.end()) continue;
     const std::size_t k = it->second;
     running.erase(it);
-    codes[k] = WIFEXITED(status) ? WEXITSTATUS(status) : 3;
+    codes[k] = code;
     ++done;
     const trace::Job& j = t.jobs[plan[k].index];
     std::fprintf(stderr, "tigris run --trace: job %zu/%zu (#%zu, %s%s, %s, %zu queries): %s (%.0f s)\n", done,
@@ -228,9 +227,9 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   bool all_match = true;
   for (std::size_t k = 0; k < plan.size(); ++k) {
     json r;
-    std::ifstream f(job_path(o.search.out, plan[k].index));
     try {
-      f >> r;
+      const std::string path = job_path(o.search.out, plan[k].index);
+      r = parse_json_text(read_input(path, "a job's report", kMaxSettingsBytes), path);
     } catch (const std::exception&) {
       r = {{"job", plan[k].index}, {"error", "the job's process ended without a report (exit code " +
                                                  std::to_string(codes[k]) + ")"}};
@@ -271,8 +270,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   json stats;
   stats["command"] = "run --trace";
   stats["command_line"] = o.search.command_line;
-  stats["inputs"] = json::array({input_file("trace", o.trace)});
-  if (!o.config_file.empty()) stats["inputs"].push_back(input_file("config", o.config_file));
+  stats["inputs"] = inputs;
   stats["trace"] = {{"path", o.trace}, {"jobs", t.jobs.size()}, {"replayed", plan.size()},
                     {"stages", o.trace_stages.empty() ? "all" : o.trace_stages}, {"recorded", t.meta}};
   stats["verdict"] = all_match ? "match" : "mismatch";
@@ -316,8 +314,10 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
           for (const auto& m : r["mismatches"]["first"]) std::fprintf(stderr, "  %s\n", m.get<std::string>().c_str());
         break;
       }
+    folder.finish("failed");
     return 1;
   }
+  folder.finish();
   return 0;
 }
 

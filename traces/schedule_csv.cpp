@@ -4,6 +4,9 @@
 #include <fstream>
 #include <istream>
 #include <ostream>
+#include <sstream>
+
+#include "sw_ref/io/input_file.hpp"
 
 namespace tigris {
 
@@ -35,8 +38,7 @@ bool parse_row(const std::string& line, std::uint64_t (&v)[3]) {
 }  // namespace
 
 Schedule read_schedule_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the schedule file");
+  std::istringstream in(read_input(path, "the schedule file"));
   return read_schedule_csv(in, path);
 }
 

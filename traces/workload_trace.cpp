@@ -1,5 +1,7 @@
 #include "traces/workload_trace.hpp"
 
+#include "sw_ref/io/input_file.hpp"
+
 #include <zstd.h>
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <set>
 #include <map>
 #include <stdexcept>
 
@@ -98,13 +101,22 @@ struct In {
     const std::uint32_t n = u32();
     const auto* t = take(n);
     struct TooDeep {};
+    struct Twice {
+      std::string key;
+    };
+    std::vector<std::set<std::string>> keys;  // a key given twice would be kept silently (the last)
     try {
-      return nlohmann::json::parse(t, t + n, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
-        if ((event == nlohmann::json::parse_event_t::object_start || event == nlohmann::json::parse_event_t::array_start) &&
-            depth >= kMaxJsonDepth)
-          throw TooDeep{};
+      return nlohmann::json::parse(t, t + n, [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using E = nlohmann::json::parse_event_t;
+        if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth) throw TooDeep{};
+        if (event == E::object_start) keys.emplace_back();
+        if (event == E::object_end && !keys.empty()) keys.pop_back();
+        if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
+          throw Twice{parsed.get<std::string>()};
         return true;
       });
+    } catch (const Twice& e) {
+      fail("JSON key '" + visible_text(e.key, 40) + "' given twice in one object");
     } catch (const TooDeep&) {
       fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     } catch (const nlohmann::json::exception& e) {
@@ -188,6 +200,10 @@ Job job_from(In& in, const nlohmann::json& j) {
     in.fail(std::string("job header: ") + visible_text(e.what()));
   }
   if (out.mode != "nn" && out.mode != "knn" && out.mode != "radius") in.fail("unknown mode '" + visible_text(out.mode, 20) + "'");
+  if (out.stage.empty()) in.fail("a job without a stage name");
+  if (out.backend != "flann" && out.backend != "exact" && out.backend != "approx")
+    in.fail("unknown back-end '" + visible_text(out.backend, 20) + "' (flann, exact or approx)");
+  if (out.search_seconds < 0 || out.build_seconds < 0) in.fail("a job with negative seconds");
   // (tree_serial -1 would read as "no tree sent yet" in the replay; the recorder numbers trees from 0)
   if (out.iteration < -1 || out.tree_serial < 0 || out.k < 1 || out.top_height < 0 || out.top_height > 30 ||
       out.leader_capacity < 0 || out.leader_width < 0 ||
@@ -379,6 +395,12 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
         for (const auto& st : stages)
           t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
                               st.at("kdtree_search_seconds").get<double>(), st.at("kdtree_build_seconds").get<double>()});
+        // Times are measured: finite and not negative (a forged -5e12 s would print as a speed-up).
+        const auto bad = [](double s) { return !std::isfinite(s) || s < 0; };
+        if (bad(t.total_seconds)) in.fail("metadata: total_seconds is negative or not finite");
+        for (const Stage& st : t.stages)
+          if (st.name.empty() || bad(st.seconds) || bad(st.kdtree_search_seconds) || bad(st.kdtree_build_seconds))
+            in.fail("metadata: stage '" + visible_text(st.name, 40) + "' has no name or negative or non-finite seconds");
       } catch (const nlohmann::json::exception& e) {
         in.fail(std::string("metadata: ") + visible_text(e.what()));
       }
@@ -433,13 +455,8 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
 }
 
 Trace read_trace(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a trace");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path + ": cannot open the trace: " + std::strerror(errno));
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  if (f.bad()) throw InputError(path + ": cannot read the trace");
-  return decode(bytes.data(), bytes.size(), path);
+  const std::string bytes = read_input(path, "the trace");
+  return decode(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
 }
 
 }  // namespace tigris::trace

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 
+#include "input_file.hpp"
 #include "kitti_bin.hpp"
 #include "pcd_reader.hpp"
 #include "ply_reader.hpp"
@@ -24,23 +25,6 @@ std::string lower_extension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
-}
-
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) fail(path, "cannot determine the file size (" + ec.message() + ")");
-  if (size > static_cast<std::uintmax_t>(std::numeric_limits<std::streamsize>::max()) ||
-      size > std::numeric_limits<std::size_t>::max() / 2)
-    fail(path, "file too large");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open the file for reading");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  if (size > 0 && !in.read(&bytes[0], static_cast<std::streamsize>(size)))
-    fail(path, "read error (the file changed while it was read?)");
-  if (in.peek() != std::char_traits<char>::eof())
-    fail(path, "read error (the file grew while it was read)");
-  return bytes;
 }
 
 }  // namespace
@@ -63,15 +47,12 @@ PointCloud parse_cloud(const std::string& path, const char* data, std::size_t si
 }
 
 PointCloud load_cloud(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (!fs::exists(st)) fail(path, "no such file");
-  if (!fs::is_regular_file(st)) fail(path, "not a regular file");
+  check_input(path, "");
   const std::string ext = lower_extension(path);
   if (ext != ".bin" && ext != ".pcd" && ext != ".ply")
     fail(path, "unknown point-cloud format '" + printable(ext) +
                    "' (expected .bin (KITTI), .pcd or .ply; the extension selects the format)");
-  const std::string bytes = read_file(path);
+  const std::string bytes = read_input(path, "");
   return parse_cloud(path, bytes.data(), bytes.size());
 }
 

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <unordered_set>
 
+#include "input_file.hpp"
 #include "reader_util.hpp"
 
 namespace tigris {
@@ -104,9 +105,7 @@ Results parse_results_csv(const char* data, std::size_t size, const std::string&
 }
 
 Results read_results_csv(const std::string& path, std::size_t num_queries) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the results file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = read_input(path, "the results file");
   return parse_results_csv(text.data(), text.size(), path, num_queries);
 }
 

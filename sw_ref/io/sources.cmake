@@ -1,6 +1,7 @@
 # The sources of the tigris_io library (sw_ref/CMakeLists.txt), listed once: the fuzz build
 # (fuzz/CMakeLists.txt) compiles the same files with its instrumentation.
 set(TIGRIS_IO_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/input_file.cpp
   ${CMAKE_CURRENT_LIST_DIR}/reader_util.cpp
   ${CMAKE_CURRENT_LIST_DIR}/kitti_bin.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ply_reader.cpp

@@ -4,11 +4,12 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include <Eigen/LU>
 
 #include "sw_ref/cloud.hpp"
+#include "sw_ref/io/input_file.hpp"
 
 namespace tigris::registration {
 namespace fs = std::filesystem;
@@ -35,8 +36,7 @@ std::string scan_name(long n) {
 }  // namespace
 
 Pose read_kitti_calib_tr(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path + ": cannot open the calibration file");
+  std::istringstream f(read_input(path, "the calibration file", kMaxSettingsBytes));
   std::string line;
   int line_no = 0;
   while (std::getline(f, line)) {
@@ -53,6 +53,10 @@ Pose read_kitti_calib_tr(const std::string& path) {
     const Eigen::Matrix3d rot = t.topLeftCorner<3, 3>();
     if ((rot.transpose() * rot - Eigen::Matrix3d::Identity()).norm() > 1e-3 || std::abs(rot.determinant() - 1.0) > 1e-3)
       throw InputError(label + ": Tr is not a rigid transform (its rotation part is not orthonormal)");
+    // A Velodyne-to-camera offset is centimetres; 1e300 would pass the rotation check and turn
+    // every pose into overflow.
+    if (t.topRightCorner<3, 1>().cwiseAbs().maxCoeff() > 100.0)
+      throw InputError(label + ": Tr's translation is beyond 100 m: not a sensor-to-camera calibration");
     return t;
   }
   throw InputError(path + ": no 'Tr:' line (the Velodyne -> cam0 calibration)");
@@ -87,8 +91,10 @@ KittiSequence read_kitti_sequence(const std::string& dir) {
     s.scans.push_back((velo / scan_name(numbers[i])).string());
   }
 
+  // symlink_status: a broken calib.txt link is the user's file, read (and refused), never
+  // taken for "no calibration".
   const fs::path calib = fs::path(dir) / "calib.txt";
-  if (fs::exists(calib, ec)) {
+  if (fs::exists(fs::symlink_status(calib, ec))) {
     s.velo_to_cam = read_kitti_calib_tr(calib.string());
     s.calibration = calib.string() + " (Tr)";
   } else {
@@ -96,7 +102,7 @@ KittiSequence read_kitti_sequence(const std::string& dir) {
     s.calibration = "no calib.txt: the axis swap x_cam = -y_velo, y_cam = -z_velo, z_cam = x_velo";
   }
   const fs::path poses = fs::path(dir) / "poses.txt";
-  if (fs::exists(poses, ec)) {
+  if (fs::exists(fs::symlink_status(poses, ec))) {
     const std::vector<Pose> cam = read_kitti_poses(poses.string());
     if (cam.size() < s.scans.size())
       throw InputError(poses.string() + ": " + std::to_string(cam.size()) + " poses for " +

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <cstdlib>
 #include <sstream>
 
 #include <Eigen/Geometry>
 
 #include "sw_ref/cloud.hpp"
+#include "sw_ref/io/input_file.hpp"
 #include "sw_ref/visible_text.hpp"
 
 namespace tigris::registration {
@@ -18,13 +19,10 @@ std::vector<double> numbers_of(std::string text, const std::string& label) {
   std::vector<double> v;
   std::string word;
   while (in >> word) {
-    std::size_t used = 0;
-    double x = 0.0;
-    try {
-      x = std::stod(word, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
+    // strtod, not stod: a subnormal such as 1e-320 is a finite number (stod throws on it).
+    char* end = nullptr;
+    const double x = std::strtod(word.c_str(), &end);
+    const std::size_t used = static_cast<std::size_t>(end - word.c_str());
     if (used != word.size() || !std::isfinite(x))
       throw InputError(label + ": '" + visible_text(word, 40) + "' is not a finite number");
     v.push_back(x);
@@ -34,13 +32,7 @@ std::vector<double> numbers_of(std::string text, const std::string& label) {
 
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path + ": cannot open the pose file");
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+std::string read_text(const std::string& path) { return read_input(path, "the pose file", kMaxSettingsBytes); }
 
 constexpr double kMaxTranslation = 1e6;  // m
 
@@ -138,8 +130,11 @@ PoseError pose_error(const Pose& ground_truth, const Pose& estimate) {
   out.rotation_deg = rotation_angle_deg(e);
   out.travelled_m = ground_truth.topRightCorner<3, 1>().norm();
   // Per metre needs motion: a ground truth that does not move leaves them NaN (null, "n/a").
-  out.translation_per_m = out.travelled_m > 0.0 ? out.translation_m / out.travelled_m : NAN;
-  out.rotation_deg_per_m = out.travelled_m > 0.0 ? out.rotation_deg / out.travelled_m : NAN;
+  // A standstill ground truth (a frame paired with itself: KITTI poses differ by 1e-17 m after
+  // the camera -> Velodyne products) has no per-metre error; 1 mm is far below any frame step.
+  const bool moved = out.travelled_m > PoseError::kStandstillM;
+  out.translation_per_m = moved ? out.translation_m / out.travelled_m : NAN;
+  out.rotation_deg_per_m = moved ? out.rotation_deg / out.travelled_m : NAN;
   return out;
 }
 

@@ -43,6 +43,7 @@ Pose kitti_relative_velo_pose(const std::string& poses_path, int source, int tar
 // a per-metre error of a standstill is undefined, not 0).
 struct PoseError {
   double translation_m = 0.0, rotation_deg = 0.0;
+  static constexpr double kStandstillM = 1e-3;  // below this the ground truth does not move
   double travelled_m = 0.0;
   double translation_per_m = NAN, rotation_deg_per_m = NAN;
 };

@@ -1,0 +1,66 @@
+// The one way a command owns its output folder (DESIGN 23; the contract is in
+// docs/architecture.md, "The shared core"; sweep/core.py is the Python twin and writes the
+// same DIR/manifest.json). Construct an OutFolder after every flag and input has been checked:
+// it creates or claims the folder, locks it for the run, refuses a folder holding files the
+// command did not write or an input it would overwrite, and decides between resuming and a
+// fresh start. Refusals are std::invalid_argument (exit 2) saying what to do instead.
+#pragma once
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tigris {
+
+struct FolderSpec {
+  std::string command;            // "odometry": a manifest of another command is refused
+  std::vector<std::string> argv;  // the command line, recorded
+  nlohmann::json settings = nlohmann::json::object();  // what decides the results (compared on resume)
+  nlohmann::json inputs = nlohmann::json::array();     // input_file() records (compared on resume)
+  // What the command writes in the folder, as top-level names: "stats.json", "*.vcd", "pairs/"
+  // (a folder). The next run counts these as the command's own and clears them for a fresh start.
+  std::vector<std::string> outputs;
+  bool resumable = false;  // a matching rerun keeps the files; a different one is refused
+  // Files named by flags (--vcd, --record-trace...): when one lies in the folder, its name
+  // joins `outputs`, so the next run counts it as the command's own.
+  std::vector<std::string> also_written;
+};
+
+class OutFolder {
+ public:
+  OutFolder(const std::string& dir, FolderSpec spec);
+  ~OutFolder();  // unlocks; a run that did not finish() is recorded "failed"
+  OutFolder(const OutFolder&) = delete;
+  OutFolder& operator=(const OutFolder&) = delete;
+
+  const std::string& dir() const { return dir_; }
+  std::string path(const std::string& relative) const { return dir_ + "/" + relative; }
+  bool resumed() const { return resumed_; }  // an earlier run's files were kept
+  // Records the end of the run in the manifest: "done", "failed", "interrupted".
+  void finish(const std::string& status = "done");
+
+ private:
+  void write_manifest(const std::string& status);
+  std::string dir_;
+  FolderSpec spec_;
+  nlohmann::json manifest_;
+  int fd_ = -1;
+  bool resumed_ = false, finished_ = false;
+};
+
+// The process's command line, recorded by main() for every manifest.
+void record_command_line(int argc, char** argv);
+
+// The files a parent tool keeps in a child's folder (TIGRIS_PARENT_OUTPUTS, space-separated).
+std::vector<std::string> parent_outputs();
+
+// Writes `path` through `write`: into .tigris-tmp-<name>-<pid> beside it, renamed over it when
+// complete, so a failed or killed write keeps the old file (or none), and a symbolic link is
+// replaced, never written through; devices (/dev/null) are written directly. Creates the
+// parent folder. Throws std::runtime_error naming the path when it cannot be written.
+void write_file(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace tigris
