@@ -17,6 +17,7 @@ settings are kept once (runs are deterministic).
 import collections.abc
 import contextlib
 import csv
+import io
 import math
 import os
 import sys
@@ -170,15 +171,11 @@ def setting_positions(path, cols):
     start = max(meta) + 1 if meta else st + 1
     side = os.path.join(os.path.dirname(os.path.abspath(path)), "sweep.json")
     base = None
-    if os.path.isfile(side):
-        try:
-            import json
-            with open(side) as f:
-                info = json.load(f)
-            if info.get("columns") == cols:
-                base = set(info.get("base_keys") or []) | set(info.get("swept_keys") or [])
-        except (OSError, ValueError, AttributeError):
-            base = None
+    if os.path.lexists(side):
+        import core
+        info = core.read_json_input(side, "the sweep.json beside the CSV")   # damaged: an error naming it
+        if isinstance(info, dict) and info.get("columns") == cols:
+            base = set(info.get("base_keys") or []) | set(info.get("swept_keys") or [])
     if base is not None:
         return pos | {i for i, c in enumerate(cols) if i >= start and c in base}
     for i in range(start, len(cols)):
@@ -202,8 +199,9 @@ class Sweep:
         self.paths = list(paths)
         assume = dict(assume or {})
         self.rows, self.columns, self.setting_columns = [], [], []
+        import core
         for p in self.paths:
-            with open(p, newline="") as f:
+            with io.StringIO(core.read_text_input(p, "a sweep CSV"), newline="") as f:
                 r = csv.reader(f)
                 cols = next(r, None) or []
                 if "status" not in cols:
@@ -309,7 +307,12 @@ class Sweep:
         return tuple(sorted((k, repr(v)) for k, v in eff.items()))
 
     def workloads(self):
-        return sorted({(r["eff"]["cloud"], r["eff"]["queries"]) for r in self.ok})
+        if self.ok:
+            return sorted({(r["eff"]["cloud"], r["eff"]["queries"]) for r in self.ok})
+        # No ok row (every point failed, or its figures are not numbers): the CSV's own settings.
+        raw = lambda r, c: (r["_set"].get(c) or "").strip()  # noqa: E731
+        return sorted({("" if raw(r, "cloud") == "synthetic" else raw(r, "cloud"),
+                        "" if raw(r, "queries") == "synthetic" else raw(r, "queries")) for r in self.rows})
 
 
 def workload_text(sw):

@@ -24,12 +24,18 @@ points differ. A space smaller than N runs as a full factorial. The presets name
 "anchors" always run too. Errors are the mean relative pose error per pair (translation m,
 rotation deg) against the sequence's ground truth: a short sequence has no 100 m segment for
 KITTI's metrics. Time is the mean registration seconds per pair measured in `tigris register`.
+DIR holds manifest.json (docs/architecture.md): a rerun resumes only with the same sequence,
+frames and space (file contents included), otherwise it says what changed and stops; DIR must be
+new, empty or a folder of an earlier pipeline-dse (a file it did not write is refused).
 Exit codes: 0 done (also with failed points: they are recorded), 1 no point converged (no
-frontier), 2 bad arguments or space, 3 Slurm submission failed, 128 + a signal when interrupted.
+frontier), 2 bad arguments, space or folder, 3 Slurm submission failed, 128 + a signal when
+interrupted.
 """
-import argparse, csv, io, json, math, os, random, shlex, signal, subprocess, sys
+import argparse, csv, io, json, math, os, random, re, shlex, signal, sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.dirname(os.path.realpath(__file__))
+sys.path.insert(0, HERE)
+import core  # noqa: E402
 PROG = "tigris pipeline-dse"
 DEFAULT_SPACE = os.path.join(HERE, "pipeline_space.json")
 # The paper's seven stages (its Figure 5a), outlier removal (a stage of this pipeline the paper
@@ -39,9 +45,13 @@ STAGES = [("outlier removal", "outlier_removal"), ("normal estimation", "normals
           ("key-point detection", "keypoints"), ("descriptor calculation", "descriptors"),
           ("KPCE", "kpce"), ("rejection", "rejection"), ("RPCE", None), ("transformation estimation", None)]
 MAX_DISTINCT = 1_000_000
+# Each point is a whole odometry run; the sweep reads a spec of at most 16 MiB (~450 bytes a point).
+MAX_SAMPLES = 10_000
+OUTPUTS = ["sequence-*/", "spec.json", "sweep/", "points.csv", "fig4.png", "fig5.png", "pareto/", "dse.json",
+           "REPORT.md"]
 
 
-class Bad(Exception):
+class Bad(core.Refused):
     """A bad argument or space file: printed, exit 2."""
 
 
@@ -53,13 +63,7 @@ def say(msg):
 # The design space
 
 def load_space(path):
-    try:
-        with open(path, encoding="utf-8") as f:
-            space = json.load(f)
-    except OSError as e:
-        raise Bad(f"cannot read the space {path}: {e.strerror}")
-    except (json.JSONDecodeError, UnicodeDecodeError) as e:
-        raise Bad(f"{path}: not valid JSON: {e}")
+    space = core.read_json_input(path, "--space")
     if not isinstance(space, dict):
         raise Bad(f"{path}: a space is a JSON object with base, anchors, knobs")
     for k in space:
@@ -251,7 +255,9 @@ def stage_search_seconds(row):
 
 
 def read_points(out, names):
-    sweep = json.load(open(os.path.join(out, "sweep", "sweep.json")))
+    sweep = core.read_json_input(os.path.join(out, "sweep", "sweep.json"), "the sweep's results")
+    if not (isinstance(sweep, dict) and isinstance(sweep.get("rows"), list) and isinstance(sweep.get("swept_keys"), list)):
+        raise Bad(f"{out}/sweep/sweep.json: not what tigris sweep writes (rows, swept_keys)")
     by_id = {r["point"]: r for r in sweep["rows"]}
     points = []
     for name, sweep_id, knobs in names:
@@ -284,8 +290,7 @@ def write_points_csv(path, points, knob_keys):
         row = dict(p, **{k: p["values"].get(k) for k in knob_keys}, **{f"{t} s": p["stages"].get(t) for t, _ in STAGES})
         w.writerow(["" if row.get(c) is None else str(row[c]).lower() if isinstance(row[c], bool) else row[c]
                     for c in cols])
-    with open(path, "w") as f:
-        f.write(buf.getvalue())
+    core.atomic_write(path, buf.getvalue())
 
 
 def write_configs(out, points, dps):
@@ -300,10 +305,11 @@ def write_configs(out, points, dps):
         config = None
         for pair in sorted(os.listdir(d)) if os.path.isdir(d) else []:
             try:
-                with open(os.path.join(d, pair, "registration.json")) as f:
-                    config = json.load(f).get("config")
-            except (OSError, ValueError):
+                reg = core.read_json_input(os.path.join(d, pair, "registration.json"))
+            except core.Refused as e:
+                say(f"warning: {e}")
                 continue
+            config = reg.get("config") if isinstance(reg, dict) else None
             if isinstance(config, dict):
                 break
         if not isinstance(config, dict):
@@ -313,9 +319,7 @@ def write_configs(out, points, dps):
             continue
         config.pop("inject", None)               # error injection is not a design choice
         paths[i] = os.path.join(pdir, f"{dp}.json")
-        with open(paths[i], "w") as f:
-            json.dump(config, f, indent=1)
-            f.write("\n")
+        core.write_json(paths[i], config)
     return paths
 
 
@@ -419,7 +423,7 @@ def plot(out, points, fronts, dps, title):
     figure_truth.name_workload(fig, title)
     for ax, items in labels.items():  # after the layout is final: placement works in pixels
         place_labels(fig, ax, items)
-    fig.savefig(os.path.join(out, "fig4.png"), dpi=110)
+    core.save_figure(fig, os.path.join(out, "fig4.png"), dpi=110)
     plt.close(fig)
 
     order = sorted(dps, key=lambda i: int(dps[i][2:]))
@@ -453,7 +457,7 @@ def plot(out, points, fronts, dps, title):
     b.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("The Pareto points' time distribution")
     figure_truth.name_workload(fig, title)
-    fig.savefig(os.path.join(out, "fig5.png"), dpi=110)
+    core.save_figure(fig, os.path.join(out, "fig5.png"), dpi=110)
     plt.close(fig)
 
 
@@ -468,8 +472,7 @@ def write_report(out, summary):
     lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
                   f"holds for {len(held)} of {sum(c.direction is not None for c in claims)} "
                   "(docs/registration.md explains the space and the stages)."]
-    with open(os.path.join(out, "REPORT.md"), "w") as f:
-        f.write("\n".join(lines))
+    core.atomic_write(os.path.join(out, "REPORT.md"), "\n".join(lines))
 
 
 def parse_args(argv):
@@ -505,9 +508,17 @@ def parse_args(argv):
     ap.add_argument("--sbatch-arg", action="append", default=[], help="with --slurm: one raw sbatch argument")
     ap.add_argument("--out", default="tigris-dse", metavar="DIR", help="output folder (default %(default)s); "
                     "a rerun into it resumes")
+    ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
+                    "default, meaning) for tools, and exit")
+    core.list_flags(ap, "pipeline-dse", argv)
     a = ap.parse_args(argv)
-    if a.samples < 1 or a.samples > 100_000:
-        ap.error("--samples must be 1 .. 100000")
+    if a.samples < 1 or a.samples > MAX_SAMPLES:
+        ap.error(f"--samples {a.samples}: must be 1 .. {MAX_SAMPLES:,} (each point is a whole odometry run; "
+                 "explore more with several --out folders and other --seed values)")
+    if a.frames is not None:
+        m = re.fullmatch(r"(\d+):(\d+)", a.frames)
+        if not m or int(m.group(1)) >= int(m.group(2)):
+            ap.error(f"--frames must be A:B, the first and the last frame (A < B), got '{a.frames}'")
     if a.pairs is not None and not 1 <= a.pairs <= 20000:
         ap.error("--pairs must be 1 .. 20000")
     if a.frames and not a.sequence:
@@ -522,18 +533,26 @@ def parse_args(argv):
 
 
 def run_sweep(cmd):
-    """The sweep driver as a child: Ctrl-C reaches it from the terminal and SIGTERM is passed on,
-    and either way it stops its points and keeps the finished ones before this returns."""
-    p = subprocess.Popen(cmd)
-    old = signal.signal(signal.SIGTERM, lambda *_: p.send_signal(signal.SIGTERM))
-    try:
-        while True:
-            try:
-                return p.wait()
-            except KeyboardInterrupt:
-                continue                         # the driver got the same SIGINT: wait for it
-    finally:
-        signal.signal(signal.SIGTERM, old)
+    """The sweep driver as a child: a signal to this process stops it (SIGTERM to its group),
+    and it stops its points and keeps the finished ones before this returns."""
+    return core.run_child(cmd, grace=2 * core.KILL_AFTER)    # its own children get their 5 s first
+
+
+def check_sequence(a):
+    """--sequence and --frames, before anything is written: (folder, (first, last) or None)."""
+    seq = os.path.abspath(a.sequence)
+    if not os.path.isdir(seq):
+        raise Bad(f"--sequence {a.sequence}: no such folder")
+    core.check_input(os.path.join(seq, "poses.txt"), "--sequence's ground truth (the errors need it)",
+                     core.MAX_SETTINGS_BYTES)
+    velo = os.path.join(seq, "velodyne")
+    scans = sum(1 for n in os.listdir(velo if os.path.isdir(velo) else seq) if re.fullmatch(r"\d+\.bin", n))
+    frames = None
+    if a.frames:
+        frames = tuple(int(x) for x in a.frames.split(":"))
+        if frames[1] >= scans:
+            raise Bad(f"--frames {a.frames}: the sequence has frames 0..{scans - 1}")
+    return seq, frames
 
 
 def main(argv):
@@ -544,23 +563,41 @@ def main(argv):
     space = load_space(a.space)
     knobs = space["knobs"]
     out = os.path.abspath(a.out)
-    os.makedirs(out, exist_ok=True)
+    folder = core.OutFolder(out, "pipeline-dse", OUTPUTS, argv=argv)
+    inputs = [core.input_identity("space", a.space, "--space", core.MAX_SETTINGS_BYTES)]
+    paths = [("--space", a.space)]
+    if a.sequence:
+        seq, frames = check_sequence(a)
+        inputs += core.sequence_inputs("sequence", seq, frames)
+        paths.append(("--sequence", seq))
+        settings = {"sequence": seq, "frames": a.frames}
+    else:
+        settings = {"synthetic_pairs": a.pairs, "synthetic_seed": a.seed}
+    drawn, how = sample(knobs, a.samples, a.seed)
+    folder.claim(settings=settings, inputs=inputs, input_paths=paths)
+    rc = 2
+    try:
+        rc = explore(a, argv, tigris, space, knobs, out, drawn, how)
+        return rc
+    except BaseException as e:
+        rc = core.exit_status(e)
+        raise
+    finally:
+        folder.finish(rc)
+
+
+def explore(a, argv, tigris, space, knobs, out, drawn, how):
     if a.sequence:
         seq = os.path.abspath(a.sequence)
-        if not os.path.isdir(seq):
-            raise Bad(f"--sequence {a.sequence}: no such folder")
-        if not os.path.isfile(os.path.join(seq, "poses.txt")):
-            raise Bad(f"--sequence {a.sequence}: no poses.txt: the errors need a ground truth")
         where = f"{seq}" + (f" frames {a.frames}" if a.frames else "")
     else:
         # Named by its settings: another drive is another base, which the sweep will not mix in.
         seq = os.path.join(out, f"sequence-{a.pairs}pairs-seed{a.seed}")
-        r = subprocess.run([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed), "--out", seq],
-                           stdout=subprocess.DEVNULL)     # a complete drive is only checked
-        if r.returncode != 0:
-            raise Bad(f"tigris synth failed (exit {r.returncode})")
+        rc = core.run_child([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed), "--out", seq],
+                            stdout=core.subprocess.DEVNULL)   # a complete drive is only checked
+        if rc != 0:
+            raise Bad(f"tigris synth failed (exit {rc})")
         where = f"synthetic drive (seed {a.seed}, {a.pairs} pairs)"
-    drawn, how = sample(knobs, a.samples, a.seed)
     say(f"{how}; anchors {', '.join(space.get('anchors', [])) or 'none'}; on the {where}")
     base = dict(space.get("base", {}), sequence=seq)
     if a.frames:
@@ -569,9 +606,7 @@ def main(argv):
     names = [f"preset={p}" for p in space.get("anchors", [])] + [f"P{k:03d}" for k in range(1, len(drawn) + 1)]
     spec = {"comment": f"{PROG}: {how}", "command": "odometry", "base": base, "points": pts}
     spec_path = os.path.join(out, "spec.json")
-    with open(spec_path, "w") as f:
-        json.dump(spec, f, indent=1)
-        f.write("\n")
+    core.write_json(spec_path, spec)
     sweep = [sys.executable, os.path.join(HERE, "tigris_sweep.py"), spec_path, "--out", os.path.join(out, "sweep"),
              "--tigris", tigris, "--jobs", str(a.jobs)]
     if a.slurm:
@@ -637,9 +672,7 @@ def main(argv):
                                                                           "rpe_rotation_deg", "kdtree_share", "dp")}
                            for p in points if p["point"].startswith("preset=")},
                "claims": measured}
-    with open(os.path.join(out, "dse.json"), "w") as f:
-        json.dump(summary, f, indent=1)
-        f.write("\n")
+    core.write_json(os.path.join(out, "dse.json"), summary)
     write_report(out, summary)
     print(f"{'DP':5} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
     for d in summary["dps"]:
@@ -659,14 +692,21 @@ def main(argv):
 
 
 if __name__ == "__main__":
+    core.handle_stop_signals()
     try:
         sys.exit(main(sys.argv[1:]))
-    except Bad as e:
+    except core.Refused as e:
         say(f"error: {e}")
         sys.exit(2)
+    except core.SlurmFailed as e:
+        say(f"error: {e}")
+        sys.exit(core.SBATCH_FAILED)
     except (OSError, ValueError) as e:           # a full disk, an unreadable file: named
         say(f"error: {getattr(e, 'filename', None) or ''}{': ' if getattr(e, 'filename', None) else ''}"
             f"{getattr(e, 'strerror', None) or e}")
         sys.exit(2)
-    except KeyboardInterrupt:
-        sys.exit(130)
+    except KeyboardInterrupt as e:
+        code = core.exit_status(e)
+        say(f"interrupted ({signal.Signals(code - 128).name}): the sweep and its points stopped; finished "
+            "points are kept: rerun the same command to resume")
+        sys.exit(code)

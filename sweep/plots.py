@@ -28,6 +28,7 @@ import matplotlib.ticker  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import evaldata as ed  # noqa: E402
+import core  # noqa: E402
 import figure_truth  # noqa: E402
 from evaldata import num  # noqa: E402
 
@@ -430,8 +431,8 @@ def make_figures(sw, out, which=None, log=ed.note):
         png, svg = os.path.join(out, name + ".png"), os.path.join(out, name + ".svg")
         fig.notes = getattr(fig, "notes", []) + figure_truth.guard_flat(fig)
         figure_truth.name_workload(fig, ed.workload_text(sw))
-        fig.savefig(png, dpi=110)
-        fig.savefig(svg)
+        core.save_figure(fig, png, dpi=110)
+        core.save_figure(fig, svg)
         notes = getattr(fig, "notes", [])
         plt.close(fig)
         made[name] = (png, svg, notes)

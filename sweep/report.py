@@ -792,14 +792,12 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
 
 def read_dse(path):
     """A pipeline-dse folder's dse.json; ValueError naming the file when it is not one."""
+    import core
     f = os.path.join(path, "dse.json")
     try:
-        with open(f) as fh:
-            dse = json.load(fh)
-    except OSError as e:
-        raise ValueError(f"{f}: {e.strerror} (not a tigris pipeline-dse folder)")
-    except ValueError as e:
-        raise ValueError(f"{f}: not valid JSON: {e}")
+        dse = core.read_json_input(f, "a tigris pipeline-dse folder's results")
+    except core.Refused as e:
+        raise ValueError(str(e))
     if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
         raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
     return dse
@@ -938,8 +936,9 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
         if variants else None
     path = os.path.join(out, "REPORT.md")
-    with open(path, "w") as f:
-        f.write(render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust, command=command))
+    import core
+    core.atomic_write(path, render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust,
+                                   command=command))
     log(f"report: wrote {path}")
     return path, claims
 

@@ -16,7 +16,9 @@ once the Slurm jobs are done). --variants also runs the experiments under design
 (sweep/variants.py: details the paper leaves open) into DIR/variants/<name>/, and REPORT.md gets
 the robustness matrix of the claims and DIR/figures/variants.png. Default workload: the built-in synthetic frame pair; a cloud
 without --queries is searched in itself. DIR/workload.json records the workload of DIR's
-results: a rerun without --cloud reuses it, one with another workload is refused.
+results: a rerun without --cloud reuses it, one with another workload is refused. DIR holds
+manifest.json (docs/architecture.md): it must be new, empty or an earlier reproduce's folder, and a
+rerun whose cloud or queries file changed content is refused, saying what changed.
 Exit codes: 0 REPORT.md written, 1 every point failed (REPORT.md lists them) or no sweep.csv,
 2 bad arguments, workload or DIR (or the driver's exit 2), 3 sbatch failed, 128 + the signal
 when interrupted (the running sweep is stopped the same way, its finished points kept).
@@ -28,19 +30,20 @@ import json
 import os
 import shlex
 import signal
-import subprocess
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.dirname(os.path.realpath(__file__))
 sys.path.insert(0, HERE)
+import core  # noqa: E402
 
 DRIVER = os.path.join(HERE, "tigris_sweep.py")
 NC_DEFAULT = 131072
 RADIUS = 0.30
 WORKLOAD = "workload.json"
+OUTPUTS = ["specs/", "sweeps/", "variants/", "figures/", "REPORT.md", WORKLOAD]
 
 
-class Refused(Exception):
+class Refused(core.Refused):
     """Bad arguments, workload or output folder: printed, exit 2."""
 
 
@@ -119,24 +122,15 @@ def workload(out, cloud, queries):
     path = os.path.join(out, WORKLOAD)
     results = glob.glob(os.path.join(glob.escape(out), "sweeps", "*", "plan.json"))
     rec = None
-    try:
-        with open(path) as f:
-            rec = json.load(f)
-        if not (isinstance(rec, dict) and all(isinstance(rec.get(k), (str, type(None))) for k in given)):
-            raise ValueError("not {\"cloud\": path or null, \"queries\": path or null}")
+    if os.path.lexists(path):
+        try:
+            rec = core.read_json_input(path, WORKLOAD)
+            if not (isinstance(rec, dict) and all(isinstance(rec.get(k), (str, type(None))) for k in given)):
+                raise core.Refused("not {\"cloud\": path or null, \"queries\": path or null}")
+        except core.Refused as e:
+            raise Refused(f"{path}: unreadable ({e}); it records the workload of {out}'s results: "
+                          "repair or delete it, or use another --out")
         rec = {k: rec.get(k) for k in given}
-    except FileNotFoundError:
-        specs = sorted(glob.glob(os.path.join(glob.escape(out), "specs", "*.json")))
-        if results and specs:
-            try:
-                with open(specs[0]) as f:
-                    base = json.load(f).get("base", {})
-                rec = {k: base.get(k) for k in given}
-            except (OSError, ValueError, AttributeError, RecursionError):
-                rec = None
-    except (OSError, ValueError, RecursionError) as e:
-        raise Refused(f"{path}: unreadable ({e}); it records the workload of {out}'s results: "
-                      "repair or delete it, or use another --out")
     if rec is None or not results:
         return given
     if cloud is None and queries is None:
@@ -150,10 +144,7 @@ def workload(out, cloud, queries):
     return rec
 
 
-def write_json(path, data):
-    with open(path, "w") as f:
-        json.dump(data, f, indent=1)
-        f.write("\n")
+write_json = core.write_json
 
 
 def write_specs(out, names, quick, cloud, queries):
@@ -188,9 +179,8 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
         rec_path = os.path.join(vdir, vt.VARIANT_FILE)
         if glob.glob(os.path.join(glob.escape(vdir), "sweeps", "*", "plan.json")) and os.path.exists(rec_path):
             try:
-                with open(rec_path) as f:
-                    rec = json.load(f)
-            except (OSError, ValueError, RecursionError) as e:
+                rec = core.read_json_input(rec_path, vt.VARIANT_FILE)
+            except core.Refused as e:
                 raise Refused(f"{rec_path}: unreadable ({e}); it records the variant of {vdir}'s "
                               "results: repair or delete it")
             if rec != v.as_json():
@@ -278,6 +268,9 @@ def parse_args(argv):
     s.add_argument("--sbatch-arg", action="append", metavar="ARG")
     s.add_argument("--no-wait", action="store_true", help="return after submitting; rerun with "
                    "--report-only when the jobs are done")
+    ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
+                    "default, meaning) for tools, and exit")
+    core.list_flags(ap, "reproduce", argv)
     a = ap.parse_args(argv)
     if a.jobs < 1:
         ap.error("--jobs must be at least 1")
@@ -286,8 +279,11 @@ def parse_args(argv):
     if not a.out.strip():
         ap.error("--out is empty: give the output folder (an empty path would be the current folder)")
     for flag, f in (("--cloud", a.cloud), ("--queries", a.queries)):
-        if f is not None and not os.path.isfile(f):
-            ap.error(f"{flag}: no such file: {f!r}")
+        if f is not None:
+            try:
+                core.check_input(f, flag)
+            except core.Refused as e:
+                ap.error(str(e))
     if a.queries and not a.cloud:
         ap.error("--queries needs --cloud (the cloud its points are searched in; a cloud alone is "
                  "searched in itself)")
@@ -300,44 +296,24 @@ def parse_args(argv):
     return a
 
 
-interrupted_by = [signal.SIGINT]
-
-
-def _interrupt(signum, frame):
-    interrupted_by[0] = signum
-    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        signal.signal(s, signal.SIG_IGN)
-    raise KeyboardInterrupt
-
-
 def call_driver(cmd):
     """Runs the driver; a signal here stops it the way the driver stops its points (it kills
-    them and keeps the finished ones), never by SIGKILL, which would orphan its tigris runs."""
-    p = subprocess.Popen(cmd)
-    try:
-        return p.wait()
-    except KeyboardInterrupt:
-        if p.poll() is None:
-            p.send_signal(signal.SIGTERM)
-        try:
-            p.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            p.kill()
-        raise
+    them and keeps the finished ones): SIGTERM to its group, SIGKILL only after its own children's
+    grace, and they stop with it anyway (PR_SET_PDEATHSIG)."""
+    return core.run_child(cmd, grace=2 * core.KILL_AFTER)
 
 
 def main(argv=None):
-    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        if signal.getsignal(s) != signal.SIG_IGN:
-            signal.signal(s, _interrupt)
+    core.handle_stop_signals()
+    argv = list(sys.argv[1:] if argv is None else argv)
     a = parse_args(argv)
-    a.command_line = "tigris reproduce " + shlex.join(sys.argv[1:] if argv is None else argv)
+    a.command_line = "tigris reproduce " + shlex.join(argv)
     if a.tigris:  # the report's model defaults come from the binary that ran
         os.environ["TIGRIS"] = os.path.abspath(a.tigris)
     out = os.path.abspath(a.out)
+    folder = core.OutFolder(out, "reproduce", OUTPUTS, argv=argv)
     try:
-        if os.path.exists(out) and not os.path.isdir(out):
-            raise Refused(f"--out {out}: exists and is not a folder")
+        folder.check_path()
         if a.dse:                                # a typo found now, not after every sweep
             import report
             try:
@@ -346,16 +322,32 @@ def main(argv=None):
                 raise Refused(f"--dse: {e}")
         w = workload(out, a.cloud, a.queries)
         chosen, defaults = choose_variants(a)
-        plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
-        vplan = variant_plan(out, plan, chosen, defaults, a.quick, w["cloud"], w["queries"]) if chosen else []
-    except Refused as e:
+        paths = [(f, p) for f, p in (("--cloud", w["cloud"]), ("--queries", w["queries"]),
+                                     ("--variants-file", a.variants_file)) if p]
+        ids = [core.input_identity(f[2:], p) for f, p in paths[:2] if f != "--variants-file"]
+        folder.claim(settings={"cloud": w["cloud"], "queries": w["queries"]}, inputs=ids, input_paths=paths)
+    except core.Refused as e:
         print(f"reproduce: error: {e}", file=sys.stderr)
         return 2
+    rc = 2
     try:
-        return run(a, out, plan, vplan)
-    except KeyboardInterrupt:
-        note(f"interrupted ({signal.Signals(interrupted_by[0]).name}); finished points are kept")
-        return 128 + interrupted_by[0]
+        plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
+        vplan = variant_plan(out, plan, chosen, defaults, a.quick, w["cloud"], w["queries"]) if chosen else []
+        rc = run(a, out, plan, vplan)
+        return rc
+    except core.Refused as e:
+        print(f"reproduce: error: {e}", file=sys.stderr)
+        return 2
+    except core.SlurmFailed as e:
+        print(f"reproduce: error: {e}", file=sys.stderr)
+        rc = core.SBATCH_FAILED
+        return rc
+    except KeyboardInterrupt as e:
+        rc = core.exit_status(e)
+        note(f"interrupted ({signal.Signals(rc - 128).name}); finished points are kept")
+        return rc
+    finally:
+        folder.finish(rc)
 
 
 def choose_variants(a):

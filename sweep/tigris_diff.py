@@ -2,7 +2,8 @@
 """Compare runs: `tigris diff A B [C ...] [--json] [--all]`.
 
 Each argument is a stats.json, a run folder holding one (`tigris run --out DIR`), or a sweep
-point (SWEEP/points/<id>/). Printed in this order:
+point (SWEEP/points/<id>/): all of `tigris run` or all of trace replays (`tigris run --trace`).
+Printed in this order:
 
   runs           each run's command line and inputs (path and SHA-256, or the built-in workload)
   configuration  every configuration key whose value differs
@@ -11,8 +12,9 @@ point (SWEEP/points/<id>/). Printed in this order:
                  side by side, each with its ratio to the first run
   other          every other leaf that differs (the first 40; --all: all of them, per-unit ones too)
 
-Exit status as diff(1): 0 when the runs agree (host wall time and command lines aside), 1 when
-they differ, 2 on bad input.
+Host time (every `wall_seconds` and `phase_seconds` leaf) is never a difference. Exit status as
+diff(1): 0 when the runs agree (host time and command lines aside), 1 when they differ, 2 on bad
+input (also a file that is not a run's statistics, or runs of the two kinds).
 """
 import argparse
 import json
@@ -20,10 +22,16 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import core  # noqa: E402
+
 PROG = "tigris diff"
 OTHER_SHOWN = 40
 # Leaves that describe the run rather than the model: shown under "runs", never as differences.
-RUN_KEYS = ("command_line", "inputs", "wall_seconds")
+RUN_KEYS = ("command_line", "inputs", "wall_seconds", "trace")
+# Host time measured while the model ran, anywhere in the tree: never a difference.
+HOST_TIME = ("wall_seconds", "phase_seconds")
+KINDS = {"run": "the statistics of a `tigris run`", "trace": "the statistics of a trace replay (`tigris run --trace`)"}
 
 
 def die(msg):
@@ -38,15 +46,34 @@ def load(arg):
             die(f"{arg} is a sweep folder: name one of its points, e.g. {os.path.join(arg, 'points', '<id>')}")
         die(f"{arg} holds no stats.json (a run folder is what `tigris run --out DIR` writes)")
     try:
-        with open(path) as f:
-            doc = json.load(f)
-    except OSError as e:
-        die(f"{path}: {e.strerror}")
-    except ValueError as e:
-        die(f"{path}: not JSON ({e})")
+        doc = core.read_json_input(path, "", core.MAX_SETTINGS_BYTES)
+    except core.Refused as e:
+        die(str(e))
+    kind = stats_kind(doc)
+    if kind not in KINDS:
+        die(f"{path}: not a run's statistics ({kind}): tigris diff compares the stats.json of `tigris run` "
+            "(or of its trace replays)")
+    return path, doc, kind
+
+
+def stats_kind(doc):
+    """"run", "trace", or what the document is instead."""
     if not isinstance(doc, dict):
-        die(f"{path}: not a stats file (a JSON object is expected)")
-    return path, doc
+        return "a JSON object is expected"
+    cmd = doc.get("command")
+    if cmd in ("run", "run --trace") and isinstance(doc.get("trace"), dict) and isinstance(doc.get("total"), dict):
+        return "trace"
+    if cmd == "run" and "cycles" in doc and isinstance(doc.get("config"), dict):
+        return "run"
+    if "args" in doc and "exit_code" in doc:
+        return "a sweep's point.json: name the point's folder or its stats.json"
+    if isinstance(cmd, str) and cmd:
+        return f"written by tigris {cmd}" + (", a registration" if cmd == "register" else "")
+    return "no command, cycles or configuration" if not doc else "no command, cycles or configuration in it"
+
+
+def host_time(path):
+    return any(part.split("[")[0] in HOST_TIME for part in path.split("."))
 
 
 def leaves(obj, prefix=""):
@@ -80,9 +107,31 @@ def same(a, b):
     return a == b
 
 
-def headline(docs):
+def trace_rows(docs):
+    """The headline of trace replays: the modeled totals, the end-to-end effect, each stage."""
+    rows = [("cycles", "cycles", "total.cycles", 1), ("energy", "uJ", "total.energy_pj", 1e-6),
+            ("modeled search time", "ms", "total.modeled_search_seconds", 1e3),
+            ("modeled host time", "ms", "total.modeled_host_seconds", 1e3),
+            ("jobs", "", "total.jobs", 1), ("queries", "", "total.queries", 1),
+            ("  differing from recorded", "", "total.queries_differing_from_recorded", 1),
+            ("end-to-end speed-up", "x", "end_to_end.speedup", 1),
+            ("KD-tree speed-up", "x", "end_to_end.kdtree_speedup", 1),
+            ("accelerated seconds", "s", "end_to_end.accelerated_seconds", 1)]
+    stages = []
+    for d in docs:
+        for s in (d.get("stages") or {}):
+            if s not in stages:
+                stages.append(s)
+    for s in stages:
+        rows += [(f"{s} cycles", "cycles", f"stages.{s}.cycles", 1), (f"{s} energy", "uJ", f"stages.{s}.energy_pj", 1e-6)]
+    return rows + [("verdict", "", "verdict", 1)]
+
+
+def headline(docs, kind="run"):
     """Rows {name, label, unit, values, ratios, path} of the figures a reader compares first, in
     reading order, for those that any of the runs has. `path`: the stats leaf shown."""
+    if kind == "trace":
+        return rows_of(docs, trace_rows(docs))
     rows = [("cycles", "cycles", "cycles", 1), ("time", "ms", "seconds", 1e3),
             ("lower bound", "cycles", "lower_bound_cycles", 1), ("energy", "uJ", "energy_pj.total", 1e-6)]
     for part in ("pe", "ru", "sram_read", "sram_write", "node_cache", "leader_buffer", "dram", "leakage"):
@@ -110,6 +159,10 @@ def headline(docs):
              ("queries exact", "%", "accuracy.exact_match_fraction", 1),
              ("extra distance mean", "m", "accuracy.mean_extra_distance_m", 1), ("recall", "%", "accuracy.recall", 1),
              ("precision", "%", "accuracy.precision", 1), ("verdict", "", "verdict", 1)]
+    return rows_of(docs, rows)
+
+
+def rows_of(docs, rows):
     out = []
     for label, unit, path, how in rows:
         vals = [how(d) if callable(how) else scale(get(d, path), how) if how != 1 else get(d, path) for d in docs]
@@ -180,7 +233,7 @@ def input_key(doc):
                        and i.get("role") != "config"], sort_keys=True)
 
 
-def compare(paths, docs):
+def compare(paths, docs, kind="run"):
     config = {}
     for d in docs:
         for p, v in leaves(d.get("config", {})):
@@ -190,14 +243,14 @@ def compare(paths, docs):
             config[p][i] = v
     config_diff = [{"key": k, "values": v} for k, v in sorted(config.items())
                    if any(not same(x, v[0]) for x in v[1:])]
-    heads = headline(docs)
+    heads = headline(docs, kind)
     shown = {h["path"] for h in heads} | {"bottleneck.summary"}
     shown |= {f"buffers.{h['path'].split('.')[1]}.write_bytes" for h in heads if h["path"].startswith("buffers.")}
     other = {}
     for i, d in enumerate(docs):
         for p, v in leaves(d):
             top = p.split(".")[0].split("[")[0]
-            if top in RUN_KEYS or top == "config" or p in shown:
+            if top in RUN_KEYS or top == "config" or p in shown or host_time(p):
                 continue
             other.setdefault(p, [None] * len(docs))[i] = v
     other_diff = [{"path": k, "values": v} for k, v in other.items() if any(not same(x, v[0]) for x in v[1:])]
@@ -266,11 +319,19 @@ def main(argv):
     ap.add_argument("runs", nargs="+", metavar="RUN", help="a stats.json, a run folder or a sweep point folder")
     ap.add_argument("--json", action="store_true", help="print the comparison as JSON")
     ap.add_argument("--all", action="store_true", help="list every differing leaf, per-unit ones too")
+    ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
+                    "default, meaning) for tools, and exit")
+    core.list_flags(ap, "diff", argv)
     a = ap.parse_args(argv)
     if len(a.runs) < 2:
         die("give at least two runs to compare")
     loaded = [load(r) for r in a.runs]
-    res = compare([p for p, _ in loaded], [d for _, d in loaded])
+    kinds = {k for _, _, k in loaded}
+    if len(kinds) > 1:
+        first = next(x for x in loaded if x[2] != loaded[0][2])
+        die(f"{loaded[0][0]} holds {KINDS[loaded[0][2]]}, {first[0]} {KINDS[first[2]]}: they share no figures "
+            "to compare; compare runs with runs, replays with replays")
+    res = compare([p for p, _, _ in loaded], [d for _, d, _ in loaded], loaded[0][2])
     if a.json:
         print(json.dumps(res, indent=1))
     else:

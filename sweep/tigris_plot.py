@@ -9,13 +9,14 @@ height, optimizations, memory_traffic, approx) that the sweep's settings cover.
 
 Every figure names its workload and the settings all its points share; an axis whose values vary
 by less than 5% is drawn from zero and labelled "flat". The default output folder is
-SWEEP_DIR/plots (for a CSV: plots/ beside it). Runs on Debian's python3 with python3-matplotlib
-(`tigris plot` starts /usr/bin/python3). Exit status 0 when at least one figure was written, 2
-otherwise.
+SWEEP_DIR/plots (for a CSV: plots/ beside it); it holds manifest.json, must be new, empty or an
+earlier plot's folder, and its earlier figures are replaced. Runs on Debian's python3 with
+python3-matplotlib (`tigris plot` starts /usr/bin/python3). Exit status 0 when at least one
+figure was written, 2 otherwise (also for a --y column without numbers).
 """
 import argparse
 import csv
-import json
+import io
 import os
 import sys
 
@@ -27,7 +28,8 @@ except ImportError:
     sys.exit("tigris plot: error: matplotlib is missing from this python3 (Debian: apt-get install "
              "python3-matplotlib; `tigris plot` uses /usr/bin/python3)")
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import core  # noqa: E402
 import evaldata as ed  # noqa: E402
 import figure_truth  # noqa: E402
 import plots  # noqa: E402
@@ -46,37 +48,46 @@ def say(msg):
     print(f"{PROG}: {msg}", file=sys.stderr)
 
 
+OUTPUTS = ["sweep_*.png", "sweep_*.svg"] + [f"{n}.{e}" for n in plots.FIGURES for e in ("png", "svg")]
+
+
 def csv_of(arg):
     if os.path.isdir(arg):
         path = os.path.join(arg, "sweep.csv")
-        if not os.path.isfile(path):
+        if not os.path.lexists(path):
             die(f"{arg} holds no sweep.csv (a sweep folder is what `tigris sweep SPEC --out DIR` writes)")
-        return path
-    if not os.path.isfile(arg):
+    elif not os.path.lexists(arg):
         die(f"no such sweep folder or CSV: {arg}")
-    return arg
+    else:
+        path = arg
+    try:
+        core.check_input(path, "a sweep CSV", core.MAX_SETTINGS_BYTES)
+    except core.Refused as e:
+        die(str(e))
+    return path
 
 
 def read(path):
     """(columns, rows as dicts, swept keys) of one sweep.csv."""
     try:
-        with open(path, newline="") as f:
-            r = csv.reader(f)
-            cols = next(r, None) or []
-            rows = [dict(zip(cols, cells)) for cells in r if cells]
-    except (OSError, csv.Error, UnicodeDecodeError) as e:
+        r = csv.reader(io.StringIO(core.read_text_input(path, "a sweep CSV"), newline=""))
+        cols = next(r, None) or []
+        rows = [dict(zip(cols, cells)) for cells in r if cells]
+    except csv.Error as e:
         die(f"{path}: {e}")
+    except core.Refused as e:
+        die(str(e))
     if "status" not in cols or "point" not in cols:
         die(f"{path}: no `point` and `status` columns: not a sweep CSV")
     swept = cols[cols.index("point") + 1:cols.index("status")]
     side = os.path.join(os.path.dirname(os.path.abspath(path)), "sweep.json")
-    try:
-        with open(side) as f:
-            info = json.load(f)
-        if info.get("columns") == cols and isinstance(info.get("swept_keys"), list):
+    if os.path.lexists(side):
+        try:
+            info = core.read_json_input(side, "the sweep.json beside the CSV")
+        except core.Refused as e:
+            die(str(e))
+        if isinstance(info, dict) and info.get("columns") == cols and isinstance(info.get("swept_keys"), list):
             swept = info["swept_keys"]
-    except (OSError, ValueError, AttributeError):
-        pass
     return cols, rows, swept
 
 
@@ -159,20 +170,50 @@ def main(argv):
     ap.add_argument("--which", nargs="+", metavar="NAME", choices=["sweep"] + list(plots.FIGURES),
                     help="only these figures: sweep (the swept-key figures) or a paper figure: "
                          + ", ".join(plots.FIGURES))
+    ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
+                    "default, meaning) for tools, and exit")
+    core.list_flags(ap, "plot", argv)
     a = ap.parse_args(argv)
     paths = [csv_of(s) for s in a.sweeps]
     out = a.out or os.path.join(a.sweeps[0] if os.path.isdir(a.sweeps[0]) else
                                 os.path.dirname(os.path.abspath(paths[0])), "plots")
     try:
         sw = ed.Sweep(paths)
-    except (ValueError, OSError) as e:
+    except (ValueError, OSError, core.Refused) as e:
         die(str(e))
     workload = ed.workload_text(sw)
-    os.makedirs(out, exist_ok=True)
+    tables = [(path,) + read(path) for path in paths] if not a.which or "sweep" in a.which else []
+    for path, cols, rows, swept in tables:     # every column checked before the folder is touched
+        ys = [(c, c, 1.0) for c in a.y] if a.y else HEADLINE
+        missing = [c for c, _, _ in ys if c not in cols]
+        if missing:
+            die(f"{path} has no column {', '.join(missing)} (its columns: {', '.join(cols[:12])}, ...)")
+        ok = [r for r in rows if r.get("status") == "ok"]
+        for c, _, _ in ys:
+            vals = [r.get(c, "") for r in ok]
+            if ok and not any(number(v) is not None for v in vals):
+                example = next((v for v in vals if v), "")
+                die(f"{path}: column {c} holds no number among the {len(ok)} ok point(s)"
+                    + (f" (e.g. {example!r})" if example else " (it is empty)") + ": nothing to plot against "
+                    "the swept keys; --y takes numeric columns")
+    folder = core.OutFolder(out, "plot", OUTPUTS)
+    try:
+        folder.claim(settings={"sweeps": [os.path.abspath(p) for p in paths]}, resume=False,
+                     input_paths=[("SWEEP", p) for p in paths])
+    except core.Refused as e:
+        die(str(e))
+    rc = 2
+    try:
+        rc = draw(a, paths, tables, sw, workload, out)
+        return rc
+    finally:
+        folder.finish(rc)
+
+
+def draw(a, paths, tables, sw, workload, out):
     written = []
     if not a.which or "sweep" in a.which:
-        for path in paths:
-            cols, rows, swept = read(path)
+        for path, cols, rows, swept in tables:
             ok = [r for r in rows if r.get("status") == "ok"]
             if len(ok) < len(rows):
                 say(f"{path}: {len(rows) - len(ok)} point(s) not ok (mismatch or error) left out")
@@ -188,8 +229,8 @@ def main(argv):
                     continue
                 fig, notes = sweep_figure(key, ok, swept, ys, workload)
                 stem = os.path.join(out, "sweep_" + "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in key))
-                fig.savefig(stem + ".png", dpi=110)
-                fig.savefig(stem + ".svg")
+                core.save_figure(fig, stem + ".png", dpi=110)
+                core.save_figure(fig, stem + ".svg")
                 plt.close(fig)
                 written.append(stem + ".png")
                 say(f"wrote {stem}.png and .svg" + (f" ({'; '.join(notes)})" if notes else ""))
@@ -212,4 +253,7 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except core.Refused as e:
+        die(str(e))

@@ -7,15 +7,19 @@ locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
                            [--sbatch-arg ARG ...] [--no-wait]]
   tigris_sweep.py collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
 
-One self-contained file (Python 3 standard library only), so a copy anywhere (CMake puts one at
-build/testbench/tigris-sweep) works; Slurm tasks run this same file as `_task TASKFILE INDEX`.
+Python 3 standard library only, with core.py beside it (folders, inputs, child processes);
+Slurm tasks run this same file as `_task TASKFILE INDEX`. The folder is held for the run and
+recorded in DIR/manifest.json (docs/architecture.md, "The shared core").
 Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
 2 bad spec, arguments or sweep folder, 3 Slurm submission failed, 128 + the signal when
 interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM; finished points kept).
 """
-import argparse, csv, datetime, difflib, fcntl, hashlib, io, itertools, json, math, os, re, shlex
-import shutil, signal, socket, subprocess, sys, tempfile, time
+import argparse, csv, datetime, difflib, hashlib, io, itertools, json, math, os, re, shlex
+import shutil, signal, socket, sys, tempfile, time
 from decimal import Decimal
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import core  # noqa: E402
 
 PROG = "tigris_sweep"
 TOP_KEYS = ("command", "base", "grid", "points", "comment")
@@ -94,10 +98,13 @@ FLAG_KEYS = {"run": {"height": "tree.top_height", "split-axis": "tree.split_axis
              "register": PIPELINE_FLAG_KEYS, "odometry": PIPELINE_FLAG_KEYS}
 MAX_POINTS = 100_000                                 # a spec's points, counted before expanding
 MAX_SPEC_BYTES = 16 << 20
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+# The sweep folder's own entries (its manifest's outputs); `tigris plot DIR` writes DIR/plots.
+OUTPUTS = ["plan.json", "points/", "sweep.csv", "sweep.json", "slurm/", "plots/"]
+# The sweep's files in a point's folder, which the point's tigris (the folder's owner) leaves alone.
+POINT_FILES = ["point.json", "stdout.txt", "stderr.txt"]
 
 
-class SpecError(Exception):
+class SpecError(core.Refused):
     """A bad spec, argument or sweep folder: printed, exit 2."""
 
 
@@ -117,30 +124,15 @@ def note(msg):
     say(f"{PROG}: {msg}")
 
 
-def write_text(path, text):
-    tmp = f"{path}.tmp{os.getpid()}"
-    try:
-        with open(tmp, "w", encoding="utf-8", errors="backslashreplace") as f:
-            f.write(text)
-        os.replace(tmp, path)                   # never a half-written file
-    except OSError as e:
-        try:
-            os.remove(tmp)
-        except OSError:
-            pass
-        raise SpecError(f"cannot write {path}: {e.strerror or e}")
-
-
-def write_json(path, obj):
-    write_text(path, json.dumps(obj, indent=1) + "\n")
+write_text, write_json = core.atomic_write, core.write_json
 
 
 def read_json(path):
-    """A JSON object from a file; None when missing, unreadable or not an object."""
+    """A JSON object from one of the sweep's own files; None when missing, damaged or not an
+    object (a point whose point.json is damaged is run again)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            obj = json.load(f)
-    except (OSError, ValueError, RecursionError):
+        obj = core.read_json_input(path)
+    except core.Refused:
         return None
     return obj if isinstance(obj, dict) else None
 
@@ -229,8 +221,8 @@ class Tigris:
     def _ask(self, sub, *flags):
         what = " ".join(flags)
         try:
-            p = subprocess.run([self.path, sub, *flags], capture_output=True, text=True, timeout=60)
-        except (OSError, subprocess.TimeoutExpired) as e:
+            p = core.capture([self.path, sub, *flags], timeout=60)
+        except (OSError, core.subprocess.TimeoutExpired) as e:
             raise SpecError(f"cannot run {self.path} {sub} {what}: {e}")
         if p.returncode != 0:
             raise SpecError(f"{self.path} {sub} {what} failed (exit {p.returncode}): {p.stderr.strip()}")
@@ -240,43 +232,14 @@ class Tigris:
 # ----------------------------------------------------------------------------------------------
 # The spec: {"base": {...}, "grid": {key: [values]}, "points": [{...}]}
 
-def _no_duplicates(pairs):
-    seen = {}
-    for k, v in pairs:
-        if k in seen:
-            raise SpecError(f"duplicate key \"{k}\"")
-        seen[k] = v
-    return seen
-
-
 class Spec:
     def __init__(self, path, tigris_path):
         self.given, self.path = path, os.path.abspath(path)
         self.dir = os.path.dirname(self.path)
         self.names = {}                          # canonical key -> spelling in the spec
         self.where = {}                          # canonical key -> spec locations
-        try:
-            with open(self.path, "rb") as f:
-                data = f.read(MAX_SPEC_BYTES + 1)
-        except OSError as e:
-            raise SpecError(f"cannot read the spec {path}: {e.strerror}")
-        if len(data) > MAX_SPEC_BYTES:
-            raise SpecError(f"{path}: larger than {MAX_SPEC_BYTES >> 20} MiB: not a sweep spec")
-        try:
-            text = data.decode("utf-8")
-        except UnicodeDecodeError as e:
-            raise SpecError(f"{path}: not UTF-8 text (byte {e.start}): a spec is JSON text")
-        try:
-            raw = json.loads(text, object_pairs_hook=_no_duplicates)
-        except json.JSONDecodeError as e:
-            raise SpecError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}")
-        except SpecError as e:
-            raise SpecError(f"{path}: {e}")
-        except RecursionError:
-            raise SpecError(f"{path}: not a sweep spec: nested too deeply")
-        except ValueError as e:                  # e.g. an integer of more than 4300 digits
-            what = "a number with too many digits" if "digits" in str(e) else str(e)
-            raise SpecError(f"{path}: not a sweep spec: {what}")
+        raw = core.read_json_input(path, "the spec", MAX_SPEC_BYTES, "a sweep spec is at most "
+                                   f"{MAX_SPEC_BYTES >> 20} MiB: split the sweep")
         self.raw = raw
         if not isinstance(raw, dict):
             raise SpecError(f"{path}: the spec must be a JSON object with base, grid, points")
@@ -471,58 +434,7 @@ def _id_value(key, v):
 
 
 # ----------------------------------------------------------------------------------------------
-# Running processes: a small pool of subprocesses, each in its own process group
-
-def kill_group(p):
-    for sig, wait in ((signal.SIGTERM, 3.0), (signal.SIGKILL, 5.0)):
-        try:
-            os.killpg(p.pid, sig)
-        except (ProcessLookupError, PermissionError):
-            pass
-        try:
-            p.wait(timeout=wait)
-            return
-        except subprocess.TimeoutExpired:
-            pass
-
-
-def pool(tasks, jobs, launch, done):
-    """Runs launch(task) -> Popen for every task, at most `jobs` at once; done(task, proc, rc)."""
-    queue, running = list(tasks), []
-    try:
-        while queue or running:
-            while queue and len(running) < jobs:
-                t = queue.pop(0)
-                running.append((t, launch(t)))
-            still = []
-            for t, p in running:
-                rc = p.poll()
-                if rc is None:
-                    still.append((t, p))
-                else:
-                    done(t, p, rc)
-            running = still
-            if running:
-                time.sleep(0.02)
-    finally:                                     # a signal or an error: no orphans
-        for _, p in running:                     # all groups told at once, then each waited for
-            try:
-                os.killpg(p.pid, signal.SIGTERM)
-            except (ProcessLookupError, PermissionError):
-                pass
-        for _, p in running:
-            kill_group(p)
-
-
-interrupted_by = [signal.SIGINT]
-
-
-def _interrupt(signum, frame):
-    """SIGINT, SIGTERM and SIGHUP alike: stop; the clean-up that follows is not interrupted."""
-    interrupted_by[0] = signum
-    for s in STOP_SIGNALS:
-        signal.signal(s, signal.SIG_IGN)
-    raise KeyboardInterrupt
+# Child processes: core.pool and core.spawn (own process groups, stopped with the driver)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -559,8 +471,9 @@ class PointRun:
         self.started, self.t0 = now(), time.monotonic()
         with open(os.path.join(self.dir, "stdout.txt"), "w") as so, \
                 open(os.path.join(self.dir, "stderr.txt"), "w") as se:
-            self.proc = subprocess.Popen(self.cmd, stdout=so, stderr=se, stdin=subprocess.DEVNULL,
-                                         cwd=self.dir, start_new_session=True)
+            # The point's tigris owns its --out; the sweep's own files there are named to it.
+            self.proc = core.spawn(self.cmd, parent_files=POINT_FILES, stdout=so, stderr=se,
+                                   stdin=core.subprocess.DEVNULL, cwd=self.dir)
         return self.proc
 
     def finish(self, rc):
@@ -644,9 +557,8 @@ def dry_check(spec, tig, pts, out, jobs):
     n, k, t0, shown = len(pts), [0], time.monotonic(), [time.monotonic()]
 
     def launch(pt):
-        return subprocess.Popen(dry_args(tig, pt["args"], missing),
-                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                                stdin=subprocess.DEVNULL, start_new_session=True)
+        return core.spawn(dry_args(tig, pt["args"], missing), stdout=core.subprocess.DEVNULL,
+                          stderr=core.subprocess.PIPE, text=True, stdin=core.subprocess.DEVNULL)
 
     def done(pt, p, rc):
         k[0] += 1
@@ -661,7 +573,7 @@ def dry_check(spec, tig, pts, out, jobs):
         line = next((l for l in lines if "error" in l), lines[0] if lines else f"exit {rc}")
         problems.setdefault(line, []).append(pt)
 
-    pool(pts, jobs, launch, done)
+    core.pool(pts, jobs, launch, done)
     if problems:
         msgs = []
         for line, bad in problems.items():
@@ -711,38 +623,6 @@ def check_folder(out, plan):
     if stale:
         note(f"{len(stale)} point folder(s) of an earlier spec are not in this one and are left out "
              f"of the CSV (e.g. {stale[0]})")
-
-
-def lock_folder(out, make=True):
-    """Holds DIR/.lock (flock): one driver, or one collect, in a folder at a time."""
-    path = os.path.join(out, ".lock")
-    try:
-        if make:
-            os.makedirs(os.path.join(out, "points"), exist_ok=True)
-        while True:
-            fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                os.close(fd)
-                raise SpecError(f"another {PROG} is running in {out} (it holds {path}); wait until "
-                                "it has finished")
-            try:
-                if os.path.samestat(os.fstat(fd), os.stat(path)):
-                    return fd
-            except FileNotFoundError:
-                pass
-            os.close(fd)                         # its holder removed it as we opened it: again
-    except OSError as e:
-        raise SpecError(f"cannot use the sweep folder {out}: {e.filename or path}: {e.strerror or e}")
-
-
-def unlock_folder(out, fd):
-    try:
-        os.remove(os.path.join(out, ".lock"))    # while held: a waiter sees another inode, retries
-    except OSError:
-        pass
-    os.close(fd)
 
 
 def flatten(obj, prefix=""):
@@ -833,11 +713,12 @@ def read_plan(out):
 def collect_command(out):
     """`collect DIR`: not while a driver sweeps into DIR (it rewrites sweep.csv when it ends)."""
     read_plan(out)
-    lock = lock_folder(out, make=False)
+    folder = core.OutFolder(out, "sweep", OUTPUTS)
+    folder.attach(legacy="plan.json")
     try:
         return collect(out)
     finally:
-        unlock_folder(out, lock)
+        folder.release()
 
 
 SUMMARY_ROWS = 40
@@ -951,29 +832,12 @@ def run_local(plan, todo, out, jobs, names):
         say(progress_line(names, pt, rec, k[0], n))
 
     runs = {}
-    pool(todo, jobs, launch, done)
-
-
-FINAL_STATES = {"CD", "CA", "F", "TO", "NF", "PR", "OOM", "BF", "DL"}   # squeue's compact states
-
-
-def squeue_active(job):
-    """Task ids of `job` not finished yet (any state but a final one: pending, running,
-    suspended, stopped, requeued, ...); None when squeue cannot tell."""
-    try:
-        p = subprocess.run(["squeue", "-h", "-j", str(job), "-t", "all", "-o", "%i %t"],
-                           capture_output=True, text=True, timeout=60)
-    except (OSError, subprocess.TimeoutExpired):
-        return None
-    if p.returncode != 0:
-        return [] if "Invalid job id" in p.stderr else None
-    rows = [line.split() for line in p.stdout.splitlines() if line.strip()]
-    return [r[0] for r in rows if len(r) == 2 and r[1] not in FINAL_STATES]
+    core.pool(todo, jobs, launch, done)
 
 
 def run_slurm(a, plan, todo, out, names):
     if not shutil.which("sbatch"):
-        die("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)", 3)
+        raise core.SlurmFailed("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)")
     chunks = [[p["id"] for p in todo[i:i + a.chunk]] for i in range(0, len(todo), a.chunk)]
     sdir = os.path.join(out, "slurm")
     os.makedirs(sdir, exist_ok=True)
@@ -981,10 +845,9 @@ def run_slurm(a, plan, todo, out, names):
     tasks = os.path.join(sdir, f"tasks-{stamp}.json")
     write_json(tasks, {"dir": out, "chunks": chunks})
     script = os.path.join(sdir, f"array-{stamp}.sh")
-    with open(script, "w") as f:
-        f.write("#!/bin/sh\n# One task of a tigris_sweep job array: runs its chunk of points.\n"
-                f"exec {shlex.quote(sys.executable)} {shlex.quote(os.path.abspath(__file__))} _task "
-                f"{shlex.quote(tasks)} \"$SLURM_ARRAY_TASK_ID\"\n")
+    write_text(script, "#!/bin/sh\n# One task of a tigris_sweep job array: runs its chunk of points.\n"
+               f"exec {shlex.quote(sys.executable)} {shlex.quote(os.path.abspath(__file__))} _task "
+               f"{shlex.quote(tasks)} \"$SLURM_ARRAY_TASK_ID\"\n")
     os.chmod(script, 0o755)
     cmd = ["sbatch", "--parsable", f"--array=0-{len(chunks) - 1}", "--job-name=tigris-sweep",
            f"--output={sdir}/%A_%a.out", f"--chdir={out}"]
@@ -992,14 +855,7 @@ def run_slurm(a, plan, todo, out, names):
         if getattr(a, opt):
             cmd.append(f"--{opt}={getattr(a, opt)}")
     cmd += (a.sbatch_arg or []) + [script]
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        die(f"sbatch did not run: {e}\n  command: {shlex.join(cmd)}", 3)
-    if p.returncode != 0:
-        die(f"sbatch failed (exit {p.returncode}): {p.stderr.strip() or p.stdout.strip()}\n"
-            f"  command: {shlex.join(cmd)}", 3)
-    job = p.stdout.strip().split(";")[0]
+    job = core.sbatch(cmd)
     write_json(os.path.join(sdir, "job.json"), {"job": job, "tasks": tasks, "chunks": chunks,
                                                  "command": cmd, "submitted_at": now()})
     note(f"submitted Slurm job array {job}: {len(chunks)} task(s) for {len(todo)} point(s); "
@@ -1011,7 +867,7 @@ def run_slurm(a, plan, todo, out, names):
     left, k, misses = {p["id"]: p for p in todo}, 0, 0
     try:
         while left:
-            active = squeue_active(job)          # asked before the scan: no point is missed
+            active = core.squeue_active(job)          # asked before the scan: no point is missed
             for pid in list(left):
                 rec = read_json(os.path.join(point_dir(out, pid), "point.json"))
                 if rec and rec.get("args") == left[pid]["args"]:
@@ -1024,7 +880,7 @@ def run_slurm(a, plan, todo, out, names):
                 die(f"squeue cannot report job {job}; collect later with: {PROG} collect {out}", 3)
             time.sleep(1.0)
     except KeyboardInterrupt:
-        subprocess.run(["scancel", str(job)], capture_output=True)
+        core.scancel(job)
         note(f"interrupted: cancelled Slurm job {job}; finished points are kept")
         raise
     if left:
@@ -1048,10 +904,10 @@ def run_task(tasks_file, index):
         r = PointRun(t["dir"], plan["tigris"], pt, plan_command(plan))
         proc = r.start()
         try:
-            rc = proc.wait()
-        except KeyboardInterrupt:
-            kill_group(proc)
-            sys.exit(128 + interrupted_by[0])
+            rc = core.wait(proc)
+        except KeyboardInterrupt as e:
+            core.stop_groups([proc])
+            sys.exit(core.exit_status(e))
         print(progress_line(plan["names"], pt, r.finish(rc), k, len(chunk)), flush=True)
     return 0
 
@@ -1098,7 +954,11 @@ def parse_args(argv):
                     help="one more raw sbatch argument, repeatable: --sbatch-arg --qos=low")
     ap.add_argument("--no-wait", action="store_true", help="return after submitting; print the job id "
                     "and the collect command")
+    ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
+                    "default, meaning) for tools, and exit")
+    core.list_flags(ap, "sweep", argv)
     a = ap.parse_args(fixed)
+    a.argv = list(argv)
     if a.out is None and not a.check:
         ap.error("the following arguments are required: --out")
     if a.out is not None and not a.out.strip():
@@ -1116,17 +976,24 @@ def parse_args(argv):
     return a
 
 
-def check_out(out):
-    """DIR is a folder, or can be made: found before a long dry check, not after it."""
-    if os.path.exists(out) and not os.path.isdir(out):
-        raise SpecError(f"--out {out}: exists and is not a folder")
-    up = out
-    while not os.path.exists(up):
-        up = os.path.dirname(up)
-    if not os.path.isdir(up):
-        raise SpecError(f"--out {out}: cannot be made, {up} is not a folder")
-    if not os.access(up, os.W_OK | os.X_OK):
-        raise SpecError(f"--out {out}: {up} is not writable")
+def inputs_of(spec, pts):
+    """(flag, path) of every file the points read, and their identities for the manifest: a
+    finished point is kept on a rerun only while the files it read are the same."""
+    paths, seen = [("the spec", spec.path)], set()
+    for p in pts:
+        for i in range(0, len(p["args"]) - 1, 2):
+            flag = p["args"][i][2:]
+            if flag in spec.command.paths and p["args"][i + 1] not in seen:
+                seen.add(p["args"][i + 1])
+                paths.append((f"'{spec.names.get(flag, flag)}'", p["args"][i + 1]))
+    ids = []
+    for flag, path in paths[1:]:
+        role = f"{flag.strip(chr(39))} {os.path.relpath(path, spec.dir)}"
+        if os.path.isdir(path):
+            ids += core.sequence_inputs(role, path)
+        else:
+            ids.append(core.input_identity(role, path))
+    return paths, ids
 
 
 def run(a):
@@ -1136,31 +1003,35 @@ def run(a):
     pts = spec.expand()
     out = os.path.abspath(a.out) if a.out else None
     plan = make_plan(spec, tig, pts)
+    folder = core.OutFolder(out, "sweep", OUTPUTS, argv=a.argv) if out else None
     if out:
-        check_out(out)
+        paths, ids = inputs_of(spec, pts)
+        folder.check_path()
+        folder.check_inputs(paths)
         check_folder(out, plan)
     todo = [p for p in pts if not (out and finished(out, p, spec.command))]
     dry_check(spec, tig, todo, out or tempfile.gettempdir(), a.jobs)
     if a.check:
         note(f"{spec.given}: {len(pts)} points, valid" + (f"; {len(pts) - len(todo)} finished in {out}" if out else ""))
         return 0
-    made = not os.path.isdir(out)
-    lock = lock_folder(out)                      # the folder is made only for a valid spec
+    # Settings that decide every point's results; a grown or shrunk grid resumes (new points run).
+    folder.claim(settings={"command": plan["command"], "base_args": plan["base_args"]}, inputs=ids,
+                 input_paths=paths, all_inputs_must_match=False)
+    rc = 2
     try:
-        return sweep_into(a, out, spec, tig, plan, pts)
+        os.makedirs(os.path.join(out, "points"), exist_ok=True)
+        rc = sweep_into(a, out, spec, tig, plan, pts)
+        return rc
+    except BaseException as e:
+        rc = core.exit_status(e)
+        raise
     finally:
-        unlock_folder(out, lock)
-        if made:                                 # failed before writing anything: no folder left
-            for d in (os.path.join(out, "points"), out):
-                try:
-                    os.rmdir(d)
-                except OSError:
-                    pass
+        folder.finish(rc)
 
 
 def sweep_into(a, out, spec, tig, plan, pts):
     job = read_json(os.path.join(out, "slurm", "job.json"))
-    if job and shutil.which("squeue") and squeue_active(job["job"]):
+    if job and shutil.which("squeue") and core.squeue_active(job["job"]):
         raise SpecError(f"Slurm job {job['job']} of an earlier submission is still running into {out}; "
                         f"wait for it, or scancel {job['job']}")
     todo = [p for p in pts if not finished(out, p, spec.command)]
@@ -1181,9 +1052,7 @@ def sweep_into(a, out, spec, tig, plan, pts):
 
 
 def main(argv):
-    for s in STOP_SIGNALS:                       # a hang-up or kill stops the points like Ctrl-C
-        if signal.getsignal(s) != signal.SIG_IGN:    # nohup's choice is kept
-            signal.signal(s, _interrupt)
+    core.handle_stop_signals()                   # a hang-up or kill stops the points like Ctrl-C
     try:
         if argv[:1] == ["_task"] and len(argv) == 3:
             return run_task(argv[1], argv[2])
@@ -1192,14 +1061,17 @@ def main(argv):
                 die("usage: tigris_sweep.py collect DIR")
             return collect_command(os.path.abspath(argv[1]))
         return run(parse_args(argv))
-    except SpecError as e:
+    except core.Refused as e:
         die(str(e))
+    except core.SlurmFailed as e:
+        die(str(e), core.SBATCH_FAILED)
     except OSError as e:                         # a full disk, a folder gone: named, no traceback
         die(f"{e.filename + ': ' if isinstance(e.filename, str) else ''}{e.strerror or e}")
-    except KeyboardInterrupt:
-        note(f"interrupted ({signal.Signals(interrupted_by[0]).name}): running points stopped; "
+    except KeyboardInterrupt as e:
+        code = core.exit_status(e)
+        note(f"interrupted ({signal.Signals(code - 128).name}): running points stopped; "
              "finished points are kept (rerun the same command to resume)")
-        return 128 + interrupted_by[0]
+        return code
 
 
 if __name__ == "__main__":

@@ -123,11 +123,11 @@ def load(path, known_experiments, key_info, flag_keys=()):
     key_info: `tigris run --list-config --json`'s entries by key (type, range, values);
     flag_keys: keys the experiments set through a flag (e.g. tree.top_height by --height), which
     a variant may not set too."""
+    import core
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except (OSError, ValueError, RecursionError) as e:
-        raise VariantError(f"{path}: unreadable ({e})")
+        data = core.read_json_input(path, "--variants-file")
+    except core.Refused as e:
+        raise VariantError(str(e))
     if isinstance(data, dict):
         data = data.get("variants")
     if not isinstance(data, list):
@@ -484,6 +484,7 @@ def figure(columns, defaults, path):
                  fontsize=9)
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    fig.savefig(path, dpi=110)
+    import core
+    core.save_figure(fig, path, dpi=110)
     plt.close(fig)
     return path
