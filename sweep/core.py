@@ -399,6 +399,8 @@ class OutFolder:
                              "status": "running", "pid": os.getpid(), "started": now_utc(), "finished": None}
             write_json(os.path.join(self.path, MANIFEST), self.manifest)
         except BaseException:
+            if self.made:
+                self._abandon()                  # refused in a folder it made: none left
             self.release()
             raise
         return old

@@ -543,8 +543,9 @@ def check_sequence(a):
     seq = os.path.abspath(a.sequence)
     if not os.path.isdir(seq):
         raise Bad(f"--sequence {a.sequence}: no such folder")
-    core.check_input(os.path.join(seq, "poses.txt"), "--sequence's ground truth (the errors need it)",
-                     core.MAX_SETTINGS_BYTES)
+    if not os.path.lexists(os.path.join(seq, "poses.txt")):
+        raise Bad(f"--sequence {a.sequence}: no poses.txt: the errors need a ground truth")
+    core.check_input(os.path.join(seq, "poses.txt"), "--sequence's ground truth", core.MAX_SETTINGS_BYTES)
     velo = os.path.join(seq, "velodyne")
     scans = sum(1 for n in os.listdir(velo if os.path.isdir(velo) else seq) if re.fullmatch(r"\d+\.bin", n))
     frames = None

@@ -795,9 +795,9 @@ def read_dse(path):
     import core
     f = os.path.join(path, "dse.json")
     try:
-        dse = core.read_json_input(f, "a tigris pipeline-dse folder's results")
+        dse = core.read_json_input(f)
     except core.Refused as e:
-        raise ValueError(str(e))
+        raise ValueError(f"{e} (not a tigris pipeline-dse folder)")
     if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
         raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
     return dse

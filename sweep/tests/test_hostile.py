@@ -200,7 +200,7 @@ def test_collect_and_signals_mid_sweep():
             assert all(alive(p) for p in pids)
             if sig == signal.SIGHUP:
                 p = sweep(a, "collect", out)
-                clean(p, 2, "is running in", ".lock")
+                clean(p, 2, "is locked by a run still writing into it", f"pid {drv.pid}")
                 assert not os.path.exists(os.path.join(out, "sweep.csv"))
             drv.send_signal(sig)
             err = drv.communicate(timeout=60)[1]
@@ -211,7 +211,7 @@ def test_collect_and_signals_mid_sweep():
                 time.sleep(0.05)
             assert not any(alive(p) for p in pids), "a tigris run outlived the driver"
             assert json.load(open(os.path.join(out, "points", "seed=1", "point.json")))["status"] == "ok"
-            assert not os.path.exists(os.path.join(out, ".lock"))
+            assert json.load(open(os.path.join(out, "manifest.json")))["status"] == "interrupted"
             p = sweep(a, "collect", out)         # now it may: seed 9 did not run
             clean(p, 1, "1 ok")
 
@@ -289,7 +289,7 @@ def full_disk():
 
 
 def leftovers(out):
-    return [f for f in os.listdir(out) if ".tmp" in f or f == ".lock"] if os.path.isdir(out) else []
+    return [f for f in os.listdir(out) if "tmp" in f or f == ".lock"] if os.path.isdir(out) else []
 
 
 def test_unwritable_folders():
@@ -309,13 +309,13 @@ def test_unwritable_folders():
             else:
                 p = sweep(a, spec, "--out", os.path.join(ro, "out"), "--tigris", a.tigris)
                 clean(p, 2, ro)
-                clean(reproduce("--out", os.path.join(ro, "repro"), "--specs-only"), 2, "cannot write", ro)
+                clean(reproduce("--out", os.path.join(ro, "repro"), "--specs-only"), 2, "not writable", ro)
                 assert os.listdir(ro) == []
-        # a full disk: plan.json cannot be written; no temporary file, no lock, no new folder left
+        # a full disk: the manifest (the first file) cannot be written; no temporary file, no new folder left
         out = os.path.join(d, "full")
         p = subprocess.run([sys.executable, a.sweep, spec, "--out", out, "--tigris", a.tigris],
                            capture_output=True, text=True, preexec_fn=full_disk())
-        clean(p, 2, "plan.json", "too large")
+        clean(p, 2, "manifest.json", "too large")
         assert not os.path.exists(out), os.listdir(out)
         # the same into a finished sweep folder grown by a point: the old plan.json stays whole
         sweep(a, spec, "--out", out, "--tigris", a.tigris, check=0)
@@ -324,8 +324,9 @@ def test_unwritable_folders():
                                "grid": {"height": [4, 5, 6]}}, "grown.json")
         p = subprocess.run([sys.executable, a.sweep, grown, "--out", out, "--tigris", a.tigris],
                            capture_output=True, text=True, preexec_fn=full_disk())
-        clean(p, 2, "plan.json")
+        clean(p, 2, "manifest.json", "too large")
         assert open(os.path.join(out, "plan.json")).read() == plan and leftovers(out) == [], leftovers(out)
+        assert json.load(open(os.path.join(out, "manifest.json")))["status"] == "done"   # the old one, whole
 
 
 def test_damaged_plan():

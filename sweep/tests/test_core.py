@@ -1,0 +1,356 @@
+#!/usr/bin/python3
+"""sweep/core.py on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
+atomic writes, output folders (claim, foreign entries, lock, resume or fresh, the parent's files,
+the manifest), child processes (process groups, the death signal, stop on a signal) and the
+Slurm and --list-flags helpers. No tigris binary needed; about 10 s.
+
+    python3 sweep/tests/test_core.py [--keep]"""
+import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
+HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = os.path.dirname(HERE)
+sys.path.insert(0, SWEEP)
+sys.path.insert(0, HERE)
+import core  # noqa: E402
+from common import run_tests  # noqa: E402
+
+KEEP = "--keep" in sys.argv[1:]
+D = tempfile.mkdtemp(prefix="tigris-core-")
+
+
+def path(*p):
+    return os.path.join(D, *p)
+
+
+def refused(fn, *words):
+    """fn() raises core.Refused whose message holds every word; returns the message."""
+    try:
+        fn()
+    except core.Refused as e:
+        msg = str(e)
+        for w in words:
+            assert w in msg, f"{w!r} not in: {msg}"
+        return msg
+    raise AssertionError(f"not refused (expected {words})")
+
+
+def write(p, data):
+    os.makedirs(os.path.dirname(p), exist_ok=True)
+    with open(p, "wb" if isinstance(data, bytes) else "w") as f:
+        f.write(data)
+    return p
+
+
+# ----------------------------------------------------------------------------------------------
+# Inputs
+
+def test_input_kinds():
+    f = write(path("in", "a.txt"), "hello\n")
+    assert core.read_input(f) == b"hello\n"
+    assert core.read_text_input(f, "x") == "hello\n"
+    refused(lambda: core.read_input(path("in", "none")), "none", "no such file")
+    refused(lambda: core.read_input(""), "empty path")
+    os.symlink(path("in", "gone"), path("in", "broken"))
+    refused(lambda: core.read_input(path("in", "broken"), "--config"), "broken", "--config",
+            "broken symbolic link", "gone")
+    os.symlink(path("in", "loop2"), path("in", "loop1"))
+    os.symlink(path("in", "loop1"), path("in", "loop2"))
+    refused(lambda: core.read_input(path("in", "loop1")), "loop1", "loop of symbolic links")
+    os.symlink(f, path("in", "good"))
+    assert core.read_input(path("in", "good")) == b"hello\n"
+    refused(lambda: core.read_input(path("in")), "a folder", "not a regular file")
+    fifo = path("in", "fifo")
+    os.mkfifo(fifo)
+    t0 = time.monotonic()
+    refused(lambda: core.read_json_input(fifo, "--space"), "fifo", "FIFO", "--space")
+    assert time.monotonic() - t0 < 2
+    refused(lambda: core.read_input("/dev/zero", "stats"), "/dev/zero", "character device")
+    big = write(path("in", "big"), b"x" * 2000)
+    refused(lambda: core.read_input(big, "a spec", 1000), "2000 bytes", "more than the 1000 bytes",
+            "is it the right file")
+    refused(lambda: core.read_input(big, "a spec", 1000, "split the sweep"), "split the sweep")
+    bad = write(path("in", "latin1.txt"), b"one\ntwo\ncaf\xe9\n")
+    refused(lambda: core.read_text_input(bad), "latin1.txt:3", "not UTF-8")
+
+
+def test_json_inputs():
+    ok = write(path("j", "ok.json"), '{"a": [1, {"b": "x[[[[{"}]}')
+    assert core.read_json_input(ok) == {"a": [1, {"b": "x[[[[{"}]}
+    refused(lambda: core.read_json_input(write(path("j", "bad.json"), '{\n "a": 1,\n}')), "bad.json:3:", "not valid JSON")
+    refused(lambda: core.read_json_input(write(path("j", "dup.json"), '{"a": 1,\n "b": 2,\n "a": 3}')),
+            "dup.json:3", 'duplicate key "a"')
+    refused(lambda: core.read_json_input(write(path("j", "nan.json"), '{"a": NaN}')), "nan.json", "NaN")
+    at = write(path("j", "512.json"), "[" * 512 + "]" * 512)
+    core.read_json_input(at)
+    refused(lambda: core.read_json_input(write(path("j", "513.json"), "[" * 513 + "]" * 513)),
+            "513.json:1", "nested too deeply")
+    t0 = time.monotonic()
+    refused(lambda: core.read_json_input(write(path("j", "deep.json"), "[" * 100000 + "]" * 100000)),
+            "deep.json", "nested too deeply")
+    assert time.monotonic() - t0 < 2
+    refused(lambda: core.read_json_input(write(path("j", "digits.json"), "[" + "7" * 5000 + "]")),
+            "digits.json", "too many digits")
+
+
+def test_identity_and_atomic_write():
+    f = write(path("id", "x.bin"), b"abc" * 1000)
+    ident = core.input_identity("cloud", f)
+    assert ident == {"role": "cloud", "path": os.path.realpath(f), "bytes": 3000,
+                     "sha256": hashlib.sha256(b"abc" * 1000).hexdigest()}, ident
+    out = path("id", "out.json")
+    core.write_json(out, {"a": 1})
+    core.atomic_write(out, "replaced")
+    assert open(out).read() == "replaced" and os.listdir(path("id")) == ["out.json", "x.bin"] or \
+        sorted(os.listdir(path("id"))) == ["out.json", "x.bin"]
+    refused(lambda: core.atomic_write(path("id", "no", "such", "f"), "x"), "cannot write")
+    assert sorted(os.listdir(path("id"))) == ["out.json", "x.bin"]
+
+
+# ----------------------------------------------------------------------------------------------
+# Output folders
+
+def manifest(d):
+    return json.load(open(os.path.join(d, core.MANIFEST)))
+
+
+def test_claim_and_manifest():
+    d = path("f1")
+    f = core.OutFolder(d, "tool", ["result.json", "jobs/"], argv=["--out", d])
+    spec = write(path("f1-spec.json"), "{}")
+    f.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)], input_paths=[("SPEC", spec)])
+    m = manifest(d)
+    assert list(m) == ["tigris_manifest", "command", "argv", "cwd", "settings", "inputs", "outputs", "status",
+                       "pid", "started", "finished"], list(m)
+    assert m["status"] == "running" and m["pid"] == os.getpid() and m["finished"] is None
+    assert m["inputs"][0]["role"] == "spec" and m["argv"][1:] == ["tool", "--out", d]
+    assert m["started"].endswith("Z")
+    f.write_json("result.json", {"ok": 1})
+    os.makedirs(os.path.join(d, "jobs"))
+    f.finish(0)
+    assert manifest(d)["status"] == "done" and manifest(d)["finished"]
+    # an interrupted or failed end is recorded as such
+    g = core.OutFolder(d, "tool", ["result.json", "jobs/"])
+    g.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)])
+    g.finish(143)
+    assert manifest(d)["status"] == "interrupted"
+    g.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)])
+    g.finish(2)
+    assert manifest(d)["status"] == "failed"
+    # a folder this run made and left empty is removed on failure
+    e = core.OutFolder(path("f1-empty"), "tool", ["r"])
+    e.claim()
+    e.finish(2)
+    assert not os.path.exists(path("f1-empty"))
+
+
+def test_foreign_and_other_command():
+    d = path("f2")
+    for n in ("calib.txt", "poses.txt", "a", "b"):
+        write(os.path.join(d, n), "mine")
+    f = core.OutFolder(d, "tool", ["poses.txt"])
+    refused(f.claim, "did not write", "a, b, calib.txt and 1 more")
+    assert open(os.path.join(d, "poses.txt")).read() == "mine"
+    refused(lambda: core.OutFolder(write(path("f2-file"), "x"), "tool", []).claim(), "exists and is not a folder")
+    other = path("f2-other")
+    o = core.OutFolder(other, "odometry", ["poses.txt"])
+    o.claim()
+    o.finish(0)
+    refused(core.OutFolder(other, "tool", ["poses.txt"]).claim, "tigris odometry", "not of tigris tool")
+    write(os.path.join(path("f2-bad"), core.MANIFEST), "{")
+    refused(core.OutFolder(path("f2-bad"), "tool", []).claim, "manifest.json:1:")
+
+
+def test_inputs_are_not_outputs():
+    d = path("f3")
+    spec = write(os.path.join(d, "sweep.json"), "{}")
+    f = core.OutFolder(d, "sweep", ["sweep.json", "points/"])
+    refused(lambda: f.claim(input_paths=[("the spec", spec)]), "the spec", "sweep.json", "would be overwritten")
+    deep = write(os.path.join(d, "points", "x", "cloud.bin"), b"1")
+    refused(lambda: f.claim(input_paths=[("--cloud", deep)]), "--cloud", "points/")
+    assert open(spec).read() == "{}"
+
+
+def test_lock():
+    d = path("f4")
+    a = core.OutFolder(d, "tool", ["r"])
+    a.claim()
+    b = core.OutFolder(d, "tool", ["r"])
+    refused(b.claim, "locked", f"pid {os.getpid()}", "tigris tool")
+    refused(b.attach, "locked")
+    a.finish(0)
+    b.claim()                                    # the lock went with the first run
+    b.finish(0)
+    # a killed holder leaves no lock behind
+    p = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import sys, time; sys.path.insert(0, {SWEEP!r}); import core
+        core.OutFolder({d!r}, "tool", ["r"]).claim(); print("held", flush=True); time.sleep(60)""")],
+                         stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "held"
+    refused(core.OutFolder(d, "tool", ["r"]).claim, f"pid {p.pid}")
+    p.kill()
+    p.wait()
+    c = core.OutFolder(d, "tool", ["r"])
+    c.claim()
+    c.finish(0)
+
+
+def test_resume_or_fresh():
+    d = path("f5")
+    inp = write(path("f5-in.bin"), b"1234")
+    f = core.OutFolder(d, "tool", ["r.json", "jobs/"])
+    f.claim(settings={"frames": [0, 3], "k": 1}, inputs=[core.input_identity("scan 000002", inp)])
+    f.write("r.json", "{}")
+    write(os.path.join(d, "jobs", "job_1.json"), "{}")
+    write(os.path.join(d, core.TMP_PREFIX + "r.json-99"), "half")
+    f.finish(0)
+    same = core.OutFolder(d, "tool", ["r.json", "jobs/"])
+    same.claim(settings={"frames": [0, 3], "k": 1}, inputs=[core.input_identity("scan 000002", inp)])
+    assert os.path.exists(os.path.join(d, "jobs", "job_1.json"))          # resumed: kept
+    assert not os.path.exists(os.path.join(d, core.TMP_PREFIX + "r.json-99"))
+    same.finish(0)
+    msg = refused(lambda: core.OutFolder(d, "tool", ["r.json", "jobs/"]).claim(
+        settings={"frames": [0, 5], "k": 1}, inputs=[core.input_identity("scan 000002", inp)]),
+        "settings.frames: [0, 3] -> [0, 5]")
+    assert "k:" not in msg, msg
+    write(inp, b"12345")
+    refused(lambda: core.OutFolder(d, "tool", ["r.json", "jobs/"]).claim(
+        settings={"frames": [0, 3], "k": 1}, inputs=[core.input_identity("scan 000002", inp)]),
+        "input scan 000002", inp, "content changed (4 -> 5 bytes)")
+    # a new input: refused when every input must match, accepted otherwise (a grown sweep)
+    extra = core.input_identity("extra", inp)
+    refused(lambda: core.OutFolder(d, "tool", ["r.json"]).claim(settings={"frames": [0, 3], "k": 1},
+                                                                 inputs=[extra]), "input extra", "new")
+    # a fresh run removes the earlier run's outputs, never the parent's files
+    write(os.path.join(d, "point.json"), "parent's")
+    os.environ[core.PARENT_ENV] = "point.json stdout.txt"
+    try:
+        g = core.OutFolder(d, "tool", ["r.json", "jobs/"])
+        refused(lambda: core.OutFolder(d, "tool", ["point.json"]).claim(resume=False), "point.json",
+                "writes itself")
+        g.claim(resume=False)
+        assert sorted(os.listdir(d)) == ["manifest.json", "point.json"], os.listdir(d)
+        refused(lambda: g.write("point.json", "x"), "the parent's")
+        g.finish(0)
+    finally:
+        del os.environ[core.PARENT_ENV]
+    refused(core.OutFolder(d, "tool", ["r.json"]).claim, "point.json")   # without the variable: foreign
+
+
+# ----------------------------------------------------------------------------------------------
+# Children
+
+def alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def wait_gone(pids, limit=3.0):
+    t0 = time.monotonic()
+    while any(alive(p) for p in pids) and time.monotonic() - t0 < limit:
+        time.sleep(0.02)
+    return not any(alive(p) for p in pids)
+
+
+def test_children_groups_and_death_signal():
+    p = core.spawn(["sleep", "30"])
+    assert os.getpgid(p.pid) == p.pid and os.getsid(p.pid) == p.pid
+    core.stop_groups([p])
+    assert p.returncode == -signal.SIGTERM and p not in core._live
+    # SIGKILL after the grace for a child that ignores SIGTERM
+    p = core.spawn(["sh", "-c", "trap '' TERM; sleep 30 & wait"])
+    time.sleep(0.2)
+    t0 = time.monotonic()
+    core.stop_groups([p], grace=0.5)
+    assert p.returncode == -signal.SIGKILL and time.monotonic() - t0 < 3
+    # the death signal: a middle process killed with SIGKILL (no clean-up) takes its child along
+    mid = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import sys, time; sys.path.insert(0, {SWEEP!r}); import core
+        p = core.spawn(["sleep", "30"]); print(p.pid, flush=True); time.sleep(60)""")],
+                           stdout=subprocess.PIPE, text=True)
+    child = int(mid.stdout.readline())
+    assert alive(child)
+    mid.kill()
+    mid.wait()
+    assert wait_gone([child]), "the child outlived its SIGKILLed parent"
+    # TIGRIS_PARENT_OUTPUTS reaches only the child it is given to
+    os.environ[core.PARENT_ENV] = "leaked"
+    try:
+        r = core.capture(["sh", "-c", "echo \"[$TIGRIS_PARENT_OUTPUTS]\""])
+        assert r.stdout.strip() == "[]", r.stdout
+        p = core.spawn(["sh", "-c", "echo \"[$TIGRIS_PARENT_OUTPUTS]\""], parent_files=["point.json", "stdout.txt"],
+                       stdout=subprocess.PIPE, text=True)
+        assert p.communicate()[0].strip() == "[point.json stdout.txt]"
+        core.wait(p)
+    finally:
+        del os.environ[core.PARENT_ENV]
+
+
+POOL = """
+import os, sys, time; sys.path.insert(0, {sweep!r}); import core
+core.handle_stop_signals()
+pids = open({pids!r}, "w")
+def launch(t):
+    p = core.spawn(["sh", "-c", "sleep 30 & echo $! >> {pids}.grand; wait"])
+    pids.write(f"{{p.pid}}\\n"); pids.flush()
+    return p
+try:
+    core.pool(range(6), 3, launch, lambda t, p, rc: None)
+except KeyboardInterrupt as e:
+    sys.exit(core.exit_status(e))
+"""
+
+
+def test_pool_stops_on_signal():
+    for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
+        pids = path(f"pool-{sig}.pids")
+        drv = subprocess.Popen([sys.executable, "-c", POOL.format(sweep=SWEEP, pids=pids)])
+        t0 = time.monotonic()
+        while not (os.path.exists(pids + ".grand") and len(open(pids + ".grand").read().split()) == 3):
+            assert time.monotonic() - t0 < 10 and drv.poll() is None
+            time.sleep(0.02)
+        kids = [int(x) for x in open(pids).read().split() + open(pids + ".grand").read().split()]
+        drv.send_signal(sig)
+        assert drv.wait(timeout=10) == 128 + sig
+        assert wait_gone(kids), f"{signal.Signals(sig).name}: children left"
+
+
+# ----------------------------------------------------------------------------------------------
+# Slurm and --list-flags
+
+def test_sbatch_failure_and_flags():
+    fake = write(path("bin", "sbatch"), "#!/bin/sh\necho 'sbatch: error: invalid partition' >&2\nexit 1\n")
+    os.chmod(fake, 0o755)
+    try:
+        core.sbatch([fake, "--parsable", "x.sh"])
+        raise AssertionError("sbatch failure not raised")
+    except core.SlurmFailed as e:
+        assert "invalid partition" in str(e) and "exit 1" in str(e), e
+    try:
+        core.sbatch([path("bin", "no-sbatch"), "x.sh"])
+        raise AssertionError("missing sbatch not raised")
+    except core.SlurmFailed as e:
+        assert "not found" in str(e)
+    ap = argparse.ArgumentParser()
+    ap.add_argument("spec")
+    ap.add_argument("--jobs", type=int, default=4, help="at once (default %(default)s)")
+    ap.add_argument("--check", action="store_true", help="dry")
+    j = core.flags_json(ap, "sweep")
+    assert j["command"] == "sweep"
+    by = {f["flag"]: f for f in j["flags"]}
+    assert set(by) == {"help", "jobs", "check"}
+    assert by["jobs"] == {"flag": "jobs", "takes_value": True, "type": "INT", "default": "4", "doc": "at once (default 4)"}
+    assert by["check"]["takes_value"] is False and by["check"]["type"] == ""
+
+
+if __name__ == "__main__":
+    try:
+        run_tests([test_input_kinds, test_json_inputs, test_identity_and_atomic_write, test_claim_and_manifest,
+                   test_foreign_and_other_command, test_inputs_are_not_outputs, test_lock, test_resume_or_fresh,
+                   test_children_groups_and_death_signal, test_pool_stops_on_signal, test_sbatch_failure_and_flags])
+    finally:
+        if KEEP:
+            print(f"(files kept in {D})")
+        else:
+            subprocess.run(["rm", "-rf", D])
