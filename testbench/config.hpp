@@ -39,7 +39,7 @@ void apply_config_text(hw::AcceleratorConfig& cfg, const std::string& text,
 
 // Applies one `--set key=value`; the value is parsed per the key's type (bools: true/false/1/0/
 // on/off; tree.top_height: a number or "full"). Errors name the --set text.
-void apply_setting(hw::AcceleratorConfig& cfg, const std::string& assignment);
+void apply_setting(hw::AcceleratorConfig& cfg, const std::string& assignment, const std::string& source = "");
 
 // The full effective configuration, nested by block, every key (tree.top_height as an integer,
 // -1 for full height). apply_config_json of it onto any config gives back cfg.

@@ -20,7 +20,9 @@ void apply_config_text(AcceleratorConfig& cfg, const std::string& text, const st
   config::apply_text(cfg, text, source);
 }
 
-void apply_setting(AcceleratorConfig& cfg, const std::string& assignment) { config::apply_setting(cfg, assignment); }
+void apply_setting(AcceleratorConfig& cfg, const std::string& assignment, const std::string& source) {
+  config::apply_setting(cfg, assignment, source);
+}
 
 json config_to_json(const AcceleratorConfig& cfg) { return config::to_json(cfg); }
 

@@ -410,6 +410,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
   ordered_json stages = ordered_json::object();  // per stage: sums over the pairs, then means
   for (std::size_t k = 0; k < pairs; ++k) {
     const ordered_json& r = regs[k];
+    try {  // a hand-edited report: the error names its file
     for (const auto& [name, st] : r["stages"].items()) {
       ordered_json& acc = stages[name];
       if (acc.is_null()) acc = ordered_json::object();
@@ -453,6 +454,11 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       csv << line;
     }
     csv << '\n';
+    } catch (const nlohmann::json::exception& e) {
+      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json: " +
+                                  std::string(e.what()).substr(std::string(e.what()).find("] ") + 2) +
+                                  "; not a whole tigris register report (remove the pair's folder to register it again)");
+    }
   }
   write_file(o.out + "/pairs.csv", [&](std::ostream& f) { f << csv.str(); });
 

@@ -5,6 +5,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -99,8 +100,8 @@ std::vector<std::string> changes(const json& old, const FolderSpec& now) {
 
 std::string listed(const std::vector<std::string>& names) {
   std::string s;
-  for (std::size_t i = 0; i < names.size() && i < 3; ++i) s += (i ? ", " : "") + names[i];
-  if (names.size() > 3) s += " and " + std::to_string(names.size() - 3) + " more";
+  for (std::size_t i = 0; i < names.size() && i < 5; ++i) s += (i ? ", " : "") + names[i];
+  if (names.size() > 5) s += " and " + std::to_string(names.size() - 5) + " more";
   return s;
 }
 
@@ -191,6 +192,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
       }
       (matches(old_outputs, name) ? ours : foreign).push_back(name);
     }
+    std::sort(foreign.begin(), foreign.end());
     if (!foreign.empty())
       throw std::invalid_argument(what + " holds " + (foreign.size() == 1 ? "a file" : "files") + " " + cmd +
                                   " did not write (" + listed(foreign) + "): use a new or empty folder");

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 
@@ -12,6 +13,8 @@
 #include <iostream>
 #include <string>
 #include <vector>
+
+#include "children.hpp"
 
 namespace tigris {
 
@@ -56,24 +59,32 @@ int run_python_script(const std::string& script, const std::vector<std::string>&
     why = path + " is not there (the sweep/ folder of the source tree; set TIGRIS_SWEEP_DIR)";
     return -1;
   }
-  const std::string python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
-  std::vector<char*> argv = {const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str())};
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  std::fflush(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    why = std::string("cannot start a process: ") + std::strerror(errno);
+  // start_child runs a path (execv): python3 from PATH is looked up here.
+  std::string python = "/usr/bin/python3";
+  if (access(python.c_str(), X_OK) != 0) {
+    python.clear();
+    const char* env_path = std::getenv("PATH");
+    std::string dirs = env_path ? env_path : "";
+    for (std::size_t at = 0; at <= dirs.size() && python.empty();) {
+      const std::size_t end = std::min(dirs.find(':', at), dirs.size());
+      const std::string candidate = dirs.substr(at, end - at) + "/python3";
+      if (access(candidate.c_str(), X_OK) == 0) python = candidate;
+      at = end + 1;
+    }
+    if (python.empty()) {
+      why = "no python3 on PATH";
+      return -1;
+    }
+  }
+  std::vector<std::string> argv{python, path};
+  argv.insert(argv.end(), args.begin(), args.end());
+  int code = 0;
+  try {
+    code = wait_child(start_child(argv));
+  } catch (const std::exception& e) {
+    why = e.what();
     return -1;
   }
-  if (pid == 0) {
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   if (code == 127) why = "cannot run " + python;
   return code;
 }

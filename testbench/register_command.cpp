@@ -294,7 +294,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   // The accelerator in the loop: its configuration checked before any work.
   hw::AcceleratorConfig accel_cfg;
   if (!o.accel_config.empty()) apply_config_file(accel_cfg, o.accel_config);
-  for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s);
+  for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s, "--accel-set '" + s + "'");
   if (in_loop) validate_config(accel_cfg);
   check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
                         {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses},

@@ -336,7 +336,7 @@ def register_checked(f, d):
         ("register: config 1e400", ["register", "--config", f["cfg_1e400.json"], "--list-config"], 2,
          [f["cfg_1e400.json"], "number overflow"], None),
         ("register: config is a folder", ["register", "--config", f["cfg_dir.json"], "--list-config"], 2,
-         [f["cfg_dir.json"], "is a directory"], None),
+         [f["cfg_dir.json"], "is a folder"], None),
         ("register: config object for a number", ["register", "--config", f["cfg_object.json"], "--list-config"], 2,
          ["'normals.radius' must be a number, got an object"], None),
         ("register: config 10.0 for an integer", ["register", "--config", f["cfg_float_int.json"], "--list-config"], 2,

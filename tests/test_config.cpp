@@ -297,10 +297,10 @@ TEST_CASE("config: file errors name the file and syntax errors give the line", "
 
   const std::string missing = (fs::temp_directory_path() / "tigris_no_such_config.json").string();
   CHECK(error_of([&] { tigris::apply_config_file(cfg, missing); }) ==
-        missing + ": cannot open configuration file: No such file or directory");
+        missing + ": cannot read configuration file: no such file");
   const std::string dir = fs::temp_directory_path().string();
   CHECK(error_of([&] { tigris::apply_config_file(cfg, dir); }) ==
-        dir + ": cannot read configuration file: is a directory");
+        dir + ": cannot read configuration file: is a folder, not a regular file");
 
   const TempFile typo("typo.json", R"({"be": {"search_unit": 16}})");
   CHECK(error_of([&] { tigris::apply_config_file(cfg, typo.path.string()); }) ==

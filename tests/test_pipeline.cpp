@@ -258,7 +258,7 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   CHECK_THROWS_WITH(apply_file(c, ten), Catch::Contains("must be an integer, got 10.0"));
   const std::string nul = temp_file("nul.json", "{\"icp\": {\"max\\u0000it\": 1}}");
   CHECK_THROWS_WITH(apply_file(c, nul), Catch::Contains("unknown key 'icp.max\\x00it'"));
-  CHECK_THROWS_WITH(apply_file(c, "/tmp"), Catch::Contains("/tmp: cannot read configuration file: is a directory"));
+  CHECK_THROWS_WITH(apply_file(c, "/tmp"), Catch::Contains("/tmp: cannot read configuration file: is a folder"));
   apply_set(c, "icp.transformation_epsilon=1e-320");  // subnormal: a number, in range
   CHECK(c.icp.transformation_epsilon > 0.0);
   CHECK_THROWS_WITH(apply_set(c, "search.nn_thd=1e9", "--approx-thd"),
@@ -280,7 +280,7 @@ TEST_CASE("poses: files, KITTI camera poses to the Velodyne frame, relative pose
   CHECK_THROWS_WITH(read_pose_file(temp_file("p5.txt", "1 2 3 4 5")), Catch::Contains("found 5 numbers"));
   CHECK_THROWS_WITH(read_pose_file(temp_file("pnan.txt", "1 0 0 x 0 1 0 0 0 0 1 0")), Catch::Contains("'x' is not"));
   CHECK_THROWS_WITH(read_pose_file(temp_file("pskew.txt", "2 0 0 0 0 1 0 0 0 0 1 0")), Catch::Contains("not a rigid"));
-  CHECK_THROWS_WITH(read_pose_file("/nonexistent/pose.txt"), Catch::Contains("/nonexistent/pose.txt: cannot open"));
+  CHECK_THROWS_WITH(read_pose_file("/nonexistent/pose.txt"), Catch::Contains("/nonexistent/pose.txt: cannot read the pose file: no such file"));
 
   // E = inv(T_gt) * T_est: 2 cm and 0.1 degree off a 1 m move.
   Pose gt = Pose::Identity();

@@ -2,6 +2,9 @@
 // registration of the (thinned) synthetic pair recorded at test time; every stage's searches in
 // its jobs; recorded results equal the golden model's; recording changes nothing; the file reads
 // back equal; truncated, corrupt, foreign and newer-version files are refused naming the byte.
+#include <zstd.h>
+
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include <cstring>
@@ -175,6 +178,76 @@ TEST_CASE("trace: the file reads back equal and damaged files are refused naming
     bad.push_back(0);
     CHECK_THAT(error_of(bad), Catch::StartsWith("t.trace: byte "));
   }
+}
+
+// Forged traces: well-formed bytes, checksums right (encode computes them), values no recorder
+// writes. Each must be refused naming what is wrong, never replayed into nonsense figures.
+TEST_CASE("trace: forged values with valid checksums are refused", "[trace]") {
+  const Recorded& r = recorded();
+  REQUIRE(!r.trace.jobs.empty());
+  const auto refused = [](const trace::Trace& t) {
+    const std::vector<std::uint8_t> bytes = trace::encode(t);
+    return error_of(bytes);
+  };
+  trace::Trace t = r.trace;
+  t.total_seconds = -5e12;
+  CHECK_THAT(refused(t), Catch::Contains("total_seconds is negative"));
+  t = r.trace;
+  t.stages.at(0).seconds = -1;
+  CHECK_THAT(refused(t), Catch::Contains("negative or non-finite seconds"));
+  t = r.trace;
+  t.jobs[0].search_seconds = -0.5;
+  CHECK_THAT(refused(t), Catch::Contains("negative seconds"));
+  t = r.trace;
+  t.jobs[0].stage = "";
+  CHECK_THAT(refused(t), Catch::Contains("without a stage name"));
+  t = r.trace;
+  t.jobs[0].backend = "gpu";
+  CHECK_THAT(refused(t), Catch::Contains("unknown back-end 'gpu'"));
+  CHECK(refused(r.trace).empty());  // the unforged trace reads
+}
+
+// The first section (the metadata) of an encoded trace, decompressed, edited and sealed again
+// with right sizes and checksums: what a forger with the format description can do.
+std::vector<std::uint8_t> forge_meta(const std::vector<std::uint8_t>& bytes, const std::string& from,
+                                     const std::string& to) {
+  const auto fnv1a = [](const std::uint8_t* p, std::size_t n) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+  };
+  const std::size_t at = 40;  // the header's 40 bytes, then the first section's 32-byte header
+  std::uint64_t z = 0, raw = 0;
+  std::memcpy(&z, &bytes[at + 8], 8);
+  std::memcpy(&raw, &bytes[at + 16], 8);
+  std::string text(raw, '\0');
+  REQUIRE(ZSTD_decompress(&text[0], raw, &bytes[at + 32], z) == raw);
+  const std::size_t hit = text.find(from);
+  REQUIRE(hit != std::string::npos);
+  REQUIRE(from.size() == to.size());  // the JSON's length prefix stays right
+  text.replace(hit, from.size(), to);
+  std::vector<std::uint8_t> packed(ZSTD_compressBound(text.size()));
+  packed.resize(ZSTD_compress(packed.data(), packed.size(), text.data(), text.size(), 3));
+  std::vector<std::uint8_t> out(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at + 32));
+  const std::uint64_t n = packed.size(), check = fnv1a(packed.data(), packed.size());
+  std::memcpy(&out[at + 8], &n, 8);
+  std::memcpy(&out[at + 24], &check, 8);
+  out.insert(out.end(), packed.begin(), packed.end());
+  out.insert(out.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at + 32 + z), bytes.end());
+  const std::uint64_t size = out.size(), head = fnv1a(out.data(), 32);
+  std::memcpy(&out[24], &size, 8);
+  std::memcpy(&out[32], &head, 8);
+  return out;
+}
+
+TEST_CASE("trace: a JSON key given twice in a section is refused", "[trace]") {
+  trace::Trace t = recorded().trace;
+  t.meta = {{"test", "a"}, {"dup_marker", 1}};
+  const std::vector<std::uint8_t> bytes = trace::encode(t);
+  // Sealed again unchanged, the forgery helper gives a trace that reads: the check below is the key.
+  CHECK(error_of(forge_meta(bytes, "\"dup_marker\"", "\"dup_marker\"")).empty());
+  const std::vector<std::uint8_t> forged = forge_meta(bytes, "\"dup_marker\"", "\"test\"      ");
+  CHECK_THAT(error_of(forged), Catch::Contains("JSON key 'test' given twice"));
 }
 
 TEST_CASE("trace: approximate and FLANN registrations record what they searched", "[trace]") {
