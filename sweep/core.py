@@ -371,8 +371,12 @@ class OutFolder:
         self.check_inputs(input_paths)
         try:
             if not os.path.isdir(self.path):
-                os.makedirs(self.path)
-                self.made = True
+                os.makedirs(os.path.dirname(self.path), exist_ok=True)
+                try:
+                    os.mkdir(self.path)
+                    self.made = True
+                except FileExistsError:          # another run made it first: the lock decides
+                    pass
             self.fd = os.open(self.path, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
         except OSError as e:
             raise Refused(f"{self.flag} {self.given}: cannot make or open it: {e.strerror or e}")

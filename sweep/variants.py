@@ -127,7 +127,7 @@ def load(path, known_experiments, key_info, flag_keys=()):
     try:
         data = core.read_json_input(path, "--variants-file")
     except core.Refused as e:
-        raise VariantError(str(e))
+        raise VariantError(f"unreadable --variants-file: {e}")
     if isinstance(data, dict):
         data = data.get("variants")
     if not isinstance(data, list):

@@ -522,8 +522,372 @@ def test_spec_fuzz():
         print(f"    {n:5d}  exit {c}  {kind}")
 
 
+# ---------------------------------------------------------------------------------- issue 36 (the shared core)
+# Each reproduction of issue 36's Python part: exit code and message, never a traceback, and what
+# must not have been written. T = the tigris binary; the tools run as `python3 SCRIPT`.
+
+SWEEP_DIR = os.path.dirname(a.sweep) if os.path.isfile(os.path.join(os.path.dirname(a.sweep), "core.py")) \
+    else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+TOOLS = {"sweep": a.sweep, "reproduce": REPRODUCE, "diff": os.path.join(SWEEP_DIR, "tigris_diff.py"),
+         "plot": os.path.join(SWEEP_DIR, "tigris_plot.py"), "pipeline-dse": os.path.join(SWEEP_DIR, "pipeline_dse.py")}
+PY = "/usr/bin/python3" if os.access("/usr/bin/python3", os.X_OK) else sys.executable   # with matplotlib
+
+
+def tool(name, *args, cwd=None, timeout=60, env=None):
+    t0 = time.monotonic()
+    p = subprocess.run([PY, TOOLS[name]] + [str(x) for x in args], capture_output=True, text=True, cwd=cwd,
+                       timeout=timeout, env=dict(os.environ, TIGRIS=a.tigris, **(env or {})))
+    p.seconds = time.monotonic() - t0
+    return p
+
+
+def digest(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def descendants(pid):
+    """Every process below pid (through /proc's parent links)."""
+    parent = {}
+    for e in os.listdir("/proc"):
+        if e.isdigit():
+            try:
+                with open(f"/proc/{e}/stat") as f:
+                    parent[int(e)] = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass
+    out, todo = set(), [pid]
+    while todo:
+        q = todo.pop()
+        for c, pp in parent.items():
+            if pp == q and c not in out:
+                out.add(c)
+                todo.append(c)
+    return out
+
+
+# A tigris whose real runs (not the dry check, the lists or synth) sleep: a run to stop mid-way.
+SLEEPY = """#!/bin/sh
+case " $* " in
+  *--help*|*--list-flags*|*--list-config*|*".dry-check-no-such-folder"*|*" synth "*) exec "{real}" "$@" ;;
+esac
+sleep {secs} & wait $!
+exec "{real}" "$@"
+"""
+
+
+def sleepy(d, secs):
+    path = os.path.join(d, f"sleepy-{secs}")
+    with open(path, "w") as f:
+        f.write(SLEEPY.format(real=a.tigris, secs=secs))
+    os.chmod(path, 0o755)
+    return path
+
+
+def tiny_sequence(d, frames=3):
+    """A KITTI-layout folder of `frames` small random clouds with identity-ish poses."""
+    seq = os.path.join(d, "seq")
+    os.makedirs(os.path.join(seq, "velodyne"), exist_ok=True)
+    for i in range(frames):
+        write_cloud(os.path.join(seq, "velodyne", f"{i:06d}.bin"), 60, i + 1)
+    with open(os.path.join(seq, "poses.txt"), "w") as f:
+        f.writelines(f"1 0 0 0 0 1 0 0 0 0 1 {i}\n" for i in range(frames))
+    return seq
+
+
+SPACE = {"anchors": [], "knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}
+
+
+def test_sweep_spec_inside_out():
+    """#2: `cd exp && tigris sweep sweep.json --out .` replaced the spec with its results."""
+    with Workdir(a, "core") as d:
+        exp = os.path.join(d, "exp")
+        os.mkdir(exp)
+        small_workload(exp, 200, 50)
+        spec = write_spec(exp, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4]}}, "sweep.json")
+        before = digest(spec)
+        clean(tool("sweep", "sweep.json", "--out", ".", cwd=exp), 2, "the spec", "sweep.json", "would be overwritten")
+        assert digest(spec) == before and sorted(os.listdir(exp)) == ["cloud.bin", "queries.bin", "sweep.json"]
+        # under another name it is still a folder of the user's files: refused, naming them
+        os.rename(spec, os.path.join(exp, "mine.json"))
+        clean(tool("sweep", "mine.json", "--out", ".", cwd=exp), 2, "did not write", "cloud.bin", "mine.json")
+        assert sorted(os.listdir(exp)) == ["cloud.bin", "mine.json", "queries.bin"]
+
+
+def test_concurrent_sweeps():
+    """Two sweeps into one folder started together: exactly one succeeds, the other exits 2 naming
+    the lock and its holder; the winner's results are whole."""
+    with Workdir(a, "core") as d:
+        small_workload(d, 200, 50)
+        spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4, 5]}})
+        slow, out = sleepy(d, 2), os.path.join(d, "out")
+        cmd = [PY, a.sweep, spec, "--out", out, "--jobs", "2", "--tigris", slow]
+        procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(2)]
+        res = [(p.pid,) + (p.wait(timeout=120),) + p.communicate() for p in procs]
+        codes = sorted(r[1] for r in res)
+        assert codes == [0, 2], [(r[1], r[3]) for r in res]
+        winner = next(r for r in res if r[1] == 0)
+        loser = next(r for r in res if r[1] == 2)
+        assert "locked" in loser[3] and f"pid {winner[0]}" in loser[3] and "Traceback" not in loser[3], loser[3]
+        m = json.load(open(os.path.join(out, "manifest.json")))
+        assert m["status"] == "done" and m["pid"] == winner[0], m
+        _, rows = read_csv(os.path.join(out, "sweep.csv"))
+        assert [r["status"] for r in rows] == ["ok", "ok"], rows
+
+
+def test_changed_input_resume():
+    """A rerun after an input's content changed stops with exit 2 saying what changed: the sweep
+    (a cloud its finished points read), pipeline-dse (the sequence's poses.txt, the space file)."""
+    with Workdir(a, "core") as d:
+        small_workload(d, 200, 50)
+        spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4]}})
+        out = os.path.join(d, "out")
+        clean(tool("sweep", spec, "--out", out), 0)
+        clean(tool("sweep", spec, "--out", out), 0, "1 finished earlier")
+        write_cloud(os.path.join(d, "cloud.bin"), 200, 7)
+        clean(tool("sweep", spec, "--out", out), 2, "input cloud cloud.bin", "content changed")
+        assert json.load(open(os.path.join(out, "manifest.json")))["status"] == "done"   # the old run's record
+        # pipeline-dse, with a tigris whose runs all fail at once (no point converges: exit 1)
+        fake = wrapper(d, "failing-tigris", FAILING)
+        seq = tiny_sequence(d, 3)
+        space = write_spec(d, SPACE, "space.json")
+        dse_out = os.path.join(d, "dse")
+        args = ["--space", space, "--samples", "2", "--sequence", seq, "--tigris", fake, "--out", dse_out]
+        clean(tool("pipeline-dse", *args, timeout=120), 1, "no point converged")
+        with open(os.path.join(seq, "poses.txt"), "a") as f:
+            f.write("1 0 0 0 0 1 0 0 0 0 1 9\n")
+        spec_before = digest(os.path.join(dse_out, "spec.json"))
+        clean(tool("pipeline-dse", *args), 2, "input sequence/poses.txt", "content changed")
+        write_spec(d, dict(SPACE, comment="changed"), "space.json")
+        p = tool("pipeline-dse", *args)
+        clean(p, 2, "input space", "content changed", "input sequence/poses.txt")
+        assert digest(os.path.join(dse_out, "spec.json")) == spec_before
+
+
+def test_pipeline_dse_space_and_frames():
+    """#3: --space D/spec.json (or D/dse.json) --out D overwrote the space; a refused rerun with
+    other --frames still rewrote OUT/spec.json. #22: --samples 100000 and --frames 3:1 are refused
+    before anything is written or run."""
+    with Workdir(a, "core") as d:
+        fake = wrapper(d, "failing-tigris", FAILING)
+        seq = tiny_sequence(d, 3)
+        D = os.path.join(d, "D")
+        os.mkdir(D)
+        for name in ("spec.json", "dse.json"):
+            space = write_spec(D, SPACE, name)
+            before = digest(space)
+            clean(tool("pipeline-dse", "--space", space, "--pairs", "1", "--samples", "1", "--tigris", fake,
+                       "--out", D), 2, "--space", name, "would be overwritten")
+            assert digest(space) == before and os.listdir(D) == [name], os.listdir(D)
+            os.remove(space)
+        space = write_spec(d, SPACE, "space.json")
+        out = os.path.join(d, "out")
+        base = ["--space", space, "--samples", "2", "--sequence", seq, "--tigris", fake, "--out", out]
+        clean(tool("pipeline-dse", *base, "--frames", "0:1", timeout=120), 1, "no point converged")
+        spec_before = digest(os.path.join(out, "spec.json"))
+        clean(tool("pipeline-dse", *base, "--frames", "0:2"), 2, "settings.frames", "0:1", "0:2")
+        assert digest(os.path.join(out, "spec.json")) == spec_before
+        for extra, words in ((["--samples", "100000"], ["--samples 100000", "10,000"]),
+                             (["--frames", "3:1"], ["--frames must be A:B", "3:1"]),
+                             (["--frames", "0:7"], ["--frames 0:7", "frames 0..2"])):
+            fresh = os.path.join(d, "fresh")
+            p = tool("pipeline-dse", "--space", space, "--sequence", seq, "--tigris", fake, "--out", fresh, *extra)
+            clean(p, 2, *words)
+            assert not os.path.exists(fresh) and p.seconds < 10, (p.seconds, extra)
+
+
+def make_trace_runs(d):
+    """A registration of two small clouds recorded as a trace, and two replays of it (A, B)."""
+    import struct
+    r = random.Random(1)
+    pts = [(r.uniform(-3, 3), r.uniform(-3, 3), r.uniform(-0.5, 0.5)) for _ in range(4000)]
+    for name, dx in (("s.bin", 0.1), ("t.bin", 0.0)):
+        with open(os.path.join(d, name), "wb") as f:
+            for x, y, z in pts:
+                f.write(struct.pack("<4f", x + dx, y, z, 0.0))
+    tr = os.path.join(d, "t.trace.json")
+    subprocess.run([a.tigris, "register", "--source", os.path.join(d, "s.bin"), "--target", os.path.join(d, "t.bin"),
+                    "--record-trace", tr, "--out", os.path.join(d, "reg")], check=True, capture_output=True)
+    for x in ("A", "B"):
+        subprocess.run([a.tigris, "run", "--trace", tr, "--trace-stages", "icp", "--out", os.path.join(d, x)],
+                       check=True, capture_output=True)
+
+
+def test_diff_hostile():
+    """#8: two replays of one trace differ only in host time: exit 0, the headline shows cycles and
+    energy. #13: a file that is not a run's statistics, or a run against a replay: exit 2. #15: 100k
+    nested brackets: exit 2 naming the file. #18: /dev/zero and a FIFO: exit 2 at once."""
+    with Workdir(a, "core") as d:
+        make_trace_runs(d)
+        A, B = os.path.join(d, "A"), os.path.join(d, "B")
+        p = tool("diff", A, B)
+        clean(p, 0)
+        head = p.stdout.split("headline")[1]
+        assert "cycles" in head and "energy" in head and "other differing leaves: 0" in p.stdout, p.stdout
+        # a host-time difference alone is no difference; a modeled one is
+        doc = json.load(open(os.path.join(B, "stats.json")))
+        doc["jobs"][0]["wall_seconds"] = 1e6
+        doc["jobs"][0]["phase_seconds"] = {"simulate": 1e6}
+        with open(os.path.join(d, "host.json"), "w") as f:
+            json.dump(doc, f)
+        clean(tool("diff", A, os.path.join(d, "host.json")), 0)
+        doc["total"]["cycles"] += 1
+        with open(os.path.join(d, "cycles.json"), "w") as f:
+            json.dump(doc, f)
+        p = tool("diff", A, os.path.join(d, "cycles.json"))
+        assert p.returncode == 1 and "Traceback" not in p.stderr, p.stderr
+        # files that are not a run's statistics
+        run_dir = os.path.join(d, "run")
+        subprocess.run([a.tigris, "run", "--out", run_dir, "--set", "tree.top_height=4"], check=True, capture_output=True)
+        small_workload(d, 200, 50)
+        sw = os.path.join(d, "sw")
+        sweep(a, write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4]}}), "--out", sw, "--tigris",
+              a.tigris, check=0)
+        with open(os.path.join(d, "empty.json"), "w") as f:
+            f.write("{}")
+        with open(os.path.join(d, "deep.json"), "w") as f:
+            f.write("[" * 100000 + "]" * 100000)
+        fifo = os.path.join(d, "fifo")
+        os.mkfifo(fifo)
+        for other, words in ((os.path.join(d, "empty.json"), ["empty.json", "not a run's statistics"]),
+                             (os.path.join(d, "reg", "registration.json"), ["registration.json", "tigris register"]),
+                             (os.path.join(sw, "points", "height=4", "point.json"), ["point.json", "sweep's point.json"]),
+                             (A, ["trace replay", "compare runs with runs"]),
+                             (os.path.join(d, "deep.json"), ["deep.json", "nested too deeply"]),
+                             ("/dev/zero", ["/dev/zero", "character device"]),
+                             (fifo, ["fifo", "FIFO"])):
+            p = tool("diff", run_dir, other, timeout=20)
+            clean(p, 2, *words)
+            assert p.seconds < 10, (other, p.seconds)
+        clean(tool("diff", run_dir, os.path.join(sw, "points", "height=4")), 1)    # a sweep point's stats: fine
+
+
+def test_plot_hostile():
+    """#10: a text column (--y bottleneck.bound) or a non-numeric `cycles` drew empty panels at exit 0:
+    exit 2 naming the column; the subtitle of a CSV whose rows are all skipped named the built-in
+    workload. #16: --out an existing file: a traceback. #18: a FIFO as the CSV: no hang."""
+    with Workdir(a, "core") as d:
+        small_workload(d, 200, 50)
+        sw = os.path.join(d, "sw")
+        sweep(a, write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"}, "grid": {"height": [4, 5]}}),
+              "--out", sw, "--jobs", "2", "--tigris", a.tigris, check=0)
+        clean(tool("plot", sw, "--y", "bottleneck.bound"), 2, "column bottleneck.bound", "no number")
+        assert not os.path.exists(os.path.join(sw, "plots"))
+        lines = open(os.path.join(sw, "sweep.csv")).read().splitlines()
+        cols = lines[0].split(",")
+        at = cols.index("cycles")
+        bad = [lines[0]] + [",".join(c if i != at else "n/a" for i, c in enumerate(l.split(","))) for l in lines[1:]]
+        lone = os.path.join(d, "lone")
+        os.mkdir(lone)
+        with open(os.path.join(lone, "bad.csv"), "w") as f:
+            f.write("\n".join(bad) + "\n")
+        clean(tool("plot", os.path.join(lone, "bad.csv")), 2, "column cycles", "'n/a'")
+        afile = os.path.join(d, "afile")
+        open(afile, "w").close()
+        clean(tool("plot", sw, "--out", afile), 2, "--out", "exists and is not a folder")
+        fifo = os.path.join(d, "fifo.csv")
+        os.mkfifo(fifo)
+        p = tool("plot", fifo, "--out", os.path.join(d, "p"), timeout=20)
+        clean(p, 2, "fifo.csv", "FIFO")
+        # every row skipped (its height is text): the subtitle still names the CSV's workload
+        at = cols.index("height")
+        with open(os.path.join(lone, "h.csv"), "w") as f:
+            f.write("\n".join([lines[0]] + [",".join(c if i != at else "abc" for i, c in enumerate(l.split(",")))
+                                            for l in lines[1:]]) + "\n")
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); import evaldata as ed; "
+                "print(ed.workload_text(ed.Sweep([sys.argv[2]])))")
+        p = subprocess.run([PY, "-c", code, SWEEP_DIR, os.path.join(lone, "h.csv")], capture_output=True, text=True,
+                           env=dict(os.environ, TIGRIS=a.tigris))
+        assert p.stdout.startswith("cloud cloud.bin, queries queries.bin"), (p.stdout, p.stderr)
+        # a rerun replaces its own figures and keeps its folder; another folder's files are refused
+        clean(tool("plot", sw, "--which", "sweep"), 0)
+        assert sorted(os.listdir(os.path.join(sw, "plots"))) == ["manifest.json", "sweep_height.png", "sweep_height.svg"]
+        with open(os.path.join(d, "p2.txt"), "w") as f:
+            f.write("mine")
+        clean(tool("plot", sw, "--out", d), 2, "did not write", "afile")
+
+
+def test_inputs_that_are_devices():
+    """#18: a FIFO or character device as any Python tool's input: a clear error, never a hang."""
+    with Workdir(a, "core") as d:
+        fifo = os.path.join(d, "fifo")
+        os.mkfifo(fifo)
+        cases = [("sweep", [fifo, "--out", os.path.join(d, "o1")], ["fifo", "FIFO"]),
+                 ("sweep", ["/dev/zero", "--check"], ["/dev/zero", "character device"]),
+                 ("pipeline-dse", ["--space", fifo, "--out", os.path.join(d, "o2")], ["--space", "FIFO"]),
+                 ("reproduce", ["--cloud", fifo, "--out", os.path.join(d, "o3"), "--specs-only"], ["--cloud", "FIFO"]),
+                 ("reproduce", ["--variants-file", "/dev/zero", "--out", os.path.join(d, "o4"), "--specs-only"],
+                  ["/dev/zero", "character device"])]
+        for name, args, words in cases:
+            p = tool(name, *args, timeout=20)
+            clean(p, 2, *words)
+            assert p.seconds < 10 and not any(os.path.exists(os.path.join(d, f"o{i}")) for i in range(1, 5)), (name, args)
+
+
+def test_list_flags():
+    """#23: --list-flags on sweep, reproduce, diff, plot and pipeline-dse prints the command's flags
+    as JSON in the format of the C++ commands' (`tigris run --list-flags`)."""
+    ref = json.loads(subprocess.run([a.tigris, "run", "--list-flags"], capture_output=True, text=True).stdout)
+    keys = set(ref["flags"][0])
+    for name, some in (("sweep", "jobs"), ("reproduce", "quick"), ("diff", "all"), ("plot", "which"),
+                       ("pipeline-dse", "samples")):
+        p = tool(name, "--list-flags")
+        clean(p, 0)
+        j = json.loads(p.stdout)
+        assert j["command"] == name and all(set(f) == keys for f in j["flags"]), j
+        by = {f["flag"]: f for f in j["flags"]}
+        assert some in by and by[some]["doc"] and "list-flags" in by and "help" in by, sorted(by)
+    via = subprocess.run([a.tigris, "sweep", "--list-flags"], capture_output=True, text=True)
+    assert via.returncode == 0 and json.loads(via.stdout)["command"] == "sweep", via.stderr
+
+
+def stop_parent_only(cmd, cwd, want_kids):
+    """Starts cmd, waits until it has want_kids descendants, SIGTERMs the parent alone: exit 143,
+    and within a few seconds none of its descendants is left (/proc)."""
+    p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, TIGRIS=a.tigris))
+    kids, t0 = set(), time.monotonic()
+    while len(kids) < want_kids:
+        assert p.poll() is None and time.monotonic() - t0 < 60, f"{cmd[1]}: exit {p.poll()} before its children ran"
+        kids = {k for k in descendants(p.pid) if alive(k)}
+        time.sleep(0.05)
+    kids |= descendants(p.pid)
+    os.kill(p.pid, signal.SIGTERM)
+    err = p.communicate(timeout=60)[1]
+    t0 = time.monotonic()
+    while any(alive(k) for k in kids) and time.monotonic() - t0 < 8:
+        time.sleep(0.05)
+    left = [k for k in kids if alive(k)]
+    for k in left:
+        os.kill(k, signal.SIGKILL)
+    assert p.returncode == 143 and not left and "Traceback" not in err, (cmd[1], p.returncode, left, err[-2000:])
+    return err
+
+
+def test_parent_only_sigterm():
+    """SIGTERM to the parent alone (not its group): sweep, reproduce and pipeline-dse stop every
+    child and grandchild (the driver, tigris, the sleeping wrapper) and exit 143."""
+    with Workdir(a, "core") as d:
+        small_workload(d, 200, 50)
+        slow = sleepy(d, 60)
+        spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4, 5]}})
+        err = stop_parent_only([PY, a.sweep, spec, "--out", os.path.join(d, "s"), "--jobs", "2", "--tigris", slow],
+                               d, 4)                                    # 2 x (sh, sleep)
+        assert json.load(open(os.path.join(d, "s", "manifest.json")))["status"] == "interrupted", err
+        stop_parent_only([PY, REPRODUCE, "--out", os.path.join(d, "r"), "--only", "optimizations", "--jobs", "2",
+                          "--tigris", slow], d, 5)                      # driver + 2 x (sh, sleep)
+        assert json.load(open(os.path.join(d, "r", "manifest.json")))["status"] == "interrupted"
+        space = write_spec(d, SPACE, "space.json")
+        stop_parent_only([PY, TOOLS["pipeline-dse"], "--space", space, "--samples", "2", "--pairs", "1", "--jobs", "2",
+                          "--tigris", slow, "--out", os.path.join(d, "p")], d, 5)
+        assert json.load(open(os.path.join(d, "p", "manifest.json")))["status"] == "interrupted"
+
+
 if __name__ == "__main__":
     run_tests([test_empty_paths, test_one_setting_two_ways, test_hostile_spec_files, test_unwritable_folders,
                test_damaged_plan, test_cloud_alone_and_queries_alone, test_dry_check_progress,
                test_collect_and_signals_mid_sweep, test_reproduce_every_point_failed,
-               test_reproduce_keeps_its_workload, test_reproduce_tiny_cloud, test_spec_fuzz])
+               test_reproduce_keeps_its_workload, test_reproduce_tiny_cloud,
+               test_sweep_spec_inside_out, test_concurrent_sweeps, test_changed_input_resume,
+               test_pipeline_dse_space_and_frames, test_diff_hostile, test_plot_hostile, test_inputs_that_are_devices,
+               test_list_flags, test_parent_only_sigterm, test_spec_fuzz])
