@@ -15,10 +15,13 @@ Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
 Exit 2 with a message naming the file when an input is missing or malformed.
 """
 import csv
-import json
+import io
 import math
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import core  # noqa: E402
 
 import matplotlib
 matplotlib.use("Agg")
@@ -33,10 +36,11 @@ def fail(msg):
 
 def read_csv(path):
     try:
-        with open(path, newline="") as f:
-            return list(csv.DictReader(f))
-    except OSError as e:
-        fail(f"{path}: {e.strerror}")
+        return list(csv.DictReader(io.StringIO(core.read_text_input(path), newline="")))
+    except core.Refused as e:
+        fail(str(e))
+    except csv.Error as e:
+        fail(f"{path}: {e}")
 
 
 def num(row, key, path):
@@ -82,7 +86,7 @@ def trajectory(out, traj, metrics):
     hz.set_ylabel("z (m, up at the first frame)")
     hz.grid(True, lw=0.3)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "trajectory.png"), dpi=120)
+    core.save_figure(fig, os.path.join(out, "trajectory.png"), dpi=120)
     plt.close(fig)
 
 
@@ -146,7 +150,7 @@ def errors(out, pairs, metrics):
         axes[0][1].text(0.0, 0.5, why + ":\nper-pair errors instead", fontsize=10, va="center")
         fig.suptitle("per-pair relative pose error", fontsize=10)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "errors.png"), dpi=120)
+    core.save_figure(fig, os.path.join(out, "errors.png"), dpi=120)
     plt.close(fig)
 
 
@@ -157,12 +161,11 @@ def main():
     out = sys.argv[1]
     path = os.path.join(out, "metrics.json")
     try:
-        with open(path) as f:
-            metrics = json.load(f)
-    except OSError as e:
-        fail(f"{path}: {e.strerror}")
-    except ValueError as e:
-        fail(f"{path}: not JSON ({e})")
+        metrics = core.read_json_input(path)
+    except core.Refused as e:
+        fail(str(e))
+    if not isinstance(metrics, dict):
+        fail(f"{path}: not the metrics of tigris odometry (a JSON object)")
     traj = read_csv(os.path.join(out, "trajectory.csv"))
     if not traj:
         fail(f"{os.path.join(out, 'trajectory.csv')}: no rows")

@@ -26,6 +26,7 @@ when interrupted (the running sweep is stopped the same way, its finished points
 import argparse
 import csv
 import glob
+import io
 import json
 import os
 import shlex
@@ -460,8 +461,7 @@ def csv_statuses(paths):
     statuses = []
     for p in paths:
         if os.path.isfile(p):
-            with open(p, newline="") as f:
-                statuses += [r.get("status") for r in csv.DictReader(f)]
+            statuses += [r.get("status") for r in csv.DictReader(io.StringIO(core.read_text_input(p), newline=""))]
     return statuses
 
 
