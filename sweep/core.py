@@ -606,6 +606,7 @@ def _child_setup(parent):
     def setup():
         for s in STOP_SIGNALS:                   # the parent's SIG_IGN during its clean-up is not inherited
             signal.signal(s, signal.SIG_DFL)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
         if libc:
             libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0)
         if os.getppid() != parent:               # the parent died before the prctl
@@ -621,8 +622,13 @@ def spawn(cmd, parent_files=None, **kw):
     env.pop(PARENT_ENV, None)
     if parent_files:
         env[PARENT_ENV] = " ".join(parent_files)
-    p = subprocess.Popen(cmd, start_new_session=True, preexec_fn=_child_setup(os.getpid()), env=env, **kw)
-    _live.append(p)
+    # A stop signal is held until the child is recorded, so no child escapes the clean-up.
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    try:
+        p = subprocess.Popen(cmd, start_new_session=True, preexec_fn=_child_setup(os.getpid()), env=env, **kw)
+        _live.append(p)
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
     return p
 
 
@@ -670,7 +676,7 @@ def wait(p):
 def pool(tasks, jobs, launch, done):
     """Runs launch(task) -> Popen (of spawn) for every task, at most `jobs` at once, calling
     done(task, proc, rc) as each ends; a signal or an error stops every running child."""
-    queue, running = list(tasks), []
+    queue, running, ok = list(tasks), [], False
     try:
         while queue or running:
             while queue and len(running) < jobs:
@@ -687,9 +693,10 @@ def pool(tasks, jobs, launch, done):
             running = still
             if running:
                 time.sleep(0.02)
+        ok = True
     finally:
-        if running:
-            stop_groups([p for _, p in running])
+        if not ok:                               # also a child started as the signal came
+            stop_groups(set(p for _, p in running) | set(_live))
 
 
 def run_child(cmd, grace=KILL_AFTER, **kw):

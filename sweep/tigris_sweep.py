@@ -608,6 +608,10 @@ def check_folder(out, plan):
             raise SpecError(f"{out} holds point folders but no plan.json: not a sweep folder of this "
                             "driver; use another --out")
         return
+    if not os.path.lexists(os.path.join(out, core.MANIFEST)):
+        raise SpecError(f"{out} is the folder of a sweep by an earlier tigris (plan.json, no {core.MANIFEST}): "
+                        "whether its points read the same inputs cannot be checked; use another --out, or "
+                        "remove it to sweep afresh")
     if old.get("command", "run") != plan["command"]:
         raise SpecError(f"{out} holds a sweep of tigris {old.get('command', 'run')} points, this spec runs "
                         f"tigris {plan['command']}: use another --out")
@@ -979,18 +983,27 @@ def parse_args(argv):
 def inputs_of(spec, pts):
     """(flag, path) of every file the points read, and their identities for the manifest: a
     finished point is kept on a rerun only while the files it read are the same."""
-    paths, seen = [("the spec", spec.path)], set()
+    paths, seen, frames = [("the spec", spec.path)], set(), {}
     for p in pts:
+        args = dict(zip(p["args"][::2], p["args"][1::2]))
         for i in range(0, len(p["args"]) - 1, 2):
             flag = p["args"][i][2:]
             if flag in spec.command.paths and p["args"][i + 1] not in seen:
                 seen.add(p["args"][i + 1])
                 paths.append((f"'{spec.names.get(flag, flag)}'", p["args"][i + 1]))
+            if flag in spec.command.folders:     # a sequence: only the scans of the points' --frames
+                m = re.fullmatch(r"(\d+):(\d+)", str(args.get("--frames", "")))
+                want = (int(m.group(1)), int(m.group(2))) if m else None          # None: every frame
+                key = p["args"][i + 1]
+                if key not in frames:
+                    frames[key] = want
+                elif frames[key] is not None:
+                    frames[key] = None if want is None else (min(frames[key][0], want[0]), max(frames[key][1], want[1]))
     ids = []
     for flag, path in paths[1:]:
         role = f"{flag.strip(chr(39))} {os.path.relpath(path, spec.dir)}"
         if os.path.isdir(path):
-            ids += core.sequence_inputs(role, path)
+            ids += core.sequence_inputs(role, path, frames.get(path))
         else:
             ids.append(core.input_identity(role, path))
     return paths, ids
