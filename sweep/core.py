@@ -80,7 +80,8 @@ def _stat_input(path, what):
         if e.errno == errno.ENOENT:
             link = _broken_link(path)
             if link:
-                _fail(path, what, f"a broken symbolic link ({link[0]} -> {link[1]})" if link[0] != os.path.normpath(path)
+                inner = link[0] != os.path.normpath(path)      # a link on the way to the file
+                _fail(path, what, f"a broken symbolic link ({link[0]} -> {link[1]})" if inner
                       else f"a broken symbolic link (to {link[1]})")
             _fail(path, what, "no such file")
         if e.errno == errno.ENOTDIR:
@@ -393,7 +394,8 @@ class OutFolder:
                     if changed:
                         raise Refused(f"{self.given} holds a run of tigris {self.command} with other settings or "
                                       "inputs, which would mix with this one's:\n  " + "\n  ".join(changed)
-                                      + f"\nrerun as before, or use another {self.flag} (or remove {self.given} to start afresh)")
+                                      + f"\nrerun as before, or use another {self.flag} (or remove {self.given} "
+                                      "to start afresh)")
                 else:
                     self._remove_outputs(old)
             self._remove_temporaries()

@@ -10,7 +10,6 @@ measured), how each claim is measured, and the figures of plots.py (made into DI
 sweep they need. Nothing here is tuned toward the paper's numbers.
 """
 import argparse
-import json
 import math
 import os
 import sys
