@@ -305,7 +305,9 @@ except KeyboardInterrupt as e:
 def test_pool_stops_on_signal():
     for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
         pids = path(f"pool-{sig}.pids")
-        drv = subprocess.Popen([sys.executable, "-c", POOL.format(sweep=SWEEP, pids=pids)])
+        # default dispositions even when started in the background (a shell ignores SIGINT there)
+        drv = subprocess.Popen([sys.executable, "-c", POOL.format(sweep=SWEEP, pids=pids)],
+                               preexec_fn=lambda: [signal.signal(s, signal.SIG_DFL) for s in core.STOP_SIGNALS])
         t0 = time.monotonic()
         while not (os.path.exists(pids + ".grand") and len(open(pids + ".grand").read().split()) == 3):
             assert time.monotonic() - t0 < 10 and drv.poll() is None
