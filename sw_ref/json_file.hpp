@@ -43,7 +43,13 @@ inline nlohmann::json parse_json_text(const std::string& text, const std::string
 
 // Reads and parses a file through the one input opener; errors name it.
 inline nlohmann::json read_json_file(const std::string& path, bool ignore_comments = false) {
-  return parse_json_text(read_input(path, "configuration file", kMaxSettingsBytes), path, ignore_comments);
+  std::string text;
+  try {
+    text = read_input(path, "configuration file", kMaxSettingsBytes);
+  } catch (const std::exception& e) {  // a configuration's errors are std::invalid_argument
+    throw std::invalid_argument(e.what());
+  }
+  return parse_json_text(text, path, ignore_comments);
 }
 
 }  // namespace tigris

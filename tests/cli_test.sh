@@ -56,7 +56,7 @@ expect 2 "need --approx-thd" -- ref --leader-capacity 4
 expect 2 "--approx-thd must be" -- ref --approx-thd fast
 expect 2 "--mode" -- ref --mode nearest
 expect 2 "$tmp/none.csv" -- ref --schedule "$tmp/none.csv"
-expect 2 "cannot open for writing" -- ref --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out /proc/tigris
+expect 2 "/proc/tigris: cannot create the folder" -- ref --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out /proc/tigris
 
 # Small real runs: dumps, then a replay of the recorded schedule must give the same results.
 expect 0 "3 neighbours" -- ref --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height full --out "$tmp/o1"
@@ -92,7 +92,9 @@ expect 2 "'dram.bytes_per_cycle' = 1e-15 is out of range" -- run --set dram.byte
 expect 2 "'energy.distance_pj' = 1e+308 is out of range" -- run --set energy.distance_pj=1e308
 # The default top height is clamped for small clouds (with a note); an explicit one is not.
 expect 0 "the default top height 10 is clamped to 2" -- ref --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
-expect 0 "MATCH" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
+expect 0 "MATCH" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp_run"
+# A folder holds one command's output: run does not write into ref's.
+expect 2 "holds the output of tigris ref" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --out "$tmp/clamp"
 expect 2 "$tmp/three.bin: top height 10" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 10
 # Output paths: empty, a full disk, dots in folder names.
 expect 2 "--out was given an empty value" -- run --out ""
@@ -134,7 +136,7 @@ if grep -q '"transform"' "$tmp/reg/registration.json" && grep -q '"kdtree_share"
 else echo "FAIL: register's registration.json"; failures=$((failures + 1)); fi
 expect 2 "unknown key 'icp.max_iteration' (did you mean 'icp.max_iterations'?)" -- register --set icp.max_iteration=3 --out "$tmp/reg2"
 expect 2 "'normals.radius' = -1.0 is out of range" -- register --set normals.radius=-1 --out "$tmp/reg2"
-expect 2 "$tmp/missing.json: cannot open" -- register --config "$tmp/missing.json" --out "$tmp/reg2"
+expect 2 "$tmp/missing.json: cannot read configuration file: no such file" -- register --config "$tmp/missing.json" --out "$tmp/reg2"
 expect 2 "$tmp/missing.bin" -- register --source "$tmp/missing.bin" --target "$tmp/three.bin" --out "$tmp/reg2"
 expect 2 "--source and --target go together" -- register --source "$tmp/three.bin" --out "$tmp/reg2"
 

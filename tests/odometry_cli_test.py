@@ -97,7 +97,7 @@ def synthetic_checks(d, run, check, a_tigris):
     check(sorted(os.listdir(os.path.join(cut, "velodyne"))) == ["%06d.bin" % i for i in range(60)],
           "the completed drive's velodyne/ holds other files")
     check(open(os.path.join(cut, "velodyne", "000001.bin"), "rb").read() == before, "scan 1 differs between drives")
-    run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "holds another synthetic drive")
+    run(["synth", "--frames", "3", "--seed", "2", "--out", s], 2, "settings.seed: 1 -> 2")
     run(["synth", "--frames", "1", "--out", os.path.join(d, "x")], 2, "--frames")
     run(["synth", "--frames", "abc", "--out", os.path.join(d, "x")], 2, "--frames")
     run(["synth", "--frames", "3", "--seed", "-1", "--out", os.path.join(d, "x")], 2, "--seed")
@@ -105,14 +105,14 @@ def synthetic_checks(d, run, check, a_tigris):
     broken = os.path.join(d, "broken")
     os.makedirs(broken)
     open(os.path.join(broken, "drive.json"), "w").write("{\"settings\": ")
-    run(["synth", "--frames", "3", "--out", broken], 2, "is not a tigris synth drive file")
+    run(["synth", "--frames", "3", "--out", broken], 2, "tigris synth did not write (drive.json)")
     kitti = os.path.join(d, "kitti")
     os.makedirs(kitti)
     open(os.path.join(kitti, "poses.txt"), "w").write("1 0 0 0 0 1 0 0 0 0 1 0\n")
     run(["synth", "--frames", "3", "--out", kitti], 2, "tigris synth did not write")
     check(open(os.path.join(kitti, "poses.txt")).read().count("\n") == 1, "synth overwrote a KITTI poses.txt")
     x = os.path.join(d, "x")
-    run(["odometry", "--synthetic", "3", "--slurm", "--out", x], 2, "sbatch not found",
+    run(["odometry", "--synthetic", "3", "--slurm", "--out", x], 3, "sbatch not found",
         env=dict(os.environ, PATH="/nonexistent"))
     run(["odometry", "--synthetic", "3", "--compare", "--search", "exact", "--out", x], 2, "does not go with --compare")
     run(["odometry", "--synthetic", "3", "--chunk", "2", "--out", x], 2, "--slurm")
@@ -131,7 +131,7 @@ def synthetic_checks(d, run, check, a_tigris):
     check(worst_t < 0.04 and worst_r < 0.15, f"worst pair {worst_t:.4f} m, {worst_r:.4f} deg")
     check(m["rpe"]["mean_translation_m"] < 0.012 and m["rpe"]["mean_rotation_deg"] < 0.1, f"rpe {m['rpe']}")
     check(m["ate"]["unaligned_max_m"] < 0.06, f"ate {m['ate']}")
-    run(["odometry", "--synthetic", "12", "--seed", "3", "--out", o], 2, "holds another synthetic drive")
+    run(["odometry", "--synthetic", "12", "--seed", "3", "--out", o], 2, "settings.seed: 1 -> 3")
     run(["odometry", "--synthetic", "12", "--sequence", s, "--out", o], 2, "excludes")
     run(["odometry", "--out", os.path.join(d, "x")], 2, "give --sequence DIR")
 
@@ -211,7 +211,7 @@ def sequence_checks(d, run, check):
           "accel/metrics.json lacks the FLANN baseline")
     check(open(os.path.join(oc, "exact", "poses.txt")).read() == open(os.path.join(o1, "poses.txt")).read(),
           "--compare's exact run chained other poses than the plain run")
-    run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a run with other settings")
+    run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", o1], 2, "holds a tigris odometry run with other settings or inputs")
     run(["odometry", "--sequence", seq, "--frames", "1:3", "--out", os.path.join(d, "o3")], 0, "frames 1..3")
     run(["odometry", "--sequence", seq, "--frames", "2:9", "--out", os.path.join(d, "x")], 2, "frames 0..3")
     run(["odometry", "--sequence", seq, "--frames", "2", "--out", os.path.join(d, "x")], 2, "--frames must be A:B")
@@ -240,7 +240,7 @@ def sequence_checks(d, run, check):
     run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "1 poses for 4 scans")
     run(["odometry", "--sequence", seq, "--jobs", "0", "--out", os.path.join(d, "x")], 2, "--jobs")
     gt_before = open(os.path.join(seq, "poses.txt")).read()
-    run(["odometry", "--sequence", seq, "--out", seq], 2, "would overwrite the input --sequence (poses.txt)")
+    run(["odometry", "--sequence", seq, "--out", seq], 2, "poses.txt")
     check(open(os.path.join(seq, "poses.txt")).read() == gt_before, "--out onto the sequence changed its poses.txt")
     run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
 

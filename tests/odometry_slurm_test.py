@@ -85,7 +85,7 @@ def main():
             run(base + ["--slurm", "--no-wait", "--out", nowait], 0, "4 already in")
             same(local, nowait)
 
-            run(base + ["--slurm", "--partition", "no-such-partition", "--out", os.path.join(d, "bad")], 2,
+            run(base + ["--slurm", "--partition", "no-such-partition", "--out", os.path.join(d, "bad")], 3,
                 "sbatch failed")
             run(base + ["--chunk", "2", "--out", os.path.join(d, "bad2")], 2, "--slurm")
         finally:

@@ -246,7 +246,7 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   const std::string garbage = temp_file("garbage.json", "{ not json");
   CHECK_THROWS_WITH(apply_file(c, garbage), Catch::StartsWith(garbage) && Catch::Contains(": JSON parse error"));
   CHECK_THROWS_WITH(apply_file(c, "/nonexistent/pipeline.json"),
-                    Catch::Contains("/nonexistent/pipeline.json: cannot open"));
+                    Catch::Contains("/nonexistent/pipeline.json: cannot read configuration file: no such file"));
   // Issue 18: the same error quality as the accelerator's configuration.
   const std::string twice = temp_file("twice.json", R"({"icp": {"max_iterations": 5}, "icp": {"reciprocal": true}})");
   CHECK_THROWS_WITH(apply_file(c, twice), Catch::StartsWith(twice) && Catch::Contains("key 'icp' appears twice"));

@@ -12,6 +12,7 @@ Usage: trace_cli_test.py --tigris PATH   (exit 0 when every check holds)
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -124,9 +125,12 @@ def main():
         cmp_out = os.path.join(d, "compare")
         gt = os.path.join(d, "room_gt.txt")  # room_b is the room moved by (-0.2, -0.1, 0)
         open(gt, "w").write("1 0 0 0.2\n0 1 0 0.1\n0 0 1 0\n0 0 0 1\n")
-        # (--accel-set goes to the accelerator runs only; a stale registration.json is never read)
+        # (--accel-set goes to the accelerator runs only; a folder tigris did not write, here with a
+        # stale registration.json, is refused before any back-end runs)
         os.makedirs(os.path.join(cmp_out, "accel"))
         open(os.path.join(cmp_out, "accel", "registration.json"), "w").write('{"stale": true}')
+        run(["register"] + pair + ["--compare", "--out", cmp_out], 2, "did not write (accel)")
+        shutil.rmtree(cmp_out)
         text = run(["register"] + pair + ["--compare", "--ground-truth", gt, "--accel-set", "clock_mhz=1000",
                                           "--out", cmp_out])
         c = json.load(open(os.path.join(cmp_out, "comparison.json")))
