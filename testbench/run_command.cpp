@@ -316,10 +316,12 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
 
   const RunSetup r = configure_run(app, o);
-  OutFolder folder(o.search.out, {"run", {}, nlohmann::json::object(),
-                                  search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name,
-                                                o.config_file),
-                                  {"stats.json"}});
+  FolderSpec spec{"run", {}, nlohmann::json::object(),
+                  search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name, o.config_file),
+                  {"stats.json"}};
+  spec.also_written = {o.vcd, o.vcd.empty() ? "" : gtkw_path(o.vcd), o.timeline, o.search.dump_results,
+                       o.search.dump_schedule};
+  OutFolder folder(o.search.out, spec);
   const std::uint32_t shown =
       o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
   TimelineRecorder timeline(1000.0 / r.cfg.clock_mhz, shown);
