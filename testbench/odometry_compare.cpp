@@ -137,8 +137,7 @@ int run_odometry_compare(const OdometryOptions& o) {
   // The accelerator run's metrics.json gets the CPU baseline beside its own figures.
   {
     const std::string path = o.out + "/accel/metrics.json";
-    ordered_json m;
-    std::ifstream(path) >> m;
+    ordered_json m = parse_json_text(read_input(path, "the accelerator run's metrics", kMaxSettingsBytes), path);
     m["compared_with_cpu"] = {{"comparison", o.out + "/comparison.json"},
                               {"flann_kdtree_seconds", rows[0]["kdtree_seconds"]},
                               {"flann_end_to_end_seconds", rows[0]["end_to_end_seconds"]},

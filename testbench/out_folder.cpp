@@ -137,24 +137,33 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
   fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) throw std::invalid_argument(what + ": cannot open the folder: " + std::strerror(errno));
   const std::string manifest_path = path(kManifest);
+  // The earlier run's record, read once the folder is ours (or to name the run that holds it).
   json old;
-  const bool had_manifest = fs::exists(fs::symlink_status(manifest_path, ec));
-  if (had_manifest) {
-    try {
+  bool had_manifest = false;
+  const auto read_old = [&] {
+    had_manifest = fs::exists(fs::symlink_status(manifest_path, ec));
+    if (had_manifest)
       old = parse_json_text(read_input(manifest_path, "the folder's manifest", kMaxSettingsBytes), manifest_path);
-    } catch (const std::exception& e) {
-      ::close(fd_);
-      throw std::invalid_argument(std::string(e.what()) + "; this folder's record is unreadable: use another --out");
-    }
-  }
+  };
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(fd_);
-    const std::string holder =
-        old.is_object() && old.contains("pid") ? " (tigris " + old.value("command", std::string("?")) + ", pid " +
-                                                     old["pid"].dump() + ")"
-                                               : "";
+    fd_ = -1;
+    std::string holder;
+    try {
+      read_old();
+      if (old.is_object() && old.contains("pid"))
+        holder = " (tigris " + old.value("command", std::string("?")) + ", pid " + old["pid"].dump() + ")";
+    } catch (const std::exception&) {
+    }
     throw std::invalid_argument(what + ": another run is writing into this folder" + holder +
                                 "; wait until it has finished, or use another --out");
+  }
+  try {
+    read_old();
+  } catch (const std::exception& e) {
+    ::close(fd_);
+    fd_ = -1;
+    throw std::invalid_argument(std::string(e.what()) + "; this folder's record is unreadable: use another --out");
   }
   try {
     if (had_manifest && (!old.is_object() || old.value("tigris_manifest", 0) != 1))
