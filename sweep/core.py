@@ -411,6 +411,27 @@ class OutFolder:
             raise
         return old
 
+    def preview(self, settings=None, inputs=(), all_inputs_must_match=True, input_paths=()):
+        """What claim() would refuse, found without making, locking or writing anything (--check)."""
+        self.check_path()
+        self.check_inputs(input_paths)
+        if not os.path.isdir(self.path):
+            return None
+        fd = os.open(self.path, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+        try:
+            self.fd = fd
+            self._lock()
+            old = self._read_old()
+            self.check_inputs(input_paths, old)
+            self._check_entries(old)
+            changed = self._changes(old, settings or {}, list(inputs), all_inputs_must_match) if old else []
+            if changed:
+                raise Refused(f"{self.given} holds a run of tigris {self.command} with other settings or inputs: "
+                              + "; ".join(changed))
+            return old
+        finally:
+            self.release()
+
     def attach(self, legacy=None):
         """Locks a folder of an earlier run of this command without a new run (sweep's collect);
         legacy: a file that marks the command's folder written before manifests."""

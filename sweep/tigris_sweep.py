@@ -1024,12 +1024,14 @@ def run(a):
         check_folder(out, plan)
     todo = [p for p in pts if not (out and finished(out, p, spec.command))]
     dry_check(spec, tig, todo, out or tempfile.gettempdir(), a.jobs)
+    # Settings that decide every point's results; a grown or shrunk grid resumes (new points run).
+    settings = {"command": plan["command"], "base_args": plan["base_args"]}
     if a.check:
+        if out:                                  # would the run take DIR? (nothing made or locked)
+            folder.preview(settings, ids, all_inputs_must_match=False, input_paths=paths)
         note(f"{spec.given}: {len(pts)} points, valid" + (f"; {len(pts) - len(todo)} finished in {out}" if out else ""))
         return 0
-    # Settings that decide every point's results; a grown or shrunk grid resumes (new points run).
-    folder.claim(settings={"command": plan["command"], "base_args": plan["base_args"]}, inputs=ids,
-                 input_paths=paths, all_inputs_must_match=False)
+    folder.claim(settings=settings, inputs=ids, input_paths=paths, all_inputs_must_match=False)
     rc = 2
     try:
         os.makedirs(os.path.join(out, "points"), exist_ok=True)

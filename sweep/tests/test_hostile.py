@@ -611,6 +611,7 @@ def test_sweep_spec_inside_out():
         # under another name it is still a folder of the user's files: refused, naming them
         os.rename(spec, os.path.join(exp, "mine.json"))
         clean(tool("sweep", "mine.json", "--out", ".", cwd=exp), 2, "did not write", "cloud.bin", "mine.json")
+        clean(tool("sweep", "mine.json", "--out", ".", "--check", cwd=exp), 2, "did not write")   # --check says so too
         assert sorted(os.listdir(exp)) == ["cloud.bin", "mine.json", "queries.bin"]
 
 
