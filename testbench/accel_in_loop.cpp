@@ -12,6 +12,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "children.hpp"
+
 namespace tigris {
 namespace {
 
@@ -138,34 +140,27 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
       int job_fds[2];
       if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, job_fds) != 0)
         throw std::runtime_error(std::string("cannot open a socket: ") + std::strerror(errno));
-      const pid_t pid = ::fork();
-      if (pid < 0) {
+      pid_t pid = -1;
+      try {
+        // The job's process dies with the server (children.hpp), and the server with the registration.
+        pid = fork_child([&]() -> int {
+          ::close(job_fds[0]);
+          send_message(job_fds[1], run_job(mj, cfg, limits, sim_threads));
+          return 0;
+        });
+      } catch (...) {
         ::close(job_fds[0]);
         ::close(job_fds[1]);
-        throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
-      }
-      if (pid == 0) {  // never leaves this block: a child must not go on as the server
-        try {
-          ::close(job_fds[0]);
-          const Bytes out = run_job(mj, cfg, limits, sim_threads);
-          send_message(job_fds[1], out);
-          std::fflush(nullptr);
-        } catch (...) {
-          ::_exit(3);
-        }
-        ::_exit(0);
+        throw;
       }
       ::close(job_fds[1]);
       const bool got = recv_message(job_fds[0], answer);
       ::close(job_fds[0]);
-      int status = 0;
-      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+      const int code = wait_child(pid);
+      if (!got || code != 0)
         answer = error_answer(2, "the job's process ended without an answer (" +
-                                     (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
-                                                          : "exit code " + std::to_string(WEXITSTATUS(status))) +
-                                     ")");
+                                     (code > 128 ? "signal " + std::to_string(code - 128)
+                                                 : "exit code " + std::to_string(code)) + ")");
     } catch (const std::exception& e) {
       answer = error_answer(2, e.what());
     }
@@ -192,16 +187,15 @@ ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, 
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
     throw std::runtime_error(std::string("cannot open a socket to the accelerator model: ") + std::strerror(errno));
-  std::fflush(nullptr);
-  server_ = ::fork();
-  if (server_ < 0) {
+  try {
+    server_ = fork_child([&]() -> int {
+      ::close(fds[0]);
+      serve(fds[1], config, limits, sim_threads);  // never returns
+    });
+  } catch (const std::exception& e) {
     ::close(fds[0]);
     ::close(fds[1]);
-    throw std::runtime_error(std::string("cannot start the accelerator model: ") + std::strerror(errno));
-  }
-  if (server_ == 0) {
-    ::close(fds[0]);
-    serve(fds[1], config, limits, sim_threads);
+    throw std::runtime_error(std::string("cannot start the accelerator model: ") + e.what());
   }
   ::close(fds[1]);
   socket_ = fds[0];
@@ -209,10 +203,12 @@ ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, 
 
 ModelInTheLoop::~ModelInTheLoop() {
   if (socket_ >= 0) ::close(socket_);
-  int status = 0;
-  if (server_ > 0)
-    while (::waitpid(server_, &status, 0) < 0 && errno == EINTR) {
+  if (server_ > 0) {
+    try {
+      wait_child(server_);
+    } catch (...) {  // a destructor does not throw
     }
+  }
 }
 
 registration::AccelAnswer ModelInTheLoop::run(const registration::AccelJob& job) {

@@ -305,7 +305,7 @@ def children(c, d):
     c.stop_parent("odometry, SIGHUP to the parent", ["odometry", "--sequence", seq, "--out", "K3"], 1, signal.SIGHUP)
     c.stop_parent("register --compare, SIGTERM to the parent", ["register", "--compare", "--out", "K4"], 1)
     c.stop_parent("register --search accel (model server), SIGTERM", ["register", "--search", "accel",
-                                                                       "--out", "K5"], 1)
+                                                                       "--out", "K5"], 2)
     c.expect("register --record-trace for the replay", ["register", "--record-trace", "K6t.bin", "--out", "K6r"], 0, [])
     c.stop_parent("run --trace --jobs 2, SIGTERM to the parent", ["run", "--trace", "K6t.bin", "--jobs", "2",
                                                                   "--out", "K6"], 2)
