@@ -206,7 +206,8 @@ def part_diff(d):
     os.makedirs(os.path.join(sw, "points"), exist_ok=True)
     p = tig("diff", a, sw, code=2)
     check("sweep folder" in p.stderr, f"a sweep folder is refused with advice: {p.stderr}")
-    check("not JSON" in tig("diff", a, os.path.join(ROOT, "README.md"), code=2).stderr, "a non-JSON file is refused")
+    err = tig("diff", a, os.path.join(ROOT, "README.md"), code=2).stderr
+    check("README.md:1:1: not valid JSON" in err, f"a non-JSON file is refused, naming its line: {err}")
 
 
 # ------------------------------------------------------------------------------------------------
