@@ -495,9 +495,9 @@ class OutFolder:
                 continue
             foreign.append(e)
         if foreign:
-            more = f" and {len(foreign) - 3} more" if len(foreign) > 3 else ""
+            more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
             raise Refused(f"{self.flag} {self.given} holds files tigris {self.command} did not write "
-                          f"({', '.join(foreign[:3])}{more}): it writes only into a new or empty folder or one "
+                          f"({', '.join(foreign[:5])}{more}): it writes only into a new or empty folder or one "
                           f"of its own earlier runs ({MANIFEST}); use another {self.flag}, or move them")
 
     def _changes(self, old, settings, inputs, strict):

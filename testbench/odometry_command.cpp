@@ -233,8 +233,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
     FolderSpec spec{"odometry", {}, nlohmann::json({{"synthetic", o.synthetic}, {"seed", o.seed},
                                                           {"frames", o.frames}, {"register_flags", flags},
                                                           {"compare", o.compare}}),
-                    config_inputs(o), odometry_outputs(o.compare)};
-    spec.resumable = true;
+                    config_inputs(o), odometry_outputs(o.compare), true, {}};
     folder = std::make_unique<OutFolder>(o.out, spec);
     DriveConfig drive;
     drive.frames = o.synthetic;
@@ -249,8 +248,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
                                                             {"frames", o.frames}, {"register_flags", flags},
                                                             {"compare", true}}),
-                      config_inputs(o), odometry_outputs(true)};
-      spec.resumable = true;
+                      config_inputs(o), odometry_outputs(true), true, {}};
       folder = std::make_unique<OutFolder>(o.out, spec);
     }
     const int code = run_odometry_compare(o);
@@ -272,8 +270,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
     }
     FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
                                                           {"frames", {first, last}}, {"register_flags", flags}}),
-                    inputs, odometry_outputs(false)};
-    spec.resumable = true;
+                    inputs, odometry_outputs(false), true, {}};
     folder = std::make_unique<OutFolder>(o.out, spec);
   }
   fs::create_directories(o.out + "/pairs");

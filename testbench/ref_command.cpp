@@ -42,7 +42,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   const double build_s = seconds_since(t0);
   check_work(estimate_work(tree, w.queries, params), o.limits, w.queries.size());
   const nlohmann::json inputs = search_inputs(o.cloud, o.queries, w.cloud_name, w.queries_name, "");
-  FolderSpec spec{"ref", {}, nlohmann::json::object(), inputs, {"stats.json"}};
+  FolderSpec spec{"ref", {}, nlohmann::json::object(), inputs, {"stats.json"}, false, {}};
   spec.also_written = {o.dump_results, o.dump_schedule};
   OutFolder folder(o.out, spec);
   ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");

@@ -308,7 +308,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                   {"config", o.config}, {"ground truth", o.ground_truth},
                                   {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
     if (!path.empty()) inputs.push_back(input_file(role, path));
-  FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}};
+  FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}, false, {}};
   spec.also_written = {o.record_trace};
   OutFolder folder(o.out, spec);
 

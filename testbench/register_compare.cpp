@@ -73,7 +73,7 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
     if (!path.empty()) inputs.push_back(input_file(role, path));
   std::vector<std::string> outputs{"comparison.json"};
   for (const Variant& v : kVariants) outputs.push_back(std::string(v.search) + "/");
-  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs});
+  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs, false, {}});
   ordered_json rows = ordered_json::array();
   ordered_json runs = ordered_json::object();
   const std::string flann_out = o.out + "/flann";

@@ -318,7 +318,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const RunSetup r = configure_run(app, o);
   FolderSpec spec{"run", {}, nlohmann::json::object(),
                   search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name, o.config_file),
-                  {"stats.json"}};
+                  {"stats.json"}, false, {}};
   spec.also_written = {o.vcd, o.vcd.empty() ? "" : gtkw_path(o.vcd), o.timeline, o.search.dump_results,
                        o.search.dump_schedule};
   OutFolder folder(o.search.out, spec);

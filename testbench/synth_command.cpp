@@ -65,8 +65,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   // The folder's manifest is the claim: an interrupted run is completed by the next one with the
   // same settings; a folder holding anything else (a user's calib.txt) is refused.
   FolderSpec spec{"synth", {}, nlohmann::json(settings), nlohmann::json::array(),
-                  {"velodyne/", "poses.txt", "calib.txt", "times.txt", "drive.json"}};
-  spec.resumable = true;
+                  {"velodyne/", "poses.txt", "calib.txt", "times.txt", "drive.json"}, true, {}};
   OutFolder folder(dir, spec);
   write_file(meta, [&](std::ostream& f) { f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n'; });
   const auto t0 = std::chrono::steady_clock::now();

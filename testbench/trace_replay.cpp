@@ -172,7 +172,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   json inputs = json::array({input_file("trace", o.trace)});
   if (!o.config_file.empty()) inputs.push_back(input_file("config", o.config_file));
   // A fresh start: an earlier replay's jobs/ never sits beside this one's stats.json.
-  OutFolder folder(o.search.out, {"run", {}, json::object(), inputs, {"stats.json", "jobs/"}});
+  OutFolder folder(o.search.out, {"run", {}, json::object(), inputs, {"stats.json", "jobs/"}, false, {}});
 
   // Each job in a child process (SystemC elaborates once per process), o.jobs at a time.
   const int parallel = std::max(1, o.jobs);

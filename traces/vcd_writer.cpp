@@ -1,5 +1,7 @@
 #include "vcd_writer.hpp"
 
+#include <unistd.h>
+
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
@@ -25,13 +27,33 @@ std::string binary(std::uint64_t v, int width) {
   return first == std::string::npos ? "0" : s.substr(first);
 }
 
+// The file written in place of `path` until it is whole (the core's convention, as
+// testbench/out_folder.hpp's write_file): a killed run leaves no half file under the name and
+// never writes through a symbolic link; a device (/dev/null) is written directly.
+std::string temp_beside(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st)) return path;
+  const fs::path p(path);
+  return (p.parent_path() / (".tigris-tmp-" + p.filename().string() + "-" + std::to_string(::getpid()))).string();
+}
+
+// Renames a finished temporary over its path.
+void commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  if (tmp != path) std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
+}
+
 }  // namespace
 
-VcdWriter::VcdWriter(const std::string& path) : path_(path) {
+VcdWriter::VcdWriter(const std::string& path) : path_(path), tmp_(temp_beside(path)) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  out_.open(path);
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a folder, not a file");
+  out_.open(tmp_);
   if (!out_) throw std::runtime_error(path + ": cannot open for writing");
 }
 
@@ -39,6 +61,8 @@ VcdWriter::~VcdWriter() {
   try {
     close();
   } catch (const std::exception&) {  // a destructor must not throw; close() first to see errors
+    std::error_code ec;
+    if (tmp_ != path_) std::filesystem::remove(tmp_, ec);
   }
 }
 
@@ -130,20 +154,31 @@ void VcdWriter::close() {
   const bool ok = out_.good();
   out_.close();
   if (!ok || out_.fail()) throw std::runtime_error(path_ + ": writing the waveforms failed (disk full?)");
+  commit(tmp_, path_);
 }
 
 void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
                 std::uint64_t start_ps) {
-  std::ofstream f(path);
+  const std::string tmp = temp_beside(path);
+  std::ofstream f(tmp);
   if (!f) throw std::runtime_error(path + ": cannot open for writing");
-  struct Check {  // the save file is complete or an error names it
+  struct Check {  // the save file is complete, renamed over its path, or an error names it
     std::ofstream& f;
+    const std::string& tmp;
     const std::string& path;
     ~Check() noexcept(false) {
       f.flush();
-      if (!f && std::uncaught_exceptions() == 0) throw std::runtime_error(path + ": write failed");
+      const bool ok = static_cast<bool>(f);
+      f.close();
+      std::error_code ec;
+      if (ok && std::uncaught_exceptions() == 0) {
+        commit(tmp, path);
+      } else {
+        if (tmp != path) std::filesystem::remove(tmp, ec);
+        if (std::uncaught_exceptions() == 0) throw std::runtime_error(path + ": write failed");
+      }
     }
-  } check{f, path};
+  } check{f, tmp, path};
   f << "[*] GTKWave save file for a Tigris TLM run: open with  gtkwave " << path << "\n";
   f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
   // Wide enough for "tigris.all.writeback_backlog_bytes[31:0]=1234567" beside the waves.

@@ -51,7 +51,7 @@ class VcdWriter {
   };
   std::priority_queue<Booked, std::vector<Booked>, std::greater<Booked>> booked_;
   std::uint64_t seq_ = 0;
-  std::string path_;
+  std::string path_, tmp_;  // written into tmp_ beside path_, renamed over it by close()
   std::ofstream out_;
   std::vector<std::string> names_;
   std::vector<int> widths_;
