@@ -300,7 +300,8 @@ void check_promises(const trace::Trace& t) {
     if (j.iteration < -1 || j.tree_serial < 0 || j.k < 1 || j.top_height < 0 || j.top_height > 30 || j.leader_capacity < 0 || j.leader_width < 0 ||
         j.inject_kth < 1 || !std::isfinite(j.radius) || !std::isfinite(j.approx_thd) ||
         !std::isfinite(j.shell_inner) || !std::isfinite(j.shell_outer) || (j.mode == "radius" && !(j.radius > 0.0f)) ||
-        !std::isfinite(j.search_seconds) || !std::isfinite(j.build_seconds))
+        !std::isfinite(j.search_seconds) || !std::isfinite(j.build_seconds) || j.search_seconds < 0 ||
+        j.build_seconds < 0 || j.stage.empty() || (j.backend != "flann" && j.backend != "exact" && j.backend != "approx"))
       wrong_read(kTarget, w + "parameters out of range accepted");
     if (j.counts.size() != queries->points.size()) wrong_read(kTarget, w + "counts do not match the queries");
     std::uint64_t total = 0;
@@ -405,6 +406,9 @@ double any_double(ByteSource& s) {
   }
 }
 
+// What a recorder writes for a time: any finite double that is not negative.
+double any_seconds(ByteSource& s) { return std::fabs(any_double(s)); }
+
 int any_int(ByteSource& s, int lo, int hi) {
   const std::uint64_t span = static_cast<std::uint64_t>(static_cast<std::int64_t>(hi) - lo);
   switch (s.range(0, 3)) {
@@ -448,14 +452,21 @@ json any_json(ByteSource& s, int depth) {
 }
 
 const std::vector<std::string> kStages = {"outlier_removal", "normals", "keypoints", "descriptors", "icp"};
+const char* const kBackends[] = {"flann", "exact", "approx"};
+
+// A stage's name: any text but the empty one (a recorder names every stage).
+std::string any_name(ByteSource& s, const std::vector<std::string>& names) {
+  std::string t = any_text(s, names);
+  return t.empty() ? names.back() : t;
+}
 
 trace::Trace generate(ByteSource& s) {
   trace::Trace t;
   t.meta = {{"tool", "tigris"}, {"command_line", any_text(s, {"tigris register a.pcd b.pcd --record-trace t"})}};
   for (std::size_t n = s.range(0, 3); n > 0; --n) t.meta[any_text(s, {"preset", "search", "transform"})] = any_json(s, 3);
   for (std::size_t n = s.range(0, 4); n > 0; --n)
-    t.stages.push_back({any_text(s, kStages), any_double(s), any_double(s), any_double(s)});
-  t.total_seconds = any_double(s);
+    t.stages.push_back({any_name(s, kStages), any_seconds(s), any_seconds(s), any_seconds(s)});
+  t.total_seconds = any_seconds(s);
 
   for (std::size_t n = s.range(1, 4); n > 0; --n) {
     tigris::PointCloud c;
@@ -478,9 +489,9 @@ trace::Trace generate(ByteSource& s) {
     const trace::Cloud& queries = t.clouds[s.range(0, t.clouds.size() - 1)];
     j.tree = tree.hash;
     j.queries = queries.hash;
-    j.stage = any_text(s, kStages);
+    j.stage = any_name(s, kStages);
     j.iteration = s.chance(50) ? -1 : any_int(s, -1, INT_MAX);
-    j.backend = any_text(s, {"flann", "exact", "approx"});
+    j.backend = kBackends[s.range(0, 2)];
     j.tree_serial = any_int(s, 0, INT_MAX);
     j.top_height = any_int(s, 0, 30);
     const int mode = static_cast<int>(s.range(0, 2));
@@ -501,8 +512,8 @@ trace::Trace generate(ByteSource& s) {
       j.shell_inner = any_float(s);
       j.shell_outer = any_float(s);
     }
-    j.search_seconds = any_double(s);
-    j.build_seconds = any_double(s);
+    j.search_seconds = any_seconds(s);
+    j.build_seconds = any_seconds(s);
     // Results: per query, indices into the tree that repeat, step, jump to either end or anywhere.
     const std::uint64_t points = tree.points.size();
     std::uint64_t prev = 0;

@@ -59,8 +59,11 @@ class Cases:
         self.t, self.d, self.failures, self.count = tigris, d, [], 0
 
     def run(self, args, **kw):
-        return subprocess.run([self.t] + args, capture_output=True, text=True, errors="replace",
-                              timeout=TIMEOUT, cwd=self.d, **kw)
+        try:
+            return subprocess.run([self.t] + args, capture_output=True, text=True, errors="replace",
+                                  timeout=TIMEOUT, cwd=self.d, **kw)
+        except subprocess.TimeoutExpired:  # a hang: the case fails, the next one runs
+            return subprocess.CompletedProcess(args, -1, "", f"(no answer within {TIMEOUT} s: killed)")
 
     def check(self, name, ok, detail=""):
         self.count += 1
@@ -113,10 +116,13 @@ class Cases:
 
 
 def main():
+    global TIMEOUT
     ap = argparse.ArgumentParser()
     ap.add_argument("--tigris", required=True)
     ap.add_argument("-k", default="", help="only groups whose name holds this")
+    ap.add_argument("--timeout", type=float, default=TIMEOUT, help="seconds per command (a hang fails its case)")
     a = ap.parse_args()
+    TIMEOUT = a.timeout
     tigris = os.path.abspath(a.tigris)
     with tempfile.TemporaryDirectory(prefix="tigris_core_") as d:
         c = Cases(tigris, d)

@@ -228,14 +228,17 @@ std::vector<std::uint8_t> forge_meta(const std::vector<std::uint8_t>& bytes, con
   text.replace(hit, from.size(), to);
   std::vector<std::uint8_t> packed(ZSTD_compressBound(text.size()));
   packed.resize(ZSTD_compress(packed.data(), packed.size(), text.data(), text.size(), 3));
-  std::vector<std::uint8_t> out(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at + 32));
+  const std::size_t rest = bytes.size() - (at + 32 + z);  // the sections after the first
+  std::vector<std::uint8_t> out(at + 32 + packed.size() + rest);
+  std::copy_n(bytes.begin(), at + 32, out.begin());
+  std::copy(packed.begin(), packed.end(), out.begin() + static_cast<std::ptrdiff_t>(at + 32));
+  std::copy(bytes.end() - static_cast<std::ptrdiff_t>(rest), bytes.end(), out.end() - static_cast<std::ptrdiff_t>(rest));
   const std::uint64_t n = packed.size(), check = fnv1a(packed.data(), packed.size());
   std::memcpy(&out[at + 8], &n, 8);
   std::memcpy(&out[at + 24], &check, 8);
-  out.insert(out.end(), packed.begin(), packed.end());
-  out.insert(out.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at + 32 + z), bytes.end());
-  const std::uint64_t size = out.size(), head = fnv1a(out.data(), 32);
+  const std::uint64_t size = out.size();
   std::memcpy(&out[24], &size, 8);
+  const std::uint64_t head = fnv1a(out.data(), 32);  // over the header with its new size
   std::memcpy(&out[32], &head, 8);
   return out;
 }

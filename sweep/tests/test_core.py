@@ -147,7 +147,7 @@ def test_foreign_and_other_command():
     for n in ("calib.txt", "poses.txt", "a", "b"):
         write(os.path.join(d, n), "mine")
     f = core.OutFolder(d, "tool", ["poses.txt"])
-    refused(f.claim, "did not write", "a, b, calib.txt and 1 more")
+    refused(f.claim, "did not write", "(a, b, calib.txt, poses.txt)")
     assert open(os.path.join(d, "poses.txt")).read() == "mine"
     refused(lambda: core.OutFolder(write(path("f2-file"), "x"), "tool", []).claim(), "exists and is not a folder")
     other = path("f2-other")
