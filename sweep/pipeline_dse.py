@@ -31,7 +31,7 @@ Exit codes: 0 done (also with failed points: they are recorded), 1 no point conv
 frontier), 2 bad arguments, space or folder, 3 Slurm submission failed, 128 + a signal when
 interrupted.
 """
-import argparse, csv, io, json, math, os, random, re, shlex, signal, sys
+import argparse, csv, io, json, math, os, random, re, shlex, signal, subprocess, sys
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 sys.path.insert(0, HERE)
@@ -595,7 +595,7 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
         # Named by its settings: another drive is another base, which the sweep will not mix in.
         seq = os.path.join(out, f"sequence-{a.pairs}pairs-seed{a.seed}")
         rc = core.run_child([tigris, "synth", "--frames", str(a.pairs + 1), "--seed", str(a.seed), "--out", seq],
-                            stdout=core.subprocess.DEVNULL)   # a complete drive is only checked
+                            stdout=subprocess.DEVNULL)   # a complete drive is only checked
         if rc != 0:
             raise Bad(f"tigris synth failed (exit {rc})")
         where = f"synthetic drive (seed {a.seed}, {a.pairs} pairs)"

@@ -7,7 +7,7 @@ locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
                            [--sbatch-arg ARG ...] [--no-wait]]
   tigris_sweep.py collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
 
-Python 3 standard library only, with core.py beside it (folders, inputs, child processes);
+Python 3 standard library only, with the core/ package beside it (folders, inputs, child processes);
 Slurm tasks run this same file as `_task TASKFILE INDEX`. The folder is held for the run and
 recorded in DIR/manifest.json (docs/architecture.md, "The shared core").
 Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
@@ -15,7 +15,7 @@ Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is stil
 interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM; finished points kept).
 """
 import argparse, csv, datetime, difflib, hashlib, io, itertools, json, math, os, re, shlex
-import shutil, signal, socket, sys, tempfile, time
+import shutil, signal, socket, subprocess, sys, tempfile, time
 from decimal import Decimal
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
@@ -222,7 +222,7 @@ class Tigris:
         what = " ".join(flags)
         try:
             p = core.capture([self.path, sub, *flags], timeout=60)
-        except (OSError, core.subprocess.TimeoutExpired) as e:
+        except (OSError, subprocess.TimeoutExpired) as e:
             raise SpecError(f"cannot run {self.path} {sub} {what}: {e}")
         if p.returncode != 0:
             raise SpecError(f"{self.path} {sub} {what} failed (exit {p.returncode}): {p.stderr.strip()}")
@@ -473,7 +473,7 @@ class PointRun:
                 open(os.path.join(self.dir, "stderr.txt"), "w") as se:
             # The point's tigris owns its --out; the sweep's own files there are named to it.
             self.proc = core.spawn(self.cmd, parent_files=POINT_FILES, stdout=so, stderr=se,
-                                   stdin=core.subprocess.DEVNULL, cwd=self.dir)
+                                   stdin=subprocess.DEVNULL, cwd=self.dir)
         return self.proc
 
     def finish(self, rc):
@@ -557,8 +557,8 @@ def dry_check(spec, tig, pts, out, jobs):
     n, k, t0, shown = len(pts), [0], time.monotonic(), [time.monotonic()]
 
     def launch(pt):
-        return core.spawn(dry_args(tig, pt["args"], missing), stdout=core.subprocess.DEVNULL,
-                          stderr=core.subprocess.PIPE, text=True, stdin=core.subprocess.DEVNULL)
+        return core.spawn(dry_args(tig, pt["args"], missing), stdout=subprocess.DEVNULL,
+                          stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
 
     def done(pt, p, rc):
         k[0] += 1

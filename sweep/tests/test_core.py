@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""sweep/core.py on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
+"""sweep/core/ on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
 atomic writes, output folders (claim, foreign entries, lock, resume or fresh, the parent's files,
 the manifest), child processes (process groups, the death signal, stop on a signal) and the
 Slurm and --list-flags helpers. No tigris binary needed; about 10 s.
@@ -257,7 +257,7 @@ def test_children_groups_and_death_signal():
     p = core.spawn(["sleep", "30"])
     assert os.getpgid(p.pid) == p.pid and os.getsid(p.pid) == p.pid
     core.stop_groups([p])
-    assert p.returncode == -signal.SIGTERM and p not in core._live
+    assert p.returncode == -signal.SIGTERM and p not in core.children._live
     # SIGKILL after the grace for a child that ignores SIGTERM
     p = core.spawn(["sh", "-c", "trap '' TERM; sleep 30 & wait"])
     time.sleep(0.2)

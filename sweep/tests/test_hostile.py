@@ -526,7 +526,7 @@ def test_spec_fuzz():
 # Each reproduction of issue 36's Python part: exit code and message, never a traceback, and what
 # must not have been written. T = the tigris binary; the tools run as `python3 SCRIPT`.
 
-SWEEP_DIR = os.path.dirname(a.sweep) if os.path.isfile(os.path.join(os.path.dirname(a.sweep), "core.py")) \
+SWEEP_DIR = os.path.dirname(a.sweep) if os.path.isfile(os.path.join(os.path.dirname(a.sweep), "core", "__init__.py")) \
     else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 TOOLS = {"sweep": a.sweep, "reproduce": REPRODUCE, "diff": os.path.join(SWEEP_DIR, "tigris_diff.py"),
          "plot": os.path.join(SWEEP_DIR, "tigris_plot.py"), "pipeline-dse": os.path.join(SWEEP_DIR, "pipeline_dse.py")}

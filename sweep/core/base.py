@@ -1,0 +1,36 @@
+"""What every part of the core shares: the limits, names and exceptions (docs/architecture.md,
+"The shared core")."""
+import datetime, signal
+
+MAX_INPUT_BYTES = 4 << 30           # clouds, traces
+MAX_SETTINGS_BYTES = 64 << 20       # JSON, CSV and text settings
+MAX_JSON_DEPTH = 512
+MANIFEST = "manifest.json"
+TMP_PREFIX = ".tigris-tmp-"
+PARENT_ENV = "TIGRIS_PARENT_OUTPUTS"
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+KILL_AFTER = 5.0                    # SIGTERM to a child's group, then SIGKILL after this long
+SBATCH_FAILED = 3                   # the exit code of a failed Slurm submission, in every command
+
+
+class Refused(Exception):
+    """A bad argument, input or output folder: the command prints it and exits 2."""
+
+
+class SlurmFailed(Exception):
+    """sbatch missing or refusing: the command prints it and exits 3."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGINT, SIGTERM or SIGHUP to the parent: exit 128 + signum after stopping every child."""
+    def __init__(self, signum=signal.SIGINT):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def now_utc():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def size_text(b):
+    return f"{b >> 30} GiB" if b >= 1 << 30 else f"{b >> 20} MiB" if b >= 1 << 20 else f"{b} bytes"
