@@ -103,18 +103,23 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "tigris 0.1.0");
 
+  // Each command's default folder is its own (a folder holds one command's output: a `tigris
+  // ref` after a `tigris run` must not find run's folder in its way).
   tigris::SearchOptions ref_options;
+  ref_options.out = "tigris-out/ref";
   CLI::App* ref = app.add_subcommand(
       "ref", "Run the golden software model only: KD-tree search with visit counts");
   tigris::add_search_options(*ref, ref_options, true);
 
   tigris::RunOptions run_options;
+  run_options.search.out = "tigris-out/run";
   CLI::App* run = app.add_subcommand(
       "run", "Run the accelerator model; every query is checked against the golden model "
              "(exit 0 only when all match, 1 on a mismatch or deadlock)");
   tigris::add_run_options(*run, run_options);
 
   tigris::RegisterOptions register_options;
+  register_options.out = "tigris-out/register";
   CLI::App* reg = app.add_subcommand(
       "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
                   "KPCE, rejection, ICP) with its KD-tree searches on the golden model, FLANN or the accelerator "
