@@ -576,15 +576,7 @@ def main(argv):
         settings = {"synthetic_pairs": a.pairs, "synthetic_seed": a.seed}
     drawn, how = sample(knobs, a.samples, a.seed)
     folder.claim(settings=settings, inputs=inputs, input_paths=paths)
-    rc = 2
-    try:
-        rc = explore(a, argv, tigris, space, knobs, out, drawn, how)
-        return rc
-    except BaseException as e:
-        rc = core.exit_status(e)
-        raise
-    finally:
-        folder.finish(rc)
+    return folder.run(lambda: explore(a, argv, tigris, space, knobs, out, drawn, how))
 
 
 def explore(a, argv, tigris, space, knobs, out, drawn, how):

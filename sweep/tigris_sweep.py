@@ -1032,16 +1032,11 @@ def run(a):
         note(f"{spec.given}: {len(pts)} points, valid" + (f"; {len(pts) - len(todo)} finished in {out}" if out else ""))
         return 0
     folder.claim(settings=settings, inputs=ids, input_paths=paths, all_inputs_must_match=False)
-    rc = 2
-    try:
+
+    def work():
         os.makedirs(os.path.join(out, "points"), exist_ok=True)
-        rc = sweep_into(a, out, spec, tig, plan, pts)
-        return rc
-    except BaseException as e:
-        rc = core.exit_status(e)
-        raise
-    finally:
-        folder.finish(rc)
+        return sweep_into(a, out, spec, tig, plan, pts)
+    return folder.run(work)
 
 
 def sweep_into(a, out, spec, tig, plan, pts):

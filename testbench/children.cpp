@@ -148,12 +148,7 @@ pid_t start_child(const std::vector<std::string>& args, const std::string& log, 
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  const pid_t parent = ::getpid();
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
-  if (pid == 0) {
-    become_child(parent);
+  return fork_child([&]() -> int {
     if (!log.empty()) {
       const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (fd >= 0) {
@@ -168,11 +163,8 @@ pid_t start_child(const std::vector<std::string>& args, const std::string& log, 
       ::setenv("TIGRIS_PARENT_OUTPUTS", parent_outputs.c_str(), 1);
     ::execv(argv[0], argv.data());
     std::fprintf(stderr, "cannot run %s: %s\n", argv[0], std::strerror(errno));
-    ::_exit(127);
-  }
-  ::setpgid(pid, pid);
-  remember(pid);
-  return pid;
+    return 127;
+  });
 }
 
 int wait_child(pid_t pid, pid_t* ended) {

@@ -5,16 +5,13 @@ from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_ut
 from .inputs import read_json_input
 
 
-def atomic_write(path, data):
-    """Writes data (str or bytes) beside path as .tigris-tmp-<name>-<pid>, then renames it over
-    path: a killed run leaves the old file or none, never half a file."""
+def _replace(path, write):
+    """Calls write(tmp) for .tigris-tmp-<name>-<pid> beside path, then renames it over path: a
+    killed run leaves the old file or none, never half a file."""
     d, name = os.path.split(os.path.abspath(path))
     tmp = os.path.join(d, f"{TMP_PREFIX}{name}-{os.getpid()}")
-    if isinstance(data, str):
-        data = data.encode("utf-8", "backslashreplace")
     try:
-        with open(tmp, "wb") as f:
-            f.write(data)
+        write(tmp)
         os.replace(tmp, path)
     except OSError as e:
         try:
@@ -22,6 +19,17 @@ def atomic_write(path, data):
         except OSError:
             pass
         raise Refused(f"cannot write {path}: {e.strerror or e}")
+
+
+def atomic_write(path, data):
+    """Writes data (str or bytes) to path through _replace."""
+    if isinstance(data, str):
+        data = data.encode("utf-8", "backslashreplace")
+
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            f.write(data)
+    _replace(path, write)
 
 
 def write_json(path, obj):
@@ -29,18 +37,9 @@ def write_json(path, obj):
 
 
 def save_figure(fig, path, **kw):
-    """A matplotlib figure written like atomic_write (format from path's extension)."""
-    d, name = os.path.split(os.path.abspath(path))
-    tmp = os.path.join(d, f"{TMP_PREFIX}{name}-{os.getpid()}")
-    try:
-        fig.savefig(tmp, format=os.path.splitext(name)[1][1:] or "png", **kw)
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            os.remove(tmp)
-        except OSError:
-            pass
-        raise Refused(f"cannot write {path}: {e.strerror or e}")
+    """A matplotlib figure written through _replace (format from path's extension)."""
+    fmt = os.path.splitext(path)[1][1:] or "png"
+    _replace(path, lambda tmp: fig.savefig(tmp, format=fmt, **kw))
 
 
 def parent_outputs():
@@ -307,6 +306,19 @@ class OutFolder:
 
     def write_json(self, name, obj):
         write_json(self.file(name), obj)
+
+    def run(self, work):
+        """Runs work() in the claimed folder and records its end: its exit code, or the one its
+        exception stands for (core.exit_status)."""
+        rc = 2
+        try:
+            rc = work()
+            return rc
+        except BaseException as e:
+            rc = exit_status(e)
+            raise
+        finally:
+            self.finish(rc)
 
     def finish(self, code):
         """Records the end (exit code: 0 done, 128+ interrupted, else failed) and releases the lock."""
