@@ -25,10 +25,13 @@ extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
     if (!names_source(e.what(), kLabel)) wrong_read(kTarget, std::string("error without the file name: ") + e.what());
     return 0;
   }
-  // Independent decode: every line after the first that is not empty is "seq,query,leaf".
+  // Independent decode: every line after the first that is not empty is "seq,query,leaf" and,
+  // when the header has it, ",event".
   std::istringstream lines(text);
   std::string line;
   std::getline(lines, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const bool events = line == "seq,query,leaf,event";
   std::size_t row = 0;
   while (std::getline(lines, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -36,10 +39,14 @@ extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
     const std::size_t c1 = line.find(','), c2 = line.find(',', c1 + 1);
     if (row >= schedule.size() || c1 == std::string::npos || c2 == std::string::npos)
       wrong_read(kTarget, "row " + std::to_string(row) + " not in the schedule: " + line);
+    const std::size_t c3 = events ? line.find(',', c2 + 1) : std::string::npos;
+    if (events && c3 == std::string::npos) wrong_read(kTarget, "row " + std::to_string(row) + " has no event: " + line);
     const unsigned long long seq = std::stoull(line.substr(0, c1)),
                              query = std::stoull(line.substr(c1 + 1, c2 - c1 - 1)),
-                             leaf = std::stoull(line.substr(c2 + 1));
-    if (seq != row || query != schedule[row].query || leaf != schedule[row].leaf)
+                             leaf = std::stoull(line.substr(c2 + 1, c3 == std::string::npos ? c3 : c3 - c2 - 1));
+    const bool finish = events && line.substr(c3 + 1) == "finish";
+    if (seq != row || query != schedule[row].query || leaf != schedule[row].leaf ||
+        finish != (schedule[row].event == tigris::ScheduleEntry::Event::Finish))
       wrong_read(kTarget, "row " + std::to_string(row) + " read differently: " + line);
     ++row;
   }

@@ -15,6 +15,7 @@
 #include "energy_table.hpp"
 #include "policy_registry.hpp"
 #include "sw_ref/kdtree.hpp"
+#include "sw_ref/leader_policy.hpp"
 #include "tlm/address_map.hpp"
 
 namespace tigris::hw {
@@ -118,12 +119,24 @@ struct AcceleratorConfig {
 
   struct Leader {
     int capacity_per_leaf = 16;
+    LeaderScope scope = LeaderScope::FirstLeaf;
+    LeaderInFlight in_flight = LeaderInFlight::Wait;
 
     template <class V>
     void visit(V&& v) {
       v("capacity_per_leaf", capacity_per_leaf,
         {"leaders", in(0, kMaxUnits),
          "leaders the Leader Buffer keeps per leaf (approximate search)"});
+      v("scope", scope,
+        {"-", one_of({LeaderScope::FirstLeaf, LeaderScope::EveryLeaf}),
+         "where approximate search checks leaders: first_leaf (the paper authors' code: a query's first "
+         "leaf; a follower takes its leader's final results and stops) or every_leaf (every leaf visit, "
+         "a leader's list local to the leaf)"});
+      v("in_flight", in_flight,
+        {"-", one_of({LeaderInFlight::Wait, LeaderInFlight::FinishedOnly}),
+         "first_leaf: what a Leader Check sees of leaders still searching: wait (a leader counts from its "
+         "check; its followers park until its final list is written) or finished_only (a leader counts "
+         "once its record has reached the Leader Buffer)"});
     }
   } leader;
 

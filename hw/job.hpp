@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "hw/config.hpp"
 #include "sw_ref/arith.hpp"
@@ -35,8 +36,12 @@ struct JobDescriptor {
   std::uint32_t slots = 0;          // queries in flight at most
   std::uint64_t result_slot_bytes = 0;  // NN/kNN: one query's Result Buffer slot; radius: 0
   // Approximate search (docs/model.md): a query within thd of a leaf's closest leader
-  // follows it; a leader's local list holds its in-radius points (radius) or R best (NN/kNN).
+  // follows it. first_leaf: at the query's first leaf only, a leader's list is its final
+  // results (their Node Set entries); else at every leaf, a leader's local list holds its
+  // in-radius points (radius) or R best (NN/kNN) of the leaf.
   bool approximate = false;
+  bool first_leaf = false;
+  bool wait_for_leaders = false;  // first_leaf: a leader counts from its check; followers wait for its list
   float thd2 = 0.0f;
   std::uint32_t leader_width = 1;
   std::uint32_t leader_capacity = 0;  // per leaf (leader.capacity_per_leaf)
@@ -49,6 +54,8 @@ struct JobDescriptor {
   }
 };
 
+constexpr std::uint32_t kNoLeaf = 0xFFFFFFFFu;
+
 // A query in flight. It names its Query Stack Buffer / Result Buffer slot and carries its
 // point (read from the Query Buffer at FQ); `sp` is its stack depth; `leaf` the leaf set it
 // waits for in the back-end.
@@ -58,8 +65,23 @@ struct QueryToken {
   std::uint32_t leaf = 0;
   std::uint16_t sp = 0;
   bool started = false;
+  bool finished = false;  // first_leaf: a follower, whose search ended in the back-end
+  bool parked = false;    // first_leaf, wait: a follower waiting with its leader (this copy is done)
+  std::uint32_t first_leaf = kNoLeaf;  // first_leaf: the leaf of its Leader Check, once made
+  std::uint32_t leader_entry = kNoLeaf;  // wait: a leader's entry among its first leaf's leaders
+  std::uint32_t follows = kNoLeaf;       // wait: a parked follower's leader (entry at first_leaf)
   Point3 point;
   std::uint64_t ready = 0;  // cycle the token reaches its current queue
+};
+
+// first_leaf: a finished leader's record (its point and final list), sent by the Recursion
+// Unit that finished it over the QDN to the SU owning its first leaf; applied at `ready`.
+struct LeaderRecord {
+  std::uint32_t query = 0, leaf = 0;
+  std::uint32_t entry = 0;  // wait: its entry among the leaf's leaders (reserved at its check)
+  Point3 point;
+  std::vector<tlm_if::PointEntry> list;
+  std::uint64_t ready = 0;
 };
 
 // The one check that a job fits the configured buffers: the tree image in the Point Buffer,

@@ -17,7 +17,7 @@ struct LeafVisit {
     Exact,             // exact search: the Node Set
     Leader,            // approximate: no leader close enough; scanned the Node Set, joined
     LeaderBufferFull,  // approximate: as Leader, but the leaf's Leader Buffer was full
-    Follower,          // approximate: scanned its closest leader's local result list
+    Follower,          // approximate: scanned its closest leader's (local or final) result list
   };
   Kind kind = Kind::Exact;
   std::uint32_t leaf_points = 0;      // Node Set entries compared
@@ -33,6 +33,12 @@ class JobObserver {
   virtual void walked(std::uint32_t /*query*/, std::uint32_t /*top*/, std::uint32_t /*pruned*/) {}
   // A leaf-visit decision, in simulated-time order: how `query` is served at `leaf`.
   virtual void leaf_scanned(std::uint32_t /*query*/, std::uint32_t /*leaf*/, const LeafVisit& /*visit*/) {}
+  // first_leaf: the record of `query`, a finished leader of `leaf`, reached the leaf's Leader
+  // Buffer, which took it (`joined`) or was full; in simulated-time order with the visits.
+  virtual void leader_finished(std::uint32_t /*query*/, std::uint32_t /*leaf*/, bool /*joined*/) {}
+  // first_leaf, wait: `query`, a follower whose leader was still searching at its check, has
+  // now scanned that leader's list of `points` entries (its visit was reported at the check).
+  virtual void follower_served(std::uint32_t /*query*/, std::uint32_t /*points*/) {}
   // `query` took a Query Stack slot (admission) / its last results entered the write-back
   // stream (finished), at `cycle`; it waited `cycles` in a BE Query Buffer before its batch.
   virtual void query_admitted(std::uint32_t /*query*/, std::uint64_t /*cycle*/) {}
@@ -70,6 +76,12 @@ class ObserverList final : public JobObserver {
   }
   void leaf_scanned(std::uint32_t q, std::uint32_t leaf, const LeafVisit& visit) override {
     for (JobObserver* o : list_) o->leaf_scanned(q, leaf, visit);
+  }
+  void leader_finished(std::uint32_t q, std::uint32_t leaf, bool joined) override {
+    for (JobObserver* o : list_) o->leader_finished(q, leaf, joined);
+  }
+  void follower_served(std::uint32_t q, std::uint32_t points) override {
+    for (JobObserver* o : list_) o->follower_served(q, points);
   }
   void query_admitted(std::uint32_t q, std::uint64_t cycle) override {
     for (JobObserver* o : list_) o->query_admitted(q, cycle);

@@ -149,14 +149,19 @@ std::string TigrisAccelerator::configure_job() {
       j.num_leaves ? std::uint64_t{j.leaf_dir_offset} + sizeof(LeafDirEntry) * (std::uint64_t{j.num_leaves} + 1)
                    : std::uint64_t{j.num_top_nodes} * sizeof(PointEntry);
   j.result_slot_bytes = j.radius() ? 0 : ResultSlots::slot_bytes(j.k);
-  if (csr_[kApprox / 4] > 1) return "CSR APPROX holds " + std::to_string(csr_[kApprox / 4]) + ", not 0 or 1";
-  j.approximate = csr_[kApprox / 4] == 1;
+  if (csr_[kApprox / 4] > 3) return "CSR APPROX holds " + std::to_string(csr_[kApprox / 4]) + ", not 0 to 3";
+  j.approximate = csr_[kApprox / 4] != 0;
+  j.first_leaf = csr_[kApprox / 4] >= 2;
+  j.wait_for_leaders = csr_[kApprox / 4] == 2;
   if (j.approximate) {
     std::memcpy(&j.thd2, &csr_[kApproxThd2Bits / 4], 4);
     if (!(j.thd2 >= 0.0f)) return "CSR APPROX_THD2 is not a number >= 0";
-    j.leader_width = j.radius() ? 0 : csr_[kLeaderWidth / 4];
-    if (!j.radius() && j.leader_width == 0) return "CSR LEADER_WIDTH must be >= 1 for NN/kNN";
+    j.leader_width = j.radius() || j.first_leaf ? 0 : csr_[kLeaderWidth / 4];
+    if (!j.radius() && !j.first_leaf && j.leader_width == 0) return "CSR LEADER_WIDTH must be >= 1 for NN/kNN";
     j.leader_capacity = static_cast<std::uint32_t>(config_.leader.capacity_per_leaf);
+    // first_leaf NN/kNN: a slot entry also carries its point's coordinates (12 bytes), so a
+    // finished leader writes its list straight from its slot (hw/mem/leader_staging.hpp).
+    if (j.first_leaf && !j.radius()) j.result_slot_bytes += 12 * std::uint64_t{j.k};
   }
   const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k);
   if (!fit.empty()) return fit;
@@ -200,6 +205,7 @@ void TigrisAccelerator::do_start() {
   result_buffer_.start(start_cycle_, job_.slots, job_.result_slot_bytes, job_.leader_area_bytes);
   qdn_.start();
   scans_->start(job_, TreeView(to_points_.data(), job_));
+  result_buffer_.leader_staging().start(job_, TreeView(to_points_.data(), job_));
   for (auto& su : sus_) su->start();
   node_cache_.start();
   observers_.job_started(job_.num_queries);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace tigris {
 
@@ -20,6 +21,26 @@ const char* to_string(Mode mode) {
     case Mode::KNN: return "knn";
     default: return "radius";
   }
+}
+
+LeaderScope parse_leader_scope(const std::string& name) {
+  if (name == "first_leaf") return LeaderScope::FirstLeaf;
+  if (name == "every_leaf") return LeaderScope::EveryLeaf;
+  throw std::invalid_argument("unknown leader scope '" + name + "' (use first_leaf or every_leaf)");
+}
+
+const char* to_string(LeaderScope scope) {
+  return scope == LeaderScope::FirstLeaf ? "first_leaf" : "every_leaf";
+}
+
+LeaderInFlight parse_leader_in_flight(const std::string& name) {
+  if (name == "wait") return LeaderInFlight::Wait;
+  if (name == "finished_only") return LeaderInFlight::FinishedOnly;
+  throw std::invalid_argument("unknown leader in-flight policy '" + name + "' (use wait or finished_only)");
+}
+
+const char* to_string(LeaderInFlight policy) {
+  return policy == LeaderInFlight::Wait ? "wait" : "finished_only";
 }
 
 float default_approx_thd(const SearchParams& p) {
@@ -64,6 +85,9 @@ struct NnCollector {
   void offer(float d, std::uint32_t i) {
     if (d < best.dist2 || (d == best.dist2 && i < best.index)) best = {i, d};
   }
+  void final_list(std::vector<Neighbor>& out) const {
+    if (best.index != kNoPoint) out.push_back(best);
+  }
   void emit(Results& r) {
     r.append_query(&best, &best + (best.index == kNoPoint ? 0 : 1));
     best = {kNoPoint, kInfinity};
@@ -83,6 +107,7 @@ struct KnnCollector {
     }
     list.insert(std::upper_bound(list.begin(), list.end(), n, Closer{}), n);
   }
+  void final_list(std::vector<Neighbor>& out) const { out.insert(out.end(), list.begin(), list.end()); }
   void emit(Results& r) {
     r.append_query(list.data(), list.data() + list.size());
     list.clear();
@@ -98,6 +123,8 @@ struct RadiusCollector {
   void offer(float d, std::uint32_t i) {
     if (d <= r2) hits.push_back({i, d});
   }
+  // Every hit, max_nn or not: max_nn only trims what the query returns.
+  void final_list(std::vector<Neighbor>& out) const { out.insert(out.end(), hits.begin(), hits.end()); }
   void emit(Results& r) {
     std::sort(hits.begin(), hits.end(), Closer{});
     if (max_nn > 0 && hits.size() > max_nn) hits.resize(max_nn);
@@ -116,7 +143,10 @@ struct StackEntry {
 struct Leader {
   Point3 point;
   std::vector<std::uint32_t> list;  // positions in the tree's leaf arrays
+  bool finished = true;             // first_leaf, wait: its list is known
 };
+
+constexpr std::uint32_t kNotInLeaf = 0xFFFFFFFFu;
 
 // ---- One query's depth-first search, resumable between leaf visits -----------------------------
 
@@ -127,6 +157,9 @@ struct Walker {
   int sp = 0;
   QueryVisits* visits;
   Collector result;
+  std::uint32_t first_leaf = kDone;  // first_leaf scope: the leaf of its Leader Check
+  bool leader = false;               // first_leaf, finished_only: no leader followed: joins when done
+  std::uint32_t leader_index = kDone;  // first_leaf, wait: its entry among the leaf's leaders
 };
 
 template <class Collector>
@@ -134,7 +167,9 @@ class Engine {
  public:
   Engine(const KdTree& tree, const SearchParams& params, SearchOutput& out)
       : t_(tree), p_(params), out_(out), first_leaf_(tree.first_leaf_node()),
-        thd2_(square(params.approx_thd)) {
+        thd2_(square(params.approx_thd)),
+        first_leaf_scope_(params.approximate && params.leader_scope == LeaderScope::FirstLeaf),
+        wait_(params.leader_in_flight == LeaderInFlight::Wait) {
     // nonempty_[node] for every heap node down to the leaves: empty ones are never pushed.
     const std::size_t nodes = t_.top.size() + t_.num_leaves();
     nonempty_.resize(nodes);
@@ -142,12 +177,26 @@ class Engine {
     for (std::uint32_t j = 0; j < t_.num_leaves(); ++j)
       nonempty_[first_leaf_ + j] = t_.leaf_size(j) > 0;
     if (p_.approximate) leaders_.resize(t_.num_leaves());
+    if (first_leaf_scope_) {  // a leader's final results as positions in the leaf arrays
+      std::uint32_t points = 0;
+      for (const TopNode& n : t_.top)
+        if (!n.empty()) points = std::max(points, n.index + 1);
+      for (std::uint32_t i : t_.leaf_index) points = std::max(points, i + 1);
+      leaf_position_.assign(points, kNotInLeaf);
+      for (std::uint32_t pos = 0; pos < t_.leaf_index.size(); ++pos) leaf_position_[t_.leaf_index[pos]] = pos;
+    }
   }
+
+  bool first_leaf_scope() const { return first_leaf_scope_; }
+  bool waits() const { return first_leaf_scope_ && wait_; }
 
   int stack_capacity() const { return std::max(t_.top_height, 1); }
 
   void start(Walker<Collector>& w) const {
     w.sp = 0;
+    w.first_leaf = kDone;
+    w.leader = false;
+    w.leader_index = kDone;
     if (nonempty_[0]) w.stack[w.sp++] = {0, 0.0f};
   }
 
@@ -177,34 +226,109 @@ class Engine {
 
   void visit_leaf(Walker<Collector>& w, std::uint32_t leaf) {
     ++w.visits->leaf_visits;
-    if (!p_.approximate) {
+    if (!p_.approximate || (first_leaf_scope_ && w.first_leaf != kDone)) {
       scan(w, t_.leaf_begin[leaf], t_.leaf_begin[leaf + 1]);
       return;
     }
     // Paper Algorithm 1: follow the closest leader (order (dist2, arrival)) if within thd.
     std::vector<Leader>& leaders = leaders_[leaf];
-    const Leader* closest = nullptr;
-    float closest_d = kInfinity;
-    for (const Leader& l : leaders) {
-      const float d = dist2(w.q, l.point);
-      ++w.visits->leader_checks;
-      if (closest == nullptr || d < closest_d) closest = &l, closest_d = d;
-    }
-    if (closest != nullptr && closest_d < thd2_) {
+    const std::uint32_t closest = closest_leader(w, leaf);
+    if (closest != kDone) {
       ++out_.leaders.followers;
-      for (std::uint32_t pos : closest->list) {
-        ++w.visits->follower_points;
-        w.result.offer(dist2(w.q, t_.leaf_points[pos]), t_.leaf_index[pos]);
-      }
+      if (first_leaf_scope_) w.sp = 0;  // the authors' code: a follower does not backtrack
+      if (leaders[closest].finished)
+        follow(w, leaders[closest]);
+      else  // its results are complete when the leader's are (only a replay gets here)
+        waiting_.emplace(key(leaf, closest), &w);
       return;
     }
     scan(w, t_.leaf_begin[leaf], t_.leaf_begin[leaf + 1]);
+    if (first_leaf_scope_) {  // searches on exactly; its list is its final results
+      w.first_leaf = leaf;
+      if (!wait_) {
+        w.leader = true;  // joins when done
+      } else if (leaders.size() >= static_cast<std::size_t>(p_.leader_capacity)) {
+        ++out_.leaders.leader_buffer_full;
+      } else {
+        ++out_.leaders.leaders;
+        w.leader_index = static_cast<std::uint32_t>(leaders.size());
+        leaders.push_back({w.q, {}, false});
+      }
+      return;
+    }
     if (leaders.size() >= static_cast<std::size_t>(p_.leader_capacity)) {
       ++out_.leaders.leader_buffer_full;
       return;
     }
     ++out_.leaders.leaders;
     leaders.push_back({w.q, local_list(w.q, leaf)});
+  }
+
+  // The closest of the leaf's leaders (order (dist2, arrival)) if within thd, else kDone.
+  std::uint32_t closest_leader(Walker<Collector>& w, std::uint32_t leaf) {
+    if (first_leaf_scope_) w.first_leaf = leaf;
+    const std::vector<Leader>& leaders = leaders_[leaf];
+    std::uint32_t closest = kDone;
+    float closest_d = kInfinity;
+    for (std::uint32_t i = 0; i < leaders.size(); ++i) {
+      const float d = dist2(w.q, leaders[i].point);
+      ++w.visits->leader_checks;
+      if (closest == kDone || d < closest_d) closest = i, closest_d = d;
+    }
+    return closest != kDone && closest_d < thd2_ ? closest : kDone;
+  }
+
+  void follow(Walker<Collector>& w, const Leader& l) {
+    for (std::uint32_t pos : l.list) {
+      ++w.visits->follower_points;
+      w.result.offer(dist2(w.q, t_.leaf_points[pos]), t_.leaf_index[pos]);
+    }
+  }
+
+  // A leader's final results that are leaf-set points (the top-tree points on its way down
+  // every query to that leaf compares itself), closest first, as leaf-array positions.
+  std::vector<std::uint32_t> final_positions(const Walker<Collector>& w) {
+    final_.clear();
+    w.result.final_list(final_);
+    std::sort(final_.begin(), final_.end(), Closer{});
+    std::vector<std::uint32_t> list;
+    for (const Neighbor& n : final_)
+      if (n.index < leaf_position_.size() && leaf_position_[n.index] != kNotInLeaf)
+        list.push_back(leaf_position_[n.index]);
+    return list;
+  }
+
+  // first_leaf: `w`'s search has finished. wait: a leader's list is now known; its waiting
+  // followers take it. finished_only: its record goes to its first leaf, which takes it if it
+  // has room. Returns whether there was such a record (a finish event): not for a follower, nor
+  // for a leader with no leaf-set point among its results.
+  bool finish(Walker<Collector>& w) {
+    finish_wait(w);
+    return finish_join(w);
+  }
+  void finish_wait(Walker<Collector>& w) {
+    if (w.leader_index == kDone) return;
+    Leader& l = leaders_[w.first_leaf][w.leader_index];
+    const auto waiters = waiting_.equal_range(key(w.first_leaf, w.leader_index));
+    w.leader_index = kDone;
+    l.list = final_positions(w);
+    l.finished = true;
+    for (auto it = waiters.first; it != waiters.second; ++it) follow(*it->second, l);
+    waiting_.erase(waiters.first, waiters.second);
+  }
+  bool finish_join(Walker<Collector>& w) {
+    if (!w.leader) return false;
+    w.leader = false;
+    Leader l{w.q, final_positions(w)};
+    if (l.list.empty()) return false;
+    std::vector<Leader>& leaders = leaders_[w.first_leaf];
+    if (leaders.size() >= static_cast<std::size_t>(p_.leader_capacity)) {
+      ++out_.leaders.leader_buffer_full;
+      return true;
+    }
+    ++out_.leaders.leaders;
+    leaders.push_back(std::move(l));
+    return true;
   }
 
   void scan(Walker<Collector>& w, std::uint32_t first, std::uint32_t last) const {
@@ -234,8 +358,9 @@ class Engine {
     return list;
   }
 
-  void record(std::uint32_t query, std::uint32_t leaf) {
-    if (p_.record_schedule) out_.schedule.push_back({query, leaf});
+  void record(std::uint32_t query, std::uint32_t leaf,
+              ScheduleEntry::Event event = ScheduleEntry::Event::Visit) {
+    if (p_.record_schedule) out_.schedule.push_back({query, leaf, event});
   }
 
  private:
@@ -244,8 +369,13 @@ class Engine {
   SearchOutput& out_;
   std::uint32_t first_leaf_;
   float thd2_;
+  bool first_leaf_scope_, wait_;
+  static std::uint64_t key(std::uint32_t leaf, std::uint32_t leader) { return std::uint64_t{leaf} << 32 | leader; }
+  std::unordered_multimap<std::uint64_t, Walker<Collector>*> waiting_;  // followers of leaders still searching (replays)
   std::vector<std::uint8_t> nonempty_;
   std::vector<std::vector<Leader>> leaders_;
+  std::vector<std::uint32_t> leaf_position_;  // first_leaf: point index -> leaf-array position
+  std::vector<Neighbor> final_;               // scratch of finish()
 };
 
 template <class Collector>
@@ -262,6 +392,8 @@ void run_in_order(const KdTree& tree, const PointCloud& queries, const SearchPar
       engine.record(q, leaf);
       engine.visit_leaf(w, leaf);
     }
+    const std::uint32_t first_leaf = w.first_leaf;
+    if (engine.finish(w)) engine.record(q, first_leaf, ScheduleEntry::Event::Finish);
     w.result.emit(out.results);
     if (progress && (q + 1) % kProgressStep == 0) progress(q + 1, queries.size());
   }
@@ -289,6 +421,22 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
     };
     if (e.query >= queries.size())
       throw ScheduleError(row() + "there are only " + std::to_string(queries.size()) + " queries");
+    if (e.event == ScheduleEntry::Event::Finish) {
+      Walker<Collector>& w = walkers[e.query];
+      if (!engine.first_leaf_scope() || engine.waits())
+        throw ScheduleError(row() + "a leader's finish row belongs to approximate search with leader scope first_leaf and "
+                                    "in-flight policy finished_only");
+      if (pending[e.query] != kDone)
+        throw ScheduleError(row() + "the query finishes, but its next leaf visit is leaf " +
+                            std::to_string(pending[e.query]));
+      if (!w.leader)
+        throw ScheduleError(row() + "the query is not a leader waiting to join (a follower, or already joined)");
+      if (w.first_leaf != e.leaf)
+        throw ScheduleError(row() + "the query's first leaf is leaf " + std::to_string(w.first_leaf));
+      if (!engine.finish_join(w))
+        throw ScheduleError(row() + "the leader found no leaf-set point, so it has no record to join with");
+      continue;
+    }
     if (pending[e.query] == kDone)
       throw ScheduleError(row() + "the query has already finished its search");
     if (pending[e.query] != e.leaf)
@@ -296,6 +444,7 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
                           std::to_string(pending[e.query]));
     engine.visit_leaf(walkers[e.query], e.leaf);
     pending[e.query] = engine.advance(walkers[e.query]);
+    if (pending[e.query] == kDone) engine.finish_wait(walkers[e.query]);
     if (progress && (s + 1) % kProgressStep == 0) progress(s + 1, schedule.size());
   }
   for (std::uint32_t q = 0; q < queries.size(); ++q)
@@ -344,6 +493,7 @@ struct SearcherImpl final : Searcher::Impl {
     last = {};
     engine.start(walker);
     for (std::uint32_t leaf; (leaf = engine.advance(walker)) != kDone;) engine.visit_leaf(walker, leaf);
+    engine.finish(walker);
     one = Results{};
     walker.result.emit(one);
     out.assign(one.begin(0), one.end(0));

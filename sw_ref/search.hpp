@@ -1,6 +1,7 @@
 // The golden model's searches (docs/model.md): exact NN, kNN and radius search on
 // a KdTree, depth-first, with visit counts, and the approximate (leader/follower) search of the
-// paper's Algorithm 1 at every leaf visit, driven by an optional schedule.
+// paper's Algorithm 1 (at a query's first leaf, as the authors' code; or at every leaf visit),
+// driven by an optional schedule.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "cloud.hpp"
 #include "kdtree.hpp"
+#include "leader_policy.hpp"
 #include "results.hpp"
 #include "traces/schedule.hpp"
 
@@ -25,10 +27,12 @@ struct SearchParams {
   int k = 1;                   // neighbours for kNN (NN: 1)
   float radius = 0.0f;         // metres, radius mode
   std::uint32_t max_nn = 0;    // radius: keep only the first max_nn (0: all); no effect on visits
-  bool approximate = false;    // leader/follower search at every leaf visit
+  bool approximate = false;    // leader/follower search (Algorithm 1)
   float approx_thd = 0.0f;     // metres: a query within thd of a leader follows it
+  LeaderScope leader_scope = LeaderScope::FirstLeaf;
+  LeaderInFlight leader_in_flight = LeaderInFlight::Wait;  // first_leaf only
   int leader_capacity = 16;    // leaders kept per leaf
-  int leader_width = 0;        // R: a leader's local result list for NN/kNN (0: k)
+  int leader_width = 0;        // every_leaf: R, a leader's local result list for NN/kNN (0: k)
   bool record_schedule = true; // keep the (query, leaf) visit decisions
 
   int effective_k() const { return mode == Mode::NN ? 1 : k; }
@@ -57,10 +61,11 @@ struct VisitTotals {
   void add(const QueryVisits& v);
 };
 
+// every_leaf counts leaf visits, first_leaf counts queries (a leader joins when it finishes).
 struct LeaderTotals {
-  std::uint64_t leaders = 0;             // exact scans whose query joined the Leader Buffer
-  std::uint64_t followers = 0;           // leaf visits served from a leader's list
-  std::uint64_t leader_buffer_full = 0;  // exact scans that found the Leader Buffer full
+  std::uint64_t leaders = 0;             // queries (exact scans) that joined a Leader Buffer
+  std::uint64_t followers = 0;           // queries (leaf visits) served from a leader's list
+  std::uint64_t leader_buffer_full = 0;  // would-be leaders that found their leaf's buffer full
 };
 
 struct SearchOutput {
@@ -78,9 +83,10 @@ class ScheduleError : public std::runtime_error {
 };
 
 // Searches every query in `tree`. Without `replay`, queries run one at a time in index order;
-// with it, leaf visits happen in the schedule's order (each query's top-tree walk is its own,
-// so only the leader state depends on the order) and every visit must match the query's
-// traversal exactly, else ScheduleError.
+// with it, leaf visits and (first_leaf) leaders' finishes happen in the schedule's order (each
+// query's top-tree walk is its own, so only the leader state depends on the order) and every
+// row must match the query's traversal exactly, else ScheduleError. A first_leaf leader without
+// a finish row never joins (the accelerator may end a job before its record arrives).
 // `progress(done, total)` is called now and then (queries, or schedule rows when replaying).
 using Progress = std::function<void(std::size_t done, std::size_t total)>;
 SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,

@@ -29,7 +29,7 @@ SPEC_NAMES = {
     "fe.recursion_units": "ru", "be.search_units": "su", "be.pes_per_su": "pe",
     "be.issue_policy": "policy", "fe.bypassing": "bypass", "fe.forwarding": "forward",
     "node_cache.bytes": "nc_bytes", "approx-thd": "approx", "cloud": "cloud", "queries": "queries",
-    "leader-width": "leader_width",
+    "leader-width": "leader_width", "leader.scope": "scope", "leader.in_flight": "in_flight",
 }
 
 
@@ -287,6 +287,9 @@ class Sweep:
             eff["approx"] = _approx(raw["approx"], eff["mode"], eff["radius"])
         if "leader_width" in raw:  # an approximate run's; exact rows keep the default
             eff["leader_width"] = int(float(raw["leader_width"]))
+        for name in ("scope", "in_flight"):
+            if name in raw:
+                eff[name] = raw[name].strip().lower()
         for name in ("cloud", "queries"):  # tigris_sweep.py writes `synthetic` for the built-in pair
             eff[name] = "" if raw.get(name, "") == "synthetic" else raw.get(name, "")
         for name, col in STAT_SETTINGS.items():

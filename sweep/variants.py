@@ -13,7 +13,8 @@ User variants come from a JSON file (`--variants-file`), a list of objects or {"
      "why": "an HBM stack for the results", "experiments": ["heights-radius"]}
 `set`: configuration keys (`tigris run --list-config`) applied to every run of the variant; a key
 an experiment already sweeps keeps its other values, its value at the model's default becomes the
-variant's. `leader_width`: `--leader-width` of the approximate runs (exact runs refuse it).
+variant's. `leader_width`: `--leader-width` of the approximate runs (exact runs refuse it; it needs
+`"leader.scope": "every_leaf"` in `set`).
 `experiments`: the experiments the variant can change (default: all); the others' rows are taken
 from the default configuration's sweeps, so list only those you know the keys leave alone.
 """
@@ -70,7 +71,8 @@ def _show(v):
 
 # The details the paper leaves open (docs/model.md says what the default assumes for each). The
 # default column is the model's default configuration: 0 top levels replicated, DRAM 51.2
-# bytes/cycle, 128 Point Buffer banks and ports, a 128 KiB Node Cache, leader width k (1 for NN).
+# bytes/cycle, 128 Point Buffer banks and ports, a 128 KiB Node Cache, leaders checked at a query's
+# first leaf (the authors' code), a Leader Check counting leaders still searching (wait).
 VARIANTS = [
     Variant("top-6", "each RU keeps the top tree's first 6 levels (63 nodes, 1 KiB) in registers: "
             "the root's bank is the front-end's hot spot, and a few registers are the cheap fix",
@@ -89,10 +91,15 @@ VARIANTS = [
     Variant("nc-32k", "a 32 KiB Node Cache (a quarter of the default): the paper does not say "
             "how big it is", set={"node_cache.bytes": 32768}),
     Variant("nc-512k", "a 512 KiB Node Cache (4x the default 128 KiB)", set={"node_cache.bytes": 524288}),
-    Variant("leader-width-4", "approximate NN: each leader keeps its 4 nearest points for its "
-            "followers (the default keeps k = 1)", leader_width=4, experiments=["approx-nn"]),
-    Variant("leader-width-16", "approximate NN: each leader keeps its 16 nearest points",
-            leader_width=16, experiments=["approx-nn"]),
+    Variant("every-leaf", "approximate search as docs/model.md read Algorithm 1 before the authors' "
+            "code: leaders checked at every leaf visit, a follower keeps traversing with a leader's "
+            "local list", set={"leader.scope": "every_leaf"}, experiments=["approx-nn", "approx-radius"]),
+    Variant("every-leaf-w4", "every_leaf, each leader keeping its 4 nearest points of the leaf for "
+            "its followers (the default keeps k = 1)", set={"leader.scope": "every_leaf"},
+            leader_width=4, experiments=["approx-nn"]),
+    Variant("finished-only", "a Leader Check counts only leaders whose search has finished (no "
+            "follower waits; fewer followers while the first leaders are still searching)",
+            set={"leader.in_flight": "finished_only"}, experiments=["approx-nn", "approx-radius"]),
 ]
 
 
@@ -170,6 +177,9 @@ def load(path, known_experiments, key_info, flag_keys=()):
         lw = d.get("leader_width")
         if lw is not None and (not isinstance(lw, int) or isinstance(lw, bool) or not 0 <= lw <= 4096):
             raise VariantError(f"{where}: \"leader_width\" must be an integer 0..4096, got {json.dumps(lw)}")
+        if lw is not None and s.get("leader.scope") != "every_leaf":
+            raise VariantError(f"{where}: \"leader_width\" is a width of every_leaf's local lists: give "
+                               "\"set\": {\"leader.scope\": \"every_leaf\"} too")
         if not s and lw is None:
             raise VariantError(f"{where}: changes nothing (give \"set\" or \"leader_width\")")
         exps = d.get("experiments")
@@ -268,7 +278,7 @@ def overrides(variant, spec_names):
 def assumed_columns(variant):
     """Setting columns the rows of the default's sweeps are read with when the variant shares
     them (experiments it leaves alone): its keys at its values."""
-    return {k: _show(v) for k, v in variant.set.items()}
+    return {k: v if isinstance(v, str) else _show(v) for k, v in variant.set.items()}
 
 
 # ----------------------------------------------------------------------- matrix, verdicts, classes

@@ -33,7 +33,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   const PointCloud& queries = *mj.queries;
   const SearchParams& params = mj.params;
   cfg.tree.top_height = std::min(mj.top_height, full_height_for(cloud.size()));
-  if (params.approximate) cfg.leader.capacity_per_leaf = params.leader_capacity;
+  if (params.approximate) cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
+                                cfg.leader.in_flight = params.leader_in_flight;
   validate_config(cfg);
   const KdTree tree = build_kdtree(cloud, cfg.tree.top_height, cfg.tree.split_axis);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);

@@ -17,6 +17,8 @@ HostJob host_job(const SearchParams& p) {
   j.radius = p.radius;
   j.max_nn = p.max_nn;
   j.approximate = p.approximate;
+  j.first_leaf = p.leader_scope == LeaderScope::FirstLeaf;
+  j.wait_for_leaders = p.leader_in_flight == LeaderInFlight::Wait;
   j.approx_thd = p.approx_thd;
   j.leader_width = static_cast<std::uint32_t>(p.effective_leader_width());
   return j;
@@ -105,7 +107,7 @@ void HostDriver::run_once() {
   const float thd2 = job_.approx_thd * job_.approx_thd;  // as sw_ref squares it: in float
   std::uint32_t thd2_bits;
   std::memcpy(&thd2_bits, &thd2, 4);
-  write_csr(kApprox, job_.approximate ? 1 : 0);
+  write_csr(kApprox, !job_.approximate ? 0 : !job_.first_leaf ? 1 : job_.wait_for_leaders ? 2 : 3);
   write_csr(kApproxThd2Bits, thd2_bits);
   write_csr(kLeaderWidth, job_.leader_width);
   write_csr(kCtrl, 1);

@@ -25,6 +25,8 @@ struct HostJob {
   float radius = 0.0f;
   std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
   bool approximate = false;  // leader/follower search (docs/model.md)
+  bool first_leaf = true;    // ... with the leader check at a query's first leaf (else every leaf)
+  bool wait_for_leaders = true;  // first_leaf: in-flight leaders count, followers wait (else finished only)
   float approx_thd = 0.0f;   // metres
   std::uint32_t leader_width = 1;  // R for NN/kNN
   int runs = 1;              // the job is loaded and run this many times on one accelerator

@@ -40,18 +40,31 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--approx-thd", o.approx_thd,
                  "Approximate (leader/follower) search with this threshold in metres; 'default' "
                  "takes the paper's 1.2 m for nn/knn and 0.4 r for radius (default: exact)");
+  app.add_option("--leader-scope", o.leader_scope,
+                 "Where approximate search checks leaders: first_leaf (the paper authors' code: at a "
+                 "query's first leaf; a follower takes its leader's final results and stops) or "
+                 "every_leaf (the earlier reading: at every leaf, a leader's list local to the leaf)")
+      ->check(CLI::IsMember({"first_leaf", "every_leaf"}))
+      ->capture_default_str();
+  app.add_option("--leader-in-flight", o.leader_in_flight,
+                 "first_leaf: what a query's Leader Check sees of leaders still searching: wait (a "
+                 "leader counts from its own check; its followers wait for its final results) or "
+                 "finished_only (a leader counts once it has finished)")
+      ->check(CLI::IsMember({"wait", "finished_only"}))
+      ->capture_default_str();
   app.add_option("--leader-capacity", o.leader_capacity, "Leaders kept per leaf (approximate search)")
       ->capture_default_str();
   app.add_option("--leader-width", o.leader_width,
-                 "Leader result width R for nn/knn (approximate search; 0: k)")
+                 "Leader result width R for nn/knn (approximate search, every_leaf; 0: k)")
       ->capture_default_str();
   app.add_option("--dump-results", o.dump_results,
                  "Write the results as CSV query,rank,index,dist2 (canonical order)");
   app.add_option("--dump-schedule", o.dump_schedule,
-                 "Write the leaf-visit schedule as CSV seq,query,leaf");
+                 "Write the leaf-visit schedule as CSV seq,query,leaf,event (event: visit, or a "
+                 "first_leaf leader's finish)");
   if (replay)
     app.add_option("--schedule", o.schedule,
-                   "Replay this leaf-visit schedule (CSV seq,query,leaf) instead of index order");
+                   "Replay this leaf-visit schedule (CSV seq,query,leaf,event) instead of index order");
   app.add_option("--max-work", o.limits.max_work,
                  "Refuse a run estimated (from a sample of queries) to compute more node and point "
                  "distances than this; 0: no limit")
@@ -134,9 +147,16 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
                                     o.approx_thd + "'");
       p.approx_thd = static_cast<float>(std::strtod(o.approx_thd.c_str(), nullptr));
     }
-  } else if (app.count("--leader-capacity") || app.count("--leader-width")) {
-    throw std::invalid_argument("--leader-capacity and --leader-width need --approx-thd");
+  } else if (app.count("--leader-capacity") || app.count("--leader-width") || app.count("--leader-scope") ||
+             app.count("--leader-in-flight")) {
+    throw std::invalid_argument("--leader-scope, --leader-in-flight, --leader-capacity and --leader-width need --approx-thd");
   }
+  p.leader_scope = parse_leader_scope(o.leader_scope);
+  p.leader_in_flight = parse_leader_in_flight(o.leader_in_flight);
+  if (app.count("--leader-in-flight") && p.leader_scope != LeaderScope::FirstLeaf)
+    throw std::invalid_argument("--leader-in-flight applies to --leader-scope first_leaf");
+  if (app.count("--leader-width") && p.leader_scope == LeaderScope::FirstLeaf)
+    throw std::invalid_argument("--leader-width applies to --leader-scope every_leaf (first_leaf leaders keep their final results)");
   p.leader_capacity = o.leader_capacity;
   p.leader_width = o.leader_width;
   validate(p);

@@ -24,6 +24,8 @@ struct SearchOptions {
   std::string height = "10";
   std::string split_axis = "widest";
   std::string approx_thd;  // empty: exact search; a number in metres, or "default"
+  std::string leader_scope = "first_leaf";
+  std::string leader_in_flight = "wait";
   int leader_capacity = 16;
   int leader_width = 0;
   std::string dump_results, dump_schedule, schedule;

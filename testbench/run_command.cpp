@@ -121,8 +121,12 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
   if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
+  if (app.count("--leader-scope")) cfg.leader.scope = parse_leader_scope(o.search.leader_scope);
+  if (app.count("--leader-in-flight")) cfg.leader.in_flight = parse_leader_in_flight(o.search.leader_in_flight);
   validate_config(cfg);
   r.params.leader_capacity = cfg.leader.capacity_per_leaf;
+  r.params.leader_scope = cfg.leader.scope;
+  r.params.leader_in_flight = cfg.leader.in_flight;
 
   r.w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
   const Workload& w = r.w;

@@ -33,6 +33,17 @@ void VisitRecorder::leaf_scanned(std::uint32_t query, std::uint32_t leaf, const 
   out_.schedule.push_back({query, leaf});
 }
 
+void VisitRecorder::follower_served(std::uint32_t query, std::uint32_t points) {
+  out_.per_query.at(query).follower_points += points;
+  out_.visits.follower_points += points;
+}
+
+void VisitRecorder::leader_finished(std::uint32_t query, std::uint32_t leaf, bool joined) {
+  out_.leaders.leaders += joined;
+  out_.leaders.leader_buffer_full += !joined;
+  out_.schedule.push_back({query, leaf, ScheduleEntry::Event::Finish});
+}
+
 namespace {
 
 bool same_visits(const QueryVisits& a, const QueryVisits& b) {

@@ -28,6 +28,8 @@ class VisitRecorder final : public hw::JobObserver, public hw::QueryHint {
   void soon(std::uint32_t query) override { __builtin_prefetch(out_.per_query.data() + query, 1); }
   void walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) override;
   void leaf_scanned(std::uint32_t query, std::uint32_t leaf, const hw::LeafVisit& visit) override;
+  void leader_finished(std::uint32_t query, std::uint32_t leaf, bool joined) override;
+  void follower_served(std::uint32_t query, std::uint32_t points) override;
   // Per-query counts, their totals and the schedule (results left empty).
   const SearchOutput& visits() const { return out_; }
   SearchOutput take_visits() { return std::move(out_); }  // after the run

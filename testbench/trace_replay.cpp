@@ -44,6 +44,8 @@ SearchParams params_of(const trace::Job& j) {
   p.approx_thd = j.approx_thd;
   p.leader_capacity = j.leader_capacity;
   p.leader_width = j.leader_width;
+  p.leader_scope = parse_leader_scope(j.leader_scope);
+  p.leader_in_flight = parse_leader_in_flight(j.leader_in_flight);
   return p;
 }
 

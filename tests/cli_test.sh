@@ -66,7 +66,7 @@ expect 0 "approximate" -- "${base[@]}" --dump-results "$tmp/r2.csv" --schedule "
 if ! cmp -s "$tmp/r1.csv" "$tmp/r2.csv"; then
   echo "FAIL: replaying the recorded schedule changed the results"; failures=$((failures + 1))
 else passes=$((passes + 1)); fi
-if [ "$(head -1 "$tmp/r1.csv")" != "query,rank,index,dist2" ] || [ "$(head -1 "$tmp/s1.csv")" != "seq,query,leaf" ]; then
+if [ "$(head -1 "$tmp/r1.csv")" != "query,rank,index,dist2" ] || [ "$(head -1 "$tmp/s1.csv")" != "seq,query,leaf,event" ]; then
   echo "FAIL: dump headers"; failures=$((failures + 1))
 else passes=$((passes + 1)); fi
 grep -q '"leaf_points"' "$tmp/o2/stats.json" && passes=$((passes + 1)) || { echo "FAIL: stats.json lacks visits"; failures=$((failures + 1)); }
@@ -102,8 +102,15 @@ expect 2 "/dev/full: writing the waveforms failed" -- run --cloud "$tmp/three.bi
 expect 0 "gtkwave $tmp/o/dir.v2/waves.gtkw" -- run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1 --out "$tmp/dots" --vcd "$tmp/o/dir.v2/waves"
 [ -f "$tmp/o/dir.v2/waves.gtkw" ] && passes=$((passes + 1)) || { echo "FAIL: the save file is not beside the waves"; failures=$((failures + 1)); }
 expect 2 "need --approx-thd" -- run --leader-width 3
-expect 0 "followers" -- run --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
-expect 0 "approximate" -- ref --approx-thd default --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"
+expect 2 "every_leaf" -- run --approx-thd default --leader-width 3
+expect 0 "followers" -- run --approx-thd default --leader-scope every_leaf --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
+expect 0 "approximate" -- ref --approx-thd default --leader-scope every_leaf --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"
+# first_leaf, finished_only: the schedule carries the leaders' finishes, and its replay agrees.
+fo=(--approx-thd default --leader-in-flight finished_only --height 8 --dump-results)
+expect 0 "MATCH" -- run "${fo[@]}" "$tmp/fo_run.csv" --out "$tmp/fo" --dump-schedule "$tmp/fo.csv"
+grep -q ',finish$' "$tmp/fo.csv" && passes=$((passes + 1)) || { echo "FAIL: no finish rows in $tmp/fo.csv"; failures=$((failures + 1)); }
+expect 0 "approximate" -- ref "${fo[@]}" "$tmp/fo_ref.csv" --out "$tmp/fo2" --schedule "$tmp/fo.csv"
+cmp -s "$tmp/fo_run.csv" "$tmp/fo_ref.csv" && passes=$((passes + 1)) || { echo "FAIL: finished_only replay dumps differ"; failures=$((failures + 1)); }
 expect 2 "$tmp/none.json" -- run --config "$tmp/none.json"
 small=(run --cloud "$tmp/three.bin" --queries "$tmp/three.bin" --height 1)
 expect 0 "MATCH" -- "${small[@]}" --out "$tmp/r0"

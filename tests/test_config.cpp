@@ -140,6 +140,10 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
       v = "mqmn";
     else if (v == "lru")
       v = "fifo";
+    else if (v == "first_leaf")
+      v = "every_leaf";
+    else if (v == "wait")
+      v = "finished_only";
     else
       FAIL("no change for " << key);
   }
@@ -149,6 +153,8 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
   CHECK(cfg.be.issue_policy == std::string("mqmn"));
   CHECK(cfg.node_cache.policy == std::string("fifo"));
   CHECK(cfg.tree.split_axis == tigris::SplitRule::RoundRobin);
+  CHECK(cfg.leader.scope == tigris::LeaderScope::EveryLeaf);
+  CHECK(cfg.leader.in_flight == tigris::LeaderInFlight::FinishedOnly);
   CHECK_NOTHROW(tigris::validate_config(cfg));
   AcceleratorConfig again;
   tigris::apply_config_json(again, tigris::config_to_json(cfg), "echo");

@@ -20,6 +20,22 @@ hw::AcceleratorConfig with_capacity(hw::AcceleratorConfig c, int capacity, bool 
   return c;
 }
 
+// The readings of Algorithm 1 (docs/model.md): first_leaf/wait (the default), first_leaf/
+// finished_only, every_leaf.
+SearchParams reading(SearchParams p, const std::string& name) {
+  if (name == "every_leaf") p.leader_scope = LeaderScope::EveryLeaf;
+  if (name == "finished_only") p.leader_in_flight = LeaderInFlight::FinishedOnly;
+  return p;
+}
+const char* const kReadings[] = {"wait", "finished_only", "every_leaf"};
+
+// Queries that reach a leaf: under first_leaf each makes one Leader Check.
+std::uint64_t checked(const SimOutcome& o) {
+  std::uint64_t n = 0;
+  for (const QueryVisits& v : o.visits.per_query) n += v.leaf_visits > 0;
+  return n;
+}
+
 std::uint64_t leaders(const SimOutcome& o) { return o.visits.leaders.leaders; }
 std::uint64_t followers(const SimOutcome& o) { return o.visits.leaders.followers; }
 std::uint64_t full(const SimOutcome& o) { return o.visits.leaders.leader_buffer_full; }
@@ -36,22 +52,39 @@ TEST_CASE("approximate search is bit-exact with schedule replay: machines, polic
       {"r1.0", approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)},
       {"r1.5 max_nn 3", approximate(mode(Mode::Radius, 1, 1.5f, 3), 0.6f)}};
   std::vector<Case> cases;
-  for (const auto& [name, p] : modes)
-    for (const auto& [machine, c] : std::vector<std::pair<std::string, hw::AcceleratorConfig>>{
-             {"1/1/1", units(1, 1, 1, 5)}, {"4/3/5", units(4, 3, 5, 5)}, {"64/32/32", units(64, 32, 32, 5)}})
-      for (int capacity : {1, 16})
-        for (bool mqmn : {false, true})
-          cases.push_back({name + " " + machine + " cap" + std::to_string(capacity) + (mqmn ? " mqmn" : " mqsn"),
-                           with_capacity(c, capacity, mqmn), p});
+  std::vector<std::string> readings;
+  for (const char* r : kReadings)
+    for (const auto& [name, p] : modes) {
+      if (p.leader_width > 0 && std::string(r) != "every_leaf") continue;  // R is every_leaf's
+      for (const auto& [machine, c] : std::vector<std::pair<std::string, hw::AcceleratorConfig>>{
+               {"1/1/1", units(1, 1, 1, 5)}, {"4/3/5", units(4, 3, 5, 5)}, {"64/32/32", units(64, 32, 32, 5)}})
+        for (int capacity : {1, 16})
+          for (bool mqmn : {false, true}) {
+            cases.push_back({std::string(r) + " " + name + " " + machine + " cap" + std::to_string(capacity) +
+                                 (mqmn ? " mqmn" : " mqsn"),
+                             with_capacity(c, capacity, mqmn), reading(p, r)});
+            readings.push_back(r);
+          }
+    }
   const auto out = run_and_check(cloud, queries, cases);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].name);
-    // Every path is taken: leaders, followers, and with capacity 1 a full Leader Buffer.
-    CHECK(leaders(out[i]) > 0);
-    CHECK(followers(out[i]) > 0);
-    if (cases[i].config.leader.capacity_per_leaf == 1) CHECK(full(out[i]) > 0);
-    CHECK(leaders(out[i]) + followers(out[i]) + full(out[i]) == out[i].visits.visits.leaf_visits);
-    CHECK(out[i].units["search_units"]["leader_check"]["followers"].get<std::uint64_t>() == followers(out[i]));
+    const SimOutcome& o = out[i];
+    // Every path is taken: leaders, followers (finished_only on a large machine may have none:
+    // its queries are all in flight at once), and with capacity 1 a full Leader Buffer.
+    CHECK(leaders(o) > 0);
+    if (readings[i] != "finished_only") CHECK(followers(o) > 0);
+    if (cases[i].config.leader.capacity_per_leaf == 1 && readings[i] != "finished_only") CHECK(full(o) > 0);
+    if (readings[i] == "every_leaf")  // a check at every leaf visit
+      CHECK(leaders(o) + followers(o) + full(o) == o.visits.visits.leaf_visits);
+    else if (readings[i] == "wait")  // one check per query, at its first leaf
+      CHECK(leaders(o) + followers(o) + full(o) == checked(o));
+    else  // finished_only: a leader whose results hold no leaf-set point sends no record
+      CHECK(leaders(o) + followers(o) + full(o) <= checked(o));
+    CHECK(o.units["search_units"]["leader_check"]["followers"].get<std::uint64_t>() == followers(o));
+    if (readings[i] != "every_leaf")  // a follower does not backtrack: one leaf visit
+      for (const QueryVisits& v : o.visits.per_query)
+        if (v.follower_points > 0) REQUIRE(v.leaf_visits == 1);
   }
 }
 
@@ -60,12 +93,14 @@ TEST_CASE("approximate search with thd 0 returns the exact results and visits", 
   const PointCloud queries = make_queries(cloud, 300, 22);
   std::vector<Case> cases;
   const std::vector<SearchParams> exact = {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)};
-  for (const SearchParams& p : exact) cases.push_back({std::string(to_string(p.mode)) + " thd 0", units(8, 4, 8, 6), approximate(p, 0.0f)});
+  for (const char* r : kReadings)
+    for (const SearchParams& p : exact)
+      cases.push_back({std::string(r) + " " + to_string(p.mode) + " thd 0", units(8, 4, 8, 6), reading(approximate(p, 0.0f), r)});
   const auto out = run_and_check(cloud, queries, cases);
-  for (std::size_t i = 0; i < exact.size(); ++i) {
+  for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].name);
     const KdTree tree = build_kdtree(cloud, 6);
-    const SearchOutput golden = search(tree, queries, exact[i]);
+    const SearchOutput golden = search(tree, queries, exact[i % exact.size()]);
     CHECK_FALSE(first_difference(golden.results, out[i].results));
     CHECK(followers(out[i]) == 0);
     CHECK(out[i].visits.visits.top == golden.visits.top);
@@ -79,14 +114,22 @@ TEST_CASE("approximate search with thd 0 returns the exact results and visits", 
 TEST_CASE("a huge thd makes every later query at a leaf follow its first leader", "[hw][approx]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 2000, 23);
   const PointCloud queries = make_queries(cloud, 300, 23);
-  const std::vector<Case> cases = {{"nn", units(8, 4, 8, 4), approximate(mode(Mode::NN), 1e6f)},
-                                   {"radius", units(8, 4, 8, 4), approximate(mode(Mode::Radius, 1, 1.0f), 1e6f)}};
+  std::vector<Case> cases;
+  for (const char* r : {"wait", "every_leaf"}) {
+    cases.push_back({std::string(r) + " nn", units(8, 4, 8, 4), reading(approximate(mode(Mode::NN), 1e6f), r)});
+    cases.push_back({std::string(r) + " radius", units(8, 4, 8, 4),
+                     reading(approximate(mode(Mode::Radius, 1, 1.0f), 1e6f), r)});
+  }
   const auto out = run_and_check(cloud, queries, cases);
-  for (const SimOutcome& o : out) {
-    // One leader per non-empty leaf visited, no more; every other visit follows.
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    INFO(cases[i].name);
+    const SimOutcome& o = out[i];
+    // One leader per non-empty leaf checked at, no more; every other check follows. (wait: a
+    // leader counts from its own check, so even queries in flight together follow it.)
     CHECK(leaders(o) <= 16);  // 2^4 leaves
     CHECK(full(o) == 0);
-    CHECK(followers(o) == o.visits.visits.leaf_visits - leaders(o));
+    const std::uint64_t checks = i < 2 ? checked(o) : o.visits.visits.leaf_visits;
+    CHECK(followers(o) == checks - leaders(o));
     CHECK(o.visits.visits.leader_checks == followers(o));  // one leader to compare with
   }
 }
@@ -99,11 +142,14 @@ TEST_CASE("approximate search on the synthetic LiDAR pair: NN, kNN, radius, MQMN
   mqmn.be.issue_policy = "mqmn";
   const std::vector<Case> cases = {
       {"nn", units(64, 32, 32, 10), approximate(mode(Mode::NN), 1.2f)},
+      {"nn finished_only", units(64, 32, 32, 10), reading(approximate(mode(Mode::NN), 1.2f), "finished_only")},
+      {"nn every_leaf", units(64, 32, 32, 10), reading(approximate(mode(Mode::NN), 1.2f), "every_leaf")},
       {"knn10", units(64, 32, 32, 10), approximate(mode(Mode::KNN, 10), 1.2f)},
       {"r0.30", units(64, 32, 32, 10), approximate(mode(Mode::Radius, 1, 0.30f), 0.12f)},
       {"r0.75 mqmn", mqmn, approximate(mode(Mode::Radius, 1, 0.75f), 0.30f)}};
   const auto out = run_and_check(pair.frame0, queries, cases);
-  for (const SimOutcome& o : out) CHECK(followers(o) > 0);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (cases[i].name != "nn finished_only") CHECK(followers(out[i]) > 0);
 }
 
 TEST_CASE("leader lists that find the Result Buffer's list area full live in DRAM, bit-exact", "[hw][approx]") {
@@ -121,14 +167,14 @@ TEST_CASE("leader lists that find the Result Buffer's list area full live in DRA
   CHECK(out[0].results.neighbors.size() == out[1].results.neighbors.size());
 }
 
-TEST_CASE("Leader Check cost: leaders stream past the PEs, then one decision cycle", "[hw][approx][timing]") {
+TEST_CASE("Leader Check cost (every_leaf): leaders stream past the PEs, then one decision cycle", "[hw][approx][timing]") {
   // Brute force (h = 0, one leaf), 1 SU with 1 PE: every batch is one query. Query 0 leads
   // (no check), the other two are within thd and follow it after one check each.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 200, 25);
   const PointCloud queries = {{0.0f, 0.0f, 0.0f}, {0.01f, 0.0f, 0.0f}, {0.0f, 0.02f, 0.0f}};
   hw::AcceleratorConfig c = units(1, 1, 1, 0);
   c.node_cache.bytes = 0;
-  const auto out = run_and_check(cloud, queries, {{"nn", c, approximate(mode(Mode::NN), 1.0f)}});
+  const auto out = run_and_check(cloud, queries, {{"nn", c, reading(approximate(mode(Mode::NN), 1.0f), "every_leaf")}});
   const SimOutcome& o = out[0];
   REQUIRE(leaders(o) == 1);
   REQUIRE(followers(o) == 2);

@@ -27,13 +27,18 @@ std::string temp_file(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST_CASE("schedule CSV round-trips", "[traces]") {
-  const Schedule s = {{0, 5}, {0, 6}, {3, 5}, {4294967294u, 0}};
+  using Event = ScheduleEntry::Event;
+  const Schedule s = {{0, 5}, {0, 6}, {3, 5}, {0, 5, Event::Finish}, {4294967294u, 0}};
   std::ostringstream csv;
   write_schedule_csv(csv, s);
-  CHECK(csv.str().rfind("seq,query,leaf\n0,0,5\n1,0,6\n", 0) == 0);
+  CHECK(csv.str().rfind("seq,query,leaf,event\n0,0,5,visit\n1,0,6,visit\n2,3,5,visit\n3,0,5,finish\n", 0) == 0);
   const std::string path = temp_file("ok.csv", csv.str());
   CHECK(read_schedule_csv(path) == s);
   std::filesystem::remove(path);
+  // The earlier format without events: every row a visit.
+  const std::string old = temp_file("old.csv", "seq,query,leaf\n0,0,5\n1,0,6\r\n");
+  CHECK(read_schedule_csv(old) == Schedule{{0, 5}, {0, 6}});
+  std::filesystem::remove(old);
 }
 
 TEST_CASE("bad schedule files name the file and line", "[traces]") {
@@ -47,6 +52,10 @@ TEST_CASE("bad schedule files name the file and line", "[traces]") {
       {"seq,query,leaf\n0,1,2,3\n", ":2:"},
       {"seq,query,leaf\n0,1,x\n", ":2:"},
       {"seq,query,leaf\n0,1,99999999999\n", "out of range"},
+      {"seq,query,leaf,event\n0,1,2\n", ":2: expected 'seq,query,leaf,event'"},
+      {"seq,query,leaf,event\n0,1,2,join\n", ":2:"},
+      {"seq,query,leaf,event\n0,1,2,visit,\n", ":2:"},
+      {"seq,query,leaf,event\n0,1,2,visit\n1,1,2,finish\n3,1,2,visit\n", ":4: seq 3 out of order"},
   };
   int i = 0;
   for (const Case& c : cases) {

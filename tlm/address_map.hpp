@@ -34,7 +34,7 @@ enum Csr : std::uint32_t {
   kCyclesLo = 0x34,       // cycles from START to done
   kCyclesHi = 0x38,
   kErrorCode = 0x3C,
-  kApprox = 0x40,         // 1: approximate (leader/follower) search at every leaf visit
+  kApprox = 0x40,         // approximate search: 0 off, 1 every leaf, 2 first leaf (wait), 3 first leaf (finished only)
   kApproxThd2Bits = 0x44, // thd*thd as float32 bits: a query this close to a leader follows it
   kLeaderWidth = 0x48,    // R: entries in a NN/kNN leader's local result list
   kCsrCount = 0x4C / 4,

@@ -1,5 +1,7 @@
-// The schedule trace (docs/cli.md, tigris ref): CSV `seq,query,leaf`, one row per non-empty leaf
-// visit in decision order, seq counting from 0. The golden model replays it (`--schedule`).
+// The schedule trace (docs/cli.md, tigris ref): CSV `seq,query,leaf,event`, one row per non-empty
+// leaf visit (`visit`) or first_leaf leader's finish (`finish`) in decision order, seq counting
+// from 0. The golden model replays it (`--schedule`). Files of the earlier `seq,query,leaf`
+// format (visits only) are read too.
 #pragma once
 
 #include <iosfwd>

@@ -134,6 +134,7 @@ nlohmann::json job_json(const Job& j) {
           {"top_height", j.top_height}, {"mode", j.mode}, {"k", j.k}, {"radius", j.radius},
           {"max_nn", j.max_nn}, {"approximate", j.approximate}, {"approx_thd", j.approx_thd},
           {"leader_capacity", j.leader_capacity}, {"leader_width", j.leader_width},
+          {"leader_scope", j.leader_scope}, {"leader_in_flight", j.leader_in_flight},
           {"inject_kth", j.inject_kth}, {"shell_inner", j.shell_inner}, {"shell_outer", j.shell_outer},
           {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}};
 }
@@ -191,6 +192,8 @@ Job job_from(In& in, const nlohmann::json& j) {
     out.approx_thd = float32(in, j, "approx_thd");
     out.leader_capacity = integer<int>(in, j, "leader_capacity");
     out.leader_width = integer<int>(in, j, "leader_width");
+    out.leader_scope = j.value("leader_scope", std::string("every_leaf"));
+    out.leader_in_flight = j.value("leader_in_flight", std::string("wait"));
     out.inject_kth = integer<int>(in, j, "inject_kth");
     out.shell_inner = float32(in, j, "shell_inner");
     out.shell_outer = float32(in, j, "shell_outer");
@@ -203,6 +206,10 @@ Job job_from(In& in, const nlohmann::json& j) {
   if (out.stage.empty()) in.fail("a job without a stage name");
   if (out.backend != "flann" && out.backend != "exact" && out.backend != "approx")
     in.fail("unknown back-end '" + visible_text(out.backend, 20) + "' (flann, exact or approx)");
+  if (out.leader_scope != "first_leaf" && out.leader_scope != "every_leaf")
+    in.fail("unknown leader_scope '" + visible_text(out.leader_scope, 20) + "' (first_leaf or every_leaf)");
+  if (out.leader_in_flight != "wait" && out.leader_in_flight != "finished_only")
+    in.fail("unknown leader_in_flight '" + visible_text(out.leader_in_flight, 20) + "' (wait or finished_only)");
   if (out.search_seconds < 0 || out.build_seconds < 0) in.fail("a job with negative seconds");
   // (tree_serial -1 would read as "no tree sent yet" in the replay; the recorder numbers trees from 0)
   if (out.iteration < -1 || out.tree_serial < 0 || out.k < 1 || out.top_height < 0 || out.top_height > 30 ||

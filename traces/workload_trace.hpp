@@ -48,6 +48,9 @@ struct Job {
   bool approximate = false;
   float approx_thd = 0.0f;
   int leader_capacity = 16, leader_width = 0;
+  // Approximate search's reading (sw_ref/leader_policy.hpp): a trace without these keys was
+  // recorded before first_leaf existed, so it reads as every_leaf.
+  std::string leader_scope = "first_leaf", leader_in_flight = "wait";
   // Error injection the pipeline applied to these results afterwards (1 / 0: none).
   int inject_kth = 1;
   float shell_inner = 0.0f, shell_outer = 0.0f;

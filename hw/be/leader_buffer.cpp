@@ -28,9 +28,30 @@ void LeaderBuffer::start(const JobDescriptor& job, std::uint8_t* result_buffer) 
 
 std::size_t LeaderBuffer::append(std::uint32_t leaf, const Point3& point,
                                  const std::vector<tlm_if::PointEntry>& list) {
+  const std::size_t i = reserve(leaf, point);
+  fill(leaf, i, list);
+  return i;
+}
+
+std::size_t LeaderBuffer::reserve(std::uint32_t leaf, const Point3& point) {
   std::vector<Leader>& here = leaves_[slot(leaf)];
   Leader l;
   l.point = point;
+  l.pending = true;
+  here.push_back(std::move(l));
+  write_bytes_ += kLeaderBytes;
+  write_energy_ += kLeaderBytes;
+  max_leaders_.max(here.size());
+  return here.size() - 1;
+}
+
+void LeaderBuffer::fill(std::uint32_t leaf, std::size_t index, const std::vector<tlm_if::PointEntry>& list) {
+  Leader& l = leaves_[slot(leaf)][index];
+  l.pending = false;
+  store_list(l, list);
+}
+
+void LeaderBuffer::store_list(Leader& l, const std::vector<tlm_if::PointEntry>& list) {
   l.list_length = static_cast<std::uint32_t>(list.size());
   const std::uint64_t bytes = list.size() * kListEntryBytes;
   if (area_used_ + bytes <= area_bytes_) {
@@ -43,12 +64,7 @@ std::size_t LeaderBuffer::append(std::uint32_t leaf, const Point3& point,
     dram_.insert(dram_.end(), list.begin(), list.end());
     ++dram_lists_;
   }
-  here.push_back(l);
-  write_bytes_ += kLeaderBytes;
-  write_energy_ += kLeaderBytes;
   list_bytes_ += bytes;
-  max_leaders_.max(here.size());
-  return here.size() - 1;
 }
 
 const tlm_if::PointEntry* LeaderBuffer::list(const Leader& l) const {

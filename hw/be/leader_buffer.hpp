@@ -30,6 +30,8 @@ class LeaderBuffer {
     std::uint32_t list_length = 0;   // entries
     bool in_dram = false;
     std::uint64_t ready = 0;  // cycle the list is written and followers may read it
+    bool pending = false;     // first_leaf, wait: reserved at its check, still searching
+    std::vector<QueryToken> waiters;  // wait: followers parked until its list is written
   };
 
   LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter);
@@ -46,12 +48,17 @@ class LeaderBuffer {
   // Appends a leader at `leaf` (not full) with its local list; returns its index. The list's
   // storage is allocated and written now; the caller times the write and sets `ready`.
   std::size_t append(std::uint32_t leaf, const Point3& point, const std::vector<tlm_if::PointEntry>& list);
+  // first_leaf, wait: a leader's entry from its check (its point), and its list when its search
+  // has finished (stored as append() stores it).
+  std::size_t reserve(std::uint32_t leaf, const Point3& point);
+  void fill(std::uint32_t leaf, std::size_t index, const std::vector<tlm_if::PointEntry>& list);
   Leader& leader(std::uint32_t leaf, std::size_t index) { return leaves_[slot(leaf)][index]; }
   const tlm_if::PointEntry* list(const Leader& l) const;
   StatGroup& stats() { return stats_; }
 
  private:
   std::size_t slot(std::uint32_t leaf) const { return leaf / sus_; }
+  void store_list(Leader& l, const std::vector<tlm_if::PointEntry>& list);
 
   std::uint32_t su_, sus_;
   std::uint32_t capacity_;

@@ -1,5 +1,6 @@
 // The Leader Check of one Search Unit (paper section 5.3; docs/model.md), between the BE
-// Query Buffer and the PEs: for a query bound for leaf L it computes the squared distance to
+// Query Buffer and the PEs: for a query at leaf L (its first leaf under first_leaf, every leaf
+// under every_leaf) it computes the squared distance to
 // each of L's leaders (on the PEs: the leaders stream past the batch's PEs like a Node Set),
 // picks the closest (the first of equal distances, i.e. (dist2, arrival) order) and compares it
 // with thd^2. Decisions are made one query at a time in the order they are recorded, so a query
@@ -29,8 +30,10 @@ class LeaderCheck {
         energy_(meter.line("pe.leader_check", EnergyMeter::Component::Pe, meter.table().leader_check_pj)) {}
 
   // Follower of the closest leader within thd, else Leader (or LeaderBufferFull when L cannot
-  // take another leader: the query is searched exactly and not remembered).
-  Decision decide(const LeaderBuffer& buffer, std::uint32_t leaf, const Point3& q, float thd2) {
+  // take another leader: the query is searched exactly and not remembered). With
+  // `join_later` (first_leaf) a query that follows nobody is Exact: it searches on and its
+  // record arrives when it has finished (joined()).
+  Decision decide(const LeaderBuffer& buffer, std::uint32_t leaf, const Point3& q, float thd2, bool join_later) {
     Decision d;
     const auto& leaders = buffer.leaders(leaf);
     float best = 0.0f;
@@ -44,6 +47,8 @@ class LeaderCheck {
     if (!leaders.empty() && best < thd2) {
       d.kind = LeafVisit::Kind::Follower;
       ++followers_;
+    } else if (join_later) {
+      d.kind = LeafVisit::Kind::Exact;
     } else if (buffer.full(leaf)) {
       d.kind = LeafVisit::Kind::LeaderBufferFull;
       ++full_;
@@ -51,6 +56,13 @@ class LeaderCheck {
       ++leaders_;
     }
     return d;
+  }
+  // first_leaf: a finished leader's record reached the Leader Buffer, which took it or was full.
+  void joined(bool taken) {
+    if (taken)
+      ++leaders_;
+    else
+      ++full_;
   }
 
  private:

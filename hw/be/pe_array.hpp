@@ -37,6 +37,13 @@ class PeArray {
     job_ = &job, tree_ = tree, slots_ = slots;
   }
   const ResultSlots& slots() const { return slots_; }
+  // `token`'s search has ended here (a first_leaf follower): its NN/kNN list, closest first,
+  // as records for the write-back stream.
+  void finish(const QueryToken& token, std::vector<tlm_if::ResultRecord>& out) {
+    slots_.finish(token.slot);
+    const Neighbor* e = slots_.entries(token.slot);
+    for (std::uint32_t i = 0, n = slots_.count(token.slot); i < n; ++i) out.push_back({token.query, e[i].index, e[i].dist2});
+  }
   // The distance a point must not exceed to enter `slot`'s list (its k-th best so far).
   float bound(std::uint32_t slot) const { return slots_.bound(slot); }
   // The Node Set of `leaf`: its first entry and size.

@@ -34,6 +34,37 @@ void SearchUnit::start() {
   tree_ = TreeView(points.data(), job_);
   pe_array_.start(job_, tree_, ResultSlots(results.data(), job_.k));
   leader_buffer_.start(job_, results.data());
+  arrivals_.clear();
+  ready_followers_.clear();
+}
+
+void SearchUnit::leader_arrives(LeaderRecord record) {
+  const std::uint64_t at = record.ready;
+  arrivals_.push_back(std::move(record));  // the QDN port delivers in order
+  links_.scheduler.at(*this, std::max(at, clock_.now()));
+}
+
+void SearchUnit::apply_leader_records(std::uint64_t now) {
+  while (!arrivals_.empty() && arrivals_.front().ready <= now) {
+    LeaderRecord& r = arrivals_.front();
+    if (job_.wait_for_leaders) {  // its list into its entry; its parked followers may go
+      LeaderBuffer::Leader& l = leader_buffer_.leader(r.leaf, r.entry);
+      leader_buffer_.fill(r.leaf, r.entry, r.list);
+      l.ready = list_access(now, l, true);
+      for (QueryToken& t : l.waiters) t.ready = now, ready_followers_.push_back(t);
+      l.waiters.clear();
+    } else {  // finished_only: its point into the Leader Buffer, if it has room, and its list
+      const bool taken = !leader_buffer_.full(r.leaf);
+      if (taken) {
+        LeaderBuffer::Leader& l = leader_buffer_.leader(r.leaf, leader_buffer_.append(r.leaf, r.point, r.list));
+        l.ready = list_access(now, l, true);
+      }
+      leader_check_.joined(taken);
+      links_.observer.leader_finished(r.query, r.leaf, taken);
+    }
+    arrivals_.pop_front();
+    links_.fe.leader_record_delivered(now);
+  }
 }
 
 void SearchUnit::accept(const QueryToken& token) {
@@ -48,7 +79,9 @@ void SearchUnit::accept(const QueryToken& token) {
 void SearchUnit::step() {
   const std::uint64_t now = clock_.now();
   ledger_.settle(now);
-  // Retire batches whose stream has drained: their queries go back to the front-end.
+  apply_leader_records(now);  // before this cycle's Leader Checks
+  // Retire batches whose stream has drained: their queries go back to the front-end (a
+  // first_leaf follower has finished: it leaves the machine).
   for (std::size_t i = 0; i < active_;) {
     if (running_[i].end > now) {
       ++i;
@@ -66,9 +99,25 @@ void SearchUnit::step() {
       continue;
     }
     const std::uint64_t back = now + static_cast<std::uint64_t>(config_.cost.be_to_fe) + stall_.draw();
-    for (const QueryToken& t : running_[i].tokens) links_.fe.reinsert(t, back);
+    for (const QueryToken& t : running_[i].tokens)
+      if (t.finished)
+        links_.fe.query_finished(t, now);
+      else if (!t.parked)  // a parked follower waits with its leader
+        links_.fe.reinsert(t, back);
     free_pes_ += static_cast<std::uint32_t>(running_[i].tokens.size());
     std::swap(running_[i], running_[--active_]);  // the last running batch takes its place
+  }
+  // Followers whose leader's list has been written go first: they wait for nothing but PEs.
+  while (!ready_followers_.empty() && free_pes_ > 0) {
+    Batch& batch = add_batch();
+    const QueryToken& head = ready_followers_.front();
+    const std::uint32_t leaf = head.first_leaf, leader = head.follows;
+    while (!ready_followers_.empty() && batch.tokens.size() < free_pes_ &&
+           ready_followers_.front().first_leaf == leaf && ready_followers_.front().follows == leader) {
+      batch.tokens.push_back(ready_followers_.front());
+      ready_followers_.pop_front();
+    }
+    issue_followers(batch, now);
   }
   // Issue while the policy finds batches for the free PEs.
   bool issued = false;
@@ -101,6 +150,7 @@ void SearchUnit::step() {
   const auto on_way = std::upper_bound(bqb_.begin(), bqb_.end(), now,
                                        [](std::uint64_t c, const QueryToken& t) { return c < t.ready; });
   if (on_way != bqb_.end()) next = std::min(next, on_way->ready);
+  if (!arrivals_.empty()) next = std::min(next, std::max(arrivals_.front().ready, now + 1));
   if (next != std::numeric_limits<std::uint64_t>::max()) links_.scheduler.at(*this, next);
 }
 
@@ -112,7 +162,7 @@ SearchUnit::Batch& SearchUnit::add_batch() {
 }
 
 void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
-  const std::vector<QueryToken>& tokens = batch.tokens;
+  std::vector<QueryToken>& tokens = batch.tokens;
   const std::uint64_t start = now + setup;  // buffers are read during the issue search
   const std::uint32_t leaf = tokens.front().leaf;
   for (const QueryToken& t : tokens)  // one Node Set streams past the batch's PEs
@@ -162,6 +212,35 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
     stream += l.list_length;
     data_ready = std::max(data_ready, list_access(std::max(now, l.ready), l, false));
   }
+  stream_batch(batch, leaf, now, start, check_end, data_ready, stream);
+}
+
+void SearchUnit::issue_followers(Batch& batch, std::uint64_t now) {
+  // first_leaf, wait: the followers of one leader, parked until its list was written, stream
+  // that list past their PEs (their Leader Check was made when they arrived).
+  const std::vector<QueryToken>& tokens = batch.tokens;
+  const std::uint32_t leaf = tokens.front().first_leaf;
+  const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, tokens.front().follows);
+  const std::uint64_t start = now + static_cast<std::uint64_t>(config_.cost.issue_cycle);
+  ledger_.book(kIssue, now, start);
+  free_pes_ -= static_cast<std::uint32_t>(tokens.size());
+  leaf_wave_.set(leaf);
+  ++batches_;
+  const tlm_if::PointEntry* list = leader_buffer_.list(l);
+  for (const QueryToken& t : tokens) {
+    pe_array_.scan(t, list, l.list_length, batch.hits);
+    distance_energy_ += l.list_length;
+    links_.observer.follower_served(t.query, l.list_length);
+  }
+  const std::uint64_t data_ready = list_access(std::max(now, l.ready), l, false);
+  stream_batch(batch, leaf, now, start, start, data_ready, l.list_length);
+}
+
+void SearchUnit::stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t now, std::uint64_t start,
+                              std::uint64_t check_end, std::uint64_t data_ready, std::uint64_t stream) {
+  const std::vector<QueryToken>& tokens = batch.tokens;
+  const std::uint64_t b = tokens.size();
+  const int depth = config_.cost.pe_pipeline_depth;
   // Result Buffer: each query's NN/kNN slot is read into its PE (written back at retire).
   if (!job_.radius()) data_ready = std::max(data_ready, results.charge(now, slot_access(tokens, false), clock_.period));
   const std::uint64_t compute_end = check_end + PeArray::stream_cycles(stream, b, depth);
@@ -183,31 +262,57 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   batch.end = end;
 }
 
-SearchUnit::Plan SearchUnit::serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
+void SearchUnit::exact_scan(const QueryToken& t, std::uint32_t leaf, const tlm_if::PointEntry* set,
+                            std::uint32_t n, std::vector<tlm_if::ResultRecord>& hits) {
+  if (!job_.radius())  // the slot is next read by the query's next walk (which waits for it)
+    links_.scans.scan(pe_array_, t, leaf, set, n);
+  else if (job_.first_leaf && t.first_leaf != kNoLeaf)  // a first_leaf leader stages its list
+    pe_array_.scan(t, set, n, hits, &links_.result_buffer.leader_staging().staged(t.slot));
+  else
+    links_.scans.scan_now(pe_array_, t, leaf, set, n, hits);
+}
+
+SearchUnit::Plan SearchUnit::serve(std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
                                    std::vector<tlm_if::ResultRecord>& hits) {
   Plan plan;
   const tlm_if::PointEntry* set = pe_array_.node_set(leaf);
   const auto n = static_cast<std::uint32_t>(tree_.leaf_size(leaf));
-  for (const QueryToken& t : tokens) {
+  for (QueryToken& t : tokens) {
     LeafVisit v;
-    if (!job_.approximate) {
-      if (job_.radius())
-        links_.scans.scan_now(pe_array_, t, leaf, set, n, hits);
-      else  // the slot is next read by the query's next walk (which waits for it)
-        links_.scans.scan(pe_array_, t, leaf, set, n);
+    if (!job_.approximate || (job_.first_leaf && t.first_leaf != kNoLeaf)) {
+      exact_scan(t, leaf, set, n, hits);  // exact search, or a first_leaf leader's later visits
       v.leaf_points = n;
       ++plan.exact;
     } else {
-      const LeaderCheck::Decision d = leader_check_.decide(leader_buffer_, leaf, t.point, job_.thd2);
+      const LeaderCheck::Decision d = leader_check_.decide(leader_buffer_, leaf, t.point, job_.thd2, job_.first_leaf);
       v.kind = d.kind;
       v.leader_checks = d.checks;
       plan.max_checks = std::max<std::uint64_t>(plan.max_checks, d.checks);
-      if (d.kind == LeafVisit::Kind::Follower) {
+      if (job_.first_leaf) t.first_leaf = leaf;
+      if (d.kind == LeafVisit::Kind::Follower && leader_buffer_.leader(leaf, d.leader).pending) {
+        // wait: its leader is still searching: the follower parks with it, off the PEs and
+        // the BE Query Buffer, until the leader's list is written.
+        t.parked = true;
+        QueryToken waiter = t;
+        waiter.parked = false, waiter.finished = true, waiter.follows = static_cast<std::uint32_t>(d.leader);
+        leader_buffer_.leader(leaf, d.leader).waiters.push_back(waiter);
+      } else if (d.kind == LeafVisit::Kind::Follower) {
         const LeaderBuffer::Leader& l = leader_buffer_.leader(leaf, d.leader);
-        links_.scans.scan_now(pe_array_, t, leaf, leader_buffer_.list(l), l.list_length, hits);
+        pe_array_.scan(t, leader_buffer_.list(l), l.list_length, hits);  // not the leaf's box: a final list is anywhere
         v.follower_points = l.list_length;
+        t.finished = job_.first_leaf;  // the authors' code: a follower does not backtrack
         if (std::find(plan.followed.begin(), plan.followed.end(), d.leader) == plan.followed.end())
           plan.followed.push_back(d.leader);
+      } else if (d.kind == LeafVisit::Kind::Exact) {  // first_leaf: searches on, joins when done
+        exact_scan(t, leaf, set, n, hits);
+        v.leaf_points = n;
+        ++plan.exact;
+        if (job_.wait_for_leaders) {  // wait: a leader from now on, its list to come
+          const bool taken = !leader_buffer_.full(leaf);
+          if (taken) t.leader_entry = static_cast<std::uint32_t>(leader_buffer_.reserve(leaf, t.point));
+          leader_check_.joined(taken);
+          v.kind = taken ? LeafVisit::Kind::Leader : LeafVisit::Kind::LeaderBufferFull;
+        }
       } else if (d.kind == LeafVisit::Kind::Leader) {
         local_.clear();
         pe_array_.scan(t, set, n, hits, &local_);
@@ -259,7 +364,8 @@ std::uint64_t SearchUnit::retire(Batch& batch) {
   batch.written = true;
   if (!job_.radius()) {
     results.charge(now, slot_access(batch.tokens, true), clock_.period);  // posted
-    return now;
+    for (const QueryToken& t : batch.tokens)
+      if (t.finished && !t.parked) pe_array_.finish(t, batch.hits);  // a follower's list leaves from here
   }
   if (batch.hits.empty()) return now;
   const std::uint64_t accepted = links_.result_buffer.stream(now, batch.hits.data(), batch.hits.size());

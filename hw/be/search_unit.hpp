@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -56,6 +57,8 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   bool has_room() const { return bqb_.size() < capacity_; }
   std::size_t room() const { return capacity_ - bqb_.size(); }
   void accept(const QueryToken& token);  // from the QDN; the caller checked has_room()
+  // first_leaf: a finished leader's record, applied at its `ready` cycle.
+  void leader_arrives(LeaderRecord record);
 
   std::size_t bqb_occupancy() const { return bqb_.size(); }
   std::uint32_t busy_pes() const { return pes_ - free_pes_; }
@@ -89,8 +92,16 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
     std::uint64_t max_checks = 0;  // leaders the last Leader Check compared against
     std::vector<std::size_t> followed, new_leaders;  // leader indices at the batch's leaf
   };
-  Plan serve(const std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
+  Plan serve(std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
              std::vector<tlm_if::ResultRecord>& hits);
+  void exact_scan(const QueryToken& t, std::uint32_t leaf, const tlm_if::PointEntry* set, std::uint32_t n,
+                  std::vector<tlm_if::ResultRecord>& hits);
+  void apply_leader_records(std::uint64_t now);  // records that have arrived join (or find L full)
+  void issue_followers(Batch& batch, std::uint64_t now);  // parked followers of one leader, now ready
+  // The batch's stream from `start` (after its checks, at `check_end`), `stream` entries whose
+  // last arrives at `data_ready`: its end, busy and stall cycles.
+  void stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t now, std::uint64_t start,
+                    std::uint64_t check_end, std::uint64_t data_ready, std::uint64_t stream);
   // A leader's list written (at its leader's scan end) or read, from cycle `at`; returns when done.
   std::uint64_t list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
@@ -112,6 +123,8 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   PeArray pe_array_;
   LeaderBuffer leader_buffer_;
   std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
+  std::deque<LeaderRecord> arrivals_;           // first_leaf leaders' records on their way (ready order)
+  std::deque<QueryToken> ready_followers_;      // wait: parked followers whose leader's list is written
   std::vector<char> taken_;                     // BQB positions issued this step
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;

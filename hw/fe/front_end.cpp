@@ -29,6 +29,7 @@ void FrontEnd::start(std::function<void(std::uint64_t)> on_all_done) {
   fqq_.clear();
   fqq_.reserve(job_.slots);  // a slot holds one token at a time: the FQQ never holds more
   next_query_ = finished_ = 0;
+  records_in_flight_ = 0;
   in_flight_.set(job_.slots);
   idle_rus_.clear();
   for (auto it = rus.rbegin(); it != rus.rend(); ++it) {
@@ -80,7 +81,16 @@ void FrontEnd::query_finished(const QueryToken& token, std::uint64_t cycle) {
   if (progress_ && finished_ % 4096 == 0) progress_(finished_, job_.num_queries);
   free_slots_.push_back(token.slot);
   admit(cycle);
-  if (finished_ == job_.num_queries && on_all_done_) on_all_done_(cycle);
+  check_all_done(cycle);
+}
+
+void FrontEnd::leader_record_delivered(std::uint64_t cycle) {
+  --records_in_flight_;
+  check_all_done(cycle);
+}
+
+void FrontEnd::check_all_done(std::uint64_t cycle) {
+  if (finished_ == job_.num_queries && records_in_flight_ == 0 && on_all_done_) on_all_done_(cycle);
 }
 
 void FrontEnd::dispatch() {

@@ -38,7 +38,11 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
 
   void reinsert(QueryToken token, std::uint64_t ready_cycle);  // from a Search Unit
   void ru_idle(RecursionUnit& ru);
-  void query_finished(const QueryToken& token, std::uint64_t cycle);
+  void query_finished(const QueryToken& token, std::uint64_t cycle);  // from an RU, or an SU (a follower)
+  // first_leaf: a leader's record left for its Leader Buffer / was applied there. The job is
+  // done when every query has finished and every record has arrived.
+  void leader_record_sent() { ++records_in_flight_; }
+  void leader_record_delivered(std::uint64_t cycle);
 
   void set_progress(std::function<void(std::uint32_t, std::uint32_t)> progress) { progress_ = std::move(progress); }
   std::size_t fqq_occupancy() const { return fqq_.size(); }
@@ -68,7 +72,9 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   FifoRing<QueryToken> fqq_;
   std::vector<RecursionUnit*> idle_rus_;
   std::vector<std::uint32_t> free_slots_;
+  void check_all_done(std::uint64_t cycle);
   std::uint32_t next_query_ = 0, finished_ = 0;
+  std::uint64_t records_in_flight_ = 0;
   bool drop_reinserted_ = false;
   std::function<void(std::uint64_t)> on_all_done_;
   std::function<void(std::uint32_t, std::uint32_t)> progress_;

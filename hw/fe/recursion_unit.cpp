@@ -80,7 +80,32 @@ void RecursionUnit::start(const QueryToken& token) {
     for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
       hits_.push_back({token_.query, e[i].index, e[i].dist2});
   }
+  if (finished_ && token_.first_leaf != kNoLeaf &&
+      (!job_.wait_for_leaders || token_.leader_entry != kNoLeaf))
+    take_leader_record();
   links_.scheduler.at(*this, done);
+}
+
+void RecursionUnit::take_leader_record() {
+  // A first_leaf leader has finished: its final results that are Node Set entries, closest
+  // first (NN/kNN, from its slot) or as its scans found them (radius, staged), go to its
+  // first leaf's Leader Buffer. One that found none there has nothing for followers.
+  LeaderStaging& staging = links_.result_buffer.leader_staging();
+  record_.list.clear();
+  if (job_.radius()) {
+    record_.list.swap(staging.staged(token_.slot));
+  } else {
+    const Neighbor* e = slots_.entries(token_.slot);
+    for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
+      if (const tlm_if::PointEntry* p = staging.leaf_entry(e[i].index)) record_.list.push_back(*p);
+  }
+  // wait: every leader's record goes (its followers may be parked for it); finished_only: a
+  // list without entries has nothing for followers.
+  has_record_ = job_.wait_for_leaders ? token_.leader_entry != kNoLeaf : !record_.list.empty();
+  record_.entry = token_.leader_entry;
+  record_.query = token_.query;
+  record_.leaf = token_.first_leaf;
+  record_.point = token_.point;
 }
 
 std::uint64_t RecursionUnit::walk() {
@@ -103,6 +128,7 @@ std::uint64_t RecursionUnit::walk() {
     token_.started = true;
     token_.sp = 0;
     if (!job_.radius()) slots_.clear(token_.slot);
+    if (job_.first_leaf && job_.radius()) links_.result_buffer.leader_staging().staged(token_.slot).clear();
     if (tree_.node_nonempty(0)) stack[token_.sp++] = {0, 0.0f};
   }
   // The walk keeps its state in locals (written back on leaving): the pruning bound changes
@@ -216,6 +242,12 @@ void RecursionUnit::on_done() {
   }
   if (finished_) {
     state_ = State::Idle;
+    if (has_record_) {  // before the query counts as finished: the job waits for the record
+      has_record_ = false;
+      links_.fe.leader_record_sent();
+      links_.qdn.send_leader(std::move(record_), now);
+      record_ = {};
+    }
     links_.fe.query_finished(token_, now);
     links_.fe.ru_idle(*this);
     return;

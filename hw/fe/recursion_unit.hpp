@@ -139,6 +139,10 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   // busy: the pipeline cycles (busy_cycles); then a stall, each cause its own wave.
   Probe busy_wave_, sram_wave_, stalled_wave_, writeback_wave_, query_wave_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
+  // first_leaf: a finished leader's record, sent when its results have left (on_done).
+  LeaderRecord record_;
+  bool has_record_ = false;
+  void take_leader_record();
 };
 
 }  // namespace tigris::hw

@@ -12,6 +12,7 @@
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/mem/banked_sram.hpp"
+#include "hw/mem/leader_staging.hpp"
 #include "hw/mem/result_writeback.hpp"
 
 namespace tigris::hw {
@@ -58,10 +59,12 @@ class ResultBuffer : public sc_core::sc_module {
   std::uint64_t drained_cycle() const { return writeback_.drained_cycle(); }  // last byte in DRAM
   void attach_waves(Probe& backlog) { writeback_.attach_waves(backlog); }
   std::uint64_t streamed_bytes() const { return writeback_.bytes(); }
+  LeaderStaging& leader_staging() { return staging_; }  // first_leaf leaders' lists in the making
 
  private:
   BankedSram sram_;            // slots and stream area, bank by bank
   ResultWriteback writeback_;  // the stream to DRAM (a host window)
+  LeaderStaging staging_;
 };
 
 }  // namespace tigris::hw

@@ -22,16 +22,27 @@ void DistributionNetwork::start() {
   waiting_.assign(units_.size(), {});
 }
 
+std::uint64_t DistributionNetwork::arrival(std::uint32_t su, std::uint64_t now) {
+  const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency) + stall_.draw();
+  const std::uint64_t at = std::max(earliest, port_free_[su]);
+  port_wait_ += at - earliest;
+  port_free_[su] = at + static_cast<std::uint64_t>(cost_.qdn_port_interval);
+  return at;
+}
+
+void DistributionNetwork::send_leader(LeaderRecord record, std::uint64_t now) {
+  const std::uint32_t su = target(record.leaf);
+  record.ready = arrival(su, now);
+  units_[su]->leader_arrives(std::move(record));
+}
+
 bool DistributionNetwork::route(const QueryToken& token, std::uint64_t now, RecursionUnit& from) {
   const std::uint32_t su = target(token.leaf);
   if (!units_[su]->has_room()) {
     waiting_[su].push_back(&from);
     return false;
   }
-  const std::uint64_t earliest = now + static_cast<std::uint64_t>(cost_.qdn_latency) + stall_.draw();
-  const std::uint64_t arrival = std::max(earliest, port_free_[su]);
-  port_wait_ += arrival - earliest;
-  port_free_[su] = arrival + static_cast<std::uint64_t>(cost_.qdn_port_interval);
+  const std::uint64_t arrival = this->arrival(su, now);
   QueryToken t = token;
   t.ready = arrival;
   observer_.qdn_hop(su, token.query, now, arrival);

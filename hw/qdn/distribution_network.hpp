@@ -9,6 +9,7 @@
 
 #include <systemc>
 
+#include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
 #include "hw/observer.hpp"
 #include "hw/stall_injector.hpp"
@@ -18,7 +19,6 @@
 namespace tigris::hw {
 
 class RecursionUnit;
-class SearchUnit;
 
 class DistributionNetwork : public sc_core::sc_module {
  public:
@@ -31,9 +31,13 @@ class DistributionNetwork : public sc_core::sc_module {
   // is then woken through retry_dispatch() when it has room).
   bool route(const QueryToken& token, std::uint64_t now, RecursionUnit& from);
   void space_freed(std::uint32_t su);  // a Search Unit issued queries out of its buffer
+  // first_leaf: a finished leader's record to the SU owning its first leaf, through that SU's
+  // port like a query (it needs no BE Query Buffer entry).
+  void send_leader(LeaderRecord record, std::uint64_t now);
   StatGroup& stats() { return stats_; }
 
  private:
+  std::uint64_t arrival(std::uint32_t su, std::uint64_t now);  // the port's next free cycle from `now`
   const CostTable& cost_;
   JobObserver& observer_;
   std::vector<SearchUnit*> units_;

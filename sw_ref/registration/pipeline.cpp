@@ -36,6 +36,8 @@ SearchSettings settings_for(const PipelineConfig& c, bool approximable, const Pi
   s.radius_thd = static_cast<float>(c.search.radius_thd);
   s.leader_capacity = c.search.leader_capacity;
   s.leader_width = c.search.leader_width;
+  s.leader_scope = c.search.leader_scope;
+  s.leader_in_flight = c.search.leader_in_flight;
   return s;
 }
 

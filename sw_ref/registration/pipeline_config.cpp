@@ -101,6 +101,10 @@ void validate(const PipelineConfig& c, const std::string& source) {
     throw std::invalid_argument(source + ": the injected shell needs 'inject.normals_shell_inner' < 'normals.radius' < "
                                 "'inject.normals_shell_outer' (the paper's R1 < r < R2; both 0: off), got " +
                                 number_text(r1) + ", " + number_text(r) + ", " + number_text(r2));
+  if (c.search.leader_width != 0 && c.search.leader_scope == LeaderScope::FirstLeaf)
+    throw std::invalid_argument(source + ": 'search.leader_width' = " + std::to_string(c.search.leader_width) +
+                                " is a width of every_leaf's local lists: set 'search.leader_scope' = every_leaf, "
+                                "or 0 (first_leaf: a leader's final results)");
   if ((shell || c.inject.rpce_kth > 1) && c.search.backend == Backend::Approx)
     throw std::invalid_argument(source + ": error injection ('inject.rpce_kth' = " + std::to_string(c.inject.rpce_kth) +
                                 ", shell " + number_text(r1) + ".." + number_text(r2) +

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config/spec.hpp"
+#include "sw_ref/leader_policy.hpp"
 
 namespace tigris::registration {
 
@@ -77,6 +78,8 @@ struct PipelineConfig {
     double radius_thd = 0.4;
     int leader_capacity = 16;
     int leader_width = 0;
+    LeaderScope leader_scope = LeaderScope::FirstLeaf;
+    LeaderInFlight leader_in_flight = LeaderInFlight::Wait;
   } search;
   // Error injection (the paper's Figure 5; search_plugin.hpp has the exact semantics). Exact
   // back-ends only (flann, exact); off by default.
@@ -144,7 +147,15 @@ struct PipelineConfig {
     v("search.nn_thd", search.nn_thd, {"m", in(0, 1000), "approximate NN/kNN leader threshold"});
     v("search.radius_thd", search.radius_thd, {"fraction of r", in(0, 1), "approximate radius threshold"});
     v("search.leader_capacity", search.leader_capacity, {"leaders", in(1, 1 << 20), "leaders kept per leaf (approximate)"});
-    v("search.leader_width", search.leader_width, {"results", in(0, 1 << 20), "leader result width R for NN/kNN (0: k)"});
+    v("search.leader_width", search.leader_width,
+      {"results", in(0, 1 << 20), "leader result width R for NN/kNN (0: k; every_leaf only)"});
+    v("search.leader_scope", search.leader_scope,
+      {"-", one_of({LeaderScope::FirstLeaf, LeaderScope::EveryLeaf}),
+       "approximate: where leaders are checked: first_leaf (the paper authors' code) or every_leaf"});
+    v("search.leader_in_flight", search.leader_in_flight,
+      {"-", one_of({LeaderInFlight::Wait, LeaderInFlight::FinishedOnly}),
+       "approximate, first_leaf, accelerator in the loop: wait or finished_only (the CPU runs its "
+       "searches one by one, where the two agree)"});
     v("inject.rpce_kth", inject.rpce_kth,
       {"rank", in(1, 100000), "error injection: RPCE's NN searches return the K-th nearest (1: off; --inject-kth)"});
     v("inject.normals_shell_inner", inject.normals_shell_inner,

@@ -79,6 +79,8 @@ struct SearchSettings {
   float radius_thd = 0.4f;      // approximate radius: threshold as a fraction of r
   int leader_capacity = 16;
   int leader_width = 0;         // R for NN/kNN (0: k)
+  LeaderScope leader_scope = LeaderScope::FirstLeaf;
+  LeaderInFlight leader_in_flight = LeaderInFlight::Wait;
   // Error injection (see the top of this file); the defaults inject nothing.
   int inject_kth = 1;           // k-nearest searches return ranks K .. K+k-1 (>= 1)
   float shell_inner = 0.0f;     // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
@@ -348,6 +350,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       shape.approx_thd = shape.mode == "radius" ? settings_.radius_thd * shape.radius : settings_.nn_thd;
       shape.leader_capacity = settings_.leader_capacity;
       shape.leader_width = settings_.leader_width;
+      shape.leader_scope = to_string(settings_.leader_scope);
+      shape.leader_in_flight = to_string(settings_.leader_in_flight);
     }
     if (settings_.backend == Backend::Flann) {
       local_.clear();
@@ -383,6 +387,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
       p.approx_thd = p.mode == Mode::Radius ? settings_.radius_thd * p.radius : settings_.nn_thd;
       p.leader_capacity = settings_.leader_capacity;
       p.leader_width = settings_.leader_width;
+      p.leader_scope = settings_.leader_scope;
+      p.leader_in_flight = settings_.leader_in_flight;
     }
     if (settings_.accelerator) {
       const int n = from_batch(p, point, k_indices, k_sqr_distances);
@@ -401,7 +407,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   static bool same_params(const SearchParams& a, const SearchParams& b) {
     return a.mode == b.mode && a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn &&
            a.approximate == b.approximate && a.approx_thd == b.approx_thd &&
-           a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width;
+           a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width &&
+           a.leader_scope == b.leader_scope && a.leader_in_flight == b.leader_in_flight;
   }
 
   // Serves a search from the announced set's job (running it first when this is its first

@@ -191,17 +191,17 @@ class Flow(unittest.TestCase):
     def test_variants_run_then_report(self):
         out = os.path.join(self.tmp.name, "out")
         p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
-                            "--driver", self.driver, "--variants", "dram-8x", "leader-width-4"],
+                            "--driver", self.driver, "--variants", "dram-8x", "every-leaf-w4"],
                            capture_output=True, text=True)
         self.assertEqual(p.returncode, 0, p.stderr)
-        self.assertIn("dram-8x (8 sweeps), leader-width-4 (1 sweeps)", p.stderr)
+        self.assertIn("dram-8x (8 sweeps), every-leaf-w4 (1 sweeps)", p.stderr)
         self.assertTrue(os.path.isfile(os.path.join(out, "variants", "dram-8x", "sweeps", "units-su", "sweep.csv")))
-        self.assertEqual(os.listdir(os.path.join(out, "variants", "leader-width-4", "sweeps")), ["approx-nn"])
+        self.assertEqual(os.listdir(os.path.join(out, "variants", "every-leaf-w4", "sweeps")), ["approx-nn"])
         with open(os.path.join(out, "variants", "dram-8x", "variant.json")) as f:
             self.assertEqual(json.load(f)["set"], {"dram.bytes_per_cycle": 409.6})
         with open(os.path.join(out, "REPORT.md")) as f:
             text = f.read()
-        self.assertIn("| # | claim | default | dram-8x | leader-width-4 | class |", text)
+        self.assertIn("| # | claim | default | dram-8x | every-leaf-w4 | class |", text)
         mqmn = next(x for x in text.splitlines() if x.startswith("| ") and "MQMN ~2x faster" in x and "· " in x)
         self.assertIn("1.00x · fails | 2.83x · holds | 1.00x · fails | **depends** |", mqmn)  # no gain: not within 2x
         self.assertIn("`dram.bytes_per_cycle`: better as dram.bytes_per_cycle rises", text)

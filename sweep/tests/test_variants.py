@@ -176,7 +176,7 @@ class Specs(unittest.TestCase):
 
     def test_leader_width_goes_on_approximate_points_only(self):
         exps = reproduce.experiments(False)
-        lw = vt.by_name()["leader-width-4"]
+        lw = vt.by_name()["every-leaf-w4"]
         self.assertFalse(vt.affects(lw, "heights-nn", exps["heights-nn"][1]))
         self.assertFalse(vt.affects(lw, "approx-radius", exps["approx-radius"][1]))
         self.assertTrue(vt.affects(lw, "approx-nn", exps["approx-nn"][1]))
@@ -186,11 +186,12 @@ class Specs(unittest.TestCase):
         approx = [p for p in spec["points"] if "approx-thd" in p]
         self.assertEqual(len(approx), len(exps["approx-nn"][1]["grid"]["approx-thd"]))
         self.assertTrue(all(p["leader-width"] == 4 for p in approx))
+        self.assertEqual(spec["base"]["set"], {"leader.scope": "every_leaf"})
 
     def test_built_in_list(self):
         names = vt.by_name()
         for n in ("top-6", "top-10", "dram-2x", "dram-8x", "pb-banks-64", "pb-banks-256", "nc-32k",
-                  "nc-512k", "leader-width-4", "leader-width-16"):
+                  "nc-512k", "every-leaf", "every-leaf-w4", "finished-only"):
             self.assertIn(n, names)
             self.assertTrue(names[n].why)
 
@@ -214,6 +215,7 @@ class Specs(unittest.TestCase):
                          ([{"name": "a", "set": {"dram.bytes_per_cycl": 1}}], "did you mean 'dram.bytes_per_cycle'"),
                          ([{"name": "a"}], "changes nothing"),
                          ([{"name": "a", "leader_width": -1}], "leader_width"),
+                         ([{"name": "a", "leader_width": 4}], "give \"set\": {\"leader.scope\": \"every_leaf\"} too"),
                          ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "experiments": ["nope"]}],
                           "not an experiment: nope"),
                          ([{"name": "a", "set": {"dram.bytes_per_cycle": 1}, "colour": 1}], "unknown field"),
@@ -291,12 +293,13 @@ class HandMadeCsvs(unittest.TestCase):
         nc = fx.hand_made_csvs(os.path.join(tmp, "nc-512k"))
         for name, p in nc.items():
             add_column(p, "node_cache.bytes", "524288", replace={"131072": "524288"})
-        # leader-width-4 runs approx-nn only: its approximate rows at 0.9 of the default's nodes
-        lw_dir = os.path.join(tmp, "leader-width-4")
+        # every-leaf-w4 runs approx-nn only: its approximate rows at 100 nodes/query
+        lw_dir = os.path.join(tmp, "every-leaf-w4")
         os.makedirs(lw_dir)
         lw_csv = os.path.join(lw_dir, "approx-nn.csv")
         shutil.copy(base["approx-nn"], lw_csv)
         add_column(lw_csv, "leader-width", "4")
+        add_column(lw_csv, "leader.scope", "every_leaf")
         set_cells(lw_csv, {"approx-thd": "1.2"}, "visits.per_query.nodes.mean", "100.0")
         set_cells(lw_csv, {"approx-thd": ""}, "leader-width", "")
         lw_all = [p for n, p in base.items() if n != "approx-nn"] + [lw_csv]
@@ -304,7 +307,7 @@ class HandMadeCsvs(unittest.TestCase):
         claims = report.all_claims(ed.Sweep(list(base.values())))
         cols = report.variant_columns(claims, [("dram-8x", v["dram-8x"], list(d8.values())),
                                                ("nc-512k", v["nc-512k"], list(nc.values())),
-                                               ("leader-width-4", v["leader-width-4"], lw_all)])
+                                               ("every-leaf-w4", v["every-leaf-w4"], lw_all)])
         rows = {c.cid: (cells, cls, text) for _, c, cells, cls, text in vt.matrix(cols, DEFAULTS)}
         cells, cls, text = rows["mqmn-speed-nn"]
         self.assertEqual([x[0] for x in cells], [vt.DIRECTION_ONLY, vt.HOLDS, vt.DIRECTION_ONLY, vt.DIRECTION_ONLY])
@@ -318,7 +321,7 @@ class HandMadeCsvs(unittest.TestCase):
         for cid in ("pb-share-with-nc-nn", "nc-energy-nn"):
             self.assertNotEqual(rows[cid][0][2][0], vt.NOT_MEASURED, cid)
             self.assertEqual(rows[cid][0][2][1], rows[cid][0][0][1], cid)
-        # approximate NN under leader width 4: 1 - 100/200 = 50% instead of 75%, the rest shared
+        # approximate NN under every_leaf, leader width 4: 1 - 100/200 = 50% instead of 75%, the rest shared
         cells = rows["approx-visits-nn"][0]
         self.assertEqual((cells[0][1], cells[3][1]), ("-75.0%", "-50.0%"))
         self.assertEqual(rows["bypass-nn"][0][3], rows["bypass-nn"][0][0])
