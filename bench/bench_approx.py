@@ -6,7 +6,12 @@ machine) or, without it, the built-in synthetic pair: NN (thd 1.2 m) and radius 
 (thd 0.4 r), exact and approximate. Prints visits per query, cycles, energy, power, accuracy,
 leader decisions, the energy split beside the paper's DP4 split, and the area beside the
 paper's. Every run must MATCH its golden check (the script stops otherwise).
-Usage: bench/bench_approx.py [--tigris build/testbench/tigris] [--kitti DIR] [--height 10]
+
+`--sweep` instead runs the thresholds of issue 37 on the synthetic pair and (when found) the KITTI
+pair: NN at thd 0.3-2.0 m and radius 0.30 m at 0.2-0.6 r, under the three readings of approximate
+search (first_leaf wait, the default; first_leaf finished_only; every_leaf), each against exact:
+followers, nodes per query, cycles, energy, the bound and the accuracy.
+Usage: bench/bench_approx.py [--tigris build/testbench/tigris] [--kitti DIR] [--height 10] [--sweep]
 """
 import argparse, json, os, subprocess, sys, tempfile
 
@@ -24,15 +29,61 @@ def nodes(s):
     v = s["visits"]
     return v["top"] + v["leaf_points"] + v["follower_points"] + v["leader_checks"]
 
+READINGS = [("first_leaf wait", []), ("first_leaf finished_only", ["--leader-in-flight", "finished_only"]),
+            ("every_leaf", ["--leader-scope", "every_leaf"])]
+
+
+def accuracy(s):
+    c = s.get("accuracy", {})
+    if "recall" in c:
+        return f"recall {c['recall']:.4f}, precision {c['precision']:.4f}"
+    return f"{100*c['exact_match_fraction']:.1f}% exact, +{c['mean_extra_distance_m']:.3f} m mean"
+
+
+def short_bound(s):
+    b = s.get("bottleneck", {})
+    return f"{b.get('bound', '?')} ({b.get('cause', '?')} {100*b.get('share', 0):.0f}%)"
+
+
+def sweep(a, workloads):
+    """The threshold tables: one per workload and search, every reading against exact."""
+    tmp = tempfile.mkdtemp(prefix="bench_approx_")
+    nn = [0.3, 0.6, 1.2, 2.0]
+    r = 0.30
+    for wname, wargs in workloads:
+        for sname, sargs, thds in (("NN", ["--mode", "nn"], nn),
+                                    (f"radius {r:.2f} m", ["--mode", "radius", "--radius", str(r)],
+                                     [round(f * r, 4) for f in (0.2, 0.3, 0.4, 0.6)])):
+            base = wargs + ["--height", a.height] + sargs
+            ex = run(a.tigris, base, tmp)
+            q = ex["queries"]
+            print(f"\n### {wname}, {sname}: exact {ex['cycles']:,} cycles, {nodes(ex)/q:.1f} nodes/query, "
+                  f"{ex['energy_pj']['total']/1e6:,.1f} uJ, {short_bound(ex)}\n")
+            print("| thd m | reading | followers | nodes/query | cycles | speed-up | energy | bound | accuracy | verdict |")
+            print("|---:|---|---:|---:|---:|---:|---:|---|---|---|")
+            for thd in thds:
+                for rname, rargs in READINGS:
+                    s = run(a.tigris, base + ["--approx-thd", str(thd)] + rargs, tmp)
+                    l = s["leaders"]
+                    print(f"| {thd:g} | {rname} | {100*l['followers']/q:.1f}% | {nodes(s)/q:.1f} ({100*(nodes(s)/nodes(ex)-1):+.0f}%) "
+                          f"| {s['cycles']:,} | {ex['cycles']/s['cycles']:.2f}x | {s['energy_pj']['total']/ex['energy_pj']['total']:.2f}x "
+                          f"| {short_bound(s)} | {accuracy(s)} | {s['verdict']} |")
+                    sys.stdout.flush()
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser()
     ap.add_argument("--tigris", default=os.path.join(here, "..", "build", "testbench", "tigris"))
     ap.add_argument("--kitti", default=os.path.join(here, "..", "..", "shared", "data", "kitti-00"))
     ap.add_argument("--height", default="10")
+    ap.add_argument("--sweep", action="store_true", help="the threshold tables of every reading")
     a = ap.parse_args()
     k0, k1 = os.path.join(a.kitti, "000000.bin"), os.path.join(a.kitti, "000001.bin")
     workload = ["--cloud", k0, "--queries", k1] if os.path.exists(k0) and os.path.exists(k1) else []
+    if a.sweep:
+        sweep(a, [("synthetic pair", [])] + ([("KITTI 00 frame 1 in frame 0", workload)] if workload else []))
+        return
     print("## Workload: " + ("KITTI 00, frame 1 in frame 0" if workload else "synthetic pair (KITTI not found)") +
           f", top height {a.height}, default machine\n")
     searches = [("NN", ["--mode", "nn"], "1.2"), ("radius 0.30", ["--mode", "radius", "--radius", "0.30"], "0.12"),
