@@ -46,6 +46,7 @@ struct Pin {
   hw::AcceleratorConfig config;
   std::string mode;
   int height;
+  bool approximate = false;  // at the default threshold, with config.leader's scope and in-flight policy
   std::string label() const { return mode + " h" + (height < 0 ? std::string("full") : std::to_string(height)); }
 };
 
@@ -73,12 +74,24 @@ std::vector<Pin> pins() {
   for (const auto& [name, cfg] : configs)
     for (const char* mode : {"nn", "knn", "radius"})
       for (int h : {3, 10, -1}) out.push_back({name, cfg, mode, h});
+  // Approximate search, each reading (recorded when first_leaf came, issue 37): a canonical
+  // tree has no leaf sets, so only the two-stage heights.
+  hw::AcceleratorConfig finished_only, every_leaf;
+  finished_only.leader.in_flight = LeaderInFlight::FinishedOnly;
+  every_leaf.leader.scope = LeaderScope::EveryLeaf;
+  for (const auto& [name, cfg] : {std::pair{"approx-first-leaf", hw::AcceleratorConfig{}},
+                                  std::pair{"approx-finished-only", finished_only},
+                                  std::pair{"approx-every-leaf", every_leaf}})
+    for (const char* mode : {"nn", "knn", "radius"})
+      for (int h : {3, 10}) out.push_back({name, cfg, mode, h, true});
   return out;
 }
 
 // The figures that must not move, flattened to "group.name" keys. Only this function follows
 // the stats JSON's layout; the recorded values stay as they are.
-std::map<std::string, std::uint64_t> figures(const SimOutcome& o, const VisitTotals& visits) {
+std::map<std::string, std::uint64_t> figures(const SimOutcome& o, bool approximate) {
+  const VisitTotals& visits = o.visits.visits;
+  const LeaderTotals& leaders = o.visits.leaders;
   std::map<std::string, std::uint64_t> f;
   f["cycles"] = o.cycles;
   f["visits.top"] = visits.top;
@@ -106,6 +119,15 @@ std::map<std::string, std::uint64_t> figures(const SimOutcome& o, const VisitTot
   f["fqq.max_occupancy"] = o.units["fqq"]["max_occupancy"];
   f["fqq.queries_in_flight"] = o.units["fqq"]["queries_in_flight"];
   f["writeback.bytes"] = o.buffers["dram"]["write_bytes"];
+  if (approximate) {
+    f["visits.follower_points"] = visits.follower_points;
+    f["visits.leader_checks"] = visits.leader_checks;
+    f["leaders.leaders"] = leaders.leaders;
+    f["leaders.followers"] = leaders.followers;
+    f["leaders.leader_buffer_full"] = leaders.leader_buffer_full;
+    for (const char* n : {"read_bytes", "write_bytes", "list_bytes", "dram_lists"})
+      f[std::string("buffers.leader_buffer.") + n] = o.buffers["leader_buffer"][n].get<std::uint64_t>();
+  }
   return f;
 }
 
@@ -117,6 +139,12 @@ void check_pin(const Pin& pin) {
   params.mode = parse_mode(pin.mode);
   if (params.mode == Mode::KNN) params.k = 8;
   if (params.mode == Mode::Radius) params.radius = 0.5f;
+  if (pin.approximate) {
+    params.approximate = true;
+    params.approx_thd = default_approx_thd(params);
+    params.leader_scope = pin.config.leader.scope;
+    params.leader_in_flight = pin.config.leader.in_flight;
+  }
   const KdTree tree = build_kdtree(w.cloud, pin.height);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   SimSetup s;
@@ -133,7 +161,7 @@ void check_pin(const Pin& pin) {
   const SearchOutput golden = search(tree, w.queries, params);
   const Verdict v = check_against_golden(tree, w.queries, params, golden, out.results, out.visits);
   if (!v.match) FAIL(v.first.front());
-  const auto f = figures(out, out.visits.visits);
+  const auto f = figures(out, pin.approximate);
 
   const std::string path = std::string(TIGRIS_TESTS_DIR) + "/pinned/" + pin.config_name + ".json";
   json recorded = json::object();
