@@ -59,6 +59,9 @@ void validate(const SearchParams& p) {
       throw std::invalid_argument("approximation threshold must be a finite number >= 0");
     if (p.leader_capacity < 0) throw std::invalid_argument("leader capacity must be >= 0");
     if (p.leader_width < 0) throw std::invalid_argument("leader result width must be >= 0");
+    if (p.leader_width != 0 && p.leader_scope == LeaderScope::FirstLeaf)
+      throw std::invalid_argument("a leader result width applies to leader scope every_leaf (first_leaf leaders keep "
+                                  "their final results)");
   }
 }
 

@@ -120,7 +120,7 @@ int parse_height(const std::string& text) {
   return h;
 }
 
-SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
+SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderScope scope, LeaderInFlight in_flight) {
   SearchParams p;
   p.mode = parse_mode(o.mode);
   if (app.count("--k") && p.mode != Mode::KNN)
@@ -151,12 +151,13 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o) {
              app.count("--leader-in-flight")) {
     throw std::invalid_argument("--leader-scope, --leader-in-flight, --leader-capacity and --leader-width need --approx-thd");
   }
-  p.leader_scope = parse_leader_scope(o.leader_scope);
-  p.leader_in_flight = parse_leader_in_flight(o.leader_in_flight);
+  p.leader_scope = app.count("--leader-scope") ? parse_leader_scope(o.leader_scope) : scope;
+  p.leader_in_flight = app.count("--leader-in-flight") ? parse_leader_in_flight(o.leader_in_flight) : in_flight;
   if (app.count("--leader-in-flight") && p.leader_scope != LeaderScope::FirstLeaf)
-    throw std::invalid_argument("--leader-in-flight applies to --leader-scope first_leaf");
+    throw std::invalid_argument("--leader-in-flight applies to leader scope first_leaf (--leader-scope or leader.scope)");
   if (app.count("--leader-width") && p.leader_scope == LeaderScope::FirstLeaf)
-    throw std::invalid_argument("--leader-width applies to --leader-scope every_leaf (first_leaf leaders keep their final results)");
+    throw std::invalid_argument("--leader-width applies to leader scope every_leaf (--leader-scope or leader.scope; "
+                                "first_leaf leaders keep their final results)");
   p.leader_capacity = o.leader_capacity;
   p.leader_width = o.leader_width;
   validate(p);

@@ -38,8 +38,10 @@ struct SearchOptions {
 void add_search_options(CLI::App& app, SearchOptions& o, bool replay = false);
 
 // Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws
-// std::invalid_argument naming the flag.
-SearchParams search_params(const CLI::App& app, const SearchOptions& o);
+// std::invalid_argument naming the flag. `scope`, `in_flight`: the leader scope and in-flight
+// policy when their flags are not given (run: from the configuration's leader block).
+SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderScope scope = LeaderScope::FirstLeaf,
+                           LeaderInFlight in_flight = LeaderInFlight::Wait);
 
 // A note on stderr when a kNN search asks for more neighbours than the cloud has.
 void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t points, const std::string& cloud_name);

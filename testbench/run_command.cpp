@@ -113,16 +113,16 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
                         {"--dump-results", o.search.dump_results},
                         {"--dump-schedule", o.search.dump_schedule}});
   RunSetup r;
-  r.params = search_params(app, o.search);
   hw::AcceleratorConfig& cfg = r.cfg;
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
   for (const std::string& s : o.settings) apply_setting(cfg, s);
+  r.params = search_params(app, o.search, cfg.leader.scope, cfg.leader.in_flight);
   if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
   if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
   if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
-  if (app.count("--leader-scope")) cfg.leader.scope = parse_leader_scope(o.search.leader_scope);
-  if (app.count("--leader-in-flight")) cfg.leader.in_flight = parse_leader_in_flight(o.search.leader_in_flight);
+  cfg.leader.scope = r.params.leader_scope;  // the flags over the configuration
+  cfg.leader.in_flight = r.params.leader_in_flight;
   validate_config(cfg);
   r.params.leader_capacity = cfg.leader.capacity_per_leaf;
   r.params.leader_scope = cfg.leader.scope;

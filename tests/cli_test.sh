@@ -103,6 +103,8 @@ expect 0 "gtkwave $tmp/o/dir.v2/waves.gtkw" -- run --cloud "$tmp/three.bin" --qu
 [ -f "$tmp/o/dir.v2/waves.gtkw" ] && passes=$((passes + 1)) || { echo "FAIL: the save file is not beside the waves"; failures=$((failures + 1)); }
 expect 2 "need --approx-thd" -- run --leader-width 3
 expect 2 "every_leaf" -- run --approx-thd default --leader-width 3
+expect 0 "followers" -- run --approx-thd default --set leader.scope=every_leaf --leader-width 2 --height 8 --out "$tmp/rw"
+expect 2 "applies to leader scope first_leaf" -- run --approx-thd default --set leader.scope=every_leaf --leader-in-flight wait
 expect 0 "followers" -- run --approx-thd default --leader-scope every_leaf --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/ra" --dump-schedule "$tmp/ra.csv"
 expect 0 "approximate" -- ref --approx-thd default --leader-scope every_leaf --mode knn --k 4 --leader-width 2 --height 8 --out "$tmp/rb" --schedule "$tmp/ra.csv"
 # first_leaf, finished_only: the schedule carries the leaders' finishes, and its replay agrees.
