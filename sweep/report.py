@@ -485,7 +485,7 @@ def claims_approx(sw):
                    f"{num(ap, 'accuracy.max_extra_distance_m') or 0:.2f} m")
         c = Claim(f"approx-visits-{s['mode']}", "9", f"approximate search cuts visited nodes "
                   f"({label(s)}, thd {thd:.2f} m)", "-72.8% (DP7)", how)
-        c.set(f"-{pct(v)}", v > NO_CHANGE, within_2x(v, PAPER["approx_visit_cut"]),
+        c.set(f"-{pct(v)}" if v >= 0 else f"+{pct(-v)}", v > NO_CHANGE, within_2x(v, PAPER["approx_visit_cut"]),
               f"nodes/query {ed.nodes_per_query(ex):.0f} -> {ed.nodes_per_query(ap):.0f}; "
               f"{num(ap, 'leaders.leaders') or 0:,.0f} leaders, {num(ap, 'leaders.followers') or 0:,.0f} "
               f"followers; cycles {num(ex, 'cycles'):,.0f} -> {num(ap, 'cycles'):,.0f}; {acc}")
