@@ -204,6 +204,18 @@ TEST_CASE("trace: forged values with valid checksums are refused", "[trace]") {
   t = r.trace;
   t.jobs[0].backend = "gpu";
   CHECK_THAT(refused(t), Catch::Contains("unknown back-end 'gpu'"));
+  t = r.trace;
+  t.jobs[0].leader_scope = "last_leaf";
+  CHECK_THAT(refused(t), Catch::Contains("unknown leader_scope 'last_leaf'"));
+  t = r.trace;
+  t.jobs[0].leader_in_flight = "never";
+  CHECK_THAT(refused(t), Catch::Contains("unknown leader_in_flight 'never'"));
+  t = r.trace;  // the approximate reading goes with the job
+  t.jobs[0].leader_scope = "every_leaf", t.jobs[0].leader_in_flight = "finished_only";
+  const std::vector<std::uint8_t> bytes = trace::encode(t);
+  const trace::Trace back = trace::decode(bytes.data(), bytes.size(), "t.trace");
+  CHECK(back.jobs[0].leader_scope == "every_leaf");
+  CHECK(back.jobs[0].leader_in_flight == "finished_only");
   CHECK(refused(r.trace).empty());  // the unforged trace reads
 }
 
