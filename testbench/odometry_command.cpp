@@ -150,24 +150,6 @@ double stage_sum(const ordered_json& reg, const char* key) {
   return s;
 }
 
-// KITTI 00's first ~15 poses advance in equal steps (0.86 m, 0.139 deg; docs/registration.md):
-// the number of steps from the start whose length and rotation equal the first step's to 2 mm
-// and 0.005 deg (KITTI 00's stay within 1.2 mm and 0.002 deg). Steady driving can do that too,
-// so the warning says "may".
-std::size_t equal_steps(const std::vector<Pose>& gt) {
-  if (gt.size() < 2) return 0;
-  const Pose first = gt[0].inverse() * gt[1];
-  const double len = first.topRightCorner<3, 1>().norm(), ang = registration::rotation_angle_deg(first);
-  std::size_t n = 1;
-  for (std::size_t i = 2; i < gt.size(); ++i, ++n) {
-    const Pose step = gt[i - 1].inverse() * gt[i];
-    if (std::abs(step.topRightCorner<3, 1>().norm() - len) > 0.002 ||
-        std::abs(registration::rotation_angle_deg(step) - ang) > 0.005)
-      break;
-  }
-  return n;
-}
-
 // NaN (no segment, no ground truth) as null in JSON.
 ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : ordered_json(); }
 
@@ -524,17 +506,11 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
     m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
                 {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
     // On every ground-truth pose from frame A, also those past the scans the folder holds.
-    const std::size_t steps = equal_steps(std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
-    if (steps >= 5 && !synthetic) {
-      char b[512];
-      std::snprintf(b, sizeof b,
-                    "the ground truth's first %zu steps are equal (length to 2 mm, angle to 0.005 deg), as in "
-                    "KITTI 00's first ~15 frames, whose poses advance a constant 0.86 m while LiDAR registration measures 0.68-0.76 m "
-                    "(docs/registration.md): per-pair errors there may measure the ground truth, not the "
-                    "registration",
-                    steps);
-      m["ground_truth_warning"] = b;
-      note = b;
+    const std::size_t steps = registration::equal_steps(
+        std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
+    if (steps >= registration::kEqualStepsWarn && !synthetic) {
+      m["ground_truth_warning"] = registration::equal_steps_warning(steps);
+      note = registration::equal_steps_warning(steps);
     }
   }
   write_file(o.out + "/metrics.json", [&](std::ostream& f) { f << m.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });

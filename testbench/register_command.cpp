@@ -1,5 +1,6 @@
 #include "register_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -319,7 +320,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   PointCloud source, target;
   std::string source_name, target_name;
   std::optional<Pose> truth;
-  std::string truth_name;
+  std::string truth_name, truth_warning;
   if (o.source.empty()) {
     SyntheticConfig sc;
     sc.seed = o.seed;
@@ -347,6 +348,10 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     const auto [s, t] = parse_frames(o.kitti_frames);
     truth = registration::kitti_relative_velo_pose(o.kitti_poses, s, t);
     truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
+    // Both frames within a run of equal ground-truth steps from frame 0 (KITTI 00's first ~15).
+    const std::size_t steps = registration::equal_steps(registration::read_kitti_poses(o.kitti_poses));
+    if (steps >= registration::kEqualStepsWarn && static_cast<std::size_t>(std::max(s, t)) <= steps)
+      truth_warning = registration::equal_steps_warning(steps);
   }
 
   // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
@@ -474,6 +479,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     err = registration::pose_error(*truth, r.transform);
     const registration::PoseError initial = registration::pose_error(*truth, r.initial);
     doc["ground_truth"] = {{"source", truth_name}, {"transform", matrix_json(*truth)}};
+    if (!truth_warning.empty()) doc["ground_truth"]["warning"] = truth_warning;
     doc["error"] = {{"translation_m", err->translation_m},
                     {"rotation_deg", err->rotation_deg},
                     {"travelled_m", err->travelled_m},
@@ -545,6 +551,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   else if (err)
     std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
                 "does not move)\n", err->translation_m, err->rotation_deg);
+  if (err && !truth_warning.empty()) std::printf("  warning: %s\n", truth_warning.c_str());
   std::printf("  wrote %s\n", path.c_str());
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",

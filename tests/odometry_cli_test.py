@@ -230,6 +230,14 @@ def sequence_checks(d, run, check):
           "no warning for a ground truth of equal steps")
     check("ground_truth_warning" in json.load(open(os.path.join(d, "o4", "metrics.json"))),
           "metrics.json has no ground_truth_warning")
+    # register scores a pair of those frames with the same warning.
+    rg = os.path.join(d, "rg")
+    text = run(["register", "--source", os.path.join(seq, "velodyne", "000001.bin"), "--target",
+                os.path.join(seq, "velodyne", "000000.bin"), "--kitti-poses", os.path.join(seq, "poses.txt"),
+                "--kitti-frames", "1,0", "--out", rg], 0, "error vs ground truth")
+    check("warning: the ground truth's first 5 steps are equal" in text, f"register gave no warning: {text[-400:]}")
+    check("equal" in json.load(open(os.path.join(rg, "registration.json")))["ground_truth"].get("warning", ""),
+          "registration.json has no ground_truth.warning")
     os.rename(os.path.join(seq, "velodyne", "000002.bin"), os.path.join(d, "moved.bin"))
     run(["odometry", "--sequence", seq, "--out", os.path.join(d, "x")], 2, "000002.bin is missing")
     os.rename(os.path.join(d, "moved.bin"), os.path.join(seq, "velodyne", "000002.bin"))

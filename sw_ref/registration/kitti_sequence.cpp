@@ -28,7 +28,7 @@ long frame_number(const std::string& name) {
 }
 
 std::string scan_name(long n) {
-  char b[16];
+  char b[32];  // a long of 19 digits and ".bin" fit
   std::snprintf(b, sizeof b, "%06ld.bin", n);
   return b;
 }

@@ -138,4 +138,24 @@ PoseError pose_error(const Pose& ground_truth, const Pose& estimate) {
   return out;
 }
 
+std::size_t equal_steps(const std::vector<Pose>& gt) {
+  if (gt.size() < 2) return 0;
+  const Pose first = gt[0].inverse() * gt[1];
+  const double len = first.topRightCorner<3, 1>().norm(), ang = rotation_angle_deg(first);
+  std::size_t n = 1;
+  for (std::size_t i = 2; i < gt.size(); ++i, ++n) {
+    const Pose step = gt[i - 1].inverse() * gt[i];
+    if (std::abs(step.topRightCorner<3, 1>().norm() - len) > 0.002 || std::abs(rotation_angle_deg(step) - ang) > 0.005)
+      break;
+  }
+  return n;
+}
+
+std::string equal_steps_warning(std::size_t steps) {
+  return "the ground truth's first " + std::to_string(steps) +
+         " steps are equal (length to 2 mm, angle to 0.005 deg), as in KITTI 00's first ~15 frames, whose poses "
+         "advance a constant 0.86 m while LiDAR registration measures 0.68-0.76 m (docs/registration.md): errors "
+         "there may measure the ground truth, not the registration";
+}
+
 }  // namespace tigris::registration

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -51,5 +52,14 @@ PoseError pose_error(const Pose& ground_truth, const Pose& estimate);
 
 // The rotation angle of a rigid transform in degrees (0..180).
 double rotation_angle_deg(const Pose& t);
+
+// KITTI 00's first ~15 poses advance in equal steps (0.86 m, 0.139 deg; docs/registration.md):
+// the number of steps from the start whose length and rotation equal the first step's to 2 mm
+// and 0.005 deg (KITTI 00's stay within 1.2 mm and 0.002 deg). Steady driving can do that too,
+// so the warning says "may".
+std::size_t equal_steps(const std::vector<Pose>& gt);
+constexpr std::size_t kEqualStepsWarn = 5;  // from this many equal steps on, errors there are suspect
+// The warning for `steps` equal steps, ending in what it means for the errors measured there.
+std::string equal_steps_warning(std::size_t steps);
 
 }  // namespace tigris::registration
