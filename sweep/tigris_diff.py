@@ -20,6 +20,7 @@ import argparse
 import json
 import math
 import os
+import shlex
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
@@ -324,6 +325,14 @@ def main(argv):
     core.list_flags(ap, "diff", argv)
     a = ap.parse_args(argv)
     if len(a.runs) < 2:
+        points = os.path.join(a.runs[0], "points")
+        if os.path.isdir(points):  # a sweep folder: name what can be compared
+            names = sorted(n for n in os.listdir(points) if os.path.isdir(os.path.join(points, n)))
+            shown = [shlex.quote(os.path.join(points, n)) for n in names[:2]]
+            die(f"{a.runs[0]} is a sweep folder: compare two (or more) of its {len(names)} points, e.g.\n"
+                f"  {PROG} {' '.join(shown)}\n"
+                + "its points:\n" + "\n".join("  " + n for n in names[:12])
+                + (f"\n  ... and {len(names) - 12} more" if len(names) > 12 else ""))
         die("give at least two runs to compare")
     loaded = [load(r) for r in a.runs]
     kinds = {k for _, _, k in loaded}

@@ -45,7 +45,7 @@ std::string closest(const std::string& word, const std::vector<std::string>& can
   return best_d <= 2 && best_d < letters.size() ? best : std::string();
 }
 
-std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv) {
+std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, const std::string& error) {
   std::vector<std::string> commands;
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) commands.push_back(sub->get_name());
   if (argc < 2) return "";
@@ -69,9 +69,47 @@ std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv) 
   };
   const std::vector<std::string> own = flags_of(sub);
   std::string out;
+  // CLI11's "VALUE not in {a,b,c}": the closest allowed value.
+  if (const auto in = error.find(" not in {"); in != std::string::npos && error.find('}', in) != std::string::npos) {
+    const std::size_t colon = error.rfind(": ", in);
+    const std::string value = error.substr(colon == std::string::npos ? 0 : colon + 2,
+                                           in - (colon == std::string::npos ? 0 : colon + 2));
+    std::vector<std::string> allowed;
+    std::string list = error.substr(in + 9, error.find('}', in) - in - 9);
+    for (std::size_t p = 0; p <= list.size();) {
+      const std::size_t comma = std::min(list.find(',', p), list.size());
+      allowed.push_back(list.substr(p, comma - p));
+      p = comma + 1;
+    }
+    const std::string guess = closest(value, allowed);
+    const std::string flag = colon == std::string::npos ? std::string() : error.substr(0, colon) + " ";
+    if (!guess.empty()) out += flag + value + ": did you mean " + flag + guess + "?\n";
+  }
+  const auto takes_value = [&](const std::string& flag) {
+    const CLI::Option* o = sub->get_option_no_throw(flag);
+    return o && o->get_expected_min() > 0;
+  };
+  std::vector<std::string> names;  // the flags without their dashes
+  for (const std::string& f : own) names.push_back(f.substr(2));
   for (int i = 2; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "--") break;
+    if (arg.rfind("-", 0) != 0) {  // a bare word that is no flag's value
+      const std::string prev = i > 2 ? std::string(argv[i - 1]) : "";
+      const bool known = std::find(own.begin(), own.end(), prev) != own.end();
+      // (a value of a flag that takes one, or of a flag we do not know, is not the question)
+      if (!(prev.rfind("--", 0) == 0 && prev.find('=') == std::string::npos && (takes_value(prev) || !known)) &&
+          sub->get_options([](const CLI::Option* o) { return o->get_positional(); }).empty()) {
+        std::string guess;
+        for (const std::string& n : names)
+          if (n.rfind(arg, 0) == 0 && takes_value("--" + n)) guess = guess.empty() ? n : "-";  // a unique prefix
+        if (guess.empty() || guess == "-") guess = closest(arg, names);
+        out += "tigris " + sub->get_name() + " takes flags, not the word '" + arg + "'" +
+               (guess.empty() || guess == "-" ? " (tigris " + sub->get_name() + " --help lists them)"
+                                              : "; did you mean --" + guess + " " + arg + "?") + "\n";
+      }
+      continue;
+    }
     if (arg.rfind("--", 0) != 0) continue;
     arg = arg.substr(0, arg.find('='));
     if (std::find(own.begin(), own.end(), arg) != own.end()) continue;

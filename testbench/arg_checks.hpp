@@ -30,9 +30,11 @@ void check_distinct_paths(const std::vector<PathUse>& inputs, const std::vector<
 // most 2 edits, and fewer than the word has letters); empty otherwise.
 std::string closest(const std::string& word, const std::vector<std::string>& candidates);
 
-// For a parse error of `app`: "did you mean" lines for an unknown subcommand and for each flag
-// of argv that the chosen subcommand does not take (naming the subcommand that does take it).
-std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv);
+// For a parse error of `app` (CLI11's message `error`): "did you mean" lines for an unknown
+// subcommand, for each flag of argv that the chosen subcommand does not take (naming the
+// subcommand that does take it), for a bare word where a flag was wanted (`odometry seq`: did
+// you mean --sequence seq?) and for a value outside a flag's list (`--search acel`: accel).
+std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, const std::string& error = "");
 
 // The command line as a shell would take it back (arguments with spaces or quotes quoted).
 std::string command_line(int argc, const char* const* argv);

@@ -173,11 +173,13 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    const std::string hints = tigris::parse_suggestions(app, argc, argv);
+    const std::string hints = tigris::parse_suggestions(app, argc, argv, e.what());
     if (hints.rfind("'", 0) == 0)  // an unknown command: CLI11 would only say one is required
       std::cerr << "tigris: error: " << printable(hints);
+    else if (!hints.empty())  // the project's words first, CLI11's after them
+      std::cerr << "tigris: error: " << printable(hints) << "(" << printable(e.what()) << ")\n";
     else
-      std::cerr << "tigris: error: " << printable(e.what()) << '\n' << printable(hints);
+      std::cerr << "tigris: error: " << printable(e.what()) << '\n';
     std::cerr << "Run with --help for more information (tigris COMMAND --help for a command's flags).\n";
     return 2;
   }

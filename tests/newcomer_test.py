@@ -23,6 +23,7 @@ import csv
 import hashlib
 import json
 import os
+import shutil
 import re
 import subprocess
 import sys
@@ -206,6 +207,11 @@ def part_diff(d):
     os.makedirs(os.path.join(sw, "points"), exist_ok=True)
     p = tig("diff", a, sw, code=2)
     check("sweep folder" in p.stderr, f"a sweep folder is refused with advice: {p.stderr}")
+    for name in ("mode=nn", "mode=knn"):  # the sweep folder alone: its points are named
+        shutil.copytree(a, os.path.join(sw, "points", name))
+    p = tig("diff", sw, code=2)
+    check("compare two (or more) of its 2 points" in p.stderr and "mode=knn" in p.stderr,
+          f"diff of one sweep folder names its points: {p.stderr}")
     err = tig("diff", a, os.path.join(ROOT, "README.md"), code=2).stderr
     check("README.md:1:1: not valid JSON" in err, f"a non-JSON file is refused, naming its line: {err}")
 
@@ -330,9 +336,16 @@ def part_help(d):
     check(re.search(r"--timeline-queries[^\n]*=2000", run_help), "--timeline-queries shows its default")
     for args, want in ((["rn"], "did you mean 'run'"), (["run", "--mdoe", "nn"], "did you mean --mode"),
                        (["run", "--schedule", "x"], "is a flag of tigris ref"),
-                       (["odometry", "--frame", "3"], "did you mean --frames")):
+                       (["odometry", "--frame", "3"], "did you mean --frames"),
+                       (["odometry", "seq"], "did you mean --sequence seq?"),
+                       (["register", "--search", "acel"], "did you mean --search accel?"),
+                       (["run", "--mode", "nn", "extra"], "takes flags, not the word 'extra'")):
         p = tig(*args, code=2)
         check(want in p.stderr, f"tigris {' '.join(args)} suggests: {p.stderr}")
+        check(p.stderr.startswith("tigris: error: ") and not p.stderr.startswith("tigris: error: The following"),
+              f"tigris {' '.join(args)}: the project's words come first: {p.stderr}")
+    p = tig("run", "--mdoe", "nn", code=2)
+    check("the word 'nn'" not in p.stderr, f"a value of an unknown flag is not a stray word: {p.stderr}")
     spec = os.path.join(d, "bad.json")
     with open(spec, "w") as f:
         json.dump({"grid": {"recursion_units": [16, 32]}}, f)
