@@ -92,18 +92,30 @@ def part_inputs(d):
     s = stats_of(d, "builtin")
     check([i.get("builtin") for i in s["inputs"]] == ["synthetic:frame0 (seed 1)", "synthetic:frame1 (seed 1)"],
           f"built-in inputs named: {s['inputs']}")
+    # README's sample of the default run is what the default run prints (host times and the
+    # stats path aside).
+    readme = open(os.path.join(ROOT, "README.md")).read()
+    sample = readme.split("## The default run", 1)[1].split("```\n", 2)[1].splitlines()
+    real = {line.split()[0]: line for line in _printed["builtin"].splitlines() if line.strip()}
+    for line in sample:
+        key = line.split()[0]
+        if key in ("time", "stats"):
+            continue
+        check(real.get(key) == line, f"README's sample line differs from the default run's:\n  README: {line}\n"
+              f"  run:    {real.get(key)}")
     out = os.path.join(d, "alone")
     tig("run", "--cloud", cloud, "--height", "6", "--out", out, code=0)
     check(stats(out)["inputs"][1] == {"role": "queries", "same_as": "cloud"}, "a cloud alone is its own queries")
 
 
 _runs = {}
+_printed = {}  # each run's summary on stdout
 
 
 def stats_of(d, name, *args):
     if name not in _runs:
         out = os.path.join(d, name)
-        tig("run", *args, "--out", out, code=0)
+        _printed[name] = tig("run", *args, "--out", out, code=0).stdout
         _runs[name] = stats(out)
     return _runs[name]
 
