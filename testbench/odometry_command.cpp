@@ -333,10 +333,11 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
       ++done;
       const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
       const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
-      std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s)\n", done, todo.size(),
-                   frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
-                   ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED",
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s elapsed, about %.0f s left)\n", done,
+                   todo.size(), frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
+                   ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED", elapsed,
+                   elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done));
       if (!ok && failure.empty())
         failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
                   std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
