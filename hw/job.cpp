@@ -7,9 +7,13 @@
 
 namespace tigris::hw {
 
+std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf) {
+  return ResultSlots::slot_bytes(k) + (first_leaf ? 12 * std::uint64_t{k} : 0);
+}
+
 std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes,
                           std::uint64_t num_queries, int top_height, tlm_if::SearchMode mode,
-                          std::uint32_t k) {
+                          std::uint32_t k, bool first_leaf) {
   const auto n = [](std::uint64_t x) { return std::to_string(x); };
   if (image_bytes > config.sram.points.bytes)
     return "the tree image needs " + n(image_bytes) + " bytes, the Point Buffer holds " +
@@ -27,9 +31,10 @@ std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_b
     return "the FE Query Queue cannot hold one query: fe.fqq_bytes = " + n(config.fe.fqq_bytes) +
            " holds no entry of fe.fqq_entry_bytes = " + std::to_string(config.fe.fqq_entry_bytes);
   if (mode != tlm_if::SearchMode::Radius &&
-      ResultBuffer::slot_capacity(config, ResultSlots::slot_bytes(k)) == 0)
-    return "the Result Buffer cannot hold one query's " + n(k) +
-           " results (sram.results.bytes x result_buffer.slot_fraction)";
+      ResultBuffer::slot_capacity(config, result_slot_bytes(k, first_leaf)) == 0)
+    return "the Result Buffer cannot hold one query's " + n(k) + " results" +
+           (first_leaf ? " with their coordinates (approximate, leader.scope first_leaf)" : "") +
+           " (sram.results.bytes x result_buffer.slot_fraction)";
   return {};
 }
 

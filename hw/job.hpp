@@ -84,11 +84,16 @@ struct LeaderRecord {
   std::uint64_t ready = 0;
 };
 
+// A query's NN/kNN Result Buffer slot: the count word and k results; with approximate
+// first_leaf search each result also carries its point's coordinates (12 bytes), so that a
+// finished leader writes its list straight from its slot (hw/mem/leader_staging.hpp).
+std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf);
+
 // The one check that a job fits the configured buffers: the tree image in the Point Buffer,
 // the queries in the Query Buffer, one query's stack and (NN/kNN) its k results. Returns why
 // not, naming the configuration key, or an empty string.
 std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes,
                           std::uint64_t num_queries, int top_height, tlm_if::SearchMode mode,
-                          std::uint32_t k);
+                          std::uint32_t k, bool first_leaf = false);
 
 }  // namespace tigris::hw

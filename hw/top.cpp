@@ -159,11 +159,10 @@ std::string TigrisAccelerator::configure_job() {
     j.leader_width = j.radius() || j.first_leaf ? 0 : csr_[kLeaderWidth / 4];
     if (!j.radius() && !j.first_leaf && j.leader_width == 0) return "CSR LEADER_WIDTH must be >= 1 for NN/kNN";
     j.leader_capacity = static_cast<std::uint32_t>(config_.leader.capacity_per_leaf);
-    // first_leaf NN/kNN: a slot entry also carries its point's coordinates (12 bytes), so a
-    // finished leader writes its list straight from its slot (hw/mem/leader_staging.hpp).
-    if (j.first_leaf && !j.radius()) j.result_slot_bytes += 12 * std::uint64_t{j.k};
+    if (!j.radius()) j.result_slot_bytes = result_slot_bytes(j.k, j.first_leaf);
   }
-  const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k);
+  const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k,
+                                        j.approximate && j.first_leaf);
   if (!fit.empty()) return fit;
   if (j.num_leaves) {
     const auto* dir = reinterpret_cast<const LeafDirEntry*>(to_points_.data() + j.leaf_dir_offset);

@@ -40,7 +40,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   const HostJob job = host_job(params);
   const std::string fit =
-      hw::job_fit_error(cfg, image.bytes.size(), queries.size(), tree.top_height, job.mode, job.k);
+      hw::job_fit_error(cfg, image.bytes.size(), queries.size(), tree.top_height, job.mode, job.k,
+                        job.approximate && job.first_leaf);
   if (!fit.empty()) throw std::invalid_argument("does not fit the accelerator: " + fit);
   check_work(estimate_work(tree, queries, params), limits, queries.size());
   phases["prepare"] = since(t_phase);

@@ -139,7 +139,8 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   r.image = tlm_if::encode_tree_image(r.tree);
   r.job = host_job(r.params);
   const std::string fit =
-      hw::job_fit_error(cfg, r.image.bytes.size(), w.queries.size(), r.tree.top_height, r.job.mode, r.job.k);
+      hw::job_fit_error(cfg, r.image.bytes.size(), w.queries.size(), r.tree.top_height, r.job.mode, r.job.k,
+                        r.job.approximate && r.job.first_leaf);
   if (!fit.empty()) throw std::invalid_argument(w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): " + fit);
   r.estimate = estimate_work(r.tree, w.queries, r.params);
   if (r.params.mode != Mode::Radius)

@@ -484,6 +484,11 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
         "sram.query_stack.bytes)");
   CHECK(tigris::hw::job_fit_error(small_stack, 1024, 10, 12, tigris::tlm_if::SearchMode::NN, 1).empty());
   CHECK(tigris::hw::job_fit_error(small_stack, 1024, 0, 30, tigris::tlm_if::SearchMode::NN, 1).empty());
+  // first_leaf kNN slots carry the results' coordinates too: k = 100,000 fits the default slot
+  // area (1.5 MB) as 8 + 8k bytes but not as 8 + 20k.
+  CHECK(tigris::hw::job_fit_error(AcceleratorConfig{}, 1024, 10, 10, tigris::tlm_if::SearchMode::KNN, 100000).empty());
+  CHECK_THAT(tigris::hw::job_fit_error(AcceleratorConfig{}, 1024, 10, 10, tigris::tlm_if::SearchMode::KNN, 100000, true),
+             Catch::Contains("100000 results with their coordinates (approximate, leader.scope first_leaf)"));
   // Edges that are fine: cache off, no leaders, full height with a small stack (the tree decides).
   AcceleratorConfig ok;
   ok.node_cache.bytes = 0;
