@@ -91,21 +91,17 @@ void RecursionUnit::take_leader_record() {
   // first (NN/kNN, from its slot) or as its scans found them (radius, staged), go to its
   // first leaf's Leader Buffer. One that found none there has nothing for followers.
   LeaderStaging& staging = links_.result_buffer.leader_staging();
-  record_.list.clear();
+  LeaderRecord r{token_.query, token_.first_leaf, token_.leader_entry, token_.point, {}, 0};
   if (job_.radius()) {
-    record_.list.swap(staging.staged(token_.slot));
+    r.list.swap(staging.staged(token_.slot));
   } else {
     const Neighbor* e = slots_.entries(token_.slot);
     for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
-      if (const tlm_if::PointEntry* p = staging.leaf_entry(e[i].index)) record_.list.push_back(*p);
+      if (const tlm_if::PointEntry* p = staging.leaf_entry(e[i].index)) r.list.push_back(*p);
   }
   // wait: every leader's record goes (its followers may be parked for it); finished_only: a
   // list without entries has nothing for followers.
-  has_record_ = job_.wait_for_leaders ? token_.leader_entry != kNoLeaf : !record_.list.empty();
-  record_.entry = token_.leader_entry;
-  record_.query = token_.query;
-  record_.leaf = token_.first_leaf;
-  record_.point = token_.point;
+  if (job_.wait_for_leaders ? token_.leader_entry != kNoLeaf : !r.list.empty()) record_ = std::move(r);
 }
 
 std::uint64_t RecursionUnit::walk() {
@@ -242,11 +238,10 @@ void RecursionUnit::on_done() {
   }
   if (finished_) {
     state_ = State::Idle;
-    if (has_record_) {  // before the query counts as finished: the job waits for the record
-      has_record_ = false;
+    if (record_) {  // before the query counts as finished: the job waits for the record
       links_.fe.leader_record_sent();
-      links_.qdn.send_leader(std::move(record_), now);
-      record_ = {};
+      links_.qdn.send_leader(std::move(*record_), now);
+      record_.reset();
     }
     links_.fe.query_finished(token_, now);
     links_.fe.ru_idle(*this);

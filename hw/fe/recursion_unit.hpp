@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <systemc>
@@ -140,8 +141,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   Probe busy_wave_, sram_wave_, stalled_wave_, writeback_wave_, query_wave_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes
   // first_leaf: a finished leader's record, sent when its results have left (on_done).
-  LeaderRecord record_;
-  bool has_record_ = false;
+  std::optional<LeaderRecord> record_;
   void take_leader_record();
 };
 
