@@ -30,6 +30,13 @@ def run(cmd):
     return time.time() - t0, p.stdout
 
 
+def spread(sp, fmt):
+    """median [min-max] of a comparison.json *_spread, the median alone for one sample."""
+    if len(sp["samples"]) < 2:
+        return fmt % sp["median"]
+    return f"{fmt % sp['median']} [{fmt % sp['min']}-{fmt % sp['max']}]"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tigris", default=os.path.join(HERE, "..", "build", "testbench", "tigris"))
@@ -52,6 +59,7 @@ def main():
             loop_walls = {srch: json.load(open(os.path.join(base + "_compare", srch, "registration.json")))["accelerator"]["wall_seconds"]
                           for srch in ("accel", "accel-approx")}
             compares.append((name, preset, compare, wall_cmp, loop_walls))
+            flann_row = compare["rows"][0]  # FLANN's median over --repeat runs (cpu_baseline.hpp)
             wall_flann, _ = run([a.tigris, "register", "--preset", preset, "--search", "flann", "--out", base + "_flann"] + pair)
             flann = json.load(open(os.path.join(base + "_flann", "registration.json")))
             for search in ("exact", "approx"):
@@ -66,7 +74,7 @@ def main():
                 s = json.load(open(os.path.join(base + f"_{search}_replay1", "stats.json")))
                 rows.append({"workload": name, "preset": preset, "search": search, "stats": s, "reg": reg,
                              "flann": flann, "trace_mb": os.path.getsize(trace) / 1e6, "record_wall": wall_rec,
-                             "replay_wall": walls, "flann_wall": wall_flann})
+                             "replay_wall": walls, "flann_wall": wall_flann, "flann_row": flann_row})
     for r in rows:
         s, e = r["stats"], r["stats"]["end_to_end"]
         print(f"\n## {r['workload']} {r['preset']} search {r['search']}: verdict {s['verdict']}, "
@@ -80,19 +88,25 @@ def main():
             m = x["modeled_search_seconds"] + x["modeled_host_seconds"]
             print(f"| {st} | {x['jobs']:.0f} | {x['queries']:.0f} | {x['cpu_search_seconds']:.3f} | {m:.4f} | "
                   f"{x['cpu_search_seconds'] / max(m, 1e-12):.0f}x |")
-        fl = r["flann"]
-        fl_kd = sum(v.get("search_seconds", 0.0) for v in fl["stages"].values())
-        accel_e2e = fl["seconds"] - fl_kd + e["accelerator_kdtree_seconds"]
+        fr = r["flann_row"]
+        fl_kd, fl_s = fr["kdtree_seconds"], fr["end_to_end_seconds"]
+        accel_e2e = fl_s - fl_kd + e["accelerator_kdtree_seconds"]
         print(f"- end to end, golden CPU: {e['cpu_seconds']:.3f} s -> accelerated {e['accelerated_seconds']:.3f} s "
               f"({e['reduction_percent']:.1f}% less)")
-        print(f"- against the CPU with FLANN: {fl['seconds']:.3f} s (KD-tree search {fl_kd:.3f} s) -> "
-              f"{accel_e2e:.3f} s ({100 * (1 - accel_e2e / fl['seconds']):.1f}% less)")
+        sp = fr["end_to_end_seconds_spread"]
+        print(f"- against the CPU with FLANN (median of {fr['runs']} runs of register --compare, "
+              f"{sp['min']:.3f}-{sp['max']:.3f} s): {fl_s:.3f} s (KD-tree search {fl_kd:.3f} s) -> "
+              f"{accel_e2e:.3f} s ({100 * (1 - accel_e2e / fl_s):.1f}% less)")
         print(f"- wall: record {r['record_wall']:.1f} s, FLANN registration {r['flann_wall']:.1f} s, replay "
               f"--jobs 1 {r['replay_wall'][1]:.1f} s, --jobs 2 {r['replay_wall'][2]:.1f} s "
               f"({r['replay_wall'][2] / r['flann_wall']:.1f}x the FLANN registration's wall time)")
     for name, preset, c, wall, loop_walls in compares:
         print(f"\n## {name} {preset}: tigris register --compare ({wall:.0f} s wall; in the loop: accel "
               f"{loop_walls['accel']:.0f} s, accel-approx {loop_walls['accel-approx']:.0f} s)")
+        m = c["machine"]
+        print(f"(CPU rows: median [min-max] of {c['repeat']} runs on {m['cpu_model']}, {m['cores']} cores, 1-minute load "
+              f"{m['load_average_before']['1min']} before, {m['load_average_after']['1min']} after, commit {m['commit']}"
+              + "".join(f"; WARNING: {w}" for w in c["warnings"]) + ")")
         print("| back-end | KD-tree s | KD-tree speed-up vs FLANN | end to end s | vs FLANN | KD-tree energy | error m | error deg |")
         print("|---|---:|---:|---:|---:|---:|---:|---:|")
         rows_by = {row["back_end"]: row for row in c["rows"]}
@@ -102,8 +116,10 @@ def main():
         for row in c["rows"]:
             en = f"{row['kdtree_energy_pj'] * 1e-6:.1f} uJ" if row["kdtree_energy_pj"] is not None else "n/a (CPU)"
             err = row["error"] or {}
-            print(f"| {row['label']} | {row['kdtree_seconds']:.4f} | {row['kdtree_speedup_vs_flann']:.1f}x | "
-                  f"{row['end_to_end_seconds']:.3f} | {-row['end_to_end_reduction_vs_flann_percent']:+.1f}% | {en} | "
+            kd, ee = row["kdtree_seconds_spread"], row["end_to_end_seconds_spread"]
+            x, red = row["kdtree_speedup_vs_flann_range"], row["end_to_end_reduction_vs_flann_percent_range"]
+            print(f"| {row['label']} | {spread(kd, '%.4f')} | {x['median']:.1f}x [{x['min']:.1f}-{x['max']:.1f}] | "
+                  f"{spread(ee, '%.3f')} | {-red['median']:+.1f}% [{-red['max']:+.1f}, {-red['min']:+.1f}] | {en} | "
                   f"{err.get('translation_m', float('nan')):.4f} | {err.get('rotation_deg', float('nan')):.4f} |")
     by = {(r["workload"], r["preset"], r["search"]): r for r in rows}
     for (w, p, srch), r in by.items():

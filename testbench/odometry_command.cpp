@@ -91,7 +91,9 @@ nlohmann::json config_inputs(const OdometryOptions& o) {
 }
 
 std::vector<std::string> odometry_outputs(bool compare) {
-  if (compare) return {"comparison.json", "flann/", "exact/", "approx/", "accel/", "sequence/"};
+  if (compare)
+    return {"comparison.json", "flann/", "exact/", "approx/", "accel/", "sequence/", "flann-repeat-*/",
+            "exact-repeat-*/", "approx-repeat-*/"};
   return {"poses.txt", "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png", "errors.png",
           "pairs/",    "slurm/",         "sequence/"};
 }
@@ -192,12 +194,19 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
   app.add_flag("--compare", o.compare,
                "Register the sequence with flann, exact, approx and accel, each into OUT/<back-end>/, then one table: "
                "KD-tree and end-to-end time against FLANN, energy, KITTI errors (OUT/comparison.json)");
+  app.add_option("--repeat", o.repeat,
+                 "With --compare: run each CPU back-end (flann, exact, approx) this many times, interleaved, and "
+                 "report the median time with min and max; the accelerator's run is modeled and runs once")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
 }
 
 int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
   OdometryOptions o = given;
   if (o.sequence.empty() && o.synthetic == 0)
     throw std::invalid_argument("give --sequence DIR (a KITTI-layout folder) or --synthetic N (a synthetic drive)");
+  if (!o.compare && app.count("--repeat"))
+    throw std::invalid_argument("--repeat goes with --compare (it times the CPU back-ends of the comparison)");
   if (o.compare)
     for (const char* flag : {"--search", "--no-wait"})
       if (app.count(flag))

@@ -32,6 +32,7 @@ struct OdometryOptions {
   double max_work = 1e10;
   SlurmOptions slurm;  // --slurm: the pairs as one job array
   bool compare = false;  // --compare: flann, exact, approx and accel side by side (odometry_compare.cpp)
+  int repeat = 3;        // --compare: runs of each CPU back-end (cpu_baseline.hpp)
   std::vector<std::string> argv;  // as given (set by main)
   std::string command_line;
 };

@@ -225,6 +225,11 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
                "and with the golden model, on the accelerator exact and approximate; print one table "
                "(KD-tree time, end to end, KD-tree energy, error) and write OUT/comparison.json");
+  app.add_option("--repeat", o.repeat,
+                 "With --compare: time each CPU back-end (flann, exact) this many times, interleaved, and report "
+                 "the median with min and max; the accelerator's rows are modeled and run once")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
   app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, default, range or names, "
                                  "meaning), for tools");
@@ -236,6 +241,8 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
 
 int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   if (o.compare) return run_register_compare(app, o);
+  if (app.count("--repeat"))
+    throw std::invalid_argument("--repeat goes with --compare (it times the CPU back-ends of the comparison)");
   registration::PipelineConfig config = registration::preset(o.preset);
   if (!o.config.empty()) registration::apply_file(config, o.config);
   for (const std::string& s : o.sets) registration::apply_set(config, s);

@@ -34,6 +34,7 @@ struct RegisterOptions {
   std::vector<std::string> accel_sets;  // --search accel*: its KEY=VALUE settings
   bool check_flags = false;  // --check-flags: validate, then exit 0
   bool compare = false;     // --compare: the four back-ends side by side (register_compare.cpp)
+  int repeat = 3;           // --compare: timed runs of each CPU back-end (cpu_baseline.hpp)
   std::string command_line;  // as typed, for the trace's record (set by main)
   std::vector<std::string> argv;  // as given (set by main; --compare re-runs the command)
   std::string out = "tigris-out";

@@ -199,12 +199,21 @@ def sequence_checks(d, run, check):
     run(["odometry", "--sequence", seq, "--out", o1], 0, "3 already in")  # resumes
     # --compare: four runs of their own and one table; the accelerator run gets the CPU baseline.
     oc = os.path.join(d, "oc")
-    text = run(["odometry", "--sequence", seq, "--compare", "--jobs", "2", "--out", oc], 0,
+    text = run(["odometry", "--sequence", seq, "--compare", "--repeat", "2", "--jobs", "2", "--out", oc], 0,
                "accelerator (exact), modeled")
     c = json.load(open(os.path.join(oc, "comparison.json")))
     check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "approx", "accel"], f"rows {c['rows']}")
     acc = c["rows"][3]
     check(acc["kdtree_energy_pj"] and acc["kdtree_speedup_vs_flann"] > 1.0, f"accel row {acc}")
+    # --repeat 2: the CPU back-ends twice (OUT/<back-end>-repeat-2/), medians with min and max.
+    check([r["runs"] for r in c["rows"]] == [2, 2, 2, 1] and c["repeat"] == 2, f"runs {[r['runs'] for r in c['rows']]}")
+    check(os.path.exists(os.path.join(oc, "approx-repeat-2", "metrics.json")), "no approx-repeat-2/metrics.json")
+    fl = c["rows"][0]["kdtree_seconds_spread"]
+    check(len(fl["samples"]) == 2 and fl["min"] <= fl["median"] <= fl["max"], f"flann's spread {fl}")
+    rng = acc["kdtree_speedup_vs_flann_range"]
+    check(rng["min"] <= acc["kdtree_speedup_vs_flann"] <= rng["max"], f"the accelerator's speed-up range {rng}")
+    check("commit" in c["machine"] and "machine:" in text, f"no machine in the comparison: {c.get('machine')}")
+    run(["odometry", "--sequence", seq, "--repeat", "2", "--out", os.path.join(d, "x")], 2, "--repeat goes with --compare")
     # Exact back-ends register the room to ~0; approximate search (first_leaf, thd 1.2 m: a
     # follower takes its leader's neighbour, up to 1.2 m from it, in steps of 0.2 m) measured
     # 0.031 m per pair (every_leaf 0.017 m), so it gets its own bound.

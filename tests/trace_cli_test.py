@@ -132,7 +132,7 @@ def main():
         run(["register"] + pair + ["--compare", "--out", cmp_out], 2, "did not write (accel)")
         shutil.rmtree(cmp_out)
         text = run(["register"] + pair + ["--compare", "--ground-truth", gt, "--accel-set", "clock_mhz=1000",
-                                          "--out", cmp_out])
+                                          "--repeat", "2", "--out", cmp_out])
         c = json.load(open(os.path.join(cmp_out, "comparison.json")))
         check([r["back_end"] for r in c["rows"]] == ["flann", "exact", "accel", "accel-approx"],
               f"--compare: rows {[r['back_end'] for r in c['rows']]}")
@@ -144,10 +144,30 @@ def main():
         check(rows["flann"]["kdtree_energy_pj"] is None and rows["accel"]["kdtree_energy_pj"] > 0,
               "--compare: energy only for the accelerator rows")
         check(abs(rows["flann"]["kdtree_speedup_vs_flann"] - 1.0) < 1e-12, "--compare: FLANN is not the baseline")
+        # --repeat 2: the CPU rows are timed twice (medians, min, max), the modeled rows once.
+        check(c["repeat"] == 2 and [r["runs"] for r in c["rows"]] == [2, 2, 1, 1],
+              f"--compare --repeat 2: runs {[r['runs'] for r in c['rows']]}")
+        check(c["runs"]["flann"] == [os.path.join(cmp_out, "flann", "registration.json"),
+                                     os.path.join(cmp_out, "flann-repeat-2", "registration.json")],
+              f"--compare: the flann runs are {c['runs']['flann']}")
+        for r in c["rows"]:
+            sp = r["kdtree_seconds_spread"]
+            check(len(sp["samples"]) == r["runs"] and sp["min"] <= sp["median"] <= sp["max"]
+                  and sp["median"] == r["kdtree_seconds"] and abs(sp["median"] - sum(sp["samples"]) / len(sp["samples"])) < 1e-9,
+                  f"--compare: {r['back_end']}'s spread {sp}")
+        fl, ac = rows["flann"]["kdtree_seconds_spread"], rows["accel"]["kdtree_seconds_spread"]
+        rng = rows["accel"]["kdtree_speedup_vs_flann_range"]
+        check(abs(rng["min"] - fl["min"] / ac["max"]) < 1e-9 * rng["min"] and abs(rng["max"] - fl["max"] / ac["min"]) < 1e-9 * rng["max"],
+              f"--compare: the accelerator's speed-up range {rng} is not FLANN's min and max over its time {ac}")
+        check(set(c["machine"]) >= {"cpu_model", "cores", "commit", "load_average_before", "load_average_after"},
+              f"--compare: the machine record is {c['machine']}")
+        check("machine:" in text and "of 2 runs" in text, "--compare: the table does not name the machine and runs")
         check(all(r["error"] is not None for r in c["rows"]), "--compare: an error column is missing")
         check("accelerator, approximate" in text and "comparison.json" in text, "--compare: no table printed")
         x = os.path.join(d, "x")
         run(["register"] + pair + ["--compare", "--search", "exact", "--out", x], 2, "--search does not go with --compare")
+        run(["register"] + pair + ["--repeat", "3", "--out", x], 2, "--repeat goes with --compare")
+        run(["register"] + pair + ["--compare", "--repeat", "0", "--out", x], 2, "--repeat")
         run(["register"] + pair + ["--search", "accel", "--accel-set", "sram.points.bytes=1024", "--out", x], 2,
             "does not fit the accelerator")
         run(["register"] + pair + ["--search", "accel", "--accel-set", "bogus.key=1", "--out", x], 2, "bogus.key")
