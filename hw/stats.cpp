@@ -19,12 +19,14 @@ StatGroup::StatGroup(std::string name, std::string kind, std::string description
 
 void StatGroup::reset() {
   for (Counter* c : counters_) c->reset();
+  for (CounterArray* a : arrays_) a->reset();
   for (StatGroup* g : children_) g->reset();
 }
 
 nlohmann::json StatGroup::counters_json() const {
   nlohmann::json j = nlohmann::json::object();
   for (const Counter* c : counters_) j[pointer(c->name())] = c->value();
+  for (const CounterArray* a : arrays_) j[pointer(a->name())] = a->values();
   return j;
 }
 
@@ -45,6 +47,14 @@ nlohmann::json StatGroup::sum(const std::vector<const StatGroup*>& groups) {
       const auto p = pointer(c->name());
       const std::uint64_t old = j.contains(p) ? j[p].get<std::uint64_t>() : 0;
       j[p] = c->merge() == Counter::Merge::Max ? std::max(old, c->value()) : old + c->value();
+    }
+  for (const StatGroup* g : groups)
+    for (const CounterArray* a : g->arrays_) {
+      const auto p = pointer(a->name());
+      std::vector<std::uint64_t> v = j.contains(p) ? j[p].get<std::vector<std::uint64_t>>() : std::vector<std::uint64_t>();
+      v.resize(std::max(v.size(), a->values().size()), 0);
+      for (std::size_t i = 0; i < a->values().size(); ++i) v[i] += a->values()[i];
+      j[p] = v;
     }
   return j;
 }

@@ -6,6 +6,7 @@
 // same accelerator starts from zero. Sums over units of one kind are made in one place, sum().
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 namespace tigris::hw {
 
 class Counter;
+class CounterArray;
 
 class StatGroup {
  public:
@@ -31,20 +33,24 @@ class StatGroup {
   const std::string& kind() const { return kind_; }
   const std::string& description() const { return description_; }
   const std::vector<Counter*>& counters() const { return counters_; }
+  const std::vector<CounterArray*>& arrays() const { return arrays_; }
   const std::vector<StatGroup*>& children() const { return children_; }
 
   void reset();  // this group and every group below it
-  // This group's counters; a dotted name nests ("stall_cycles.sram").
+  // This group's counters and arrays; a dotted name nests ("stall_cycles.sram").
   nlohmann::json counters_json() const;
   // Every group of `kind` at or below this one, in tree order.
   std::vector<const StatGroup*> find(const std::string& kind) const;
-  // The counters of `groups` merged name by name (summed, or the maximum for maxima).
+  // The counters of `groups` merged name by name (summed, or the maximum for maxima; arrays
+  // summed element by element).
   static nlohmann::json sum(const std::vector<const StatGroup*>& groups);
 
  private:
   friend class Counter;
+  friend class CounterArray;
   std::string name_, kind_, description_;
   std::vector<Counter*> counters_;
+  std::vector<CounterArray*> arrays_;
   std::vector<StatGroup*> children_;
 };
 
@@ -79,6 +85,28 @@ class Counter {
   std::string name_, unit_, description_;
   Merge merge_;
   std::uint64_t value_ = 0;
+};
+
+// A counter per element of a block (a buffer's banks): one JSON array, reset with the tree.
+class CounterArray {
+ public:
+  CounterArray(StatGroup& group, std::string name, std::string unit, std::string description, std::size_t size)
+      : name_(std::move(name)), unit_(std::move(unit)), description_(std::move(description)), values_(size, 0) {
+    group.arrays_.push_back(this);
+  }
+  CounterArray(const CounterArray&) = delete;
+  CounterArray& operator=(const CounterArray&) = delete;
+
+  std::uint64_t& operator[](std::size_t i) { return values_[i]; }
+  const std::vector<std::uint64_t>& values() const { return values_; }
+  const std::string& name() const { return name_; }
+  const std::string& unit() const { return unit_; }
+  const std::string& description() const { return description_; }
+  void reset() { std::fill(values_.begin(), values_.end(), 0); }
+
+ private:
+  std::string name_, unit_, description_;
+  std::vector<std::uint64_t> values_;
 };
 
 }  // namespace tigris::hw

@@ -18,10 +18,15 @@
 namespace tigris {
 
 inline constexpr double kWritebackBound = 0.3;
+// An sram stall of at least this share of the bounding kind's cycles names its buffer's hottest
+// banks (`sram_hot_spot`, and the summary).
+inline constexpr double kSramHotSpot = 0.1;
 
 // From a stats JSON holding cycles, lower_bound_cycles and units.{recursion_units,search_units}
 // (count, busy_cycles, stall_cycles.*; search_units.pe_utilization): {bound, unit, occupancy,
-// cause, share, runner_up {unit, occupancy, cause, share}, cycles_over_lower_bound, summary}.
+// cause, share, runner_up {unit, occupancy, cause, share}, cycles_over_lower_bound,
+// sram_hot_spot {buffer, title, conflict_cycles, banks, hottest_banks[] {bank, conflict_cycles,
+// share, holds}}, summary}; buffers.<name>.banks and tree.top_nodes feed sram_hot_spot.
 // A run of 0 cycles gives {bound: "none", summary: "no cycles"}.
 nlohmann::json bottleneck_json(const nlohmann::json& stats);
 

@@ -237,8 +237,8 @@ nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptio
   stats["config"]["search"] = search_config["search"];
   stats["config"]["approx"] = search_config["approx"];  // the threshold and leader width of this run
   add_derived(stats);
+  stats["tree"] = tree_json(r.tree);  // the bound names what the hottest Point Buffer banks hold
   stats["bottleneck"] = bottleneck_json(stats);
-  stats["tree"] = tree_json(r.tree);
   stats["wall_seconds"] = {{"golden", m.golden_s}, {"simulation", m.sim_s}};
   if (const std::string bad = non_finite_field(stats); !bad.empty())
     throw std::invalid_argument("the model computed a non-finite " + bad +

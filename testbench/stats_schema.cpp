@@ -146,6 +146,19 @@ const std::vector<Row>& other_fields() {
       {"bottleneck.runner_up.cause", "text", "the largest part of its occupancy"},
       {"bottleneck.runner_up.share", "fraction", "that part's share"},
       {"bottleneck.cycles_over_lower_bound", "ratio", "cycles / `lower_bound_cycles`"},
+      {"bottleneck.sram_hot_spot.buffer", "text", "when the bounding kind's `sram stall` is 10% of its cycles or more: "
+       "the buffer it waits for (the most `conflict_cycles` among the kind's buffers: `points`, `queries`, "
+       "`query_stack`, `results`)"},
+      {"bottleneck.sram_hot_spot.title", "text", "that buffer's name in the paper, e.g. `Point Buffer`"},
+      {"bottleneck.sram_hot_spot.conflict_cycles", "cycles", "its `conflict_cycles`"},
+      {"bottleneck.sram_hot_spot.banks", "count", "its banks"},
+      {"bottleneck.sram_hot_spot.hottest_banks[].bank", "index", "a bank with at least twice a fair share of the "
+       "buffer's conflict cycles (at most three, hottest first; no `hottest_banks` when none has)"},
+      {"bottleneck.sram_hot_spot.hottest_banks[].conflict_cycles", "cycles", "its `banks.conflict_cycles` entry"},
+      {"bottleneck.sram_hot_spot.hottest_banks[].share", "fraction", "its share of the buffer's conflict cycles"},
+      {"bottleneck.sram_hot_spot.hottest_banks[].holds", "text", "Point Buffer: what most walks read there: its "
+       "first top-tree node below `fe.top_levels_replicated` (`the top tree's root`, `the top tree's level L, "
+       "node N`) or `leaf sets`"},
       {"bottleneck.summary", "text", "the printed line, e.g. `front-end (RU) bound: RUs 94% occupied: sram stall 49%, busy 45%; "
                                                "waiting on other blocks 1%: bqb_full stall 1%; ...`"},
       {"leaders.leaders", "count", "exact scans that joined the Leader Buffer"},
@@ -237,6 +250,9 @@ std::vector<StatField> stats_schema() {
         if (p.per_unit)
           add(at + ".per_unit[]." + c->name(), c->unit(), "per unit, in id order: " + c->description(), "", kPerUnit);
       }
+      for (const hw::CounterArray* a : g->arrays())
+        add(at + "." + a->name() + "[]", a->unit(), title + a->description() + (by_name ? "" : "; summed over the units"),
+            "", kCounter);
       if (!by_name) break;  // the groups of a kind share their counters
     }
   }

@@ -174,6 +174,19 @@ def part_schema(d):
             stats_of(d, "cloud_alone", "--cloud", cloud, "--height", "6")]
     seen = set()
     for s in runs:
+        # Per-bank statistics add up to their buffer's totals, one entry per configured bank.
+        for name, b in s["buffers"].items():
+            if "banks" not in b:
+                continue
+            acc, con = b["banks"]["accesses"], b["banks"]["conflict_cycles"]
+            check(len(acc) == len(con) == s["config"]["sram"][name]["banks"],
+                  f"buffers.{name}.banks has {len(acc)} entries for {s['config']['sram'][name]['banks']} banks")
+            check(sum(acc) == b["reads"] + b["writes"], f"buffers.{name}: banks.accesses sum to {sum(acc)}, "
+                  f"reads + writes {b['reads'] + b['writes']} ({s['command_line']})")
+            check(sum(con) == b["conflict_cycles"], f"buffers.{name}: banks.conflict_cycles sum to {sum(con)}, "
+                  f"conflict_cycles {b['conflict_cycles']} ({s['command_line']})")
+        check(all(n in s["buffers"] and "banks" in s["buffers"][n] for n in ("points", "queries", "query_stack", "results")),
+              f"every banked buffer has its banks ({s['command_line']})")
         for leaf in leaves(s):
             seen.add(leaf)
             hits = [r for r, p in pats.items() if p.match(leaf)]

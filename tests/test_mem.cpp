@@ -53,8 +53,14 @@ TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy c
         case 4: {  // one word in each of `count` banks from `bank` on, wrapping
           const auto count = static_cast<std::uint32_t>(1 + rng() % banks);
           std::uint64_t finish = at + 1;
-          for (std::uint32_t i = 0; i < count; ++i) finish = std::max(finish, ref.reserve((bank + i) % banks, at) + 1);
-          REQUIRE(cal.reserve_span(bank, count, at, now) == finish);
+          std::uint32_t last = bank;  // the bank served last (the first of equals)
+          for (std::uint32_t i = 0; i < count; ++i) {
+            const std::uint64_t served = ref.reserve((bank + i) % banks, at) + 1;
+            if (served > finish) finish = served, last = (bank + i) % banks;
+          }
+          std::uint32_t critical = banks;
+          REQUIRE(cal.reserve_span(bank, count, at, now, critical) == finish);
+          REQUIRE(critical == last);
           break;
         }
         case 5:  // the fast path books exactly when the bank is free at `at` (if it can tell)

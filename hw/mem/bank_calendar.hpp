@@ -52,7 +52,10 @@ class BankCalendar {
   // Books one word in each of `count` (<= banks) banks from `bank` on (wrapping), each at its
   // first free cycle at or after `cycle`; returns the cycle after the last one booked. What
   // `count` reserve() calls do, with the row looked up once while the banks are free.
-  std::uint64_t reserve_span(std::uint32_t bank, std::uint32_t count, std::uint64_t cycle, std::uint64_t now) {
+  // `critical` gets the bank served last (the first bank when none waited).
+  std::uint64_t reserve_span(std::uint32_t bank, std::uint32_t count, std::uint64_t cycle, std::uint64_t now,
+                             std::uint32_t& critical) {
+    critical = bank;
     const std::uint64_t bit = std::uint64_t{1} << (cycle % 64);
     std::uint64_t* row = &word(bank, cycle / 64, now) - bank;
     // The common case, all of them free at `cycle`: two runs of neighbouring words (the span
@@ -72,7 +75,8 @@ class BankCalendar {
         row[bank] |= bit;
         continue;
       }
-      finish = std::max(finish, reserve_later(bank, cycle, now) + 1);
+      const std::uint64_t served = reserve_later(bank, cycle, now) + 1;
+      if (served > finish) finish = served, critical = bank;
       row = &word(bank, cycle / 64, now) - bank;  // the ring may have grown
     }
     return finish;

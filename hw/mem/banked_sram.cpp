@@ -52,42 +52,53 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   if (a.pipeline) return charge_in_order(start, a);
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
+  std::uint32_t critical = 0;  // the bank served last
   if (a.scatter) {
     for (std::uint32_t i = 0; i < a.scatter_count; ++i) {
       const auto [first, words] = words_of(a.scatter[i], a.scatter_size);
-      finish = std::max(finish, reserve_words(first, words, start, now));
+      std::uint32_t c = 0;
+      const std::uint64_t f = reserve_words(first, words, start, now, c);
+      if (words && f > finish) finish = f, critical = c;
       n += words;
     }
   } else {
     const auto [first, words] = words_of(a.first_byte, a.bytes);
     n = words;
-    finish = std::max(finish, reserve_words(first, words, start, now));
+    finish = std::max(finish, reserve_words(first, words, start, now, critical));
   }
   check(start, a, now, finish);
   if (n == 0) return start;
   const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
   conflict_cycles_ += finish - ideal;
+  bank_conflicts_[critical] += finish - ideal;
   count(a.write, n, a.bytes);
   return finish + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
 }
 
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
-                                         std::uint64_t now) {
+                                         std::uint64_t now, std::uint32_t& critical) {
+  critical = words ? bank_of(first) : 0;
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
   if (!ports_bind_ && words <= 4 && words <= num_banks_) {
     // A slot or a record: word by word, most often in the calendar's current row.
     std::uint64_t finish = cycle;
     for (std::uint64_t w = first; w < first + words; ++w) {
       const std::uint32_t bank = bank_of(w);
-      finish = std::max(finish, (banks_.try_book(bank, cycle) ? cycle : banks_.reserve(bank, cycle, now)) + 1);
+      ++bank_accesses_[bank];
+      const std::uint64_t served = (banks_.try_book(bank, cycle) ? cycle : banks_.reserve(bank, cycle, now)) + 1;
+      if (served > finish) finish = served, critical = bank;
     }
     return finish;
   }
-  if (!ports_bind_ && words <= num_banks_)  // one word a bank
-    return words == 0 ? cycle : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle, now));
   // The first `words mod banks` banks take one word more than the others.
   const std::uint64_t touched = std::min(words, num_banks_);
   const std::uint64_t base_share = words / num_banks_, extra = words % num_banks_;
+  for (std::uint64_t i = 0, b = bank_of(first); i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1)
+    bank_accesses_[b] += base_share + (i < extra ? 1 : 0);
+  if (!ports_bind_ && words <= num_banks_)  // one word a bank
+    return words == 0 ? cycle
+                      : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle,
+                                                            now, critical));
   std::uint32_t b = bank_of(first);
   std::uint64_t finish = cycle;
   for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1) {
@@ -97,7 +108,7 @@ std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words
       t = (share == 1 ? banks_.reserve(b, t, now) : banks_.reserve_n(b, t, share, now)) + 1;
     else
       for (std::uint64_t w = 0; w < share; ++w) t = reserve(b, t, now) + 1;
-    finish = std::max(finish, t);
+    if (t > finish) finish = t, critical = b;
   }
   return finish;
 }
@@ -114,6 +125,8 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
     if (word_in_row_ && size > 0 && (p->byte & (word_bytes_ - 1)) + size <= word_bytes_) {
       const auto bank = static_cast<std::uint32_t>((p->byte >> word_shift_) & bank_mask_);
       const std::uint64_t served = banks_.try_book(bank, t) ? t : banks_.reserve(bank, t, now);
+      ++bank_accesses_[bank];
+      bank_conflicts_[bank] += served - t;
       stall += served - t;
       last = served + 1;
       ++n;
@@ -121,7 +134,14 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
     }
     const auto [first, words] = words_of(p->byte, size);
     std::uint64_t served = t;
-    for (std::uint64_t w = first; w < first + words; ++w) served = std::max(served, reserve(bank_of(w), t, now));
+    std::uint32_t critical = words ? bank_of(first) : 0;
+    for (std::uint64_t w = first; w < first + words; ++w) {
+      const std::uint32_t bank = bank_of(w);
+      ++bank_accesses_[bank];
+      const std::uint64_t s = reserve(bank, t, now);
+      if (s > served) served = s, critical = bank;
+    }
+    bank_conflicts_[critical] += served - t;
     stall += served - t;
     last = served + 1;
     n += words;

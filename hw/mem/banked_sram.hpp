@@ -72,8 +72,10 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
     return cycle;
   }
   // Books the `words` words from word `first` (each bank's share in its first free cycles at
-  // or after `cycle`, one after another); returns the cycle after the last one booked.
-  std::uint64_t reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle, std::uint64_t now);
+  // or after `cycle`, one after another) and counts them per bank; returns the cycle after the
+  // last one booked; `critical` gets the bank served last.
+  std::uint64_t reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle, std::uint64_t now,
+                              std::uint32_t& critical);
   void count(bool write, std::uint64_t words, std::uint64_t bytes);
   // With TIGRIS_CHECK_SRAM: the naive model books the access too and must agree on `served`, the
   // cycle after its last word; else nothing.
@@ -119,6 +121,14 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   Counter read_bytes_{stats_, "read_bytes", "bytes", "bytes read"};
   Counter write_bytes_{stats_, "write_bytes", "bytes", "bytes written during the job"};
   Counter conflict_cycles_{stats_, "conflict_cycles", "cycles", "cycles accesses waited for a busy bank or port beyond the ideal"};
+  // Per bank (bank i holds words i, i + banks, ...): where the traffic and the waiting are.
+  CounterArray bank_accesses_{stats_, "banks.accesses", "count",
+                              "words read or written in each bank, in bank order (sums to reads + writes)",
+                              static_cast<std::size_t>(config_.banks)};
+  CounterArray bank_conflicts_{stats_, "banks.conflict_cycles", "cycles",
+                               "each access's conflict cycles charged to the bank served last, the one it waited "
+                               "for, in bank order (sums to conflict_cycles)",
+                               static_cast<std::size_t>(config_.banks)};
   Counter& read_energy_;
   Counter& write_energy_;
   StallInjector stall_;
