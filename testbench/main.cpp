@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <string>
 
+#include "build_info.hpp"
 #include "arg_checks.hpp"
 #include "children.hpp"
 #include "out_folder.hpp"
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
   sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   CLI::App app{"tigris: the Tigris KD-tree search accelerator (MICRO 2019) and its golden model"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "tigris 0.1.0");
+  app.set_version_flag("--version", std::string("tigris 0.1.0 (commit ") + tigris::build_commit() + ")");
 
   // Each command's default folder is its own (a folder holds one command's output: a `tigris
   // ref` after a `tigris run` must not find run's folder in its way).

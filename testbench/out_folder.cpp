@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "build_info.hpp"
 #include "children.hpp"
 #include "sw_ref/io/input_file.hpp"
 #include "sw_ref/json_file.hpp"
@@ -224,6 +225,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
                  {"command", spec_.command},
                  {"argv", spec_.argv.empty() ? command_line_record() : spec_.argv},
                  {"cwd", fs::current_path(ec).string()},
+                 {"commit", build_commit()},
                  {"settings", spec_.settings},
                  {"inputs", spec_.inputs},
                  {"outputs", spec_.outputs},

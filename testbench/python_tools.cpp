@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "build_info.hpp"
 #include "children.hpp"
 
 namespace tigris {
@@ -42,6 +43,7 @@ int run_python_tool(int argc, char** argv) {
     self[n] = '\0';
     setenv("TIGRIS", self, 1);
   }
+  setenv("TIGRIS_COMMIT", build_commit(), 1);  // for the manifests and figure footers they write
   // Debian's python3 carries python3-matplotlib; another one first on PATH may not.
   const std::string python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
   std::vector<char*> args = {const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str())};
@@ -76,6 +78,7 @@ int run_python_script(const std::string& script, const std::vector<std::string>&
       return -1;
     }
   }
+  setenv("TIGRIS_COMMIT", build_commit(), 1);  // for the figure footers the scripts draw
   std::vector<std::string> argv{python, path};
   argv.insert(argv.end(), args.begin(), args.end());
   int code = 0;

@@ -149,6 +149,16 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   return r;
 }
 
+// The configuration as stats.json records it: the accelerator's keys, and the search and
+// approximation settings of this run. Its SHA-256 identifies the configuration in every output.
+nlohmann::json run_config_json(const RunSetup& r) {
+  nlohmann::json config = config_to_json(r.cfg);
+  const nlohmann::json search_config = search_config_json(r.params, r.tree);
+  config["search"] = search_config["search"];
+  config["approx"] = search_config["approx"];  // the threshold and leader width of this run
+  return config;
+}
+
 // Simulate: the golden model's exact search in query order (what an exact run must reproduce;
 // an approximate run is checked against the replay of its own schedule and measured against
 // these exact results), then the accelerator, then the check. Nullopt after a deadlock, which
@@ -168,6 +178,8 @@ std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, 
   setup.num_points = static_cast<std::uint32_t>(r.w.cloud.size());
   setup.job = r.job;
   setup.vcd_path = o.vcd;
+  if (!o.vcd.empty())
+    setup.provenance = provenance_lines(provenance_json(o.search.command_line, r.inputs, run_config_json(r)));
   if (o.sim_threads) setup.sim_threads = o.sim_threads;
   const auto queries = static_cast<std::uint32_t>(r.w.queries.size());
   if (!o.timeline.empty()) {
@@ -232,10 +244,10 @@ nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptio
   stats["energy_pj"] = m.sim.energy;
   stats["area_mm2"] = m.sim.area;
   stats["latency_cycles"] = m.sim.latency;
-  stats["config"] = config_to_json(r.cfg);
-  const nlohmann::json search_config = search_config_json(r.params, r.tree);
-  stats["config"]["search"] = search_config["search"];
-  stats["config"]["approx"] = search_config["approx"];  // the threshold and leader width of this run
+  stats["config"] = run_config_json(r);
+  const nlohmann::json prov = provenance_json(o.search.command_line, r.inputs, stats["config"]);
+  stats["config_sha256"] = prov["config_sha256"];
+  stats["commit"] = prov["commit"];
   add_derived(stats);
   stats["tree"] = tree_json(r.tree);  // the bound names what the hottest Point Buffer banks hold
   stats["bottleneck"] = bottleneck_json(stats);
@@ -343,7 +355,11 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const std::string stats_path = o.search.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
   if (!o.timeline.empty())
-    write_file(o.timeline, [&](std::ostream& f) { f << timeline.trace().dump() << '\n'; });
+    write_file(o.timeline, [&](std::ostream& f) {
+      nlohmann::json trace = timeline.trace();
+      trace["otherData"]["run"] = provenance_json(o.search.command_line, r.inputs, stats["config"]);
+      f << trace.dump() << '\n';
+    });
   if (!o.search.dump_results.empty())
     write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
 

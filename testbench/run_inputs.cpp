@@ -8,22 +8,20 @@
 #include <stdexcept>
 #include <vector>
 
+#include "build_info.hpp"
 #include "sw_ref/io/input_file.hpp"
 
 namespace tigris {
 
-std::string sha256_of_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot read the file to record its SHA-256");
+namespace {
+
+// Hex SHA-256 of what `feed` passes to its update function.
+template <class Feed>
+std::string sha256_hex(Feed feed) {
   std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
   if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
     throw std::runtime_error("OpenSSL could not start a SHA-256 digest");
-  std::vector<char> buf(1 << 16);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    if (in.gcount() > 0) EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<std::size_t>(in.gcount()));
-  }
-  if (in.bad()) throw std::invalid_argument(path + ": read error while computing its SHA-256");
+  feed([&](const char* data, std::size_t n) { EVP_DigestUpdate(ctx.get(), data, n); });
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int n = 0;
   EVP_DigestFinal_ex(ctx.get(), digest, &n);
@@ -34,6 +32,52 @@ std::string sha256_of_file(const std::string& path) {
     hex += digits[digest[i] & 15];
   }
   return hex;
+}
+
+}  // namespace
+
+std::string sha256_of_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot read the file to record its SHA-256");
+  std::string hex = sha256_hex([&](const auto& update) {
+    std::vector<char> buf(1 << 16);
+    while (in) {
+      in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+      if (in.gcount() > 0) update(buf.data(), static_cast<std::size_t>(in.gcount()));
+    }
+  });
+  if (in.bad()) throw std::invalid_argument(path + ": read error while computing its SHA-256");
+  return hex;
+}
+
+std::string sha256_of_text(const std::string& text) {
+  return sha256_hex([&](const auto& update) { update(text.data(), text.size()); });
+}
+
+nlohmann::json provenance_json(const std::string& command_line, const nlohmann::json& inputs,
+                               const nlohmann::json& config) {
+  return {{"command_line", command_line},
+          {"inputs", inputs},
+          {"config_sha256", sha256_of_text(config.dump())},
+          {"commit", build_commit()}};
+}
+
+std::vector<std::string> provenance_lines(const nlohmann::json& p) {
+  std::vector<std::string> lines{"command " + p.value("command_line", std::string())};
+  for (const auto& in : p.value("inputs", nlohmann::json::array())) {
+    const std::string role = in.value("role", std::string("input"));
+    if (in.contains("builtin"))
+      lines.push_back(role + " " + in["builtin"].get<std::string>() + ", built in");
+    else if (in.contains("same_as"))
+      lines.push_back(role + " the " + in["same_as"].get<std::string>() + " itself");
+    else
+      lines.push_back(role + " " + in.value("path", std::string()) + " (sha256 " +
+                      in.value("sha256", std::string()).substr(0, 12) + ")");
+  }
+  lines.push_back("config sha256 " + p.value("config_sha256", std::string()).substr(0, 12) +
+                  " (of the configuration stats.json records)");
+  lines.push_back("commit " + p.value("commit", std::string()));
+  return lines;
 }
 
 nlohmann::json input_file(const std::string& role, const std::string& path) {

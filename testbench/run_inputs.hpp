@@ -13,6 +13,17 @@ namespace tigris {
 // Hex SHA-256 of a file's bytes; std::invalid_argument naming the file when it cannot be read.
 std::string sha256_of_file(const std::string& path);
 
+// Hex SHA-256 of a text (a configuration's JSON: its digest).
+std::string sha256_of_text(const std::string& text);
+
+// What made an output that is not stats.json (a VCD, a GTKWave save file, a timeline):
+// {"command_line", "inputs", "config_sha256" (of config.dump()), "commit"}.
+nlohmann::json provenance_json(const std::string& command_line, const nlohmann::json& inputs,
+                               const nlohmann::json& config);
+// The same as short lines for a text header: "command tigris run ...", "cloud a.bin (sha256
+// 0123abcd4567)", "config sha256 ...", "commit ...".
+std::vector<std::string> provenance_lines(const nlohmann::json& provenance);
+
 // {"role", "path", "bytes", "sha256"} of a file.
 nlohmann::json input_file(const std::string& role, const std::string& path);
 // {"role", "builtin"}: a workload made by the program (the synthetic frames).

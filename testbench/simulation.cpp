@@ -58,6 +58,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     for (hw::JobObserver* o : s.observers) b.accel->attach_observer(*o);
     if (!s.vcd_path.empty()) {
       b.vcd = std::make_unique<VcdWriter>(s.vcd_path);
+      b.vcd->set_comment(s.provenance);
       b.accel->attach_waves(*b.vcd);
     }
     benches.push_back(std::move(b));
@@ -86,7 +87,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
       const std::string gtkw = gtkw_path(vcd);
       const std::uint64_t start_ps = static_cast<std::uint64_t>(
           a.start_cycle() * a.config().period() / sc_core::sc_time(1, sc_core::SC_PS));
-      write_gtkw(gtkw, vcd, *benches[i].vcd, start_ps);
+      write_gtkw(gtkw, vcd, *benches[i].vcd, start_ps, setups[i].provenance);
     }
   }
   return out;

@@ -59,6 +59,10 @@ const std::vector<Row>& other_fields() {
   static const std::vector<Row> table = {
       {"command", "text", "`run`"},
       {"command_line", "text", "the full command line as typed, so the run can be repeated"},
+      {"commit", "text", "the source tree's commit the binary was built from (`-dirty`: with local changes; "
+       "`unknown`: built without git)"},
+      {"config_sha256", "text", "SHA-256 of `config` as JSON: the configuration's digest, also in the VCD's "
+       "`$comment`, the `.gtkw` and the timeline's `otherData.run`"},
       {"inputs[].role", "text", "what the input is: `cloud` (the tree's points), `queries`, or `config` (the `--config` file)"},
       {"inputs[].path", "text", "the file's path as given (file inputs only)"},
       {"inputs[].bytes", "bytes", "the file's size (file inputs only)"},

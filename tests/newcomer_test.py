@@ -318,6 +318,17 @@ def part_waves(d):
         check(final.get(n, 0) == 0, f"all.{n} ends at 0")
     gtkw = open(os.path.join(out, "w.gtkw")).read()
     check("[signals_width]" in gtkw and "rus_sram_stall" in gtkw, "the save file sets a readable width and lists the stalls")
+    # What made them: the command line, inputs, configuration digest and commit in the VCD's
+    # $comment and the save file; the save file names its dump by an absolute path.
+    head = open(os.path.join(out, "w.vcd")).read(4000)
+    comment = head.split("$comment", 1)[1].split("$end", 1)[0] if "$comment" in head else ""
+    for want in (s["command_line"], "config sha256 " + s["config_sha256"][:12], "commit " + s["commit"],
+                 "synthetic:frame0"):
+        check(want in comment, f"the VCD's $comment names {want!r}: {comment!r}")
+        check("[*] " + want in gtkw or want in gtkw, f"the .gtkw names {want!r}")
+    dump = re.search(r'^\[dumpfile\] "(.*)"$', gtkw, re.M)
+    check(dump and os.path.isabs(dump.group(1)) and os.path.samefile(dump.group(1), os.path.join(out, "w.vcd")),
+          f"the .gtkw finds its dump from any folder: {dump.group(1) if dump else None}")
 
 
 def part_timeline(d):
@@ -326,6 +337,10 @@ def part_timeline(d):
     s = stats(out)
     with open(os.path.join(out, "t.json")) as f:
         t = json.load(f)
+    run = t["otherData"].get("run", {})
+    check(run.get("command_line") == s["command_line"] and run.get("config_sha256") == s["config_sha256"]
+          and run.get("commit") == s["commit"] and run.get("inputs") == s["inputs"],
+          f"the timeline's otherData.run says what made it: {run}")
     ev = t["traceEvents"]
     w, cyc = t["otherData"]["counter_bin_cycles"], s["cycles"]
     sums = {}

@@ -76,6 +76,15 @@ int VcdWriter::add(const std::string& dotted_name, int width) {
 }
 
 void VcdWriter::write_header() {
+  if (!comment_.empty()) {
+    out_ << "$comment\n";
+    for (const std::string& line : comment_) {
+      std::string safe = line;  // "$end" inside would close the comment early
+      for (std::size_t at; (at = safe.find("$end")) != std::string::npos;) safe.replace(at, 4, "$ end");
+      out_ << "  " << safe << "\n";
+    }
+    out_ << "$end\n";
+  }
   out_ << "$timescale 1ps $end\n";
   // Nested scopes from the dotted names (declared in order, so a scope's signals are adjacent).
   std::vector<std::string> open;
@@ -158,7 +167,7 @@ void VcdWriter::close() {
 }
 
 void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
-                std::uint64_t start_ps) {
+                std::uint64_t start_ps, const std::vector<std::string>& comment) {
   const std::string tmp = temp_beside(path);
   std::ofstream f(tmp);
   if (!f) throw std::runtime_error(path + ": cannot open for writing");
@@ -180,7 +189,10 @@ void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdW
     }
   } check{f, tmp, path};
   f << "[*] GTKWave save file for a Tigris TLM run: open with  gtkwave " << path << "\n";
-  f << "[dumpfile] \"" << vcd_path << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
+  for (const std::string& line : comment) f << "[*] " << line << "\n";
+  std::error_code ec;
+  const std::filesystem::path dump = std::filesystem::absolute(vcd_path, ec);
+  f << "[dumpfile] \"" << (ec ? vcd_path : dump.lexically_normal().string()) << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
   // Wide enough for "tigris.all.writeback_backlog_bytes[31:0]=1234567" beside the waves.
   f << "[signals_width] 420\n[sst_width] 220\n";
   // Zoom to the job's span. Measured with GTKWave 3.3.118 (Debian 12) under Xvfb: zoom -z

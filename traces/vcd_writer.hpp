@@ -20,6 +20,9 @@ class VcdWriter {
   explicit VcdWriter(const std::string& path);
   ~VcdWriter();
 
+  // Lines for the header's $comment (what made the dump: command line, inputs, configuration
+  // digest, commit); before the first change.
+  void set_comment(std::vector<std::string> lines) { comment_ = std::move(lines); }
   // Declares a signal (before the first change); returns its handle.
   int add(const std::string& dotted_name, int width);
   // Records that signal `id` has `value` from `time_ps` (the current time) on; repeated values
@@ -53,7 +56,7 @@ class VcdWriter {
   std::uint64_t seq_ = 0;
   std::string path_, tmp_;  // written into tmp_ beside path_, renamed over it by close()
   std::ofstream out_;
-  std::vector<std::string> names_;
+  std::vector<std::string> names_, comment_;
   std::vector<int> widths_;
   std::vector<std::uint64_t> last_;
   std::vector<bool> seen_;
@@ -64,8 +67,10 @@ class VcdWriter {
 
 // A GTKWave save file that opens `vcd_path` on the span from `start_ps` (the job's START, also
 // the marker) to the last change, with every declared signal grouped by unit: the first group
-// (the aggregate traces) open, the per-unit groups collapsed below it.
+// (the aggregate traces) open, the per-unit groups collapsed below it. The dump is named by its
+// absolute path, so the save file opens it from any working folder; `comment` lines (what made
+// the run) go into its header.
 void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
-                std::uint64_t start_ps = 0);
+                std::uint64_t start_ps = 0, const std::vector<std::string>& comment = {});
 
 }  // namespace tigris
