@@ -819,6 +819,54 @@ def md_cell(s):
     return str(s).replace("|", "\\|").replace("\n", " ")
 
 
+def short_claim(c):
+    """A claim's text cut to its statement and the first part of its parenthesis:
+    "two-stage redundancy grows with leaf-set size (NN)"."""
+    if not c.text.endswith(")") or " (" not in c.text:
+        return c.text
+    head, _, rest = c.text.rpartition(" (")
+    qual = rest[:-1].split(";")[0].strip()
+    return f"{head} ({qual})" if qual else head
+
+
+def _reason(c, limit=110):
+    """The measured reason of a failed claim: its explanation's first clause."""
+    e = (c.explanation or "").split("; ")[0].strip()
+    return e if len(e) <= limit else e[:limit].rsplit(" ", 1)[0] + " ..."
+
+
+def summary_lines(claims, extra=()):
+    """REPORT.md's opening answer (about ten lines): which claims hold, which hold only in
+    direction and by how much they miss, which fail and the measured reason. `extra`: other
+    (title, claims) groups reported in the same words (the pipeline's section 3)."""
+    groups = [("", claims)] + [(t, cs) for t, cs in extra]
+    L = ["## Summary: what reproduces", ""]
+    for title, cs in groups:
+        num = {id(c): i for i, c in enumerate(cs, 1)}
+        ref = (lambda c: f"{title} #{num[id(c)]}") if title else (lambda c: f"#{num[id(c)]}")  # noqa: E731
+        measured = [c for c in cs if c.measured != "not measured"]
+        hold = [c for c in measured if c.direction is not False and c.within is not False
+                and (c.direction or c.within)]
+        direction_only = [c for c in measured if c.direction and c.within is False]
+        fail = [c for c in measured if c.direction is False]
+        rest = [c for c in cs if c not in hold + direction_only + fail]
+        where = f" of {title}" if title else ""
+        L.append(f"- **{len(hold)} of {len(cs)} claims{where} hold** (direction, and size within 2x where the paper "
+                 "gives a number): " + ("; ".join(f"{ref(c)} {short_claim(c)}" for c in hold) or "none") + ".")
+        if direction_only:
+            def miss(c):
+                return f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper}"
+            L.append(f"- **{len(direction_only)} hold only in direction**, the size off by more than 2x: "
+                     + "; ".join(miss(c) for c in direction_only) + ".")
+        if fail:
+            L.append(f"- **{len(fail)} fail**: " + "; ".join(
+                f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper} ({_reason(c)})" for c in fail) + ".")
+        if rest:
+            L.append(f"- {len(rest)} without a verdict (no direction test and no paper number, or not measured): "
+                     + ", ".join(ref(c) for c in rest) + ".")
+    return L + ["", "Each claim's measurement, and the facts behind a miss, are in the tables below.", ""]
+
+
 def claim_table(claims):
     lines = ["| # | model.md | claim | paper | measured | direction holds | within 2x | explanation (measured facts) |",
              "|---:|---|---|---|---|---|---|---|"]
@@ -852,6 +900,8 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
     if len(wl) > 1:
         L += ["**Warning**: the CSVs hold several workloads; claims compare rows of one workload "
               "only when their other settings match, so mixed workloads may pair badly.", ""]
+    extra = [("section 3", pipeline_section(dse[1], dse[0], fig_rel)[1])] if dse is not None else []
+    L += summary_lines(claims, extra)
     L += ["## Claims of the fidelity targets (§9) and energy figures (§14) of docs/model.md", "",
           f"{len(measured)} of {len(claims)} claims measured; direction holds for "
           f"{sum(1 for c in dir_n if c.direction)} of {len(dir_n)} with a direction test; size within "

@@ -180,6 +180,20 @@ class Document(unittest.TestCase):
         self.assertNotIn("## Figures", text)
         rows = [l for l in text.splitlines() if l.startswith("| ") and l[2:3].isdigit()]
         self.assertEqual(len(rows), len(claims))
+        # The answer first: the summary comes before the table, and every claim is in one of
+        # its groups with the numbers (direction only) or the measured reason (fails).
+        self.assertLess(text.index("## Summary: what reproduces"), text.index("| # | model.md |"))
+        summary = text.split("## Summary: what reproduces", 1)[1].split("## Claims", 1)[0]
+        self.assertLessEqual(len([l for l in summary.splitlines() if l.strip()]), 12)
+        hold = [i for i, c in enumerate(claims, 1) if c.direction is not False and c.within is not False
+                and (c.direction or c.within) and c.measured != "not measured"]
+        self.assertIn(f"**{len(hold)} of {len(claims)} claims hold**", summary)
+        for i, c in enumerate(claims, 1):
+            self.assertRegex(summary, rf"#{i}\b", f"claim {i} is in no group of the summary")
+            if c.direction and c.within is False:
+                self.assertIn(f"#{i} {report.short_claim(c)}: {c.measured} against {c.paper}", summary)
+            if c.direction is False and c.measured != "not measured":
+                self.assertIn(f"#{i} {report.short_claim(c)}: {c.measured} against {c.paper} (", summary)
 
     @unittest.skipUnless(HAVE_MPL, "matplotlib missing")
     def test_figures_embedded(self):
