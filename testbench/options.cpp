@@ -62,9 +62,16 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--dump-schedule", o.dump_schedule,
                  "Write the leaf-visit schedule as CSV seq,query,leaf,event (event: visit, or a "
                  "first_leaf leader's finish)");
-  if (replay)
+  if (replay) {
     app.add_option("--schedule", o.schedule,
                    "Replay this leaf-visit schedule (CSV seq,query,leaf,event) instead of index order");
+    app.add_flag("--redundancy", o.redundancy,
+                 "Also measure the two-stage tree's redundancy (paper section 4.1) under both conventions: "
+                 "nodes visited against the canonical tree (the model's), and distance computations of the "
+                 "authors' classic tree (points only in leaves, bounding-box pruning) with leaves as large as "
+                 "this tree's leaf sets against leaves of one point; every search is checked against the "
+                 "golden results (stats.json \"redundancy\")");
+  }
   app.add_option("--max-work", o.limits.max_work,
                  "Refuse a run estimated (from a sample of queries) to compute more node and point "
                  "distances than this; 0: no limit")

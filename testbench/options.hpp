@@ -29,12 +29,14 @@ struct SearchOptions {
   int leader_capacity = 16;
   int leader_width = 0;
   std::string dump_results, dump_schedule, schedule;
+  bool redundancy = false;  // ref: the two-stage tree's redundancy under both conventions
   std::string out = "tigris-out";
   WorkLimits limits;
   std::string command_line;  // as typed, for stats.json (set by main)
 };
 
-// `replay`: also --schedule (the golden model replays a schedule; the accelerator makes its own).
+// `replay`: also --schedule (the golden model replays a schedule; the accelerator makes its own)
+// and --redundancy (tigris ref only).
 void add_search_options(CLI::App& app, SearchOptions& o, bool replay = false);
 
 // Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws

@@ -369,6 +369,28 @@ def part_timeline(d):
 
 # ------------------------------------------------------------------------------------------------
 
+def part_redundancy(d):
+    """tigris ref --redundancy: both conventions, each ratio its own counts' quotient, every
+    search checked against the golden model; exact searches only."""
+    cloud = os.path.join(d, "red.bin")
+    small_cloud(cloud, n=3000)
+    for mode in (["--mode", "nn"], ["--mode", "radius", "--radius", "2"]):
+        out = os.path.join(d, "red" + mode[1])
+        p = tig("ref", "--cloud", cloud, "--height", "6", *mode, "--redundancy", "--out", out, code=0)
+        r = stats(out)["redundancy"]
+        m, a = r["model"], r["authors"]
+        check(abs(m["ratio"] - m["two_stage_per_query"] / m["canonical_per_query"]) < 1e-12, f"model ratio {m}")
+        check(abs(a["ratio"] - a["per_query"] / a["leaf_one_per_query"]) < 1e-12, f"authors' ratio {a}")
+        check(a["leaf_max"] == -(-3000 // 2 ** 6) and r["queries"] == "the cloud itself", f"redundancy {r}")
+        check(a["ratio"] > 1 and m["ratio"] > 1, f"leaf sets cost more than single points: {r}")
+        check("authors' convention" in p.stdout and "equal the golden model's" in p.stdout, p.stdout)
+    out = os.path.join(d, "red_pair")
+    tig("ref", "--redundancy", "--out", out, code=0)
+    check(stats(out)["redundancy"]["queries"] == "another frame", "the built-in pair is cross-frame")
+    p = tig("ref", "--cloud", cloud, "--approx-thd", "default", "--redundancy", "--out", os.path.join(d, "x"), code=2)
+    check("--redundancy counts exact searches" in p.stderr, p.stderr)
+
+
 def part_help(d):
     run_help = tig("run", "--help", code=0).stdout
     check("--schedule" not in run_help and "--schedule" in tig("ref", "--help", code=0).stdout,
@@ -446,7 +468,7 @@ def part_layers(d):
         check(want in p.stderr, f"{cmd} --set {bad}: {p.stderr}")
 
 
-PARTS = {"inputs": part_inputs, "schema": part_schema, "diff": part_diff, "plot": part_plot,
+PARTS = {"redundancy": part_redundancy, "inputs": part_inputs, "schema": part_schema, "diff": part_diff, "plot": part_plot,
          "waves": part_waves, "timeline": part_timeline, "help": part_help, "layers": part_layers}
 
 if __name__ == "__main__":
