@@ -3,8 +3,10 @@
 // compiler never fuses a multiply-add (which would change the last bit of dist2).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace tigris {
 
@@ -47,5 +49,15 @@ inline bool closer(const Neighbor& a, const Neighbor& b) {
 struct Closer {
   bool operator()(const Neighbor& a, const Neighbor& b) const { return closer(a, b); }
 };
+
+// Keeps `list` the k best (ascending, canonical order) after offering `n`: what every exact
+// kNN search of the golden model does with a candidate.
+inline void offer_k_best(std::vector<Neighbor>& list, std::size_t k, const Neighbor& n) {
+  if (list.size() == k) {
+    if (!closer(n, list.back())) return;
+    list.pop_back();
+  }
+  list.insert(std::upper_bound(list.begin(), list.end(), n, Closer{}), n);
+}
 
 }  // namespace tigris

@@ -89,14 +89,7 @@ struct KBest {
   std::size_t k;
   explicit KBest(std::size_t k_) : k(k_) { list.reserve(k); }
   float bound() const { return list.size() < k ? kInfinity : list.back().dist2; }
-  void offer(float d, std::uint32_t i) {
-    const Neighbor n{i, d};
-    if (list.size() == k) {
-      if (!closer(n, list.back())) return;
-      list.pop_back();
-    }
-    list.insert(std::upper_bound(list.begin(), list.end(), n, Closer{}), n);
-  }
+  void offer(float d, std::uint32_t i) { offer_k_best(list, k, Neighbor{i, d}); }
   void emit(Results& r, std::uint32_t) {
     r.append_query(list.data(), list.data() + list.size());
     list.clear();

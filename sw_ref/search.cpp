@@ -102,14 +102,7 @@ struct KnnCollector {
   std::size_t k;
   explicit KnnCollector(const SearchParams& p) : k(static_cast<std::size_t>(p.k)) { list.reserve(k); }
   float bound() const { return list.size() < k ? kInfinity : list.back().dist2; }
-  void offer(float d, std::uint32_t i) {
-    const Neighbor n{i, d};
-    if (list.size() == k) {
-      if (!closer(n, list.back())) return;
-      list.pop_back();
-    }
-    list.insert(std::upper_bound(list.begin(), list.end(), n, Closer{}), n);
-  }
+  void offer(float d, std::uint32_t i) { offer_k_best(list, k, Neighbor{i, d}); }
   void final_list(std::vector<Neighbor>& out) const { out.insert(out.end(), list.begin(), list.end()); }
   void emit(Results& r) {
     r.append_query(list.data(), list.data() + list.size());

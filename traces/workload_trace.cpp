@@ -403,7 +403,7 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
           t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
                               st.at("kdtree_search_seconds").get<double>(), st.at("kdtree_build_seconds").get<double>()});
         // Times are measured: finite and not negative (a forged -5e12 s would print as a speed-up).
-        const auto bad = [](double s) { return !std::isfinite(s) || s < 0; };
+        const auto bad = [](double x) { return !std::isfinite(x) || x < 0; };
         if (bad(t.total_seconds)) in.fail("metadata: total_seconds is negative or not finite");
         for (const Stage& st : t.stages)
           if (st.name.empty() || bad(st.seconds) || bad(st.kdtree_search_seconds) || bad(st.kdtree_build_seconds))

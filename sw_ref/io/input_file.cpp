@@ -69,10 +69,10 @@ std::string read_input(const std::string& path, const std::string& what, std::ui
   // O_NONBLOCK: a FIFO swapped in after the check opens without waiting, and fstat refuses it.
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) fail(path, what, std::strerror(errno));
-  struct Closer {
+  struct FdCloser {
     int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
+    ~FdCloser() { ::close(fd); }
+  } fd_closer{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0) fail(path, what, std::strerror(errno));
   check_stat(st, path, what, max_bytes);
