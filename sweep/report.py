@@ -10,6 +10,7 @@ measured), how each claim is measured, and the figures of plots.py (made into DI
 sweep they need. Nothing here is tuned toward the paper's numbers.
 """
 import argparse
+import csv
 import math
 import os
 import sys
@@ -194,6 +195,66 @@ def claims_redundancy(sw):
               within_2x_gain(ratio, paper), "from the two rows above")
     else:
         c.missing("both the NN and the radius height sweeps with a canonical row")
+    return out
+
+
+def claims_redundancy_conventions(path):
+    """The redundancy at leaf-set 32 in both conventions, from a `tigris ref --redundancy` sweep
+    (reproduce's `redundancy` experiment): frame 1 in frame 0 and the cloud in itself."""
+    with open(path, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r.get("status") == "ok" and r.get("redundancy.authors.ratio")]
+    how = ("`tigris ref --redundancy` at heights 11 and 12, interpolated log-log to leaf-set 32: the authors' "
+           "convention (their code, horizon-research/PointCloud-pipeline kdtree.h) counts distance computations "
+           "of a classic tree with points only in leaves and bounding-box pruning, leaves of about the leaf-set "
+           "size against leaves of one point; the model's counts nodes visited (top-tree nodes + leaf-set "
+           "points) against the canonical tree (docs/model.md, fidelity targets); every search is checked "
+           "against the golden model")
+    groups = {}
+    for r in rows:
+        key = (r.get("mode"), r.get("redundancy.queries"))
+        groups.setdefault(key, []).append(r)
+    out, verdict = [], {}
+    for mode, paper in (("nn", PAPER["redundancy_nn_32"]), ("radius", PAPER["redundancy_radius_32"])):
+        for queries, where in (("another frame", "frame 1 in frame 0"), ("the cloud itself", "the cloud in itself")):
+            g = sorted(groups.get((mode, queries), []), key=lambda r: float(r["tree.leaf_set_mean"]))
+            rad = next((r.get("radius") for r in g if r.get("radius")), "")
+            label_ = "NN" if mode == "nn" else (f"radius {float(rad):.2f} m" if rad else "radius")
+            c = Claim(f"redundancy-authors-{mode}-{'self' if 'itself' in queries else 'cross'}", "9",
+                      f"two-stage redundancy at leaf-set 32 in the authors' convention ({label_}; {where})",
+                      f"{paper:g}x at 32 (KITTI)", how)
+            if not g:
+                out.append(c.missing("a `tigris ref --redundancy` run of this search "
+                                     + ("with a cloud file (the built-in pair has no cloud to search in itself)"
+                                        if "itself" in queries else "")))
+                continue
+            pts = lambda col: [(float(r["tree.leaf_set_mean"]), float(r[col]), r) for r in g]  # noqa: E731
+            authors, at = at_size(pts("redundancy.authors.ratio"), 32)
+            model, _ = at_size(pts("redundancy.model.ratio"), 32)
+            r = min(g, key=lambda x: abs(math.log(float(x["tree.leaf_set_mean"]) / 32)))  # its counts are quoted
+            verdict[(mode, queries)] = (abs(math.log(authors / paper)), abs(math.log(model / paper)))
+            expl = (f"{at}; authors' convention {authors:.2f}x (at leaf-set {float(r['tree.leaf_set_mean']):.0f}: "
+                    f"classic tree, leaves of at most "
+                    f"{r['redundancy.authors.leaf_max']} points: {float(r['redundancy.authors.per_query']):.1f} "
+                    f"distances/query, leaves of one point {float(r['redundancy.authors.leaf_one_per_query']):.1f}); "
+                    f"the model's convention {model:.2f}x ({float(r['redundancy.model.two_stage_per_query']):.1f} "
+                    f"nodes/query, canonical tree {float(r['redundancy.model.canonical_per_query']):.1f})")
+            if "itself" in queries and mode == "nn":
+                expl += ("; degenerate: a leaf-one tree finds a query's own point with about one distance, so "
+                         "the ratio is about the leaf size")
+            out.append(c.set(f"{authors:.2f}x (model's convention {model:.2f}x)", up(authors), within_2x(authors, paper),
+                             expl))
+    c = Claim("redundancy-convention", "9", "the paper's redundancy figures (35x NN, 3x radius) are nearer the "
+              "authors' convention than the model's (frame 1 in frame 0)", "authors' convention", how)
+    cross = [verdict.get((m, "another frame")) for m in ("nn", "radius")]
+    if all(cross):
+        nearer = [a < m for a, m in cross]
+        out.append(c.set(f"authors' nearer for {sum(nearer)} of 2 (NN {math.exp(cross[0][0]):.1f}x vs "
+                         f"{math.exp(cross[0][1]):.1f}x off, radius {math.exp(cross[1][0]):.2f}x vs "
+                         f"{math.exp(cross[1][1]):.2f}x off)", all(nearer), None,
+                         "how far each convention's value at leaf-set 32 is from the paper's (a factor), NN and "
+                         "radius, frame 1 in frame 0 (the rows above)"))
+    else:
+        out.append(c.missing("the NN and radius rows above"))
     return out
 
 
@@ -981,7 +1042,9 @@ def variants_section(cols, figures_dir, out, draw, log=ed.note):
 
 
 def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None,
-                 variants=None, command=None):
+                 variants=None, command=None, redundancy=None):
+    """REPORT.md from sweep CSVs; `redundancy`: a `tigris ref --redundancy` sweep's CSV, whose
+    claims (both conventions) come after the others (the variants do not change them)."""
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
     dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
@@ -993,6 +1056,8 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     os.makedirs(out, exist_ok=True)
     robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
         if variants else None
+    if redundancy:
+        claims = claims + claims_redundancy_conventions(redundancy)
     path = os.path.join(out, "REPORT.md")
     import core
     core.atomic_write(path, render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust,

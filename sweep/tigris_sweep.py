@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""tigris_sweep: runs a sweep spec of `tigris run`, `tigris register` or `tigris odometry` points
+"""tigris_sweep: runs a sweep spec of `tigris run`, `ref`, `register` or `odometry` points
 locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
 
   tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
@@ -50,6 +50,8 @@ class Command:
         """(status, message) of a finished process; None: it gave no result (an error)."""
         if not isinstance(result, dict):
             return None
+        if self.name == "ref":
+            return ("ok", "") if rc == 0 else None
         if self.name == "run":
             verdict = result.get("verdict")
             if rc == 0 and verdict == "match":
@@ -75,6 +77,10 @@ COMMANDS = {
                        "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause",
                        "bottleneck.share", "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction",
                        "accuracy.mean_extra_distance_m", "accuracy.recall", "accuracy.precision"]),
+    # The golden model alone (no configuration keys: its flags are its settings).
+    "ref": Command("ref", "stats.json", ("cloud", "queries", "schedule"), (), ("cloud", "queries", "mode"),
+                   "cloud", None, ["visits.top", "visits.leaf_points", "tree.leaf_set_mean",
+                                   "redundancy.model.ratio", "redundancy.authors.ratio"]),
     "register": Command("register", "registration.json",
                         ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
                         ("source", "target", "preset", "search"), "source", "register", [
@@ -95,7 +101,7 @@ WALL = "wall_seconds"
 PIPELINE_FLAG_KEYS = {"height": "search.top_height", "approx-thd": "search.nn_thd", "inject-kth": "inject.rpce_kth"}
 FLAG_KEYS = {"run": {"height": "tree.top_height", "split-axis": "tree.split_axis",
                      "leader-capacity": "leader.capacity_per_leaf"},
-             "register": PIPELINE_FLAG_KEYS, "odometry": PIPELINE_FLAG_KEYS}
+             "ref": {}, "register": PIPELINE_FLAG_KEYS, "odometry": PIPELINE_FLAG_KEYS}
 MAX_POINTS = 100_000                                 # a spec's points, counted before expanding
 MAX_SPEC_BYTES = 16 << 20
 # The sweep folder's own entries (its manifest's outputs); `tigris plot DIR` writes DIR/plots.
@@ -199,14 +205,19 @@ class Tigris:
             raise SpecError(f"tigris binary not found or not executable: {self.path} "
                             "(give --tigris PATH or set $TIGRIS)")
         self.flags = {}                          # flag -> default (None: no default)
+        self.switches = set()                    # flags without a value (`--redundancy`): true or false
         for f in self._ask_json(command.name, "--list-flags").get("flags", []):
             self.flags[f["flag"]] = typed(f["default"]) if f.get("default") not in (None, "") else None
+            if f.get("takes_value") is False:
+                self.switches.add(f["flag"])
         self.config = {}                         # configuration key -> default
         self.key_info = {}                       # configuration key -> its entry (type, unit, range, doc)
-        for k in self._ask_json(command.config_from, "--list-config", "--json").get("keys", []):
+        keys = self._ask_json(command.config_from, "--list-config", "--json").get("keys", []) \
+            if command.config_from else []
+        for k in keys:
             self.config[k["key"]] = k["default"]
             self.key_info[k["key"]] = k
-        if command.required not in self.flags or not self.config:
+        if command.required not in self.flags or (command.config_from and not self.config):
             raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --list-flags` "
                             "and `--list-config --json` gave no flags or keys")
 
@@ -353,7 +364,9 @@ class Spec:
             except UnicodeEncodeError:
                 raise SpecError(self._at(loc, f"'{self.names[canon]}' is not valid Unicode text "
                                          "(a lone surrogate escape)"))
-        if canon in self.tig.flags and isinstance(v, bool):
+        if canon in self.tig.switches and not isinstance(v, bool):
+            raise SpecError(self._at(loc, f"{self.kind} '{self.names[canon]}' is a switch: true or false"))
+        if canon in self.tig.flags and canon not in self.tig.switches and isinstance(v, bool):
             raise SpecError(self._at(loc, f"{self.kind} '{self.names[canon]}' takes a number or text, not a boolean"))
         if canon in self.command.paths and canon in self.tig.flags:
             what = "folder" if canon in self.command.folders else "file"
@@ -394,6 +407,9 @@ class Spec:
         a = []
         for k in sorted(k for k in params if k in self.tig.flags):
             v = params[k]
+            if k in self.tig.switches:
+                a += [f"--{k}"] if v else []
+                continue
             a += [f"--{k}", os.path.join(self.dir, v) if k in self.command.paths else cli_value(v)]
         for k in sorted(k for k in params if k not in self.tig.flags):
             a += ["--set", f"{k}={cli_value(params[k])}"]
@@ -517,7 +533,7 @@ class PointRun:
 def progress_line(spec_names, pt, rec, k, n):
     shown = " ".join(f"{spec_names.get(key, key)}={cli_value(v)}" for key, v in pt["own"].items()) or pt["id"]
     cmd = rec.get("command") if isinstance(rec.get("command"), list) else []
-    ok_word = "match" if cmd[1:2] in ([], ["run"]) else "converged"
+    ok_word = {"run": "match", "ref": "done"}.get(cmd[1] if len(cmd) > 1 else "run", "converged")
     what = ok_word if rec["status"] == "ok" else f"{rec['status'].upper()}: {rec['error']}"
     return f"[{k}/{n}] {shown} ... {rec['wall_seconds']:.1f} s, {what}"
 
@@ -530,7 +546,7 @@ def dry_args(tig, args, missing):
     validates them before it reads the workload, so the point gets an input that does not exist.
     An odometry point is checked as a registration with the flags the two share."""
     name = tig.command.name
-    inputs = {"run": ("cloud",), "register": ("source", "target"), "odometry": ()}[name]
+    inputs = {"run": ("cloud",), "ref": ("cloud",), "register": ("source", "target"), "odometry": ()}[name]
     if name == "odometry":
         reg = tigris_at(tig.path, "register")
         keep, a, i = (set(reg.flags) - set(NOT_SWEEPABLE)) | {"set"}, [], 0
@@ -733,6 +749,9 @@ SUMMARY = {
             ("RU%", "units.recursion_units.utilization", 100, "{:.0f}"),
             ("SU%", "units.search_units.utilization", 100, "{:.0f}"),
             ("PE%", "units.search_units.pe_utilization", 100, "{:.0f}"), ("bound", "bottleneck.bound", None, "")],
+    "ref": [("top nodes", "visits.top", None, ""), ("leaf points", "visits.leaf_points", None, ""),
+            ("leaf set", "tree.leaf_set_mean", 1, "{:.1f}"), ("redundancy (model)", "redundancy.model.ratio", 1, "{:.2f}"),
+            ("redundancy (authors)", "redundancy.authors.ratio", 1, "{:.2f}")],
     "register": [("seconds", "seconds", 1, "{:.3g}"), ("KD-tree %", "kdtree_share", 100, "{:.0f}"),
                  ("error m", "error.translation_m", 1, "{:.3g}"), ("error deg", "error.rotation_deg", 1, "{:.3g}")],
     "odometry": [("s/pair", "seconds_per_pair", 1, "{:.3g}"), ("KD-tree %", "totals.kdtree_share", 100, "{:.0f}"),

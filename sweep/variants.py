@@ -218,6 +218,8 @@ def choose(names, user, source="the variants file"):
 
 def affects(variant, exp_name, spec):
     """Whether the variant can change this experiment's rows."""
+    if spec.get("command", "run") != "run":  # the golden model alone: no accelerator to vary
+        return False
     if variant.experiments is not None and exp_name not in variant.experiments:
         return False
     if not variant.set:  # a leader width only: experiments with approximate runs

@@ -127,5 +127,26 @@ def test_mismatch_and_signal():
         assert "2 finished earlier" in p.stderr and "[1/1] seed=8" in p.stderr, p.stderr
 
 
+def test_ref_points_and_switches():
+    """`"command": "ref"` sweeps the golden model; a switch flag (`redundancy`) is true or false
+    and only true passes it."""
+    with Workdir(a, "local") as d:
+        small_workload(d, 2000, 300)
+        spec = write_spec(d, {"command": "ref", "base": {"cloud": "cloud.bin", "queries": "queries.bin", "height": 5},
+                              "grid": {"mode": ["nn", "radius"], "redundancy": [True, False]}})
+        out = os.path.join(d, "out")
+        p = sweep(a, spec, "--out", out, "--tigris", a.tigris, check=0)
+        assert p.stderr.count(", done") == 4, p.stderr
+        _, rows = read_csv(os.path.join(out, "sweep.csv"))
+        assert [r["status"] for r in rows] == ["ok"] * 4, rows
+        for r in rows:
+            has = r.get("redundancy.authors.ratio", "") != ""
+            assert has == (r["redundancy"] == "true"), r
+            assert ("--redundancy" in r["command_line"]) == has, r["command_line"]
+        bad = write_spec(d, {"command": "ref", "base": {"cloud": "cloud.bin", "redundancy": "yes"}})
+        p = sweep(a, bad, "--out", os.path.join(d, "bad"), "--tigris", a.tigris, check=2)
+        assert "is a switch: true or false" in p.stderr, p.stderr
+
+
 if __name__ == "__main__":
-    run_tests([test_four_points, test_failed_point_recorded, test_mismatch_and_signal])
+    run_tests([test_four_points, test_failed_point_recorded, test_mismatch_and_signal, test_ref_points_and_switches])

@@ -164,6 +164,32 @@ class Document(unittest.TestCase):
         self.bad = fx.write_csv(os.path.join(self.tmp.name, "csv", "bad.csv"),
                                 [err, {"settings": {"height": 9}, "stats": fx.fake_stats(top_height=9)}])
 
+    def test_redundancy_conventions(self):
+        """Both conventions at leaf-set 32 from a `tigris ref --redundancy` sweep's CSV: log-log
+        interpolation, the paper's verdicts, and which convention is nearer the paper."""
+        path = os.path.join(self.tmp.name, "red.csv")
+        cols = ["point", "status", "mode", "radius", "redundancy.queries", "tree.leaf_set_mean",
+                "redundancy.model.ratio", "redundancy.authors.ratio", "redundancy.authors.leaf_max",
+                "redundancy.authors.per_query", "redundancy.authors.leaf_one_per_query",
+                "redundancy.model.two_stage_per_query", "redundancy.model.canonical_per_query"]
+        rows = [[f"{m}{h}", "ok", m, "0.3" if m == "radius" else "", "another frame", str(size), str(mod), str(auth),
+                 "33", "70", "5", "100", "50"]
+                for m, h, size, mod, auth in (("nn", 11, 64, 4.0, 40.0), ("nn", 12, 16, 1.0, 10.0),
+                                              ("radius", 11, 64, 2.0, 4.0), ("radius", 12, 16, 1.0, 2.0))]
+        with open(path, "w") as f:
+            f.write(",".join(cols) + "\n" + "\n".join(",".join(r) for r in rows) + "\n")
+        claims = {c.cid: c for c in report.claims_redundancy_conventions(path)}
+        nn = claims["redundancy-authors-nn-cross"]
+        self.assertEqual(nn.measured, "20.00x (model's convention 2.00x)")  # halfway in log between 16 and 64
+        self.assertTrue(nn.direction)
+        self.assertTrue(nn.within)  # 20x against 35x
+        r = claims["redundancy-authors-radius-cross"]
+        self.assertEqual(r.measured, "2.83x (model's convention 1.41x)")
+        self.assertIn("needs", claims["redundancy-authors-nn-self"].explanation)  # no self rows
+        conv = claims["redundancy-convention"]
+        self.assertTrue(conv.direction, conv.measured)
+        self.assertIn("authors' nearer for 2 of 2", conv.measured)
+
     def test_table(self):
         out = os.path.join(self.tmp.name, "r")
         path, claims = report.write_report(list(self.csvs.values()) + [self.bad], out, draw=False,
