@@ -12,6 +12,9 @@ Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
                       (translation %, rotation deg/m); without a segment of 100 m (a short
                       trajectory) or a ground truth, the per-pair relative pose error instead,
                       and the figure says why.
+Each figure's footer says what made it (sweep/core/provenance.py), from OUT/manifest.json: the
+tigris odometry command line, the commit, the sequence (or synthetic drive), frames, preset and
+back-end, the inputs' SHA-256 and a digest of the settings.
 Exit 2 with a message naming the file when an input is missing or malformed.
 """
 import csv
@@ -50,7 +53,7 @@ def num(row, key, path):
         fail(f"{path}: no number in column {key!r} of row {row}")
 
 
-def trajectory(out, traj, metrics):
+def trajectory(out, traj, metrics, footer):
     path = os.path.join(out, "trajectory.csv")
     est = [(num(r, "est_x", path), num(r, "est_y", path)) for r in traj]
     gt = [(num(r, "gt_x", path), num(r, "gt_y", path)) for r in traj]
@@ -85,7 +88,7 @@ def trajectory(out, traj, metrics):
     hz.set_xlabel("frame")
     hz.set_ylabel("z (m, up at the first frame)")
     hz.grid(True, lw=0.3)
-    fig.tight_layout()
+    core.add_footer(fig, footer)
     core.save_figure(fig, os.path.join(out, "trajectory.png"), dpi=120)
     plt.close(fig)
 
@@ -107,7 +110,7 @@ def from_zero(ax, ys):
     ax.set_ylim(0, top * 1.15 if top > 0 else 1.0)
 
 
-def errors(out, pairs, metrics):
+def errors(out, pairs, metrics, footer):
     k = metrics.get("kitti") or {}
     segs = k.get("segment_list") or []
     fig, axes = plt.subplots(2, 2, figsize=(9.6, 6.4))
@@ -149,9 +152,44 @@ def errors(out, pairs, metrics):
             axes[row][1].axis("off")
         axes[0][1].text(0.0, 0.5, why + ":\nper-pair errors instead", fontsize=10, va="center")
         fig.suptitle("per-pair relative pose error", fontsize=10)
-    fig.tight_layout()
+    core.add_footer(fig, footer)
     core.save_figure(fig, os.path.join(out, "errors.png"), dpi=120)
     plt.close(fig)
+
+
+def flag(flags, name):
+    """The value after `name` in a list of flags, else None."""
+    return next((flags[i + 1] for i in range(len(flags) - 1) if flags[i] == name), None)
+
+
+def run_details(settings, argv):
+    """What the footer adds to the command line (argv) from the settings tigris odometry records
+    in its manifest: the sequence or synthetic drive, its seed, the frames, the preset and the
+    back-end (its `register_flags` are what every pair's tigris register gets), each unless argv
+    gives it itself."""
+    s = settings if isinstance(settings, dict) else {}
+    given = {a.split("=", 1)[0] for a in argv or [] if a.startswith("--")}
+    parts = []
+    if s.get("synthetic"):
+        if "--synthetic" not in given or "--seed" not in given:
+            parts.append(f"synthetic drive of {s['synthetic']} frames, seed {s.get('seed')}")
+    elif s.get("sequence") and "--sequence" not in given:
+        parts.append(f"sequence {s['sequence']}")
+    frames = s.get("frames")
+    if "--frames" not in given and isinstance(frames, list) and len(frames) == 2:
+        parts.append(f"frames {frames[0]}..{frames[1]}")
+    flags = [str(f) for f in s["register_flags"]] if isinstance(s.get("register_flags"), list) else []
+    if flags:
+        sets = [flags[i + 1] for i in range(len(flags) - 1) if flags[i] == "--set"]
+        backend = flag(flags, "--search") or next((x.split("=", 1)[1] for x in sets
+                                                   if x.startswith("search.backend=")), None)
+        if not backend:    # both presets search exactly; a --config file may say otherwise
+            backend = "as in --config" if flag(flags, "--config") else "exact"
+        said = [f"preset {flag(flags, '--preset') or '?'}" if "--preset" not in given else "",
+                f"back-end {backend}" if "--search" not in given else ""]
+        if any(said):
+            parts.append(", ".join(x for x in said if x))
+    return parts
 
 
 def main():
@@ -169,8 +207,10 @@ def main():
     traj = read_csv(os.path.join(out, "trajectory.csv"))
     if not traj:
         fail(f"{os.path.join(out, 'trajectory.csv')}: no rows")
-    trajectory(out, traj, metrics)
-    errors(out, read_csv(os.path.join(out, "pairs.csv")), metrics)
+    prov = core.provenance(out, command="odometry")
+    footer = core.footer_lines(prov, details=run_details(prov["settings"], prov["argv"]))
+    trajectory(out, traj, metrics, footer)
+    errors(out, read_csv(os.path.join(out, "pairs.csv")), metrics, footer)
     print(f"odometry_plots: wrote {os.path.join(out, 'trajectory.png')} and {os.path.join(out, 'errors.png')}")
     return 0
 

@@ -16,6 +16,9 @@ Writes into DIR:
   dse.json           all of it as data, with the paper's section-3 claims measured
   REPORT.md          those claims against the paper (direction / within 2x, measured explanations),
                      the figures and the DPs: the section `tigris reproduce --dse DIR` adds to its report
+Each figure's footer says what made it (sweep/core/provenance.py, from DIR/manifest.json): this
+command line, the commit, the sample's size and seed, the space file's and the sequence's SHA-256
+and a digest of the settings.
 
 Sampling: the default space has some 440,000 points, so a full factorial is out of reach; the
 tool draws a seeded Latin-hypercube-like sample over the knobs' levels (each level of each knob
@@ -380,7 +383,8 @@ def place_labels(fig, ax, items):
         taken.append(chosen)
 
 
-def plot(out, points, fronts, dps, title):
+def plot(out, points, fronts, dps, title, footer=()):
+    """fig4.png and fig5.png; footer: the lines that say what made them (core.footer_lines)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -421,6 +425,7 @@ def plot(out, points, fronts, dps, title):
         ax.legend(fontsize=8, loc="upper right")
     fig.suptitle(f"Pipeline design space: {len(points)} points" + (f", {failed} failed (no result)" if failed else ""))
     figure_truth.name_workload(fig, title)
+    core.add_footer(fig, footer)
     for ax, items in labels.items():  # after the layout is final: placement works in pixels
         place_labels(fig, ax, items)
     core.save_figure(fig, os.path.join(out, "fig4.png"), dpi=110)
@@ -457,6 +462,7 @@ def plot(out, points, fronts, dps, title):
     b.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("The Pareto points' time distribution")
     figure_truth.name_workload(fig, title)
+    core.add_footer(fig, footer)
     core.save_figure(fig, os.path.join(out, "fig5.png"), dpi=110)
     plt.close(fig)
 
@@ -648,7 +654,9 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
         return 1
     configs = write_configs(out, points, dps)
     title = f"{where}; base {json.dumps(space.get('base', {}))}"
-    plot(out, points, fronts, dps, title)
+    footer = core.footer_lines(core.provenance(out, command="pipeline-dse"),
+                               details=[f"{len(drawn)} sampled points, seed {a.seed}"])
+    plot(out, points, fronts, dps, title, footer)
     measured = claims(points, dps)
     summary = {"command_line": f"{PROG} {shlex.join(argv)}", "space_file": os.path.abspath(a.space), "space": space,
                "sampling": how, "seed": a.seed, "sequence": where, "points": len(points),

@@ -15,6 +15,9 @@ Writes DIR/<name>.png and DIR/<name>.svg for every figure whose settings the CSV
 A figure picks the rows it needs by the settings they sweep (the other settings held at one
 value: the largest such group); a figure whose settings are not swept is skipped with a message,
 or is an error (exit 2) when named with --which. Rows whose status is not ok are left out.
+Each figure's footer says what drew it and from what (sweep/core/provenance.py): this command
+line and, for each CSV, its SHA-256 and the command line and commit in the manifest.json of its
+sweep folder.
 """
 import argparse
 import math
@@ -414,9 +417,17 @@ def build(name, sw):
     return FIGURES[name][0](sw)
 
 
-def make_figures(sw, out, which=None, log=ed.note):
+def sweep_footer(paths, argv):
+    """The footer of a figure drawn by argv (a command line) from sweep CSVs: each one's folder
+    holds the manifest.json of the tigris sweep that wrote it."""
+    made = [core.provenance(os.path.dirname(os.path.abspath(p)), command="sweep", files=[p]) for p in paths]
+    return core.footer_lines(made, drawn=core.provenance(argv=argv))
+
+
+def make_figures(sw, out, which=None, log=ed.note, footer=None):
     """Writes the figures; returns {name: (png, svg, notes)} and {name: skip reason}.
-    Named figures (`which`) that cannot be made raise Skip."""
+    Named figures (`which`) that cannot be made raise Skip. footer: the lines that say what
+    made them (sweep_footer), none without."""
     os.makedirs(out, exist_ok=True)
     made, skipped = {}, {}
     for name in (which or FIGURES):
@@ -431,6 +442,8 @@ def make_figures(sw, out, which=None, log=ed.note):
         png, svg = os.path.join(out, name + ".png"), os.path.join(out, name + ".svg")
         fig.notes = getattr(fig, "notes", []) + figure_truth.guard_flat(fig)
         figure_truth.name_workload(fig, ed.workload_text(sw))
+        if footer:
+            core.add_footer(fig, footer)
         core.save_figure(fig, png, dpi=110)
         core.save_figure(fig, svg)
         notes = getattr(fig, "notes", [])
@@ -459,7 +472,8 @@ def main(argv=None):
     if sw.not_ok:
         ed.note(f"plots: {len(sw.not_ok)} row(s) not ok (mismatch/error) left out")
     try:
-        made, _ = make_figures(sw, a.out, a.which)
+        made, _ = make_figures(sw, a.out, a.which, footer=sweep_footer(
+            a.csv, sys.argv if argv is None else [sys.argv[0]] + list(argv)))
     except Skip as e:
         ap.exit(2, f"plots: cannot make {e}\n")
     if not made:

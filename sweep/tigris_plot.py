@@ -8,7 +8,9 @@ first value) and the title says so. Then the paper's figures (sweep/plots.py: re
 height, optimizations, memory_traffic, approx) that the sweep's settings cover.
 
 Every figure names its workload and the settings all its points share; an axis whose values vary
-by less than 5% is drawn from zero and labelled "flat". The default output folder is
+by less than 5% is drawn from zero and labelled "flat". A footer says what made it: this command
+line and commit, and each sweep.csv's SHA-256 with the command line and commit of the sweep
+that wrote it (its folder's manifest.json). The default output folder is
 SWEEP_DIR/plots (for a CSV: plots/ beside it); it holds manifest.json, must be new, empty or an
 earlier plot's folder, and its earlier figures are replaced. Runs on Debian's python3 with
 python3-matplotlib (`tigris plot` starts /usr/bin/python3). Exit status 0 when at least one
@@ -204,13 +206,13 @@ def main(argv):
         die(str(e))
     rc = 2
     try:
-        rc = draw(a, paths, tables, sw, workload, out)
+        rc = draw(a, paths, tables, sw, workload, out, plots.sweep_footer(paths, folder.argv))
         return rc
     finally:
         folder.finish(rc)
 
 
-def draw(a, paths, tables, sw, workload, out):
+def draw(a, paths, tables, sw, workload, out, footer):
     written = []
     if not a.which or "sweep" in a.which:
         for path, cols, rows, swept in tables:
@@ -228,6 +230,7 @@ def draw(a, paths, tables, sw, workload, out):
                     say(f"{path}: {key} takes one value among the ok points: no figure")
                     continue
                 fig, notes = sweep_figure(key, ok, swept, ys, workload)
+                core.add_footer(fig, footer)
                 stem = os.path.join(out, "sweep_" + "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in key))
                 core.save_figure(fig, stem + ".png", dpi=110)
                 core.save_figure(fig, stem + ".svg")
@@ -240,7 +243,7 @@ def draw(a, paths, tables, sw, workload, out):
             if not msg.startswith("plots: skipped"):
                 say(msg[len("plots: "):] if msg.startswith("plots: ") else msg)
         try:
-            made, skipped = plots.make_figures(sw, out, paper if a.which else None, log=log)
+            made, skipped = plots.make_figures(sw, out, paper if a.which else None, log=log, footer=footer)
         except plots.Skip as e:
             die(f"cannot make {e}")
         written += [m[0] for m in made.values()]

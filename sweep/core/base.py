@@ -1,6 +1,6 @@
 """What every part of the core shares: the limits, names and exceptions (docs/architecture.md,
 "The shared core")."""
-import datetime, signal
+import datetime, os, signal
 
 MAX_INPUT_BYTES = 4 << 30           # clouds, traces
 MAX_SETTINGS_BYTES = 64 << 20       # JSON, CSV and text settings
@@ -11,6 +11,7 @@ PARENT_ENV = "TIGRIS_PARENT_OUTPUTS"
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 KILL_AFTER = 5.0                    # SIGTERM to a child's group, then SIGKILL after this long
 SBATCH_FAILED = 3                   # the exit code of a failed Slurm submission, in every command
+COMMIT_ENV = "TIGRIS_COMMIT"        # the tigris binary sets it for every Python tool it runs
 
 
 class Refused(Exception):
@@ -34,3 +35,9 @@ def now_utc():
 
 def size_text(b):
     return f"{b >> 30} GiB" if b >= 1 << 30 else f"{b >> 20} MiB" if b >= 1 << 20 else f"{b} bytes"
+
+
+def tigris_commit():
+    """The tigris commit that runs this tool ($TIGRIS_COMMIT, as the binary's build_commit(): a
+    hash, "-dirty" when the tree differed), "unknown" when run without the binary."""
+    return os.environ.get(COMMIT_ENV) or "unknown"

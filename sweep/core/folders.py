@@ -1,7 +1,7 @@
 """Output folders: the one way a tool owns its --out (the C++ twin: testbench/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
 import fcntl, fnmatch, json, os, shutil, sys
-from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc
+from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc, tigris_commit
 from .inputs import read_json_input
 
 
@@ -156,7 +156,7 @@ class OutFolder:
             self._remove_temporaries()
             self.old = old
             self.manifest = {"tigris_manifest": 1, "command": self.command, "argv": self.argv, "cwd": os.getcwd(),
-                             "settings": settings, "inputs": inputs, "outputs": self.outputs,
+                             "commit": tigris_commit(), "settings": settings, "inputs": inputs, "outputs": self.outputs,
                              "status": "running", "pid": os.getpid(), "started": now_utc(), "finished": None}
             write_json(os.path.join(self.path, MANIFEST), self.manifest)
         except BaseException:

@@ -83,3 +83,16 @@ def run_tests(tests):
             print(f"FAIL {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)
             raise
         print(f"ok   {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)
+
+
+def footer_clear(fig, gid="tigris-footer"):
+    """The text of fig's footer (core.add_footer), checked to lie inside the figure and below
+    every axes with its labels and ticks: neither cut off nor overlapping."""
+    fig.canvas.draw()
+    text = next((t for t in fig.texts if t.get_gid() == gid), None)
+    assert text is not None, "no footer"
+    box = text.get_window_extent()
+    assert box.x0 >= 0 and box.y0 >= 0 and box.x1 <= fig.bbox.width and box.y1 <= fig.bbox.height, box
+    for ax in fig.axes:
+        assert ax.get_tightbbox().y0 > box.y1, (ax.get_tightbbox(), box)
+    return text.get_text()

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """sweep/core/ on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
 atomic writes, output folders (claim, foreign entries, lock, resume or fresh, the parent's files,
-the manifest), child processes (process groups, the death signal, stop on a signal) and the
-Slurm and --list-flags helpers. No tigris binary needed; about 10 s.
+the manifest), child processes (process groups, the death signal, stop on a signal), the
+Slurm and --list-flags helpers and provenance (what a figure's footer says). No tigris binary
+needed; about 10 s.
 
     python3 sweep/tests/test_core.py [--keep]"""
 import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
@@ -112,14 +113,32 @@ def manifest(d):
     return json.load(open(os.path.join(d, core.MANIFEST)))
 
 
+class commit_env:
+    """TIGRIS_COMMIT set to a value (None: unset) inside a with block."""
+    def __init__(self, value):
+        self.value = value
+
+    def __enter__(self):
+        self.old = os.environ.pop(core.COMMIT_ENV, None)
+        if self.value is not None:
+            os.environ[core.COMMIT_ENV] = self.value
+
+    def __exit__(self, *exc):
+        os.environ.pop(core.COMMIT_ENV, None)
+        if self.old is not None:
+            os.environ[core.COMMIT_ENV] = self.old
+
+
 def test_claim_and_manifest():
     d = path("f1")
     f = core.OutFolder(d, "tool", ["result.json", "jobs/"], argv=["--out", d])
     spec = write(path("f1-spec.json"), "{}")
-    f.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)], input_paths=[("SPEC", spec)])
+    with commit_env("0123456789ab-dirty"):
+        f.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)], input_paths=[("SPEC", spec)])
     m = manifest(d)
-    assert list(m) == ["tigris_manifest", "command", "argv", "cwd", "settings", "inputs", "outputs", "status",
-                       "pid", "started", "finished"], list(m)
+    assert list(m) == ["tigris_manifest", "command", "argv", "cwd", "commit", "settings", "inputs", "outputs",
+                       "status", "pid", "started", "finished"], list(m)
+    assert m["commit"] == "0123456789ab-dirty", m["commit"]
     assert m["status"] == "running" and m["pid"] == os.getpid() and m["finished"] is None
     assert m["inputs"][0]["role"] == "spec" and m["argv"][1:] == ["tool", "--out", d]
     assert m["started"].endswith("Z")
@@ -129,7 +148,9 @@ def test_claim_and_manifest():
     assert manifest(d)["status"] == "done" and manifest(d)["finished"]
     # an interrupted or failed end is recorded as such
     g = core.OutFolder(d, "tool", ["result.json", "jobs/"])
-    g.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)])
+    with commit_env(None):
+        g.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)])
+    assert manifest(d)["commit"] == "unknown"      # run without the tigris binary
     g.finish(143)
     assert manifest(d)["status"] == "interrupted"
     g.claim(settings={"n": 3}, inputs=[core.input_identity("spec", spec)])
@@ -319,6 +340,100 @@ def test_pool_stops_on_signal():
 
 
 # ----------------------------------------------------------------------------------------------
+# Provenance: what a figure's footer says (matplotlib's part: sweep/tests/test_plots.py)
+
+def test_shortening():
+    assert core.shorten("abcdef", 6) == "abcdef"
+    s = core.shorten("/a/very/long/folder/of/runs/kitti00-dp4", 20)
+    assert len(s) == 20 and s.count(core.ELLIPSIS) == 1 and s.endswith("kitti00-dp4") and s.startswith("/a/v"), s
+    line = ("made by tigris odometry --sequence /data/kitti/dataset/sequences/00 --frames 0:400 --preset dp4 "
+            "--out /scratch/user/runs/kitti00-dp4-accel")
+    assert core.fit_line(line, 200) == line
+    for n in (130, 120, 100, 80, 60, 30, 12, 1):
+        out = core.fit_line(line, n)
+        assert len(out) <= n, (n, out)
+    # Paths give way first, in their middles, the longest first; the rest of the line stays whole.
+    out = core.fit_line(line, len(line) - 3)     # the --out path (36 characters) alone gives way
+    assert "--sequence /data/kitti/dataset/sequences/00 --frames 0:400 --preset dp4" in out, out
+    assert out.count(core.ELLIPSIS) == 1 and out.endswith("kitti00-dp4-accel") and len(out) == len(line) - 3, out
+    out = core.fit_line(line, len(line) - 10)    # then both, to the same length
+    assert "--frames 0:400 --preset dp4" in out and out.count(core.ELLIPSIS) == 2, out
+    # Then whole words from the middle, one ellipsis for them: never two in one path.
+    out = core.fit_line(line, 100)
+    assert f" {core.ELLIPSIS} " in out and out.startswith("made by tigris") and out.endswith("dp4-accel"), out
+    assert all(w.count(core.ELLIPSIS) <= 1 for w in out.split()), out
+    assert len(core.fit_line("x" * 300, 40)) == 40
+    # The footer's parts flow into two lines: each on the line so far when it fits, the rest last.
+    S = core.SEP
+    lines = ["made by tigris x --out o", S.join(["commit c0ffee", "a" * 10, "b" * 30, "c" * 10])]
+    assert core.flow(lines, 200) == [S.join(["made by tigris x --out o", "commit c0ffee", "a" * 10, "b" * 30,
+                                             "c" * 10])]
+    assert core.flow(lines, 60) == [S.join(["made by tigris x --out o", "commit c0ffee", "a" * 10]),
+                                    S.join(["b" * 30, "c" * 10])]
+    two = core.flow(lines, 30)
+    assert len(two) == 2 and two[0] == "made by tigris x --out o" and all(len(x) <= 30 for x in two), two
+    assert two[1].startswith("commit c0ffee") and two[1].endswith("c" * 10), two
+
+
+def test_provenance():
+    d = path("prov")
+    os.makedirs(d)
+    # No manifest: said so, the command line given instead, the commit from the environment.
+    with commit_env("feedc0ffee12"):
+        p = core.provenance(d, argv=["/x/build/testbench/tigris", "plot", "sw dir"])
+    assert p["note"] == f"no manifest.json in {d}" and p["command_line"] == "tigris plot 'sw dir'", p
+    assert p["commit"] == "feedc0ffee12" and p["inputs"] == [] and p["config_sha256"] is None
+    with commit_env(None):
+        p = core.provenance(d)
+        assert p["commit"] == "unknown" and p["command_line"] is None
+        lines = core.footer_lines(p)
+    assert lines[0] == f"made by an unrecorded command (no manifest.json in {d})", lines
+    assert lines[1] == "commit unknown", lines
+    # A manifest: its argv, inputs, settings digest and commit (before the environment's).
+    spec = write(path("prov-spec.json"), '{"grid": {}}')
+    ident = core.input_identity("spec", spec)
+    settings = {"b": [1, 2], "a": "x"}
+    with commit_env("aaaaaaaaaaaa"):
+        f = core.OutFolder(d, "sweep", ["sweep.csv"], argv=[spec, "--out", d])
+        f.claim(settings=settings, inputs=[ident])
+        f.finish(0)
+    m = manifest(d)
+    with commit_env("bbbbbbbbbbbb"):
+        p = core.provenance(d, argv=["ignored"])
+    assert p["argv"] == m["argv"] and p["command_line"] == f"tigris sweep {spec} --out {d}", p
+    assert p["commit"] == "aaaaaaaaaaaa" and p["note"] is None
+    assert p["config_sha256"] == hashlib.sha256(b'{"a":"x","b":[1,2]}').hexdigest() == core.digest(settings)
+    lines = core.footer_lines(p, details=["seed 4"])
+    assert lines == [f"made by tigris sweep {spec} --out {d}",
+                     f"commit aaaaaaaaaaaa{core.SEP}seed 4{core.SEP}spec {ident['path']} (sha256 {ident['sha256'][:12]})"
+                     f"{core.SEP}settings sha256 {p['config_sha256'][:12]}"], lines
+    # A manifest without a commit (written before it was recorded): the environment's.
+    m.pop("commit")
+    write(os.path.join(d, core.MANIFEST), json.dumps(m))
+    with commit_env("cccccccccccc"):
+        assert core.provenance(d)["commit"] == "cccccccccccc"
+    with commit_env(None):
+        assert core.provenance(d)["commit"] == "unknown"
+    # Another command's manifest is not taken for the one asked for; a broken one is said so.
+    assert core.provenance(d, command="odometry")["note"].endswith("is of tigris sweep, not of tigris odometry")
+    write(path("prov-bad", core.MANIFEST), "{not json")
+    assert "not a readable manifest" in core.provenance(path("prov-bad"))["note"]
+    # Data files by SHA-256; a drawing tool's footer names its data's maker.
+    with commit_env("dddddddddddd"):
+        data = core.provenance(d, command="sweep", files=[spec])
+        lines = core.footer_lines([data], drawn=core.provenance(argv=["tigris", "plot", d]))
+    assert data["files"] == [{"path": ident["path"], "sha256": ident["sha256"]}]
+    assert lines[0] == f"drawn by tigris plot {d}{core.SEP}commit dddddddddddd", lines
+    assert lines[1].startswith(f"from {ident['path']} (sha256 {ident['sha256'][:12]}), made by tigris sweep {spec}"), lines
+    assert "(commit dddddddddddd; spec " in lines[1], lines
+    # Many inputs: their number, folder and one digest of their digests; built-in ones by name.
+    many = [{"role": f"scan {i}", "path": f"/seq/velodyne/{i:06d}.bin", "sha256": f"{i:064x}"} for i in range(5)]
+    text = core.inputs_text(many + [{"role": "cloud", "builtin": "synthetic"}])
+    joint = hashlib.sha256("".join(f"{i['sha256']}\n" for i in many).encode()).hexdigest()[:12]
+    assert text == ["cloud synthetic, built in", f"5 inputs in /seq/velodyne, sha256 of their sha256s {joint}"], text
+
+
+# ----------------------------------------------------------------------------------------------
 # Slurm and --list-flags
 
 def test_sbatch_failure_and_flags():
@@ -350,7 +465,8 @@ if __name__ == "__main__":
     try:
         run_tests([test_input_kinds, test_json_inputs, test_identity_and_atomic_write, test_claim_and_manifest,
                    test_foreign_and_other_command, test_inputs_are_not_outputs, test_lock, test_resume_or_fresh,
-                   test_children_groups_and_death_signal, test_pool_stops_on_signal, test_sbatch_failure_and_flags])
+                   test_children_groups_and_death_signal, test_pool_stops_on_signal, test_sbatch_failure_and_flags,
+                   test_shortening, test_provenance])
     finally:
         if KEEP:
             print(f"(files kept in {D})")

@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """sweep/odometry_plots.py (tigris odometry's figures) on hand-made run folders: a trajectory with
-KITTI segments, a short one (per-pair errors instead, said so), one without a ground truth, and
-a missing metrics.json (exit 2 naming the file).
+KITTI segments, a short one (per-pair errors instead, said so), one without a ground truth, a
+missing metrics.json (exit 2 naming the file), and the footer saying what made the figures (from
+OUT/manifest.json; without one, the commit from TIGRIS_COMMIT).
 Run: python3 sweep/tests/test_odometry_plots.py (needs Debian's python3-matplotlib)."""
+import contextlib
+import hashlib
 import json
 import math
 import os
@@ -13,6 +16,9 @@ import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(os.path.dirname(HERE), "odometry_plots.py")
+sys.path.insert(0, os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+from common import footer_clear  # noqa: E402
 
 try:
     import matplotlib  # noqa: F401
@@ -47,8 +53,42 @@ def make_run(d, frames, gt=True, segments=True):
         json.dump(m, f)
 
 
-def plot(d):
-    return subprocess.run([sys.executable, SCRIPT, d], capture_output=True, text=True, timeout=120)
+def write_manifest(d, argv, settings, inputs, commit=None):
+    """OUT/manifest.json as tigris odometry writes it (testbench/out_folder.cpp)."""
+    m = {"tigris_manifest": 1, "command": "odometry", "argv": argv, "cwd": "/", "settings": settings,
+         "inputs": inputs, "outputs": ["trajectory.png", "errors.png"], "status": "running"}
+    if commit:
+        m["commit"] = commit
+    with open(os.path.join(d, "manifest.json"), "w") as f:
+        json.dump(m, f)
+
+
+def plot(d, env=None):
+    return subprocess.run([sys.executable, SCRIPT, d], capture_output=True, text=True, timeout=120,
+                          env=None if env is None else dict(os.environ, **env))
+
+
+def footers(d, commit_env=None):
+    """{figure: its footer} from odometry_plots.main() run here on d, each checked (as it is saved)
+    to lie inside the figure and under every axes."""
+    import core
+    import odometry_plots
+    saved, real_save, argv = {}, core.save_figure, sys.argv
+    old = os.environ.pop("TIGRIS_COMMIT", None)
+    if commit_env:
+        os.environ["TIGRIS_COMMIT"] = commit_env
+    core.save_figure = lambda fig, path, **kw: (saved.__setitem__(os.path.basename(path), footer_clear(fig)),
+                                                real_save(fig, path, **kw))
+    sys.argv = [SCRIPT, d]
+    try:
+        with open(os.devnull, "w") as null, contextlib.redirect_stdout(null):
+            odometry_plots.main()
+    finally:
+        core.save_figure, sys.argv = real_save, argv
+        os.environ.pop("TIGRIS_COMMIT", None)
+        if old is not None:
+            os.environ["TIGRIS_COMMIT"] = old
+    return saved
 
 
 @unittest.skipUnless(HAVE_MPL, "python3-matplotlib is not installed")
@@ -74,6 +114,49 @@ class OdometryPlots(unittest.TestCase):
                 p = plot(d)
                 self.assertEqual(p.returncode, 0, p.stderr)
                 self.check_pngs(d)
+
+    def test_footer_from_the_manifest(self):
+        seq = "/data/kitti/dataset/sequences/00"
+        scans = [{"role": f"scan {i:06d}", "path": f"{seq}/velodyne/{i:06d}.bin", "bytes": 10,
+                  "sha256": hashlib.sha256(bytes([i])).hexdigest()} for i in range(41)]
+        settings = {"sequence": seq, "frames": [0, 40], "register_flags": ["--preset", "dp7", "--max-work", "1e+12"]}
+        argv = ["/work/build/testbench/tigris", "odometry", "--sequence", seq, "--out", "runs/00"]
+        joint = hashlib.sha256("".join(s["sha256"] + "\n" for s in scans).encode()).hexdigest()[:12]
+        digest = hashlib.sha256(json.dumps(settings, sort_keys=True, separators=(",", ":")).encode()).hexdigest()[:12]
+        for gt, segments in ((True, True), (False, False)):
+            with tempfile.TemporaryDirectory() as d:
+                make_run(d, 400 if segments else 40, gt=gt, segments=segments)
+                write_manifest(d, argv, settings, scans, commit="5c40187850da-dirty")
+                got = footers(d, commit_env="not-this-one")
+                self.assertEqual(set(got), {"trajectory.png", "errors.png"})
+                parts = [f"made by tigris odometry --sequence {seq} --out runs/00", "commit 5c40187850da-dirty",
+                         "frames 0..40", "preset dp7, back-end exact",
+                         f"41 inputs in {seq}/velodyne, sha256 of their sha256s {joint}", f"settings sha256 {digest}"]
+                # errors.png is wide enough for every part whole, in two lines
+                self.assertEqual(got["errors.png"].replace("\n", " · ").split(" · "), parts)
+                # trajectory.png is narrower: the inputs' folder is shortened in its middle
+                t = got["trajectory.png"]
+                self.assertEqual(len(t.split("\n")), 2, t)
+                for part in parts[:4] + [f"sha256 of their sha256s {joint}", parts[-1]]:
+                    self.assertIn(part, t)
+
+    def test_footer_synthetic_and_without_manifest(self):
+        with tempfile.TemporaryDirectory() as d:
+            make_run(d, 40, segments=False)
+            write_manifest(d, ["tigris", "odometry", "--synthetic", "41", "--search", "flann", "--out", d],
+                           {"synthetic": 41, "seed": 1, "frames": "", "register_flags":
+                            ["--preset", "dp4", "--search", "flann"], "compare": False}, [])
+            for text in footers(d, commit_env="abcdef012345").values():   # no commit recorded: the binary's
+                self.assertTrue(text.startswith(f"made by tigris odometry --synthetic 41 --search flann --out {d} · "))
+                self.assertEqual(text.replace("\n", " · ").split(" · ")[1:4],
+                                 ["commit abcdef012345", "synthetic drive of 41 frames, seed 1", "preset dp4"])
+            os.remove(os.path.join(d, "manifest.json"))
+            for text in footers(d).values():
+                self.assertEqual(text, f"made by an unrecorded command (no manifest.json in {os.path.abspath(d)})"
+                                       " · commit unknown")
+            p = plot(d, env={"TIGRIS_COMMIT": "abcdef012345"})   # as tigris odometry runs it
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.check_pngs(d)
 
     def test_missing_metrics(self):
         with tempfile.TemporaryDirectory() as d:

@@ -9,7 +9,7 @@ import json, os, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from common import Workdir, options, read_csv, run_tests, sweep, write_spec  # noqa: E402
+from common import Workdir, footer_clear, options, read_csv, run_tests, sweep, write_spec  # noqa: E402
 import pipeline_dse as dse  # noqa: E402
 
 A = options()
@@ -60,6 +60,61 @@ def test_sample():
     assert dse.count_space(flags) == 3 and not dse.applies(flags[1], {"a.f": 1})
     full, how = dse.sample(SPACE, 50, seed=1)
     assert len(full) == 16 and how.startswith("full factorial"), how
+
+
+def hand_made_points(n=6):
+    """Design points as read_points makes them, with frontiers and DPs: plot()'s input."""
+    points = []
+    for k in range(n):
+        t, e = 1.0 + k, 0.05 / (1 + k) + 0.002 * (k % 2)
+        stages = {title: 0.1 * (j + 1) * t / 3.6 for j, (title, _) in enumerate(dse.STAGES)}
+        points.append({"point": f"P{k + 1:03d}", "valid": True, "status": "ok", "seconds_per_pair": t,
+                       "rpe_translation_m": e, "rpe_rotation_deg": 2 * e, "kdtree_share": 0.6, "stages": stages})
+    fronts = [dse.pareto([(p["seconds_per_pair"], p[key]) for p in points])
+              for key in ("rpe_translation_m", "rpe_rotation_deg")]
+    return points, fronts, dse.number_dps(points, fronts)
+
+
+def test_figures_footer():
+    """fig4 and fig5 carry the footer: the command line in DIR/manifest.json and the commit,
+    the sample's seed, the space file's SHA-256, below the axes and inside the figure."""
+    import hashlib
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import core
+    with Workdir(A, "dse-footer") as d:
+        space = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
+        out = os.path.join(d, "out")
+        argv = ["--space", space, "--samples", "6", "--seed", "5", "--out", out]
+        old = os.environ.get("TIGRIS_COMMIT")
+        os.environ["TIGRIS_COMMIT"] = "0123456789ab-dirty"
+        try:
+            folder = core.OutFolder(out, "pipeline-dse", dse.OUTPUTS, argv=argv)
+            folder.claim(settings={"synthetic_pairs": 2, "synthetic_seed": 5},
+                         inputs=[core.input_identity("space", space)])
+            folder.finish(0)
+        finally:
+            os.environ.pop("TIGRIS_COMMIT") if old is None else os.environ.__setitem__("TIGRIS_COMMIT", old)
+        saved = []
+        real_save = core.save_figure
+        # Checked as saved: inside the figure, under every axes (tick labels included).
+        core.save_figure = lambda fig, path, **kw: (saved.append((os.path.basename(path), footer_clear(fig))),
+                                                    real_save(fig, path, **kw))
+        try:
+            points, fronts, dps = hand_made_points()
+            footer = core.footer_lines(core.provenance(out, command="pipeline-dse"), details=["6 sampled points, seed 5"])
+            dse.plot(out, points, fronts, dps, "synthetic drive (seed 5, 2 pairs)", footer)
+        finally:
+            core.save_figure = real_save
+        assert [s_[0] for s_ in saved] == ["fig4.png", "fig5.png"], saved
+        sha = hashlib.sha256(open(space, "rb").read()).hexdigest()[:12]
+        for name, text in saved:
+            assert text and text.startswith("made by tigris pipeline-dse --space"), (name, text)
+            for want in ("--samples 6 --seed 5", "commit 0123456789ab-dirty", "6 sampled points, seed 5",
+                         "space /", f"space.json (sha256 {sha})", "settings sha256 "):
+                assert want in text, (name, want, text)
+        plt.close("all")
 
 
 def test_bad_space():
@@ -186,4 +241,4 @@ def test_tiny_dse():
 
 
 if __name__ == "__main__":
-    run_tests([test_pareto, test_sample, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])
+    run_tests([test_pareto, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])

@@ -1,10 +1,14 @@
 #!/usr/bin/python3
 """sweep/plots.py: every figure from small hand-made CSVs (axes labels, titles, legends, PNG and
-SVG files), rows picked by the settings swept, skipped figures, the command line.
+SVG files), rows picked by the settings swept, skipped figures, the command line, and the footer
+saying what made a figure (sweep/core/provenance.py) in plots.py's and tigris plot's figures.
 Run: python3 sweep/tests/test_plots.py (needs Debian's python3-matplotlib)."""
 import contextlib
+import hashlib
 import io
+import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -23,8 +27,10 @@ except ImportError:
     if os.environ.get("TIGRIS_REQUIRE_MPL"):  # ctest: deps.sh installs it, so its absence is a failure
         sys.exit("matplotlib missing for " + sys.executable + ": apt-get install python3-matplotlib")
 
+import core  # noqa: E402
 import evaldata as ed  # noqa: E402
 import plot_fixtures as fx  # noqa: E402
+from common import footer_clear  # noqa: E402
 
 if HAVE_MPL:
     import plots
@@ -228,6 +234,93 @@ class Skipping(unittest.TestCase):
         with self.assertRaises(plots.Skip) as e:
             plots.build("optimizations", sw)
         self.assertIn("at least two", str(e.exception))
+
+
+def sweep_folder(d, csv_path, commit="5c40187850da"):
+    """A sweep folder as tigris sweep leaves it: sweep.csv (a copy of csv_path) and the manifest
+    (in the format of sweep/core/folders.py)."""
+    os.makedirs(d)
+    shutil.copy(csv_path, os.path.join(d, "sweep.csv"))
+    m = {"tigris_manifest": 1, "command": "sweep", "argv": ["/opt/tigris/bin/tigris", "sweep", "spec.json", "--out", d],
+         "cwd": "/", "commit": commit, "settings": {"spec": "spec.json"}, "inputs": [], "outputs": ["sweep.csv"],
+         "status": "done"}
+    with open(os.path.join(d, "manifest.json"), "w") as f:
+        json.dump(m, f)
+    with open(os.path.join(d, "sweep.csv"), "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()[:12]
+
+
+def svg_text(path):
+    """The text of an SVG (svg.fonttype none: text stays text), its entities undone."""
+    import html
+    with open(path, encoding="utf-8") as f:
+        return html.unescape(f.read())
+
+
+@unittest.skipUnless(HAVE_MPL, "matplotlib missing")
+class Footer(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+        self.csvs = fx.hand_made_csvs(os.path.join(self.tmp.name, "csv"))
+
+    def test_make_figures_footer(self):
+        """Every paper figure carries the footer it is given, inside the figure, under its axes."""
+        sw_dir = os.path.join(self.tmp.name, "sw")
+        sha = sweep_folder(sw_dir, self.csvs["units"])
+        csv_path = os.path.join(sw_dir, "sweep.csv")
+        footer = plots.sweep_footer([csv_path], ["sweep/plots.py", csv_path, "--out", "figs"])
+        self.assertEqual(footer[0].split(core.SEP)[0], f"drawn by plots.py {csv_path} --out figs")
+        self.assertEqual(footer[1], f"from {os.path.realpath(csv_path)} (sha256 {sha}), made by tigris sweep "
+                                    f"spec.json --out {sw_dir} (commit 5c40187850da; "
+                                    f"settings sha256 {core.digest({'spec': 'spec.json'})[:12]})")
+        sw = ed.Sweep(list(self.csvs.values()))
+        seen = {}
+        real_save = core.save_figure
+        core.save_figure = lambda fig, path, **kw: (seen.__setitem__(os.path.basename(path), footer_clear(fig)),
+                                                    real_save(fig, path, **kw))
+        try:
+            made, _ = plots.make_figures(sw, os.path.join(self.tmp.name, "figs"), log=lambda m: None, footer=footer)
+        finally:
+            core.save_figure = real_save
+        self.assertEqual(set(made), set(plots.FIGURES))
+        for name in plots.FIGURES:
+            for ext in ("png", "svg"):
+                text = seen[f"{name}.{ext}"]
+                # narrow figures shorten the middle of the line; these parts stay
+                self.assertTrue(text.startswith("drawn by plots.py "), (name, text))
+                self.assertIn(f"sw/sweep.csv (sha256 {sha}), made ", text)
+                self.assertIn("(commit 5c40187850da; settings sha256 ", text)
+            self.assertIn("drawn by plots.py", svg_text(made[name][1]))
+        # Without a footer, none.
+        fig = plots.build("units", sw)
+        self.assertIsNone(core.footer_text(fig))
+        plots.plt.close(fig)
+
+    def test_tigris_plot_footer(self):
+        """tigris plot's figures, the swept-key ones and the paper's: its own command line and
+        commit, and the sweep's CSV with the command line and commit of the sweep that wrote it."""
+        sw_dir = os.path.join(self.tmp.name, "sw")
+        sha = sweep_folder(sw_dir, self.csvs["units"])
+        out = os.path.join(self.tmp.name, "plots")
+        env = dict(os.environ, TIGRIS_COMMIT="fd523df8c13c-dirty")
+        env.pop("TIGRIS", None)                  # the manifest says "tigris" then
+        p = subprocess.run([sys.executable, os.path.join(SWEEP, "tigris_plot.py"), sw_dir, "--out", out,
+                            "--which", "sweep", "units"], capture_output=True, text=True, env=env, timeout=300)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        svgs = sorted(f for f in os.listdir(out) if f.endswith(".svg"))
+        self.assertIn("units.svg", svgs)
+        self.assertTrue(any(f.startswith("sweep_") for f in svgs), svgs)
+        with open(os.path.join(out, "manifest.json")) as f:
+            manifest = json.load(f)
+        self.assertEqual(manifest["commit"], "fd523df8c13c-dirty")
+        for f in svgs:
+            text = svg_text(os.path.join(out, f))
+            self.assertIn('id="tigris-footer"', text)
+            self.assertIn(f"drawn by tigris plot {sw_dir} --out {out} --which sweep units", text)
+            self.assertIn("commit fd523df8c13c-dirty", text)
+            self.assertIn(f"(sha256 {sha}), made by tigris sweep spec.json", text)
+            self.assertIn("(commit 5c40187850da", text)
 
 
 @unittest.skipUnless(HAVE_MPL, "matplotlib missing")

@@ -88,7 +88,11 @@ class Specs(unittest.TestCase):
     def test_full_set(self):
         s = self.specs()
         self.assertEqual(set(s), {"heights-nn", "heights-radius", "units", "optimizations",
-                                  "node-cache", "approx-nn", "approx-radius"})
+                                  "node-cache", "approx-nn", "approx-radius", "redundancy"})
+        # The golden model's redundancy in both conventions, at the heights bracketing leaf-set 32.
+        self.assertEqual(s["redundancy"]["command"], "ref")
+        self.assertEqual(s["redundancy"]["base"], {"redundancy": True})
+        self.assertEqual(sorted({p["height"] for p in s["redundancy"]["points"]}), [11, 12])
         self.assertEqual(product_size(s["units"]), 64)
         self.assertEqual(s["units"]["grid"]["fe.recursion_units"], [16, 32, 64, 128])
         self.assertEqual(s["heights-nn"]["grid"]["height"], ["full"] + list(range(4, 16)))
