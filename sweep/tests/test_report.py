@@ -190,6 +190,46 @@ class Document(unittest.TestCase):
         self.assertTrue(conv.direction, conv.measured)
         self.assertIn("authors' nearer for 2 of 2", conv.measured)
 
+    def test_headline_claims(self):
+        """The paper's headline claims from reproduce's registrations and odometry sweeps: DP7 end
+        to end against the CPU-only system, the approximate search's speed-up and accuracy cost,
+        and the GPU rows marked as needing a GPU."""
+        reg = os.path.join(self.tmp.name, "reg.csv")
+        cols = ["point", "status", "preset", "search", "seconds", "kdtree_seconds",
+                "accelerator.modeled_end_to_end_seconds", "accelerator.modeled_kdtree_seconds"]
+        rows = [("dp7", "flann", 20.0, 15.0, "", ""), ("dp7", "exact", 12.0, 7.0, "", ""),
+                ("dp7", "accel", 30.0, 6.0, 5.0, 0.25), ("dp7", "accel-approx", 30.0, 6.0, 4.0, 0.04),
+                ("dp4", "flann", 8.0, 6.0, "", ""), ("dp4", "accel", 10.0, 2.0, 1.0, 0.04)]
+        with open(reg, "w") as f:
+            f.write(",".join(cols) + "\n")
+            for p, srch, *v in rows:
+                f.write(",".join([f"{p}-{srch}", "ok", p, srch] + [str(x) for x in v]) + "\n")
+        odo = os.path.join(self.tmp.name, "odo.csv")
+        with open(odo, "w") as f:
+            f.write("point,status,preset,search,pairs,kitti.trajectory_length_m,rpe.mean_translation_m,"
+                    "rpe.mean_rotation_deg\n"
+                    "a,ok,dp4,exact,10,10.0,0.01,0.02\nb,ok,dp4,approx,10,10.0,0.01,0.06\n")
+        claims = {c.cid: c for c in report.claims_headline(reg, odo)}
+        e2e = claims["e2e-cpu-dp7"]
+        self.assertEqual(e2e.measured, "-75.0%")  # 20 s on the CPU -> 5 s
+        self.assertTrue(e2e.direction)
+        self.assertTrue(e2e.within)
+        self.assertEqual(claims["e2e-cpu-dp4"].measured, "-87.5%")
+        self.assertIsNone(claims["e2e-cpu-dp4"].within)  # the paper gives DP4 against the GPU only
+        self.assertEqual(claims["approx-kd-dp7"].measured, "6.25x")  # 0.25 -> 0.04 s modeled
+        self.assertTrue(claims["approx-kd-dp7"].within)  # a gain of 5.25 against 10.1
+        self.assertEqual(claims["approx-e2e-dp7"].measured, "+25.0%")
+        self.assertFalse(claims["approx-e2e-dp7"].within)  # +25% against +7.5%
+        self.assertTrue(claims["approx-t-dp4"].direction)  # 0.01 m per 1 m step both ways
+        self.assertEqual(claims["approx-r-dp4"].measured, "+0.0400 deg/m (0.0200 -> 0.0600)")
+        self.assertTrue(claims["approx-r-dp4"].within)  # +0.04 against +0.05
+        self.assertIn("needs", claims["approx-r-dp7"].explanation)  # no DP7 odometry rows
+        for g in ("gpu-kd", "gpu-e2e", "gpu-e2e-dp4"):
+            self.assertEqual(claims[g].measured, "not measured")
+            self.assertTrue(claims[g].explanation.startswith("needs a GPU"))
+        lines = report.summary_lines(list(claims.values()))
+        self.assertTrue(any("need a GPU" in l for l in lines), lines)
+
     def test_table(self):
         out = os.path.join(self.tmp.name, "r")
         path, claims = report.write_report(list(self.csvs.values()) + [self.bad], out, draw=False,

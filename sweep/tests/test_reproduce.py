@@ -88,7 +88,12 @@ class Specs(unittest.TestCase):
     def test_full_set(self):
         s = self.specs()
         self.assertEqual(set(s), {"heights-nn", "heights-radius", "units", "optimizations",
-                                  "node-cache", "approx-nn", "approx-radius", "redundancy"})
+                                  "node-cache", "approx-nn", "approx-radius", "redundancy", "registrations",
+                                  "odometry-approx"})
+        # The headline claims: whole registrations per preset and back-end, odometry exact and approximate.
+        self.assertEqual(s["registrations"]["grid"], {"preset": ["dp4", "dp7"],
+                                                      "search": ["flann", "exact", "accel", "accel-approx"]})
+        self.assertEqual(s["odometry-approx"]["grid"]["search"], ["exact", "approx"])
         # The golden model's redundancy in both conventions, at the heights bracketing leaf-set 32.
         self.assertEqual(s["redundancy"]["command"], "ref")
         self.assertEqual(s["redundancy"]["base"], {"redundancy": True})
