@@ -9,13 +9,18 @@
 Writes into DIR:
   sequence/          the synthetic drive (--pairs N + 1 frames; not with --sequence)
   spec.json, sweep/  the sweep spec and the sweep folder (points/<id>/, sweep.csv); a rerun resumes
-  points.csv         every point: knobs, status, seconds per pair, errors, KD-tree share, stages, DP
-  fig4.png           error against time, translation (a) and rotation (b), frontiers and DP1..DPn
-  fig5.png           the DPs' time across the stages (a), KD-tree search against the rest (b)
-  pareto/DPi.json    each Pareto point's pipeline configuration (tigris register --config)
+  points.csv         every point: knobs, status, seconds per pair, errors, KD-tree share, stages,
+                     its Pareto point name ("dp" column: F1..Fn, empty off the frontiers)
+  fig4.png           error against time, translation (a) and rotation (b), frontiers and F1..Fn
+  fig5.png           the Pareto points' time across the stages (a), KD-tree search against the rest (b)
+  pareto/Fi.json     each Pareto point's pipeline configuration (tigris register --config)
   dse.json           all of it as data, with the paper's section-3 claims measured
   REPORT.md          those claims against the paper (direction / within 2x, measured explanations),
-                     the figures and the DPs: the section `tigris reproduce --dse DIR` adds to its report
+                     the figures and the Pareto points: the section `tigris reproduce --dse DIR` adds
+                     to its report
+The Pareto points are F1..Fn ("frontier point") by time: not DPn, which are the paper's own design
+points (its DP4 and DP7 are the presets dp4 and dp7), nor the sampled points P001..PN. Folders of
+earlier versions name them DP1..DPn: `tigris reproduce --dse` reads those as F1..Fn.
 Each figure's footer says what made it (sweep/core/provenance.py, from DIR/manifest.json): this
 command line, the commit, the sample's size and seed, the space file's and the sequence's SHA-256
 and a digest of the settings.
@@ -222,11 +227,45 @@ def pareto(items):
     return sorted(front, key=lambda i: (items[i][0], items[i][1]))
 
 
+# The Pareto points' names: F1..Fn ("frontier point"). Not DPn: the paper's design points are
+# DP1..DP8 (its DP4 and DP7 are the presets dp4 and dp7); not Pn: the sampled points are P001...
+PARETO = "F"
+OLD_PARETO = re.compile(r"DP(\d+)")   # the names of folders written before the rename
+
+
+def pareto_name(name):
+    """A Pareto point's name as written now: an older folder's "DP3" reads "F3" (a name of
+    today, an empty one, anything else: unchanged)."""
+    m = OLD_PARETO.fullmatch(name) if isinstance(name, str) else None
+    return f"{PARETO}{m.group(1)}" if m else name
+
+
+def pareto_number(name):
+    """3 of "F3" (and of an older "DP3"): the Pareto points' order, by time."""
+    return int(re.sub(r"^\D+", "", pareto_name(name)))
+
+
+def renamed(summary):
+    """A dse.json's summary with its Pareto points under today's names ("dp" of each Pareto
+    point and preset: "DP3" -> "F3"), as a copy; anything not a summary is returned as it is.
+    A Pareto point's "config" is left alone: it is the path of a file on disk."""
+    if not isinstance(summary, dict):
+        return summary
+    out = dict(summary)
+    if isinstance(out.get("dps"), list):
+        out["dps"] = [dict(d, dp=pareto_name(d["dp"])) if isinstance(d, dict) and "dp" in d else d
+                      for d in out["dps"]]
+    if isinstance(out.get("presets"), dict):
+        out["presets"] = {k: dict(p, dp=pareto_name(p["dp"])) if isinstance(p, dict) and "dp" in p else p
+                          for k, p in out["presets"].items()}
+    return out
+
+
 def number_dps(points, fronts):
-    """DP1..DPn: the points on any frontier, by time (then translation error)."""
+    """F1..Fn (PARETO): the points on any frontier, by time (then translation error)."""
     on = sorted({i for f in fronts for i in f},
                 key=lambda i: (points[i]["seconds_per_pair"], points[i]["rpe_translation_m"], i))
-    return {i: f"DP{k}" for k, i in enumerate(on, 1)}
+    return {i: f"{PARETO}{k}" for k, i in enumerate(on, 1)}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -299,8 +338,8 @@ def write_points_csv(path, points, knob_keys):
 def write_configs(out, points, dps):
     pdir = os.path.join(out, "pareto")
     os.makedirs(pdir, exist_ok=True)
-    for f in os.listdir(pdir):                   # a rerun's frontier replaces the last one
-        if f.startswith("DP") and f.endswith(".json"):
+    for f in os.listdir(pdir):                   # a rerun's frontier replaces the last one (DPi: older names)
+        if re.fullmatch(rf"(?:DP|{PARETO})\d+\.json", f):
             os.remove(os.path.join(pdir, f))
     paths = {}
     for i, dp in dps.items():
@@ -327,8 +366,8 @@ def write_configs(out, points, dps):
 
 
 def claims(points, dps):
-    """The paper's section-3 claims, measured on the DPs."""
-    dp_points = [points[i] for i in sorted(dps, key=lambda i: int(dps[i][2:]))]
+    """The paper's section-3 claims, measured on the Pareto points."""
+    dp_points = [points[i] for i in sorted(dps, key=lambda i: pareto_number(dps[i]))]
     shares, big3, dominant = [], [], {}
     for p in dp_points:
         total = sum(v for v in p["stages"].values() if v) or None
@@ -407,7 +446,8 @@ def plot(out, points, fronts, dps, title, footer=()):
         fx = [points[i]["seconds_per_pair"] for i in front]
         fy = [points[i][key] for i in front]
         ax.step(fx, fy, where="post", color="C0", lw=1.2, zorder=3)
-        ax.scatter(fx, fy, s=30, color="C0", label="Pareto frontier", zorder=4)
+        ax.scatter(fx, fy, s=30, color="C0", label=f"Pareto frontier (its points among {PARETO}1..{PARETO}{len(dps)}, "
+                   "by time)", zorder=4)
         presets = [p for p in points if p["point"].startswith("preset") and p["valid"]]
         for k, p in enumerate(presets):
             ax.scatter([p["seconds_per_pair"]], [p[key]], s=70, facecolors="none", edgecolors="k",
@@ -431,7 +471,7 @@ def plot(out, points, fronts, dps, title, footer=()):
     core.save_figure(fig, os.path.join(out, "fig4.png"), dpi=110)
     plt.close(fig)
 
-    order = sorted(dps, key=lambda i: int(dps[i][2:]))
+    order = sorted(dps, key=lambda i: pareto_number(dps[i]))
     labels = [dps[i] + (f"\n{points[i]['point'].split('=')[1]} preset" if points[i]["point"].startswith("preset")
                         else f"\n{points[i]['point']}") for i in order]
     fig, (a, b) = plt.subplots(2, 1, figsize=(max(8.5, 0.75 * len(order) + 5), 8.2))
@@ -668,19 +708,19 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
                "dps": [dict({k: points[i][k] for k in ("point", "seconds_per_pair", "rpe_translation_m",
                                                          "rpe_rotation_deg", "kdtree_share", "stages",
                                                          "stage_kdtree_seconds", "values")},
-                            dp=dps[i], config=configs[i]) for i in sorted(dps, key=lambda i: int(dps[i][2:]))],
+                            dp=dps[i], config=configs[i]) for i in sorted(dps, key=lambda i: pareto_number(dps[i]))],
                "presets": {p["point"].split("=")[1]: {k: p[k] for k in ("status", "seconds_per_pair", "rpe_translation_m",
                                                                           "rpe_rotation_deg", "kdtree_share", "dp")}
                            for p in points if p["point"].startswith("preset=")},
                "claims": measured}
     core.write_json(os.path.join(out, "dse.json"), summary)
     write_report(out, summary)
-    print(f"{'DP':5} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
+    print(f"{'Pareto':6} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
     for d in summary["dps"]:
         i = next(k for k, p in enumerate(points) if p["point"] == d["point"])
         d_kd = d["kdtree_share"]
         on = "+".join(w for w, f in (("translation", fronts[0]), ("rotation", fronts[1])) if i in f)
-        print(f"{d['dp']:5} {d['point']:14} {d['seconds_per_pair']:7.2f} {d['rpe_translation_m']:8.4f} "
+        print(f"{d['dp']:6} {d['point']:14} {d['seconds_per_pair']:7.2f} {d['rpe_translation_m']:8.4f} "
               f"{d['rpe_rotation_deg']:8.4f} {'   -' if d_kd is None else f'{100 * d_kd:6.1f}%'}  {on}")
     c = measured
     if c["dps"]:
@@ -688,7 +728,7 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
               f"{c['dps']} Pareto points (paper: 50-85%); normal estimation + descriptors + RPCE at least "
               f"{100 * c['normals_descriptors_rpce_share_min']:.0f}% (paper: over 90%)")
     print(f"{summary['ok']} ok, {summary['not_converged']} not converged, {summary['failed']} failed of {len(points)}; "
-          f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/DP*.json, dse.json, REPORT.md")
+          f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/{PARETO}*.json, dse.json, REPORT.md")
     return 0
 
 

@@ -959,7 +959,10 @@ def claims_pipeline(dse):
 
 def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
     """The section's lines and claims; `standalone`: the report of the exploration's own folder
-    (a title of its own, the folder not named)."""
+    (a title of its own, the folder not named). Pareto points are named F1..Fn (an older
+    folder's DP1..DPn read so: pipeline_dse.renamed)."""
+    import pipeline_dse
+    dse = pipeline_dse.renamed(dse)
     claims = claims_pipeline(dse)
     rel = lambda f: os.path.relpath(os.path.join(dse_dir, f), fig_rel) if fig_rel else os.path.join(dse_dir, f)  # noqa: E731
     source = f"`{dse.get('command_line')}`" if standalone else f"`{dse_dir}` (`{dse.get('command_line')}`)"
@@ -967,10 +970,12 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
          "## The pipeline's design space (the paper's section 3)", "",
          f"From {source}: {dse.get('points')} points, {dse.get('ok')} ok, "
          f"{dse.get('not_converged')} with a pair not converged, {dse.get('failed')} failed; "
-         f"{len(dse.get('dps', []))} Pareto points (the paper found 8).", "",
+         f"{len(dse.get('dps', []))} Pareto points (the paper found 8)"
+         + (f", named {pipeline_dse.PARETO}1..{pipeline_dse.PARETO}{len(dse['dps'])} by time (not the paper's "
+            "DP1..DP8, whose DP4 and DP7 are the presets dp4 and dp7)" if dse.get("dps") else "") + ".", "",
          claim_table(claims).replace("| model.md |", "| paper § |"), "",
          f"![error against time]({rel('fig4.png')})", "", f"![the Pareto points' time]({rel('fig5.png')})", "",
-         "| DP | point | s/pair | RPE mm | RPE deg | KD-tree |", "|---|---|---:|---:|---:|---:|"]
+         "| Pareto point | design point | s/pair | RPE mm | RPE deg | KD-tree |", "|---|---|---:|---:|---:|---:|"]
     for d in dse.get("dps", []):
         L.append(f"| {d['dp']} | {d['point']} | {d['seconds_per_pair']:.2f} | {d['rpe_translation_m'] * 1e3:.3f} | "
                  f"{d['rpe_rotation_deg']:.4f} | {pct(d['kdtree_share'] or 0, 0)} |")
@@ -978,8 +983,10 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
 
 
 def read_dse(path):
-    """A pipeline-dse folder's dse.json; ValueError naming the file when it is not one."""
+    """A pipeline-dse folder's dse.json, its Pareto points under today's names (an older
+    folder's "DP3" reads "F3": pipeline_dse.renamed); ValueError naming the file when it is not one."""
     import core
+    import pipeline_dse
     f = os.path.join(path, "dse.json")
     try:
         dse = core.read_json_input(f)
@@ -987,7 +994,7 @@ def read_dse(path):
         raise ValueError(f"{e} (not a tigris pipeline-dse folder)")
     if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
         raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
-    return dse
+    return pipeline_dse.renamed(dse)
 
 
 def yn(v):
@@ -1174,7 +1181,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     figures_dir = figures_dir or os.path.join(out, "figures")
     if draw:
         import plots
-        figs, skipped = plots.make_figures(sw, figures_dir, log=log)
+        figs, skipped = plots.make_figures(sw, figures_dir, log=log, footer=plots.sweep_footer(csvs, sys.argv))
     os.makedirs(out, exist_ok=True)
     robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
         if variants else None

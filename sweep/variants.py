@@ -287,9 +287,22 @@ def assumed_columns(variant):
 
 HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED = (
     "holds", "direction only", "size only", "fails", "no test", "not measured")
+VERDICTS = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED]  # the legend's order
 SCORE = {HOLDS: 3, DIRECTION_ONLY: 2, SIZE_ONLY: 1, FAILS: 0}
-COLOURS = {HOLDS: "#1a9850", DIRECTION_ONLY: "#a6d96a", SIZE_ONLY: "#fdae61", FAILS: "#d73027",
-           NO_TEST: "#d9d9d9", NOT_MEASURED: "#f7f7f7"}
+# What each verdict means, in the figure's legend and REPORT.md's text alike (render, figure).
+MEANING = {HOLDS: "every test the claim has passes",
+           DIRECTION_ONLY: "the direction holds, the size is off from the paper's by more than 2x",
+           SIZE_ONLY: "within 2x of the paper's number, the direction does not hold",
+           FAILS: "every test fails",
+           NO_TEST: "measured, but no direction test and no paper number",
+           NOT_MEASURED: "no value"}
+# A colour of its own per verdict: direction only (a miss in size) is amber, never a shade of
+# the holds' green, so no cell reads as a hold that is not one.
+COLOURS = {HOLDS: "#1a9850", DIRECTION_ONLY: "#f5a623", SIZE_ONLY: "#9ecae1", FAILS: "#d73027",
+           NO_TEST: "#bdbdbd", NOT_MEASURED: "#ffffff"}
+COLOUR_NAMES = {HOLDS: "green", DIRECTION_ONLY: "amber", SIZE_ONLY: "light blue", FAILS: "red",
+                NO_TEST: "grey", NOT_MEASURED: "white, hatched"}
+TEXT_COLOURS = {HOLDS: "white", FAILS: "white"}  # the cell's value: black on the others
 
 
 def verdict(claim):
@@ -432,8 +445,8 @@ def render(columns, defaults, figure_rel=None, md_cell=str):
     L = ["## Robustness: the claims under design variants", "",
          "Each variant changes details the paper leaves open; every claim experiment ran under "
          "each (rows the variant cannot change are the default's). A cell is the measured value "
-         "and its verdict: *holds* (every test the claim has passes), *direction only*, *size "
-         "only*, *fails* (every test fails), *no test*.", "",
+         "and its verdict (its colour in the figure): "
+         + ", ".join(f"*{k}* ({COLOUR_NAMES[k]}: {MEANING[k]})" for k in VERDICTS) + ".", "",
          "| variant | keys | why it is plausible |", "|---|---|---|",
          f"| {DEFAULT} | the model's defaults | the configuration of the table above |"]
     for col in columns[1:]:
@@ -457,46 +470,110 @@ def render(columns, defaults, figure_rel=None, md_cell=str):
     return L
 
 
-def figure(columns, defaults, path):
-    """The matrix as a picture: claims by configurations, coloured by verdict, the measured value
-    written in each cell. Returns the path."""
+def wrap(text, width, lines=2):
+    """text in at most `lines` lines of about `width` characters (words kept whole): the width
+    grows until it fits, so nothing is cut."""
+    import textwrap
+    while True:
+        out = textwrap.wrap(text, width, break_long_words=False, break_on_hyphens=False) or [""]
+        if len(out) <= lines:
+            return out
+        width += 2
+
+
+LABEL_CHARS = 64  # a claim's label longer than this goes on two lines of about half its length
+VALUE_CHARS = 18  # a cell's value: up to two lines of this many, its parenthesis left out
+CELL_W, CELL_H = 1.15, 0.34  # inches
+
+
+def cell_text(value):
+    """A measured value as its cell shows it: the text before a parenthesis (REPORT.md's matrix
+    has it whole), on up to two lines, an ellipsis when even those are too short."""
+    v = str(value)
+    if " (" in v and not v.startswith("("):
+        v = v[:v.index(" (")]
+    import textwrap
+    out = textwrap.wrap(v, VALUE_CHARS, break_long_words=True, break_on_hyphens=False) or [""]
+    if len(out) > 2:
+        out = [out[0], out[1][:VALUE_CHARS - 1] + "\u2026"]
+    return "\n".join(out)
+
+
+def claim_label(i, claim, cls):
+    """The figure's label of claim #i: its whole text on one or two lines ("*" when its verdict
+    depends on a variant)."""
+    text = f"#{i} {claim.text}" + (" *" if cls == "depends" else "")
+    return text if len(text) <= LABEL_CHARS else "\n".join(wrap(text, -(-len(text) // 2) + 4))
+
+
+def default_footer(columns):
+    """The footer of a figure drawn by this process (tigris reproduce, sweep/report.py) from the
+    claims it measured: its command line, the commit, the configurations."""
+    import sys
+    import core
+    return core.footer_lines(core.provenance(argv=sys.argv),
+                             details=[f"{len(columns)} configurations: {', '.join(c.name for c in columns)}"])
+
+
+def figure(columns, defaults, path, footer=None):
+    """The matrix as a picture: claims by configurations, each cell coloured by its verdict
+    (COLOURS, with a legend of what each means) and its measured value written in it; every
+    claim's label whole (wrapped onto two lines), the figure as wide as its labels need.
+    footer: the lines that say what made it (core.footer_lines), default_footer(columns) when
+    None, none when empty. Returns the path."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch, Rectangle
+    import core
     rows = matrix(columns, defaults)
-    kinds = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED]
+    kinds = VERDICTS
     grid = [[kinds.index(v) for v, _ in cells] for _, _, cells, _, _ in rows]
     ncol, nrow = len(columns), len(rows)
-    fig, ax = plt.subplots(figsize=(4.5 + 1.15 * ncol, 1.6 + 0.32 * nrow))
+    fig, ax = plt.subplots(figsize=(4.5 + CELL_W * ncol, 1.6 + CELL_H * nrow))
     ax.imshow(grid, cmap=ListedColormap([COLOURS[k] for k in kinds]), vmin=-0.5,
-              vmax=len(kinds) - 0.5, aspect="auto")
+              vmax=len(kinds) - 0.5, aspect="auto", interpolation="nearest")
     for y, (_, _, cells, _, _) in enumerate(rows):
         for x, (v, val) in enumerate(cells):
             if v == NOT_MEASURED:  # hatched: a white cell alone would vanish between white lines
                 ax.add_patch(Rectangle((x - 0.5, y - 0.5), 1, 1, fill=False, hatch="///", edgecolor="0.55", lw=0))
-            text = val if len(val) <= 15 else val[:14] + "…"
-            ax.text(x, y, text if v != NOT_MEASURED else "-", ha="center", va="center", fontsize=6,
-                    color="white" if v in (HOLDS, FAILS) else "black")
+            ax.text(x, y, cell_text(val) if v != NOT_MEASURED else "-", ha="center", va="center", fontsize=6,
+                    linespacing=1.1, color=TEXT_COLOURS.get(v, "black"))
     ax.set_xticks(range(ncol))
     ax.set_xticklabels([c.name for c in columns], rotation=35, ha="right", fontsize=8)
     ax.set_yticks(range(nrow))
-    ax.set_yticklabels([f"#{i} {c.text[:58]}{'…' if len(c.text) > 58 else ''}" + (" *" if cls == "depends" else "")
-                        for i, c, _, cls, _ in rows], fontsize=6.5)
+    ax.set_yticklabels([claim_label(i, c, cls) for i, c, _, cls, _ in rows], fontsize=6.5, linespacing=1.05)
     ax.set_xticks([x - 0.5 for x in range(1, ncol)], minor=True)
     ax.set_yticks([y - 0.5 for y in range(1, nrow)], minor=True)
     ax.grid(which="minor", color="white", linewidth=1)
     ax.axvline(0.5, color="black", linewidth=1.5)  # the default | the variants
     ax.tick_params(which="minor", length=0)
-    ax.legend(handles=[Patch(facecolor=COLOURS[k], label=k, hatch="///" if k == NOT_MEASURED else None,
-                             edgecolor="0.55" if k == NOT_MEASURED else COLOURS[k]) for k in kinds], loc="upper left",
-              bbox_to_anchor=(1.01, 1), fontsize=7, title="verdict", title_fontsize=7)
+    legend = ax.legend(handles=[Patch(facecolor=COLOURS[k], hatch="///" if k == NOT_MEASURED else None,
+                                      edgecolor="0.55" if k in (NOT_MEASURED, NO_TEST) else COLOURS[k],
+                                      label="\n".join(wrap(f"{k}: {MEANING[k]}", 32, lines=4)))
+                                for k in kinds],
+                       loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=7, title="verdict", title_fontsize=7,
+                       labelspacing=0.9)
     ax.set_title("The paper's claims under design variants (* = the verdict depends on a variant)",
                  fontsize=9)
-    fig.tight_layout()
+    # The size from what the labels take, measured: the cells keep their size, the labels, the
+    # legend and the footer get the room they need (the layout below fits them in it).
+    renderer = fig.canvas.get_renderer()
+    inch = lambda b, side: (b.width if side else b.height) / fig.dpi  # noqa: E731
+    left = max(inch(t.get_window_extent(renderer), 1) for t in ax.get_yticklabels()) + 0.3
+    right = inch(legend.get_window_extent(renderer), 1) + 0.3
+    below = max(inch(t.get_window_extent(renderer), 0) for t in ax.get_xticklabels()) + 0.25
+    lines = default_footer(columns) if footer is None else footer
+    foot = 0.45 if lines else 0.0
+    width = max(left + CELL_W * ncol + right, inch(ax.title.get_window_extent(renderer), 1) + left + 0.4)
+    height = max(0.45 + CELL_H * nrow + below + foot, inch(legend.get_window_extent(renderer), 0) + below + foot + 0.6)
+    fig.set_size_inches(width, height)
+    if lines:
+        core.add_footer(fig, lines)   # lays the figure out above it
+    else:
+        fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    import core
     core.save_figure(fig, path, dpi=110)
     plt.close(fig)
     return path

@@ -28,9 +28,25 @@ def test_pareto():
     # A strictly better point in one figure and equal in the other dominates.
     assert dse.pareto([(1.0, 1.0), (1.0, 0.5)]) == [1]
     assert dse.pareto([(1.0, 1.0), (0.5, 1.0)]) == [1]
-    # DP numbering: the union of both frontiers by time.
+    # Pareto point names: the union of both frontiers by time, F1..Fn (not DPn: the paper's
+    # design points and the presets dp4, dp7; not Pn: the sampled points P001..).
     points = [{"seconds_per_pair": t, "rpe_translation_m": e} for t, e in ((3, 1), (1, 5), (2, 2))]
-    assert dse.number_dps(points, [[1, 2], [0, 1]]) == {1: "DP1", 2: "DP2", 0: "DP3"}
+    assert dse.number_dps(points, [[1, 2], [0, 1]]) == {1: "F1", 2: "F2", 0: "F3"}
+
+
+def test_old_names():
+    """A dse.json of an earlier version names its Pareto points DP1..DPn: read as F1..Fn."""
+    assert [dse.pareto_name(n) for n in ("DP2", "DP14", "F2", "", "dp4", "DP", "P002", None)] == \
+        ["F2", "F14", "F2", "", "dp4", "DP", "P002", None]
+    assert dse.pareto_number("DP10") == 10 and dse.pareto_number("F3") == 3
+    old = {"dps": [{"dp": "DP1", "point": "P011", "config": "/x/pareto/DP1.json"}, {"dp": "DP2", "point": "P013"}],
+           "presets": {"dp4": {"dp": "", "status": "ok"}, "dp7": {"dp": "DP2", "status": "ok"}}, "points": 3}
+    new = dse.renamed(old)
+    assert [d["dp"] for d in new["dps"]] == ["F1", "F2"], new
+    assert new["dps"][0]["config"] == "/x/pareto/DP1.json"          # a file's path stays what it is
+    assert new["presets"]["dp7"]["dp"] == "F2" and new["presets"]["dp4"]["dp"] == "" and new["points"] == 3
+    assert old["dps"][0]["dp"] == "DP1", "the reader's copy is renamed, not the caller's"
+    assert dse.renamed(new) == new and dse.renamed(None) is None
 
 
 SPACE = [{"key": "a.m", "values": ["x", "y"]},
@@ -98,8 +114,17 @@ def test_figures_footer():
             os.environ.pop("TIGRIS_COMMIT") if old is None else os.environ.__setitem__("TIGRIS_COMMIT", old)
         saved = []
         real_save = core.save_figure
-        # Checked as saved: inside the figure, under every axes (tick labels included).
+        # Checked as saved: inside the figure, under every axes (tick labels included); every text drawn.
+        drawn = []
+
+        def all_texts(fig):
+            out = [t.get_text() for t in fig.texts]
+            for ax in fig.axes:
+                out += [t.get_text() for t in ax.texts + ax.get_xticklabels()]
+                out += [t.get_text() for t in ax.get_legend().get_texts()] if ax.get_legend() else []
+            return out
         core.save_figure = lambda fig, path, **kw: (saved.append((os.path.basename(path), footer_clear(fig))),
+                                                    drawn.append((os.path.basename(path), all_texts(fig))),
                                                     real_save(fig, path, **kw))
         try:
             points, fronts, dps = hand_made_points()
@@ -108,6 +133,13 @@ def test_figures_footer():
         finally:
             core.save_figure = real_save
         assert [s_[0] for s_ in saved] == ["fig4.png", "fig5.png"], saved
+        # The Pareto points drawn by their names, F1..Fn: no DPn anywhere in either figure.
+        names = sorted(dps.values(), key=dse.pareto_number)
+        assert names == [f"F{k}" for k in range(1, len(names) + 1)] and len(names) >= 2, names
+        for name, texts in drawn:
+            assert not any("DP" in t for t in texts), (name, [t for t in texts if "DP" in t])
+            for n in names:
+                assert any(t == n or t.startswith(n + "\n") for t in texts), (name, n, texts)
         sha = hashlib.sha256(open(space, "rb").read()).hexdigest()[:12]
         for name, text in saved:
             assert text and text.startswith("made by tigris pipeline-dse --space"), (name, text)
@@ -214,12 +246,14 @@ def test_tiny_dse():
             md = fh.read()
         assert "| 1 | §3 | KD-tree search takes 50-85% of the time on every Pareto point |" in md, md
         assert "![error against time](fig4.png)" in md and f"| {summary['dps'][0]['dp']} | " in md, md
+        assert [d_["dp"] for d_ in summary["dps"]] == [f"F{k}" for k in range(1, len(dps) + 1)], summary["dps"]
+        assert "| Pareto point | design point |" in md and "| F1 | " in md and "| DP1 |" not in md, md
         for f in ("fig4.png", "fig5.png"):
             with open(os.path.join(out, f), "rb") as fh:
                 assert fh.read(8) == b"\x89PNG\r\n\x1a\n", f
-        # DP1's configuration through tigris register --config: the same pipeline, the same transform.
-        dp1 = dps["DP1"]
-        cfg = os.path.join(out, "pareto", "DP1.json")
+        # F1's configuration through tigris register --config: the same pipeline, the same transform.
+        dp1 = dps["F1"]
+        cfg = os.path.join(out, "pareto", "F1.json")
         seq = os.path.join(out, "sequence-1pairs-seed1", "velodyne")
         again = os.path.join(d, "again")
         p = subprocess.run([A.tigris, "register", "--config", cfg, "--source", os.path.join(seq, "000001.bin"),
@@ -238,7 +272,23 @@ def test_tiny_dse():
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
         assert p.returncode == 0 and "3 finished earlier" in p.stderr, p.stderr[-2000:]
         assert read_csv(os.path.join(out, "points.csv"))[1] == rows
+        # A folder of an earlier version (DPn names, pareto/DPn.json): its report reads F1..Fn, and
+        # a rerun into it replaces the old configuration files.
+        with open(os.path.join(out, "dse.json")) as fh:
+            old = json.load(fh)
+        for d_ in old["dps"]:
+            d_["dp"] = "DP" + d_["dp"][1:]
+        with open(os.path.join(out, "dse.json"), "w") as fh:
+            json.dump(old, fh)
+        import report
+        lines, claims = report.pipeline_section(report.read_dse(out), out, out, standalone=True)
+        md = "\n".join(lines)
+        assert "| F1 | " in md and "| DP1 |" not in md, md
+        os.rename(cfg, os.path.join(out, "pareto", "DP1.json"))
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stderr[-2000:]
+        assert sorted(os.listdir(os.path.join(out, "pareto"))) == sorted(f"{k}.json" for k in dps)
 
 
 if __name__ == "__main__":
-    run_tests([test_pareto, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])
+    run_tests([test_pareto, test_old_names, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])

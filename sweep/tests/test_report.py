@@ -272,6 +272,11 @@ class Document(unittest.TestCase):
         for name in ("redundancy", "units", "height", "optimizations", "memory_traffic", "approx"):
             self.assertIn(f"![{name}](figures/{name}.png)", text)
             self.assertTrue(os.path.isfile(os.path.join(out, "figures", name + ".png")))
+            # The provenance footer: the command that drew it, each CSV it read (plots.sweep_footer).
+            with open(os.path.join(out, "figures", name + ".svg")) as f:
+                svg = f.read()
+            self.assertIn('id="tigris-footer"', svg, name)
+            self.assertIn("drawn by report.py", svg, name)
 
     def test_cli_no_figures_and_errors(self):
         out = os.path.join(self.tmp.name, "r3")
@@ -336,6 +341,35 @@ class PipelineClaims(unittest.TestCase):
         # No Pareto point: every claim says what it needs.
         for x in report.claims_pipeline(self.dse([])):
             self.assertEqual(x.measured, "not measured")
+
+    def test_old_dse_reads_new_names(self):
+        """A dse.json of an earlier pipeline-dse names its Pareto points DP1..DPn: read_dse and the
+        section call them F1..Fn (the paper's DP4/DP7 and the presets dp4/dp7 keep their names)."""
+        import json
+        dps = [self.dp("DP1", 0.82, (1, 6, 0, 1, 0, 0, 1, 1)), self.dp("DP2", 0.41, (1, 2, 5, 1, 0, 0, 1, 0))]
+        ok = lambda t, e, dp: {"status": "ok", "seconds_per_pair": t, "rpe_translation_m": e,  # noqa: E731
+                               "rpe_rotation_deg": e, "kdtree_share": 0.7, "dp": dp}
+        old = dict(self.dse(dps, {"dp4": ok(1.0, 0.006, "DP1"), "dp7": ok(55, 0.0003, "")}), command_line="c",
+                   ok=9, not_converged=0, failed=0)
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "dse.json"), "w") as f:
+                json.dump(old, f)
+            dse = report.read_dse(d)
+            self.assertEqual([x["dp"] for x in dse["dps"]], ["F1", "F2"])
+            self.assertEqual(dse["presets"]["dp4"]["dp"], "F1")
+            lines, claims = report.pipeline_section(dse, d, d, standalone=True)
+            md = "\n".join(lines)
+            self.assertIn("| Pareto point | design point | s/pair |", md)
+            self.assertIn("| F2 | PDP2 | ", md)           # the point's own name is left as it is
+            self.assertIn("2 Pareto points (the paper found 8), named F1..F2 by time", md)
+            c = {x.cid: x for x in claims}
+            self.assertIn("lowest F2 (PDP2)", c["pipe_kd"].explanation)
+            self.assertIn("dp4: Pareto point F1", c["pipe_presets"].explanation)
+            self.assertIn("the paper's DP4 (preset dp4)", c["pipe_presets"].text)
+            # A summary handed over as it is (not read from a folder) is named the same way.
+            md2 = "\n".join(report.pipeline_section(old, d, d)[0])
+            self.assertIn("| F1 | PDP1 | ", md2)
+            self.assertNotIn("| DP1 |", md2)
 
     def test_bad_dse_folder(self):
         with tempfile.TemporaryDirectory() as d:

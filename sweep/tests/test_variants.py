@@ -163,6 +163,143 @@ class Classify(unittest.TestCase):
         self.assertIn("| dram-8x | `dram.bytes_per_cycle=409.6` |", md)
 
 
+class Figure(unittest.TestCase):
+    """variants.png: a colour per verdict (direction only never a shade of holds), every claim's
+    label whole and inside the figure, the legend and REPORT.md's text in the same words, and
+    the provenance footer."""
+    LONG = ("at 16-32 RU the front-end bounds the run: more SU x PE helps only marginally (back-end "
+            "scaling gain at the fewest RU / at 64 RU), and a few more words to need a third line")
+
+    def draw(self, cols, footer=None):
+        """Draws the figure; returns (fig as saved, drawn: its pixels, the matrix' rows)."""
+        import core
+        import matplotlib
+        matplotlib.use("Agg")
+        import numpy as np
+        saved = []
+        real = core.save_figure
+
+        def keep(fig, path, **kw):
+            fig.canvas.draw()
+            saved.append((fig, np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy() / 255.0))
+            real(fig, path, **kw)
+        core.save_figure = keep
+        tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, tmp)
+        try:
+            path = vt.figure(cols, DEFAULTS, os.path.join(tmp, "figures", "variants.png"), footer=footer)
+        finally:
+            core.save_figure = real
+        self.assertTrue(os.path.getsize(path) > 5000)
+        self.assertEqual(len(saved), 1)
+        return saved[0][0], saved[0][1], vt.matrix(cols, DEFAULTS)
+
+    def columns(self, n_claims=14):
+        """Every verdict, a long claim text and a long value; two variants."""
+        d8 = vt.Variant("dram-8x", "", set={"dram.bytes_per_cycle": 409.6})
+        nc = vt.Variant("nc-512k", "", set={"node_cache.bytes": 524288})
+        kinds = [(True, True), (True, False), (False, True), (False, False), (None, None)]
+        base, a, b = [], [], []
+        for k in range(n_claims):
+            d, w = kinds[k % len(kinds)]
+            text = self.LONG if k == 2 else f"claim {k} with a text of some length (NN; value at leaf-set {k})"
+            base.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(
+                "1.03x at 16 RU vs 1.69x at 64 RU (16x16 -> 128x128)" if k == 2 else f"{k}.0x", d, w, "x"))
+            d2, w2 = kinds[(k + 1) % len(kinds)]
+            a.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.5x", d2, w2, "x"))
+            if k % 3:
+                b.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.7x", d, w, "x"))
+        return [col("default", None, *base), col("dram-8x", d8, *a), col("nc-512k", nc, *b)]
+
+    def test_a_colour_per_verdict(self):
+        from matplotlib.colors import rgb_to_hsv, to_rgb
+        colours = {k: to_rgb(vt.COLOURS[k]) for k in vt.VERDICTS}
+        self.assertEqual(len(set(colours.values())), len(vt.VERDICTS), "two verdicts share a colour")
+        # Direction only is not a shade of holds' green: another hue, far apart in RGB.
+        h_holds, h_dir = rgb_to_hsv(colours[vt.HOLDS])[0], rgb_to_hsv(colours[vt.DIRECTION_ONLY])[0]
+        self.assertGreater(min(abs(h_holds - h_dir), 1 - abs(h_holds - h_dir)) * 360, 60)
+        self.assertGreater(sum((x - y) ** 2 for x, y in zip(colours[vt.HOLDS], colours[vt.DIRECTION_ONLY])) ** 0.5, 0.5)
+        # and not a shade of fails' red either
+        self.assertGreater(sum((x - y) ** 2 for x, y in zip(colours[vt.FAILS], colours[vt.DIRECTION_ONLY])) ** 0.5, 0.35)
+        # Each cell is drawn in its verdict's colour (read from the pixels, off the value's text).
+        fig, pixels, rows = self.draw(self.columns())
+        ax = fig.axes[0]
+        seen = set()
+        for y, (_, _, cells, _, _) in enumerate(rows):
+            for x, (v, _) in enumerate(cells):
+                px, py = ax.transData.transform((x - 0.38, y - 0.3))
+                got = pixels[int(round(pixels.shape[0] - py)), int(round(px))]
+                want = colours[v] if v != vt.NOT_MEASURED else None
+                if want is not None:
+                    self.assertLess(max(abs(g - w) for g, w in zip(got, want)), 0.03, (y, x, v, got, want))
+                    seen.add(v)
+        self.assertEqual(seen, {vt.HOLDS, vt.DIRECTION_ONLY, vt.SIZE_ONLY, vt.FAILS, vt.NO_TEST})
+        # The legend: every verdict in its colour, with what it means.
+        legend = ax.get_legend()
+        texts = [t.get_text().replace("\n", " ") for t in legend.get_texts()]
+        self.assertEqual(texts, [f"{k}: {vt.MEANING[k]}" for k in vt.VERDICTS])
+        for patch, k in zip(legend.get_patches(), vt.VERDICTS):
+            self.assertEqual(tuple(patch.get_facecolor()[:3]), colours[k], k)
+
+    def test_legend_and_markdown_agree(self):
+        md = "\n".join(vt.render(self.columns(), DEFAULTS, "figures/variants.png"))
+        self.assertIn("*direction only* (amber: the direction holds, the size is off from the paper's by more "
+                      "than 2x)", md)
+        for k in vt.VERDICTS:
+            self.assertIn(f"*{k}* ({vt.COLOUR_NAMES[k]}: {vt.MEANING[k]})", md)
+        import matplotlib.colors as mc
+        self.assertEqual(mc.to_hex(vt.COLOURS[vt.DIRECTION_ONLY]), mc.to_hex("#f5a623"))  # amber, as its name says
+
+    def test_labels_whole_and_inside(self):
+        import sys as _sys
+        _sys.path.insert(0, HERE)
+        from common import footer_clear
+        cols = self.columns(30)
+        fig, _, rows = self.draw(cols, footer=["made by tigris reproduce --variants", "commit 0123abc"])
+        fig.canvas.draw()                    # measured as drawn at the figure's own dpi
+        ax = fig.axes[0]
+        box = fig.bbox
+        inside = lambda b: b.x0 >= 0 and b.y0 >= 0 and b.x1 <= box.width and b.y1 <= box.height  # noqa: E731
+        labels = ax.get_yticklabels()
+        self.assertEqual(len(labels), len(rows))
+        extents = []
+        for t, (i, c, _, cls, _) in zip(labels, rows):
+            text = t.get_text()
+            self.assertEqual(text.replace("\n", " "), f"#{i} {c.text}" + (" *" if cls == "depends" else ""))
+            self.assertLessEqual(text.count("\n"), 1, text)          # two lines at most
+            self.assertNotIn("\u2026", text)                          # nothing cut
+            e = t.get_window_extent()
+            self.assertTrue(inside(e), (text, e, box))
+            extents.append(e)
+        for a, b in zip(extents, extents[1:]):                       # no label runs into the next
+            self.assertFalse(a.overlaps(b), (a, b))
+        long = next(t.get_text() for t in labels if "more SU x PE" in t.get_text())
+        self.assertEqual(long.count("\n"), 1, long)
+        for t in ax.get_xticklabels() + [ax.title]:
+            self.assertTrue(inside(t.get_window_extent()), t.get_text())
+        self.assertTrue(inside(ax.get_legend().get_window_extent()))
+        self.assertTrue(inside(ax.get_tightbbox()))
+        foot = footer_clear(fig)             # inside the figure, under the axes and their labels
+        self.assertTrue(foot.startswith("made by tigris reproduce --variants") and "commit 0123abc" in foot, foot)
+        # A value too long for its cell: its parenthesis left out, the rest on two lines.
+        cell = next(t.get_text() for t in ax.texts if t.get_text().startswith("1.03x"))
+        self.assertEqual(cell, "1.03x at 16 RU vs\n1.69x at 64 RU")
+
+    def test_default_footer_names_the_command(self):
+        import matplotlib.pyplot as plt
+        old = sys.argv
+        sys.argv = ["/x/sweep/reproduce.py", "--variants", "dram-8x", "--out", "repro"]
+        try:
+            fig, _, _ = self.draw(self.columns(3))
+        finally:
+            sys.argv = old
+        import core
+        text = core.footer_text(fig)
+        self.assertTrue(text.startswith("made by reproduce.py --variants dram-8x --out repro"), text)
+        self.assertIn("3 configurations: default, dram-8x, nc-512k", text)
+        plt.close("all")
+
+
 class Specs(unittest.TestCase):
     def test_node_cache_grid_takes_the_variants_size(self):
         exps = reproduce.experiments(False)
