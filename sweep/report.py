@@ -285,8 +285,9 @@ def claims_headline(reg_csv, odo_csv):
     reg = {(r.get("preset"), r.get("search")): r for r in _csv_rows(reg_csv)}
     how = ("`tigris register` of frame 1 into frame 0 per preset and back-end (reproduce's `registrations` sweep): "
            "end to end = the registration's seconds on the CPU (PCL's FLANN: the CPU-only system) against the "
-           "accelerator in the loop (its modeled KD-tree and host time + the run's other CPU time); one timing each "
-           "(`tigris register --compare --repeat N` gives medians with ranges)")
+           "accelerator in the loop (its modeled KD-tree and host time + the run's other CPU time); one timing each, "
+           "with the sweep's --jobs points side by side, which slows the CPU parts (`tigris register --compare "
+           "--repeat N` gives quotable medians with ranges on an idle machine)")
     out = []
 
     def e2e(p, s):
