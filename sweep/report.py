@@ -220,7 +220,7 @@ def claims_redundancy_conventions(path):
             rad = next((r.get("radius") for r in g if r.get("radius")), "")
             label_ = "NN" if mode == "nn" else (f"radius {float(rad):.2f} m" if rad else "radius")
             c = Claim(f"redundancy-authors-{mode}-{'self' if 'itself' in queries else 'cross'}", "9",
-                      f"two-stage redundancy at leaf-set 32 in the authors' convention ({label_}; {where})",
+                      f"two-stage redundancy at leaf-set 32 in the authors' convention ({label_}, {where})",
                       f"{paper:g}x at 32 (KITTI)", how)
             if not g:
                 out.append(c.missing("a `tigris ref --redundancy` run of this search "
