@@ -4,7 +4,7 @@ Acc-KD vs Acc-2SKD, forwarding/bypassing, MQSN vs MQMN, Node Cache, peak memory)
 
 Runs `tigris run` on the built-in synthetic pair and, when present, the KITTI pair
 (frame 1 searched in frame 0). Wall times are medians of --runs runs measured in this one
-invocation. Usage: bench/bench_accel.py [--tigris build/testbench/tigris] [--kitti DIR] [--runs 3]
+invocation. Usage: bench/bench_accel.py [--tigris build/bin/tigris] [--kitti DIR] [--runs 3]
 
 --instructions also counts instructions with valgrind's callgrind (one run per search, about a
 minute each, with --sim-threads 1): the simulation (tigris::simulate) against the golden model's search (its call of

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Exact vs approximate search on the accelerator (issue 7 benchmark).
+"""Exact vs approximate search on the accelerator (a benchmark).
 
 Runs `tigris run` on the KITTI pair (frame 1 searched in frame 0, top height 10, the default
 machine) or, without it, the built-in synthetic pair: NN (thd 1.2 m) and radius 0.30 / 0.75
@@ -7,11 +7,11 @@ machine) or, without it, the built-in synthetic pair: NN (thd 1.2 m) and radius 
 leader decisions, the energy split beside the paper's DP4 split, and the area beside the
 paper's. Every run must MATCH its golden check (the script stops otherwise).
 
-`--sweep` instead runs the thresholds of issue 37 on the synthetic pair and (when found) the KITTI
+`--sweep` instead runs the approximate-search thresholds on the synthetic pair and (when found) the KITTI
 pair: NN at thd 0.3-2.0 m and radius 0.30 m at 0.2-0.6 r, under the three readings of approximate
 search (first_leaf wait, the default; first_leaf finished_only; every_leaf), each against exact:
 followers, nodes per query, cycles, energy, the bound and the accuracy.
-Usage: bench/bench_approx.py [--tigris build/testbench/tigris] [--kitti DIR] [--height 10] [--sweep]
+Usage: bench/bench_approx.py [--tigris build/bin/tigris] [--kitti DIR] [--height 10] [--sweep]
 """
 import argparse, json, os, subprocess, sys, tempfile
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Issue 20's benchmark: odometry over a synthetic drive with each preset and back-end.
+"""The odometry benchmark: odometry over a synthetic drive with each preset and back-end.
 
     bench/bench_odometry.py [--tigris PATH] [--frames 300] [--seed 1] [--jobs 2]
                             [--presets dp4,dp7] [--searches flann,exact,approx,accel]

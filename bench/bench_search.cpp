@@ -24,12 +24,12 @@
 
 #include "sw_ref/arith.hpp"
 #include "sw_ref/cloud.hpp"
-#include "sw_ref/io/cloud_io.hpp"
+#include "workloads/io/cloud_io.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
 #include "sw_ref/stats.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 
 #ifndef TIGRIS_BENCH_KITTI_DIR
 #define TIGRIS_BENCH_KITTI_DIR "../shared/data/kitti-00"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Whole registrations on the accelerator (issue 19): for each workload and preset, runs
+"""Whole registrations on the accelerator: for each workload and preset, runs
 `tigris register --compare` (FLANN, golden model, accelerator in the loop exact and approximate),
 records the
 registration's trace with the golden model (exact and approximate) and times the same

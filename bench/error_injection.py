@@ -12,7 +12,7 @@ on the built-in synthetic pair and, when DIR/000000.bin, 000001.bin and poses.tx
 poses.txt). Prints the translation and rotation error tables (markdown), writes OUT/results.csv
 and, with Debian's python3-matplotlib, OUT/error_vs_k.png and OUT/error_vs_shell.png.
 Run it with Debian's /usr/bin/python3 (the shebang), where python3-matplotlib installs.
-Usage: bench/error_injection.py [--tigris build/testbench/tigris] [--kitti DIR] [--out DIR]
+Usage: bench/error_injection.py [--tigris build/bin/tigris] [--kitti DIR] [--out DIR]
                                 [--preset dp4] [--search exact] [--no-kitti]
 """
 import argparse, csv, json, os, subprocess, sys, tempfile, time

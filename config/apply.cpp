@@ -1,4 +1,4 @@
-#include "config/apply.hpp"
+#include "apply.hpp"
 
 #include <cctype>
 #include <cerrno>
@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "sw_ref/visible_text.hpp"
+#include "core/visible_text.hpp"
 
 namespace tigris::config {
 namespace {

@@ -19,8 +19,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "config/key_table.hpp"
-#include "sw_ref/json_file.hpp"
+#include "key_table.hpp"
+#include "core/json_file.hpp"
 
 namespace tigris::config {
 

@@ -1,10 +1,10 @@
-#include "config/key_table.hpp"
+#include "key_table.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "sw_ref/edit_distance.hpp"
+#include "core/edit_distance.hpp"
 
 namespace tigris::config {
 

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "config/spec.hpp"
+#include "spec.hpp"
 
 namespace tigris::config {
 

@@ -1,7 +1,7 @@
 // What a configuration key is, declared once at its field: each configuration block has a
 // `template <class V> void visit(V&& v)` calling v(name, field, Spec{unit, allowed, doc}) for
 // each field. The accelerator's (hw/config.hpp) and the registration pipeline's
-// (sw_ref/registration/pipeline_config.hpp) configurations both do; config/key_table.hpp builds
+// (registration/pipeline_config.hpp) configurations both do; config/key_table.hpp builds
 // their JSON keys, checks, dump and reference from these visits alone.
 #pragma once
 

@@ -4,7 +4,7 @@
 // target can check the reader's result bit for bit (an independent decode: the generator never
 // calls the reader's code).
 //
-// The files are valid by the grammar of sw_ref/io/ply_reader.hpp and pcd_reader.hpp, and
+// The files are valid by the grammar of workloads/io/ply_reader.hpp and pcd_reader.hpp, and
 // unusual on purpose: lists before x/y/z and in other elements, int/uint list counts, every
 // scalar type for x/y/z, elements with no properties or no entries, big-endian data, CRLF
 // headers, PCD fields of COUNT > 1, organized clouds, binary_compressed data.

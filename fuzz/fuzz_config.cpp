@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "config.hpp"
+#include "testbench/config.hpp"
 #include "fuzz_common.hpp"
 
 namespace {

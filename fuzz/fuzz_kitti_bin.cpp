@@ -1,11 +1,11 @@
-// Fuzz target: the KITTI .bin reader (sw_ref/io/kitti_bin.hpp). A size that is not a multiple
+// Fuzz target: the KITTI .bin reader (workloads/io/kitti_bin.hpp). A size that is not a multiple
 // of 16 must give a clean error naming the file; any other input must read as size / 16 points
 // whose x, y, z are the first three little-endian float32 of each 16-byte record, bit for bit
 // (checked against memcpy on this little-endian host), and survive a write and re-read.
 #include <string>
 
 #include "fuzz_common.hpp"
-#include "sw_ref/io/kitti_bin.hpp"
+#include "workloads/io/kitti_bin.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Fuzz target: the PLY reader (sw_ref/io/ply_reader.hpp).
+// Fuzz target: the PLY reader (workloads/io/ply_reader.hpp).
 // Input whose first byte is 0: the rest drives generate_ply (cloud_gen.hpp); the generated
 // valid file must read back exactly the points the generator put in. Any other input is a PLY
 // file: the reader must give a clean error naming the file, or a cloud of as many points as
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cloud_checks.hpp"
-#include "sw_ref/io/ply_reader.hpp"
+#include "workloads/io/ply_reader.hpp"
 
 namespace {
 

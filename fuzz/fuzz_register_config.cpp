@@ -1,4 +1,4 @@
-// Fuzz target: the registration pipeline's configuration (sw_ref/registration/pipeline_config.cpp,
+// Fuzz target: the registration pipeline's configuration (registration/pipeline_config.cpp,
 // `tigris register --config` and `--set`). Input whose first byte is 0: the rest chooses --set
 // assignments, each a key of the key table (config/key_table.hpp) and a value drawn from the kinds
 // that broke it before (in range, at a bound, beyond it, subnormal, 1e400, NaN, hex, a float for
@@ -13,8 +13,8 @@
 
 #include "config/key_table.hpp"
 #include "fuzz_common.hpp"
-#include "sw_ref/json_file.hpp"
-#include "sw_ref/registration/pipeline_config.hpp"
+#include "core/json_file.hpp"
+#include "registration/pipeline_config.hpp"
 
 namespace {
 

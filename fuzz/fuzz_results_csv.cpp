@@ -1,4 +1,4 @@
-// Fuzz target: the results CSV reader (sw_ref/io/results_csv.hpp, the inverse of
+// Fuzz target: the results CSV reader (traces/results_csv.hpp, the inverse of
 // `--dump-results`). Input whose first byte is 0: the rest describes a result set (queries,
 // neighbours in canonical order, any finite non-negative dist2), which is written by
 // write_results_csv and must read back exactly. Any other input is a CSV file: a clean error
@@ -12,7 +12,7 @@
 #include <string>
 
 #include "fuzz_common.hpp"
-#include "sw_ref/io/results_csv.hpp"
+#include "traces/results_csv.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hw/config.hpp"
+#include "config.hpp"
 
 namespace tigris::hw {
 

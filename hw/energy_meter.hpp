@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hw/energy_table.hpp"
-#include "hw/stats.hpp"
+#include "energy_table.hpp"
+#include "stats.hpp"
 
 namespace tigris::hw {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "hw/config.hpp"
+#include "config.hpp"
 #include "sw_ref/arith.hpp"
 #include "tlm/address_map.hpp"
 #include "tlm/tree_image.hpp"

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "hw/job.hpp"
+#include "job.hpp"
 
 namespace tigris::hw {
 

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "hw/stats.hpp"
+#include "stats.hpp"
 
 namespace tigris::hw {
 

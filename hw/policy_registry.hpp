@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "hw/config_spec.hpp"
+#include "config_spec.hpp"
 
 namespace tigris::hw {
 

@@ -17,7 +17,7 @@
 
 #include <systemc>
 
-#include "hw/clock.hpp"
+#include "clock.hpp"
 
 namespace tigris::hw {
 

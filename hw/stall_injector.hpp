@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "hw/config.hpp"
-#include "hw/stats.hpp"
+#include "config.hpp"
+#include "stats.hpp"
 
 namespace tigris::hw {
 

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "hw/job.hpp"
+#include "job.hpp"
 
 namespace tigris::hw {
 

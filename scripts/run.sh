@@ -17,7 +17,7 @@ if ! cmake --build build --target tigris -j"$(nproc)" > build/run-build.log 2>&1
   cat build/run-build.log >&2
   exit 2
 fi
-tigris=build/testbench/tigris
+tigris=build/bin/tigris
 if [ $# -gt 0 ]; then exec "$tigris" "$@"; fi
 "$tigris" run --mode nn --out tigris-out/nn
 "$tigris" run --mode radius --radius 0.30 --out tigris-out/radius

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Writes the field tables of docs/stats.md from the stats schema (`tigris run --stats-schema`).
 
-    scripts/stats_doc.py [--tigris build/testbench/tigris] [--check]
+    scripts/stats_doc.py [--tigris build/bin/tigris] [--check]
 
 Each section of the schema owns the first table under its heading (`## <title>`); the prose
 around the tables is left as it is. After adding or changing a counter (hw/), a derived

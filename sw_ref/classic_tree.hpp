@@ -1,4 +1,4 @@
-// The classic KD-tree in the authors' convention (issue 38 item 5): a golden-model option used
+// The classic KD-tree in the authors' convention: a golden-model option used
 // only to count work for the paper's redundancy figure (section 4.1), never a tree image the
 // accelerator loads.
 //

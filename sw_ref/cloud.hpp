@@ -6,17 +6,11 @@
 #include <vector>
 
 #include "arith.hpp"
+#include "core/input_error.hpp"  // the cloud checks throw InputError
 
 namespace tigris {
 
 using PointCloud = std::vector<Point3>;
-
-// Any input problem (missing/malformed file, NaN/Inf, empty cloud). The message names the
-// file (or the cloud's label) and what is wrong; the CLI prints it and exits non-zero.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // The largest coordinate magnitude accepted. dist2 sums three squared float32 differences:
 // with |coordinates| <= 1e18 a difference is at most 2e18 and the sum 1.2e37, inside float32's

@@ -14,7 +14,7 @@
 #include "kdtree.hpp"
 #include "leader_policy.hpp"
 #include "results.hpp"
-#include "traces/schedule.hpp"
+#include "schedule.hpp"
 
 namespace tigris {
 
@@ -93,7 +93,7 @@ SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchP
                     const Schedule* replay = nullptr, const Progress& progress = {});
 
 // One query at a time, in the caller's order, on one tree with fixed parameters: what a search
-// library plug-in needs (sw_ref/registration). Approximate search keeps its leader state across
+// library plug-in needs (registration). Approximate search keeps its leader state across
 // calls, so a sequence of calls returns exactly what search() returns for the same queries in
 // the same order.
 class Searcher {

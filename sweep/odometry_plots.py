@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The figures of a `tigris odometry` run (issue 20).
+"""The figures of a `tigris odometry` run.
 
     sweep/odometry_plots.py OUT
 
@@ -23,8 +23,7 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import core  # noqa: E402
+from . import core
 
 import matplotlib
 matplotlib.use("Agg")

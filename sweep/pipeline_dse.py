@@ -14,7 +14,8 @@ Writes into DIR:
   fig4.png           error against time, translation (a) and rotation (b), frontiers and F1..Fn
   fig5.png           the Pareto points' time across the stages (a), KD-tree search against the rest (b)
   pareto/Fi.json     each Pareto point's pipeline configuration (tigris register --config)
-  dse.json           all of it as data, with the paper's section-3 claims measured
+  dse.json           all of it as data, with the paper's section-3 claims measured and the stages
+                     in the pipeline's order ("stage_order": the binary's `tigris register --list-stages`)
   REPORT.md          those claims against the paper (direction / within 2x, measured explanations),
                      the figures and the Pareto points: the section `tigris reproduce --dse DIR` adds
                      to its report
@@ -41,17 +42,17 @@ interrupted.
 """
 import argparse, csv, io, json, math, os, random, re, shlex, signal, subprocess, sys
 
+from . import core
+from .tigris_sweep import default_tigris
+
 HERE = os.path.dirname(os.path.realpath(__file__))
-sys.path.insert(0, HERE)
-import core  # noqa: E402
 PROG = "tigris pipeline-dse"
 DEFAULT_SPACE = os.path.join(HERE, "pipeline_space.json")
-# The paper's seven stages (its Figure 5a), outlier removal (a stage of this pipeline the paper
-# does not have) and the pipeline's parts that make them. ICP is one
-# stage in the pipeline; its KD-tree searches are RPCE, the rest is transformation estimation.
-STAGES = [("outlier removal", "outlier_removal"), ("normal estimation", "normals"),
-          ("key-point detection", "keypoints"), ("descriptor calculation", "descriptors"),
-          ("KPCE", "kpce"), ("rejection", "rejection"), ("RPCE", None), ("transformation estimation", None)]
+# The stages (the paper's seven of its Figure 5a, and outlier removal, a stage of this pipeline
+# the paper does not have) come from the binary the exploration runs: `tigris register
+# --list-stages` read as the paper's rows [(title, key, time)] (core.paper_stages: ICP is one stage
+# of the pipeline; its KD-tree searches are RPCE, the rest is transformation estimation).
+# dse.json records their titles in order ("stage_order"), so a reader needs no binary.
 MAX_DISTINCT = 1_000_000
 # Each point is a whole odometry run; the sweep reads a spec of at most 16 MiB (~450 bytes a point).
 MAX_SAMPLES = 10_000
@@ -275,28 +276,30 @@ def num(v):
     return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
 
 
-def stage_seconds(row):
-    """Mean seconds per pair of each of STAGES' parts (RPCE = ICP's KD-tree searches)."""
-    get = lambda s, f: num(row.get(f"stages.{s}.per_pair_mean.{f}"))  # noqa: E731
+def stage_seconds(row, stages):
+    """Mean seconds per pair of each of the paper's rows `stages` (core.paper_stages) of a sweep
+    row: a whole stage's seconds, a part's KD-tree search seconds (RPCE) or the rest of them
+    (transformation estimation)."""
     out = {}
-    for title, part in STAGES:
-        if part:
-            out[title] = get(part, "seconds")
-    icp, icp_kd = get("icp", "seconds"), get("icp", "kdtree_search_seconds")
-    out["RPCE"] = icp_kd
-    out["transformation estimation"] = icp - icp_kd if icp is not None and icp_kd is not None else None
+    for title, key, time in stages:
+        total = num(row.get(f"stages.{key}.per_pair_mean.seconds"))
+        search = num(row.get(f"stages.{key}.per_pair_mean.kdtree_search_seconds"))
+        out[title] = (total if time == "seconds" else search if time == "kdtree_search"
+                      else total - search if total is not None and search is not None else None)
     return out
 
 
-def stage_search_seconds(row):
-    """Mean seconds per pair of KD-tree search inside each of STAGES' parts."""
-    out = {title: num(row.get(f"stages.{part}.per_pair_mean.kdtree_search_seconds")) for title, part in STAGES if part}
-    out["RPCE"] = num(row.get("stages.icp.per_pair_mean.kdtree_search_seconds"))
-    out["transformation estimation"] = 0.0 if out["RPCE"] is not None else None
+def stage_search_seconds(row, stages):
+    """Mean seconds per pair of KD-tree search inside each of the paper's rows `stages`: a part
+    that is the rest of its stage's seconds has none."""
+    out = {}
+    for title, key, time in stages:
+        search = num(row.get(f"stages.{key}.per_pair_mean.kdtree_search_seconds"))
+        out[title] = search if time != "rest" else 0.0 if search is not None else None
     return out
 
 
-def read_points(out, names):
+def read_points(out, names, stages):
     sweep = core.read_json_input(os.path.join(out, "sweep", "sweep.json"), "the sweep's results")
     if not (isinstance(sweep, dict) and isinstance(sweep.get("rows"), list) and isinstance(sweep.get("swept_keys"), list)):
         raise Bad(f"{out}/sweep/sweep.json: not what tigris sweep writes (rows, swept_keys)")
@@ -308,8 +311,8 @@ def read_points(out, names):
              "error": r.get("error") or "", "seconds_per_pair": num(r.get("seconds_per_pair")),
              "rpe_translation_m": num(r.get("rpe.mean_translation_m")),
              "rpe_rotation_deg": num(r.get("rpe.mean_rotation_deg")),
-             "kdtree_share": num(r.get("totals.kdtree_share")), "stages": stage_seconds(r),
-             "stage_kdtree_seconds": stage_search_seconds(r),
+             "kdtree_share": num(r.get("totals.kdtree_share")), "stages": stage_seconds(r, stages),
+             "stage_kdtree_seconds": stage_search_seconds(r, stages),
              "not_converged_pairs": r.get("not_converged_pairs"), "pairs": r.get("pairs"),
              "values": {k: r.get(k) for k in sweep["swept_keys"] if "." in k}}
         p["valid"] = p["status"] == "ok" and None not in (p["seconds_per_pair"], p["rpe_translation_m"],
@@ -321,15 +324,16 @@ def read_points(out, names):
 # ----------------------------------------------------------------------------------------------
 # Outputs
 
-def write_points_csv(path, points, knob_keys):
+def write_points_csv(path, points, knob_keys, stage_order):
+    """points.csv; stage_order: the stages' titles in order (the paper's rows' titles)."""
     cols = ["point", "dp", "status", "seconds_per_pair", "rpe_translation_m", "rpe_rotation_deg",
             "kdtree_share", "on_translation_frontier", "on_rotation_frontier"] + knob_keys + \
-           [f"{t} s" for t, _ in STAGES] + ["pairs", "not_converged_pairs", "error", "sweep_id"]
+           [f"{t} s" for t in stage_order] + ["pairs", "not_converged_pairs", "error", "sweep_id"]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
     for p in points:
-        row = dict(p, **{k: p["values"].get(k) for k in knob_keys}, **{f"{t} s": p["stages"].get(t) for t, _ in STAGES})
+        row = dict(p, **{k: p["values"].get(k) for k in knob_keys}, **{f"{t} s": p["stages"].get(t) for t in stage_order})
         w.writerow(["" if row.get(c) is None else str(row[c]).lower() if isinstance(row[c], bool) else row[c]
                     for c in cols])
     core.atomic_write(path, buf.getvalue())
@@ -422,13 +426,14 @@ def place_labels(fig, ax, items):
         taken.append(chosen)
 
 
-def plot(out, points, fronts, dps, title, footer=()):
-    """fig4.png and fig5.png; footer: the lines that say what made them (core.footer_lines)."""
+def plot(out, points, fronts, dps, title, footer=(), stage_order=None):
+    """fig4.png and fig5.png; footer: the lines that say what made them (core.footer_lines);
+    stage_order: fig5's stages (titles) bottom to top, by default the order of the Pareto
+    points' "stages" (read_points writes them in the pipeline's order)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    sys.path.insert(0, HERE)
-    import figure_truth  # noqa: F401  (svg text, flat-axis guard)
+    from . import figure_truth  # noqa: F401  (svg text, flat-axis guard)
 
     ok = [p for p in points if p["valid"]]
     bad = [p for p in points if not p["valid"] and p["seconds_per_pair"] is not None
@@ -474,9 +479,13 @@ def plot(out, points, fronts, dps, title, footer=()):
     order = sorted(dps, key=lambda i: pareto_number(dps[i]))
     labels = [dps[i] + (f"\n{points[i]['point'].split('=')[1]} preset" if points[i]["point"].startswith("preset")
                         else f"\n{points[i]['point']}") for i in order]
+    if stage_order is None:
+        stage_order = []
+        for i in order:
+            stage_order += [s for s in points[i]["stages"] if s not in stage_order]
     fig, (a, b) = plt.subplots(2, 1, figsize=(max(8.5, 0.75 * len(order) + 5), 8.2))
     bottom = [0.0] * len(order)
-    for k, (title_s, _) in enumerate(STAGES):
+    for k, title_s in enumerate(stage_order):
         vals = []
         for i in order:
             st = points[i]["stages"]
@@ -512,7 +521,7 @@ def plot(out, points, fronts, dps, title, footer=()):
 def write_report(out, summary):
     """DIR/REPORT.md: the paper's section-3 claims against this exploration, in the words and
     verdicts of `tigris reproduce`'s report (which adds the same section with --dse DIR)."""
-    import report
+    from . import report
     lines, claims = report.pipeline_section(summary, out, out, standalone=True)
     held = [c for c in claims if c.direction]
     lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
@@ -522,8 +531,7 @@ def write_report(out, summary):
 
 
 def parse_args(argv):
-    sys.path.insert(0, HERE)
-    from tigris_sweep import joined_sbatch_args  # the sweep's own reading of --sbatch-arg
+    from .tigris_sweep import joined_sbatch_args  # the sweep's own reading of --sbatch-arg
     argv = joined_sbatch_args(argv)
     ap = argparse.ArgumentParser(prog=PROG, description="The paper's section 3: samples the registration "
                                  "pipeline's design space, runs every point as tigris odometry over one sequence "
@@ -547,7 +555,7 @@ def parse_args(argv):
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                     help="points run at once locally (default %(default)s)")
     ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
-                    os.path.join(HERE, "..", "build", "testbench", "tigris"), help="tigris binary")
+                    default_tigris(), help="tigris binary")
     ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
     for opt in ("partition", "time", "mem", "chunk"):
         ap.add_argument(f"--{opt}", help=f"with --slurm: the sweep's --{opt}")
@@ -578,10 +586,10 @@ def parse_args(argv):
     return a
 
 
-def run_sweep(cmd):
+def run_sweep(cmd, env=None):
     """The sweep driver as a child: a signal to this process stops it (SIGTERM to its group),
     and it stops its points and keeps the finished ones before this returns."""
-    return core.run_child(cmd, grace=2 * core.KILL_AFTER)    # its own children get their 5 s first
+    return core.run_child(cmd, grace=2 * core.KILL_AFTER, env=env)  # its own children get their 5 s first
 
 
 def check_sequence(a):
@@ -621,11 +629,13 @@ def main(argv):
     else:
         settings = {"synthetic_pairs": a.pairs, "synthetic_seed": a.seed}
     drawn, how = sample(knobs, a.samples, a.seed)
+    stages = core.paper_stages(core.pipeline_stages(tigris))   # the binary's stages, as the paper's rows
     folder.claim(settings=settings, inputs=inputs, input_paths=paths)
-    return folder.run(lambda: explore(a, argv, tigris, space, knobs, out, drawn, how))
+    return folder.run(lambda: explore(a, argv, tigris, stages, space, knobs, out, drawn, how))
 
 
-def explore(a, argv, tigris, space, knobs, out, drawn, how):
+def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
+    """stages: the paper's rows [(title, key, time)] of the binary's stages (core.paper_stages)."""
     if a.sequence:
         seq = os.path.abspath(a.sequence)
         where = f"{seq}" + (f" frames {a.frames}" if a.frames else "")
@@ -646,16 +656,16 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
     spec = {"comment": f"{PROG}: {how}", "command": "odometry", "base": base, "points": pts}
     spec_path = os.path.join(out, "spec.json")
     core.write_json(spec_path, spec)
-    sweep = [sys.executable, os.path.join(HERE, "tigris_sweep.py"), spec_path, "--out", os.path.join(out, "sweep"),
-             "--tigris", tigris, "--jobs", str(a.jobs)]
+    args = [spec_path, "--out", os.path.join(out, "sweep"), "--tigris", tigris, "--jobs", str(a.jobs)]
     if a.slurm:
-        sweep.append("--slurm")
+        args.append("--slurm")
         for opt in ("partition", "time", "mem", "chunk"):
             if getattr(a, opt):
-                sweep += [f"--{opt}", str(getattr(a, opt))]
-        sweep += [f"--sbatch-arg={s}" for s in a.sbatch_arg]
+                args += [f"--{opt}", str(getattr(a, opt))]
+        args += [f"--sbatch-arg={s}" for s in a.sbatch_arg]
+    sweep, env = core.python_module_command("tigris_sweep", args)     # python3 -m sweep.tigris_sweep
     say(f"{len(pts)} points: {shlex.join(sweep)}")
-    rc = run_sweep(sweep)
+    rc = run_sweep(sweep, env)
     if rc == 2:
         raise Bad(f"the sweep refused {spec_path} (its message above names the point; points[k] is "
                   "anchor k, or sample P(k - anchors + 1)): fix the space, or use another --out for "
@@ -666,15 +676,15 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
     if rc not in (0, 1):
         say(f"the sweep stopped (exit {rc}); finished points are kept: rerun the same command to resume")
         return rc
-    sys.path.insert(0, HERE)
-    from tigris_sweep import Spec, SpecError  # the sweep's own point ids, so none is guessed
+    from .tigris_sweep import Spec, SpecError  # the sweep's own point ids, so none is guessed
     try:
         ids = [p["id"] for p in Spec(spec_path, tigris).expand()]
     except SpecError as e:
         raise Bad(str(e))
     if len(ids) != len(pts):
         raise Bad(f"{spec_path}: {len(pts) - len(ids)} points repeat another (the sweep ran each once)")
-    points = read_points(out, [(n, i, p) for n, i, p in zip(names, ids, pts)])
+    points = read_points(out, [(n, i, p) for n, i, p in zip(names, ids, pts)], stages)
+    stage_order = [title for title, _, _ in stages]
     valid = [k for k, p in enumerate(points) if p["valid"]]
     for stale in ("fig4.png", "fig5.png", "dse.json", "points.csv", "REPORT.md"):
         if os.path.exists(os.path.join(out, stale)):
@@ -686,7 +696,7 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
         p["dp"] = dps.get(k, "")
         p["on_translation_frontier"], p["on_rotation_frontier"] = k in fronts[0], k in fronts[1]
     knob_keys = [k["key"] for k in knobs]
-    write_points_csv(os.path.join(out, "points.csv"), points, knob_keys)
+    write_points_csv(os.path.join(out, "points.csv"), points, knob_keys, stage_order)
     if not valid:
         first = next((p for p in points if p["error"]), points[0])
         say(f"error: no point converged on every pair with errors to compare (e.g. {first['point']}: "
@@ -696,7 +706,7 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
     title = f"{where}; base {json.dumps(space.get('base', {}))}"
     footer = core.footer_lines(core.provenance(out, command="pipeline-dse"),
                                details=[f"{len(drawn)} sampled points, seed {a.seed}"])
-    plot(out, points, fronts, dps, title, footer)
+    plot(out, points, fronts, dps, title, footer, stage_order)
     measured = claims(points, dps)
     summary = {"command_line": f"{PROG} {shlex.join(argv)}", "space_file": os.path.abspath(a.space), "space": space,
                "sampling": how, "seed": a.seed, "sequence": where, "points": len(points),
@@ -705,6 +715,7 @@ def explore(a, argv, tigris, space, knobs, out, drawn, how):
                "failed": sum(p["status"] == "error" for p in points),
                "frontier_translation": [points[i]["point"] for i in fronts[0]],
                "frontier_rotation": [points[i]["point"] for i in fronts[1]],
+               "stage_order": stage_order,           # the titles of each point's "stages", in order
                "dps": [dict({k: points[i][k] for k in ("point", "seconds_per_pair", "rpe_translation_m",
                                                          "rpe_rotation_deg", "kdtree_share", "stages",
                                                          "stage_kdtree_seconds", "values")},

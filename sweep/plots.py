@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The paper's evaluation figures from sweep CSVs (docs/sweeps.md).
 
-    sweep/plots.py CSV... --out DIR [--which NAME ...]
+    python3 -m sweep.plots CSV... --out DIR [--which NAME ...]
 
 Writes DIR/<name>.png and DIR/<name>.svg for every figure whose settings the CSVs sweep:
 
@@ -29,11 +29,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import evaldata as ed  # noqa: E402
-import core  # noqa: E402
-import figure_truth  # noqa: E402
-from evaldata import num  # noqa: E402
+from . import evaldata as ed  # noqa: E402
+from . import core  # noqa: E402
+from . import figure_truth  # noqa: E402
+from .evaldata import num  # noqa: E402
 
 # The paper's redundancy at leaf-set size 32 (KITTI; section 4.1), drawn for comparison only.
 PAPER_REDUNDANCY_32 = {"nn": 35.0, "radius": 3.0}

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """REPORT.md from sweep CSVs: the paper's claims (docs/model.md, §9 and §14), measured.
 
-    sweep/report.py CSV... --out DIR [--figures DIR | --no-figures] [--title TEXT]
+    python3 -m sweep.report CSV... --out DIR [--figures DIR | --no-figures] [--title TEXT]
 
 Writes DIR/REPORT.md: a table of every claim (the paper's value, the measured value, whether the
 direction holds, whether the size is within 2x, and an explanation made only of facts the sweep
@@ -15,9 +15,8 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import evaldata as ed  # noqa: E402
-from evaldata import num  # noqa: E402
+from . import evaldata as ed
+from .evaldata import num
 
 TWO_X = 2.0
 KNEE_GAIN = 1.10  # a doubling that speeds up by less than 10% is past the knee
@@ -854,29 +853,39 @@ def all_claims(sw):
 # ----------------------------------------------------------------------------------------------
 # The pipeline's design space (the paper's section 3), from a `tigris pipeline-dse` folder
 
-STAGE_ORDER = ("outlier removal", "normal estimation", "key-point detection", "descriptor calculation",
-               "KPCE", "rejection", "RPCE", "transformation estimation")
+def stage_order(dse):
+    """The stages' titles in the pipeline's order, as a pipeline-dse's dse.json gives them: its
+    "stage_order" (the binary's `tigris register --list-stages`), or in a folder written before
+    it had one, the order of the first design point's "stages" (pipeline_dse writes every
+    point's in that order). No copy of the list here: a stage added to the pipeline is reported."""
+    order = dse.get("stage_order")
+    if isinstance(order, list) and all(isinstance(s, str) for s in order):
+        return list(order)
+    dps = dse.get("dps") if isinstance(dse.get("dps"), list) else []
+    return list(next((d["stages"] for d in dps if isinstance(d, dict) and isinstance(d.get("stages"), dict)), {}))
 
 
-def _shares(dp):
+def _shares(dp, order):
     total = sum(v for v in dp["stages"].values() if v) or None
-    return {s: (dp["stages"].get(s) or 0) / total for s in STAGE_ORDER} if total else None
+    return {s: (dp["stages"].get(s) or 0) / total for s in order} if total else None
 
 
-def _own_compute(dp):
+def _own_compute(dp, order):
     """(stage, share of the DP's time, share of the stage) of the stage with the most time
     outside KD-tree search, from the DP's per-stage search seconds (None when absent)."""
     search, total = dp.get("stage_kdtree_seconds"), sum(v for v in dp["stages"].values() if v)
     if not isinstance(search, dict) or not total:
         return None
-    rest = {s: (dp["stages"].get(s) or 0) - (search.get(s) or 0) for s in STAGE_ORDER if dp["stages"].get(s)}
+    rest = {s: (dp["stages"].get(s) or 0) - (search.get(s) or 0) for s in order if dp["stages"].get(s)}
     s = max(rest, key=rest.get)
     return s, rest[s] / total, rest[s] / dp["stages"][s]
 
 
 def claims_pipeline(dse):
-    """The paper's section-3 claims against a pipeline-dse's Pareto points (its dse.json)."""
-    dps = [d for d in dse.get("dps", []) if _shares(d)]
+    """The paper's section-3 claims against a pipeline-dse's Pareto points (its dse.json), the
+    stages in its order (stage_order)."""
+    order = stage_order(dse)
+    dps = [d for d in dse.get("dps", []) if _shares(d, order)]
     how = (f"`tigris pipeline-dse` ({dse.get('sampling')}; {dse.get('points')} points on the {dse.get('sequence')}): "
            "the Pareto points (DP1..DPn) of mean registration seconds per pair against mean relative pose error "
            "(translation, rotation); stage times per pair from `tigris register`, RPCE = ICP's KD-tree searches")
@@ -891,13 +900,13 @@ def claims_pipeline(dse):
         lo, hi = min(kd, key=lambda t: t[0]), max(kd, key=lambda t: t[0])
         below = [d for v, d in kd if v < 0.5]
         expl = f"{len(dps)} Pareto points; lowest {lo[1]['dp']} ({lo[1]['point']}) {pct(lo[0], 0)}"
-        own = _own_compute(lo[1])
+        own = _own_compute(lo[1], order)
         if own:
             expl += (f", the rest of its time mostly {own[0]}'s own computation ({pct(own[1], 0)} of the time, "
                      f"{pct(own[2], 0)} of that stage)")
         else:  # a dse.json without per-stage search seconds: the largest stage outside the paper's three
-            sh = _shares(lo[1])
-            top = max((s for s in STAGE_ORDER if s not in ("normal estimation", "descriptor calculation", "RPCE")),
+            sh = _shares(lo[1], order)
+            top = max((s for s in order if s not in ("normal estimation", "descriptor calculation", "RPCE")),
                       key=lambda s: sh[s])
             expl += f", where {top} takes {pct(sh[top], 0)}"
         expl += f"; highest {hi[1]['dp']} {pct(hi[0], 0)}"
@@ -907,10 +916,11 @@ def claims_pipeline(dse):
                          within_2x(lo[0], 0.5) and within_2x(hi[0], 0.85), expl))
     c = Claim("pipe_big3", "3", "normal estimation, descriptors and RPCE take over 90% of the time", "> 90%", how)
     if dps:
-        big = [(sum(_shares(d)[s] for s in ("normal estimation", "descriptor calculation", "RPCE")), d) for d in dps]
+        big = [(sum(_shares(d, order).get(s, 0) for s in ("normal estimation", "descriptor calculation", "RPCE")), d)
+               for d in dps]
         v, d = min(big, key=lambda t: t[0])
-        sh = _shares(d)
-        rest = sorted((s for s in STAGE_ORDER if s not in ("normal estimation", "descriptor calculation", "RPCE")),
+        sh = _shares(d, order)
+        rest = sorted((s for s in order if s not in ("normal estimation", "descriptor calculation", "RPCE")),
                       key=lambda s: -sh[s])[:2]
         out.append(c.set(f"at least {pct(v, 0)} (lowest {d['dp']})", v > 0.9, within_2x(v, 0.9),
                          f"{d['dp']} ({d['point']}), the largest of the rest: " + ", ".join(f"{s} {pct(sh[s], 0)}" for s in rest)
@@ -924,11 +934,11 @@ def claims_pipeline(dse):
         # on every Pareto point; the largest stage per DP is reported beside it.
         tops = {}
         for d in dps:
-            sh = _shares(d)
-            tops.setdefault(max(STAGE_ORDER, key=lambda s: sh[s]), []).append(d["dp"])
-        low = {s: min(_shares(d)[s] for d in dps) for s in STAGE_ORDER}
-        high = {s: max(_shares(d)[s] for d in dps) for s in STAGE_ORDER}
-        majority = [s for s in STAGE_ORDER if low[s] > 0.5]
+            sh = _shares(d, order)
+            tops.setdefault(max(order, key=lambda s: sh[s]), []).append(d["dp"])
+        low = {s: min(_shares(d, order)[s] for d in dps) for s in order}
+        high = {s: max(_shares(d, order)[s] for d in dps) for s in order}
+        majority = [s for s in order if low[s] > 0.5]
         out.append(c.set("largest stage: " + "; ".join(f"{s} on {len(v)} of {len(dps)}" for s, v in tops.items()),
                          not majority, None,
                          "; ".join(f"{s} takes {pct(low[s], 0)}-{pct(high[s], 0)}" for s in tops)
@@ -962,7 +972,7 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
     """The section's lines and claims; `standalone`: the report of the exploration's own folder
     (a title of its own, the folder not named). Pareto points are named F1..Fn (an older
     folder's DP1..DPn read so: pipeline_dse.renamed)."""
-    import pipeline_dse
+    from . import pipeline_dse
     dse = pipeline_dse.renamed(dse)
     claims = claims_pipeline(dse)
     rel = lambda f: os.path.relpath(os.path.join(dse_dir, f), fig_rel) if fig_rel else os.path.join(dse_dir, f)  # noqa: E731
@@ -986,8 +996,8 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
 def read_dse(path):
     """A pipeline-dse folder's dse.json, its Pareto points under today's names (an older
     folder's "DP3" reads "F3": pipeline_dse.renamed); ValueError naming the file when it is not one."""
-    import core
-    import pipeline_dse
+    from . import core
+    from . import pipeline_dse
     f = os.path.join(path, "dse.json")
     try:
         dse = core.read_json_input(f)
@@ -995,6 +1005,10 @@ def read_dse(path):
         raise ValueError(f"{e} (not a tigris pipeline-dse folder)")
     if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
         raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
+    order = dse.get("stage_order", [])
+    if not (isinstance(order, list) and all(isinstance(s, str) for s in order) and len(set(order)) == len(order)):
+        raise ValueError(f"{f}: \"stage_order\" is not a list of distinct stage titles: not written by tigris "
+                         "pipeline-dse")
     return pipeline_dse.renamed(dse)
 
 
@@ -1124,7 +1138,7 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
         L += pipeline_section(dse[1], dse[0], fig_rel)[0]
     if figures is not None:
         L += ["## Figures", ""]
-        import plots
+        from . import plots
         for name, (png, _svg, notes) in figures.items():
             rel = os.path.relpath(png, fig_rel) if fig_rel else png
             L += [f"### {plots.FIGURES[name][1]}", "", f"![{name}]({rel})", ""]
@@ -1147,7 +1161,7 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
 def variant_columns(claims, variants):
     """The default's claims and each variant's, as sweep/variants.py's columns. variants:
     [(name, Variant, CSVs)]; a variant's rows are read with its keys as the defaults."""
-    import variants as vt
+    from . import variants as vt
     cols = [vt.Column(vt.DEFAULT, None, claims)]
     for name, v, csvs in variants:
         with ed.DEFAULTS.overridden(vt.overrides(v, ed.SPEC_NAMES)):
@@ -1158,8 +1172,8 @@ def variant_columns(claims, variants):
 
 def variants_section(cols, figures_dir, out, draw, log=ed.note):
     """REPORT.md's robustness section and, when drawing, figures_dir/variants.png."""
-    import variants as vt
-    import tigris_sweep as ts
+    from . import variants as vt
+    from . import tigris_sweep as ts
     tig = ts.tigris_at(ts.default_tigris(), "run")
     defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
     rel = None
@@ -1181,7 +1195,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     figs = skipped = None
     figures_dir = figures_dir or os.path.join(out, "figures")
     if draw:
-        import plots
+        from . import plots
         figs, skipped = plots.make_figures(sw, figures_dir, log=log, footer=plots.sweep_footer(csvs, sys.argv))
     os.makedirs(out, exist_ok=True)
     robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
@@ -1191,7 +1205,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     if headline:
         claims = claims + claims_headline(*headline)
     path = os.path.join(out, "REPORT.md")
-    import core
+    from . import core
     core.atomic_write(path, render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust,
                                    command=command))
     log(f"report: wrote {path}")

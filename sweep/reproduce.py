@@ -1,15 +1,15 @@
 #!/usr/bin/python3
 """Reproduces the paper's evaluation (section 6) as sweeps, then the figures and REPORT.md.
 
-    sweep/reproduce.py [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
-                       [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
-                       [--variants [NAME ...]] [--variants-file FILE]
-                       [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
-                                [--sbatch-arg ARG ...] [--no-wait]]
+    python3 -m sweep.reproduce [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
+                               [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
+                               [--variants [NAME ...]] [--variants-file FILE]
+                               [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
+                                        [--sbatch-arg ARG ...] [--no-wait]]
 
 Writes one sweep spec per experiment to DIR/specs/<exp>.json, runs each with the sweep driver
-beside this script (tigris_sweep.py SPEC --out DIR/sweeps/<exp>), locally (--jobs) or as Slurm
-job arrays (--slurm and its options are passed through), then plots.py's figures into
+beside this module (python3 -m sweep.tigris_sweep SPEC --out DIR/sweeps/<exp>), locally (--jobs)
+or as Slurm job arrays (--slurm and its options are passed through), then plots.py's figures into
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
 once the Slurm jobs are done). --variants also runs the experiments under design variants
@@ -33,11 +33,10 @@ import shlex
 import signal
 import sys
 
-HERE = os.path.dirname(os.path.realpath(__file__))
-sys.path.insert(0, HERE)
-import core  # noqa: E402
+from . import core
 
-DRIVER = os.path.join(HERE, "tigris_sweep.py")
+HERE = os.path.dirname(os.path.realpath(__file__))
+DRIVER = os.path.join(HERE, "tigris_sweep.py")   # the sweep driver, run as python3 -m sweep.tigris_sweep
 NC_DEFAULT = 131072
 RADIUS = 0.30
 WORKLOAD = "workload.json"
@@ -203,7 +202,7 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
     DIR/variants/<name>/specs/; an experiment the variant cannot change has no spec and is read
     from the default's sweep folder. DIR/variants/<name>/variant.json records the definition its
     results belong to: a rerun with another definition under that name is refused."""
-    import variants as vt
+    from . import variants as vt
     exps = experiments(quick)
     made = []
     for v in chosen:
@@ -240,8 +239,17 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
     return made
 
 
+def driver_argv(a, args):
+    """(argv, env) of the sweep driver with `args`: the package's tigris_sweep as a module
+    (env: PYTHONPATH finds the package), or another script --driver names (env: this one's)."""
+    if os.path.realpath(a.driver) == os.path.realpath(DRIVER):
+        return core.python_module_command("tigris_sweep", args)
+    return [sys.executable, a.driver] + list(args), None
+
+
 def driver_command(spec, folder, a):
-    cmd = [sys.executable, a.driver, spec, "--out", folder]
+    """(argv, env) that run the driver on spec into folder."""
+    cmd = [spec, "--out", folder]
     if a.tigris:
         cmd += ["--tigris", a.tigris]
     if a.slurm:
@@ -255,7 +263,7 @@ def driver_command(spec, folder, a):
             cmd.append("--no-wait")
     else:
         cmd += ["--jobs", str(a.jobs)]
-    return cmd
+    return driver_argv(a, cmd)
 
 
 def parse_args(argv):
@@ -281,7 +289,7 @@ def parse_args(argv):
     ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds the "
                     "paper's section-3 claims measured there")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
-    import variants as vt
+    from . import variants as vt
     ap.add_argument("--variants", nargs="*", metavar="NAME", help="also run the experiments under "
                     "design variants (all of them, or the NAMEs): " + ", ".join(vt.by_name()) +
                     "; REPORT.md gets the robustness matrix (sweep/variants.py says what each is)")
@@ -328,11 +336,11 @@ def parse_args(argv):
     return a
 
 
-def call_driver(cmd):
+def call_driver(cmd, env=None):
     """Runs the driver; a signal here stops it the way the driver stops its points (it kills
     them and keeps the finished ones): SIGTERM to its group, SIGKILL only after its own children's
     grace, and they stop with it anyway (PR_SET_PDEATHSIG)."""
-    return core.run_child(cmd, grace=2 * core.KILL_AFTER)
+    return core.run_child(cmd, grace=2 * core.KILL_AFTER, env=env)
 
 
 def main(argv=None):
@@ -347,7 +355,7 @@ def main(argv=None):
     try:
         folder.check_path()
         if a.dse:                                # a typo found now, not after every sweep
-            import report
+            from . import report
             try:
                 report.read_dse(a.dse)
             except ValueError as e:
@@ -386,8 +394,8 @@ def choose_variants(a):
     """The variants to run ([] without --variants) and the model's defaults they replace."""
     if a.variants is None and not a.variants_file:
         return [], {}
-    import variants as vt
-    import tigris_sweep as ts
+    from . import variants as vt
+    from . import tigris_sweep as ts
     try:
         tig = ts.tigris_at(a.tigris or ts.default_tigris(), "run")
     except ts.SpecError as e:
@@ -412,11 +420,11 @@ def run_sweeps(a, entries, failed, pending, prefix=""):
             if not os.path.isfile(os.path.join(folder, "plan.json")):
                 print(f"reproduce: {label}: no sweep in {folder} (not run)", file=sys.stderr)
                 continue
-            cmd = [sys.executable, a.driver, "collect", folder]
+            cmd, env = driver_argv(a, ["collect", folder])
         else:
-            cmd = driver_command(spec, folder, a)
+            cmd, env = driver_command(spec, folder, a)
         note(f"{label}: {' '.join(cmd)}")
-        rc = call_driver(cmd)
+        rc = call_driver(cmd, env)
         if rc == 2 or rc == 3 or rc >= 128:
             print(f"reproduce: {label}: the driver failed (exit {rc})", file=sys.stderr)
             return rc
@@ -453,7 +461,7 @@ def run(a, out, plan, vplan=()):
     if not csvs:
         print("reproduce: no sweep.csv to report on", file=sys.stderr)
         return 1
-    import report
+    from . import report
     try:
         import matplotlib  # noqa: F401
         draw = True

@@ -23,8 +23,7 @@ import os
 import shlex
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import core  # noqa: E402
+from . import core
 
 PROG = "tigris diff"
 OTHER_SHOWN = 40

@@ -30,11 +30,10 @@ except ImportError:
     sys.exit("tigris plot: error: matplotlib is missing from this python3 (Debian: apt-get install "
              "python3-matplotlib; `tigris plot` uses /usr/bin/python3)")
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import core  # noqa: E402
-import evaldata as ed  # noqa: E402
-import figure_truth  # noqa: E402
-import plots  # noqa: E402
+from . import core  # noqa: E402
+from . import evaldata as ed  # noqa: E402
+from . import figure_truth  # noqa: E402
+from . import plots  # noqa: E402
 
 PROG = "tigris plot"
 MAX_LINES = 6
@@ -248,7 +247,7 @@ def draw(a, paths, tables, sw, workload, out, footer):
             die(f"cannot make {e}")
         written += [m[0] for m in made.values()]
         if skipped:
-            say(f"paper figures this sweep does not cover: {', '.join(skipped)} (sweep/plots.py --help says "
+            say(f"paper figures this sweep does not cover: {', '.join(skipped)} (python3 -m sweep.plots --help says "
                 "what each needs)")
     if not written:
         die("no figure could be made from " + ", ".join(paths))

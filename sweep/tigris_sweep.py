@@ -2,13 +2,13 @@
 """tigris_sweep: runs a sweep spec of `tigris run`, `ref`, `register` or `odometry` points
 locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
 
-  tigris_sweep.py SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
+  python3 -m sweep.tigris_sweep SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
                   [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                            [--sbatch-arg ARG ...] [--no-wait]]
-  tigris_sweep.py collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
+  python3 -m sweep.tigris_sweep collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
 
-Python 3 standard library only, with the core/ package beside it (folders, inputs, child processes);
-Slurm tasks run this same file as `_task TASKFILE INDEX`. The folder is held for the run and
+Python 3 standard library only, with the package's core (folders, inputs, child processes);
+Slurm tasks run this same module as `_task TASKFILE INDEX`. The folder is held for the run and
 recorded in DIR/manifest.json (docs/architecture.md, "The shared core").
 Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is still written),
 2 bad spec, arguments or sweep folder, 3 Slurm submission failed, 128 + the signal when
@@ -18,8 +18,7 @@ import argparse, csv, datetime, difflib, hashlib, io, itertools, json, math, os,
 import shutil, signal, socket, subprocess, sys, tempfile, time
 from decimal import Decimal
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import core  # noqa: E402
+from . import core
 
 PROG = "tigris_sweep"
 TOP_KEYS = ("command", "base", "grid", "points", "comment")
@@ -38,13 +37,23 @@ NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "",
 class Command:
     """What a sweep point runs: a tigris sub-command, the file its result is in, and how that
     result reads (ok / mismatch / not_converged)."""
-    def __init__(self, name, result, files, folders, fixed, required, config_from, headline):
+    def __init__(self, name, result, files, folders, fixed, required, config_from, headline, stage_columns=None):
         self.name, self.result, self.files, self.folders = name, result, files, folders
         self.fixed = fixed                       # always a column, so a CSV tells what ran
         self.required = required                 # a flag its --help must list (is it tigris?)
         self.config_from = config_from           # the sub-command whose --list-config has its keys
         self.headline = headline                 # sweep.csv's first columns after status
+        # (prefix, fields): headline columns per pipeline stage after those, `{prefix}.{field}`
+        # with the stage's key in the prefix, the stages as the binary lists them (Tigris.headline)
+        self.stage_columns = stage_columns
         self.paths = files + folders
+
+    def headline_of(self, stages):
+        """The headline with the columns of `stages` (core.pipeline_stages), in their order."""
+        if not self.stage_columns:
+            return list(self.headline)
+        prefix, fields = self.stage_columns
+        return list(self.headline) + [f"{prefix.format(key=s['key'])}.{f}" for s in stages for f in fields]
 
     def status(self, rc, result):
         """(status, message) of a finished process; None: it gave no result (an error)."""
@@ -68,7 +77,6 @@ class Command:
         return ("ok", "") if bad == 0 else ("not_converged", f"{bad} of {result.get('pairs')} pairs not converged")
 
 
-STAGES = ("outlier_removal", "normals", "keypoints", "descriptors", "kpce", "rejection", "icp")
 COMMANDS = {
     "run": Command("run", "stats.json", ("cloud", "queries", "config"), (), ("cloud", "queries", "mode"),
                    "cloud", "run", [
@@ -85,15 +93,14 @@ COMMANDS = {
                         ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
                         ("source", "target", "preset", "search"), "source", "register", [
                             "error.translation_m", "error.rotation_deg", "seconds", "kdtree_seconds",
-                            "kdtree_share", "kdtree_work.distances_and_neighbors"]
-                        + [f"stages.{s}.{f}" for s in STAGES for f in ("seconds", "search_seconds", "searches")]),
+                            "kdtree_share", "kdtree_work.distances_and_neighbors"],
+                        ("stages.{key}", ("seconds", "search_seconds", "searches"))),
     "odometry": Command("odometry", "metrics.json", ("config", "accel-config"), ("sequence",),
                         ("sequence", "preset", "search"), "sequence", "register", [
                             "rpe.mean_translation_m", "rpe.mean_rotation_deg", "kitti.t_err_percent",
                             "kitti.r_err_deg_per_m", "ate.rmse_m", "seconds_per_pair", "pairs", "not_converged_pairs",
-                            "totals.seconds", "totals.kdtree_search_seconds", "totals.kdtree_share"]
-                        + [f"stages.{s}.per_pair_mean.{f}" for s in STAGES
-                           for f in ("seconds", "kdtree_search_seconds", "searches")]),
+                            "totals.seconds", "totals.kdtree_search_seconds", "totals.kdtree_share"],
+                        ("stages.{key}.per_pair_mean", ("seconds", "kdtree_search_seconds", "searches"))),
 }
 WALL = "wall_seconds"
 # Flags that tigris applies over a configuration key: a spec giving both would run the flag's
@@ -177,13 +184,16 @@ def typed(text):
 # The tigris binary: its run flags and configuration keys, with their defaults
 
 def default_tigris():
-    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tigris")
-    if os.path.isfile(beside) and os.access(beside, os.X_OK):
-        return beside
+    """$TIGRIS (the binary that started this tool), else the binary of the prefix or build tree
+    this package sits in (PREFIX/share/tigris/sweep -> PREFIX/bin/tigris), else the source
+    tree's build/bin/tigris."""
     if os.environ.get("TIGRIS"):
         return os.environ["TIGRIS"]
+    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "bin", "tigris")
+    if os.path.isfile(beside) and os.access(beside, os.X_OK):
+        return os.path.normpath(beside)
     repo = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
-    return os.path.join(repo, "build", "testbench", "tigris")
+    return os.path.join(repo, "build", "bin", "tigris")
 
 
 def tigris_at(path, command="run", _seen={}):
@@ -201,6 +211,7 @@ class Tigris:
     sweep never carries a copy of them."""
     def __init__(self, path, command=COMMANDS["run"]):
         self.path, self.command = os.path.abspath(path), command
+        self._headline = None                    # the headline columns, when first asked (headline)
         if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
             raise SpecError(f"tigris binary not found or not executable: {self.path} "
                             "(give --tigris PATH or set $TIGRIS)")
@@ -220,6 +231,17 @@ class Tigris:
         if command.required not in self.flags or (command.config_from and not self.config):
             raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --list-flags` "
                             "and `--list-config --json` gave no flags or keys")
+
+    @property
+    def headline(self):
+        """sweep.csv's headline columns for this command: a registration's per-stage columns
+        for the pipeline's stages as this binary lists them (`tigris register --list-stages`,
+        core.pipeline_stages), asked when first needed: before a sweep runs its points (a binary
+        that cannot list them is refused then, not after the points ran) and by collect."""
+        if self._headline is None:
+            stages = core.pipeline_stages(self.path) if self.command.stage_columns else []
+            self._headline = self.command.headline_of(stages)
+        return self._headline
 
     def _ask_json(self, sub, *flags):
         text = self._ask(sub, *flags)
@@ -780,6 +802,21 @@ def summary_table(rows, swept, command="run"):
     return "\n".join(lines)
 
 
+def headline(out, plan, command):
+    """The headline columns of a sweep's CSV: a registration's per-stage columns from the
+    binary that swept it (plan.json's tigris: Tigris.headline)."""
+    if not command.stage_columns:
+        return command.headline
+    tigris = plan.get("tigris")
+    try:
+        if not isinstance(tigris, str) or not tigris:
+            raise SpecError(f"{out}/plan.json names no tigris binary")
+        return tigris_at(tigris, command.name).headline
+    except core.Refused as e:
+        raise SpecError(f"{out}: the headline columns of a sweep of tigris {command.name} are the pipeline's "
+                        f"stages as the binary that swept it lists them: {e}")
+
+
 def collect(out):
     plan = read_plan(out)
     job = read_json(os.path.join(out, "slurm", "job.json")) or {}
@@ -818,7 +855,7 @@ def collect(out):
         ordered_union(stat_cols, keys)
         counts[status] += 1
         rows.append(row)
-    head = [c for c in command.headline if c in stat_cols]
+    head = [c for c in headline(out, plan, command) if c in stat_cols]
     columns = ["point"] + [names[k] for k in plan["swept"]] + ["status"] + head + ["error", WALL] + \
               [names[k] for k in plan["base_columns"]] + [c for c in stat_cols if c not in head]
     buf = io.StringIO()
@@ -868,9 +905,11 @@ def run_slurm(a, plan, todo, out, names):
     tasks = os.path.join(sdir, f"tasks-{stamp}.json")
     write_json(tasks, {"dir": out, "chunks": chunks})
     script = os.path.join(sdir, f"array-{stamp}.sh")
+    # python3 -m sweep.tigris_sweep on the node, the package found by its absolute folder.
+    task, env = core.python_module_command("tigris_sweep", ["_task", tasks])
     write_text(script, "#!/bin/sh\n# One task of a tigris_sweep job array: runs its chunk of points.\n"
-               f"exec {shlex.quote(sys.executable)} {shlex.quote(os.path.abspath(__file__))} _task "
-               f"{shlex.quote(tasks)} \"$SLURM_ARRAY_TASK_ID\"\n")
+               f"PYTHONPATH={shlex.quote(env['PYTHONPATH'])}\nexport PYTHONPATH\n"
+               f"exec {shlex.join(task)} \"$SLURM_ARRAY_TASK_ID\"\n")
     os.chmod(script, 0o755)
     cmd = ["sbatch", "--parsable", f"--array=0-{len(chunks) - 1}", "--job-name=tigris-sweep",
            f"--output={sdir}/%A_%a.out", f"--chdir={out}"]
@@ -884,8 +923,7 @@ def run_slurm(a, plan, todo, out, names):
     note(f"submitted Slurm job array {job}: {len(chunks)} task(s) for {len(todo)} point(s); "
          f"logs {sdir}/{job}_<task>.out")
     if a.no_wait:
-        me = os.path.abspath(sys.argv[0])
-        print(f"job {job}\ncollect when it has finished: {shlex.quote(me)} collect {shlex.quote(out)}")
+        print(f"job {job}\ncollect when it has finished: {collect_command_line(out)}")
         return False
     left, k, misses = {p["id"]: p for p in todo}, 0, 0
     try:
@@ -909,6 +947,15 @@ def run_slurm(a, plan, todo, out, names):
     if left:
         note(f"Slurm job {job} ended with {len(left)} point(s) unfinished (see {sdir}/{job}_*.out)")
     return True
+
+
+def collect_command_line(out):
+    """The command that collects `out` again: `tigris sweep collect DIR` when the binary ran this
+    ($TIGRIS), else this module with the package on PYTHONPATH."""
+    if os.environ.get("TIGRIS"):
+        return f"{shlex.quote(os.environ['TIGRIS'])} sweep collect {shlex.quote(out)}"
+    cmd, env = core.python_module_command("tigris_sweep", ["collect", out])
+    return f"PYTHONPATH={shlex.quote(env['PYTHONPATH'])} {shlex.join(cmd)}"
 
 
 def run_task(tasks_file, index):
@@ -967,7 +1014,7 @@ def parse_args(argv):
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                     help="points run at once locally (and dry checks) (default: %(default)s)")
     ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
-                    "script, else $TIGRIS, else build/testbench/tigris of the repository)")
+                    "script, else $TIGRIS, else build/bin/tigris of the repository)")
     ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
     ap.add_argument("--partition", metavar="P", help="sbatch --partition")
     ap.add_argument("--time", metavar="T", help="sbatch --time (per array task)")
@@ -1043,6 +1090,7 @@ def run(a):
         check_folder(out, plan)
     todo = [p for p in pts if not (out and finished(out, p, spec.command))]
     dry_check(spec, tig, todo, out or tempfile.gettempdir(), a.jobs)
+    tig.headline  # noqa: B018                   # the CSV's stage columns: a binary without them fails now
     # Settings that decide every point's results; a grown or shrunk grid resumes (new points run).
     settings = {"command": plan["command"], "base_args": plan["base_args"]}
     if a.check:

@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "children.hpp"
+#include "core/children.hpp"
 
 namespace tigris {
 namespace {
@@ -179,8 +179,6 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
   ::_exit(0);
 }
 
-const char* mode_name(Mode m) { return m == Mode::NN ? "nn" : m == Mode::KNN ? "knn" : "radius"; }
-
 }  // namespace
 
 ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads) {
@@ -215,7 +213,7 @@ registration::AccelAnswer ModelInTheLoop::run(const registration::AccelJob& job)
   const std::uint64_t number = ++jobs_;
   char what[160];
   std::snprintf(what, sizeof what, "accelerator job %llu (%s, %zu queries on %zu points)",
-                static_cast<unsigned long long>(number), mode_name(job.params.mode), job.queries->size(),
+                static_cast<unsigned long long>(number), to_string(job.params.mode), job.queries->size(),
                 job.points->size());
   const bool send_tree = job.tree_id != last_tree_;
   Bytes request;

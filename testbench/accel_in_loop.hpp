@@ -1,5 +1,5 @@
-// The accelerator model in the registration loop (`tigris register --search accel`, issue 19):
-// the search plug-in hands each announced query set over as one job (sw_ref/registration/
+// The accelerator model in the registration loop (`tigris register --search accel`):
+// the search plug-in hands each announced query set over as one job (registration/
 // accelerator_port.hpp); this runs it through the model, checks every query against the
 // golden model and sends the results and the modeled cost back. A job searching another tree
 // than the job before it pays for the tree image on the host link, as in `tigris run --trace`.
@@ -21,7 +21,7 @@
 
 #include "accel_job.hpp"
 #include "hw/config.hpp"
-#include "sw_ref/registration/accelerator_port.hpp"
+#include "registration/accelerator_port.hpp"
 #include "work_guard.hpp"
 
 namespace tigris {

@@ -9,6 +9,9 @@
 #include "report.hpp"
 #include "scoreboard.hpp"
 #include "simulation.hpp"
+#include "core/timer.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/result_slots.hpp"
 #include "tlm/tree_image.hpp"
 
 namespace tigris {
@@ -26,65 +29,93 @@ double since(std::chrono::steady_clock::time_point& t) {
 }
 }  // namespace
 
-ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const WorkLimits& limits, int sim_threads) {
-  auto t_phase = std::chrono::steady_clock::now();
-  nlohmann::json phases;
-  const PointCloud& cloud = *mj.points;
-  const PointCloud& queries = *mj.queries;
-  const SearchParams& params = mj.params;
-  cfg.tree.top_height = std::min(mj.top_height, full_height_for(cloud.size()));
-  if (params.approximate) cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
-                                cfg.leader.in_flight = params.leader_in_flight;
-  validate_config(cfg);
-  const KdTree tree = build_kdtree(cloud, cfg.tree.top_height, cfg.tree.split_axis);
-  const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
-  const HostJob job = host_job(params);
-  const std::string fit =
-      hw::job_fit_error(cfg, image.bytes.size(), queries.size(), tree.top_height, job.mode, job.k,
-                        job.approximate && job.first_leaf);
-  if (!fit.empty()) throw std::invalid_argument("does not fit the accelerator: " + fit);
-  check_work(estimate_work(tree, queries, params), limits, queries.size());
-  phases["prepare"] = since(t_phase);
+PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, const SearchParams& params,
+                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix) {
+  PreparedJob p;
+  p.cfg = cfg;
+  p.tree = build_kdtree(points, cfg.tree.top_height, cfg.tree.split_axis);
+  p.image = tlm_if::encode_tree_image(p.tree);
+  p.job = host_job(params);
+  const std::string fit = hw::job_fit_error(cfg, p.image.bytes.size(), queries.size(), p.tree.top_height, p.job.mode,
+                                            p.job.k, p.job.approximate && p.job.first_leaf);
+  if (!fit.empty()) throw std::invalid_argument(fit_prefix + fit);
+  p.estimate = estimate_work(p.tree, queries, params);
+  if (params.mode != Mode::Radius)
+    add_slot_traffic(p.estimate, queries.size(), hw::ResultSlots::slot_bytes(p.job.k), cfg.sram.results.word_bytes);
+  check_work(p.estimate, limits, queries.size());
+  return p;
+}
 
+JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCloud& queries,
+                   const SearchParams& params, const SimExtras& extras) {
+  JobOutcome m;
   SearchParams exact = params;
   exact.approximate = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  const SearchOutput golden = search(tree, queries, exact);
-  phases["golden"] = since(t_phase);
+  auto t0 = std::chrono::steady_clock::now();
+  m.golden = search(p.tree, queries, exact);
+  m.golden_seconds = seconds_since(t0);
+
   SimSetup setup;
-  setup.config = cfg;
-  setup.image = &image;
+  setup.config = p.cfg;
+  setup.image = &p.image;
   setup.queries = &queries;
-  setup.num_points = static_cast<std::uint32_t>(cloud.size());
-  setup.job = job;
-  setup.sim_threads = sim_threads;
-  SimOutcome sim;
+  setup.num_points = static_cast<std::uint32_t>(points.size());
+  setup.job = p.job;
+  setup.vcd_path = extras.vcd_path;
+  setup.provenance = extras.provenance;
+  setup.observers = extras.observers;
+  setup.sim_threads = extras.sim_threads;
+  t0 = std::chrono::steady_clock::now();
   std::exception_ptr failure;
-  std::thread([&] {  // SystemC on a thread of its own, as tigris run does (sanitizer stacks)
+  std::thread([&] {
     try {
-      sim = simulate({setup}).front();
+      m.sim = simulate({setup}, extras.progress).front();
     } catch (...) {
       failure = std::current_exception();
     }
   }).join();
   if (failure) std::rethrow_exception(failure);
-  if (!sim.error.empty()) throw std::invalid_argument(sim.error);
-  phases["simulate"] = since(t_phase);
+  m.sim_seconds = seconds_since(t0);
+  if (!m.sim.error.empty()) throw std::invalid_argument(m.sim.error);
+  t0 = std::chrono::steady_clock::now();
+  if (m.sim.finished) m.verdict = check_against_golden(p.tree, queries, params, m.golden, m.sim.results, m.sim.visits);
+  m.check_seconds = seconds_since(t0);
+  return m;
+}
+
+ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const WorkLimits& limits, int sim_threads) {
+  auto t_phase = std::chrono::steady_clock::now();
+  const auto t0 = t_phase;
+  nlohmann::json phases;
+  const PointCloud& queries = *mj.queries;
+  const SearchParams& params = mj.params;
+  cfg.tree.top_height = std::min(mj.top_height, full_height_for(mj.points->size()));
+  if (params.approximate) cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
+                                cfg.leader.in_flight = params.leader_in_flight;
+  validate_config(cfg);
+  const PreparedJob p = prepare_job(*mj.points, queries, params, cfg, limits, "does not fit the accelerator: ");
+  phases["prepare"] = since(t_phase);
+  SimExtras extras;
+  extras.sim_threads = sim_threads;
+  JobOutcome m = run_job(p, *mj.points, queries, params, extras);
+  phases["golden"] = m.golden_seconds;
+  phases["simulate"] = m.sim_seconds;
   ModelJobRun run;
   nlohmann::json& r = run.report;
-  if (!sim.finished) {
+  if (!m.sim.finished) {
     r["verdict"] = "deadlock";
-    r["deadlock"] = sim.deadlock;
+    r["deadlock"] = m.sim.deadlock;
     return run;
   }
-  const Verdict v = check_against_golden(tree, queries, params, golden, sim.results, sim.visits);
-  phases["check"] = since(t_phase);
+  SimOutcome& sim = m.sim;
+  const Verdict& v = m.verdict;
+  phases["check"] = m.check_seconds;
   r["phase_seconds"] = phases;  // where the job's wall time went (prepare: tree, image, work estimate)
   run.match = v.match;
   r["verdict"] = v.match ? "match" : "mismatch";
   r["mismatches"] = {{"results", v.result_mismatches}, {"visits", v.visit_mismatches}, {"first", v.first}};
   run.search_seconds = static_cast<double>(sim.cycles) / (cfg.clock_mhz * 1e6);
-  const double tree_bytes = mj.send_tree ? static_cast<double>(image.bytes.size()) : 0.0;
+  const double tree_bytes = mj.send_tree ? static_cast<double>(p.image.bytes.size()) : 0.0;
   const double query_bytes = 12.0 * static_cast<double>(queries.size());
   const double result_bytes =
       4.0 * static_cast<double>(queries.size()) + 8.0 * static_cast<double>(sim.results.neighbors.size());
@@ -94,7 +125,7 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   run.energy_pj = sim.energy.at("total").get<double>();
   run.visits = sim.visits.visits;
   r["cycles"] = sim.cycles;
-  r["top_height"] = tree.top_height;
+  r["top_height"] = p.tree.top_height;
   r["modeled_seconds"] = {{"search", run.search_seconds}, {"host", run.host_seconds},
                           {"total", run.search_seconds + run.host_seconds}};
   r["host_bytes"] = {{"tree", tree_bytes}, {"queries", query_bytes}, {"results", result_bytes}};
@@ -103,7 +134,7 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   r["visits"] = visits_json(sim.visits);
   r["units"] = {{"ru_utilization", sim.units["recursion_units"]["utilization"]},
                 {"su_utilization", sim.units["search_units"]["utilization"]}};
-  r["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r["wall_seconds"] = seconds_since(t0);
   run.results = std::move(sim.results);
   return run;
 }

@@ -1,22 +1,71 @@
-// One search job through the accelerator model as the host runs it (issue 19;
-// docs/registration.md): the tree image written over the host link (when the job searches another tree
-// than the job before), the queries written, the search simulated, the results read back, and
-// every query checked against the golden model (approximate: the golden replay of the
-// hardware's schedule). Shared by `tigris run --trace` (replay) and `tigris register --search
-// accel` (in the loop). SystemC elaborates once per process: call it once per (child) process.
+// The one accelerator job runner, shared by `tigris run`, `tigris run --trace` (replay) and
+// `tigris register --search accel` (in the loop; docs/registration.md): prepare the job (the
+// tree, its image, the fit and work checks), search it with the golden model, simulate it as the
+// host runs it (tree image and queries over the host link, the search, the results read back),
+// and check every query against the golden model (approximate: the golden replay of the
+// hardware's schedule). SystemC elaborates once per process: simulate once per (child) process.
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "hw/config.hpp"
+#include "scoreboard.hpp"
+#include "simulation.hpp"
 #include "sw_ref/cloud.hpp"
+#include "sw_ref/kdtree.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
+#include "tlm/tree_image.hpp"
 #include "work_guard.hpp"
 
 namespace tigris {
+
+// A job ready to simulate: its configuration (tree height and leader settings are the job's),
+// tree, tree image, CSR view and work estimate.
+struct PreparedJob {
+  hw::AcceleratorConfig cfg;
+  KdTree tree;
+  tlm_if::TreeImage image;
+  HostJob job;
+  WorkEstimate estimate;
+};
+
+// Builds the tree of `points` at cfg.tree.top_height and checks the job: throws
+// std::invalid_argument `fit_prefix` + why when it does not fit the buffers, and when the work
+// estimate exceeds `limits`.
+PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, const SearchParams& params,
+                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix);
+
+// What a run of the job adds to the simulation: waveforms, observers, progress, host threads.
+struct SimExtras {
+  std::string vcd_path;
+  std::vector<std::string> provenance;
+  std::vector<hw::JobObserver*> observers;
+  std::function<void(std::uint32_t done, std::uint32_t total)> progress;
+  int sim_threads = default_sim_threads();
+};
+
+// What the job measured: the golden model's exact search, the simulation and the check.
+struct JobOutcome {
+  SearchOutput golden;  // exact, in query order (an approximate job is measured against it)
+  SimOutcome sim;       // sim.finished false: a deadlock (sim.deadlock says where)
+  Verdict verdict;      // set when the simulation finished
+  double golden_seconds = 0, sim_seconds = 0, check_seconds = 0;
+};
+
+// Searches, simulates (on a thread of its own: SystemC's stack switches confuse the sanitizers'
+// view of the main thread) and checks. Throws std::invalid_argument when the accelerator
+// rejected the job.
+JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCloud& queries,
+                   const SearchParams& params, const SimExtras& extras);
+
+// ---------------------------------------------------------------------------------------------
+// A job of a registration (replayed or in the loop), with the host link's cost.
 
 struct ModelJob {
   const PointCloud* points = nullptr;   // the tree's points

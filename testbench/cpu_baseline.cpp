@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "build_info.hpp"
+#include "core/build_info.hpp"
 
 namespace tigris {
 

@@ -1,4 +1,4 @@
-// CPU baselines a user can quote (issue 38): a CPU back-end timed several times gives a median
+// CPU baselines a user can quote: a CPU back-end timed several times gives a median
 // with its min and max, a speed-up against it a range, and the machine that measured it (CPU,
 // cores, load before and after, commit) travels with the numbers. `register --compare` and
 // `odometry --compare` use it; docs/performance.md says how to get a quotable baseline.

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "out_folder.hpp"  // write_file
+#include "core/out_folder.hpp"  // write_file
 #include "sw_ref/accuracy.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"

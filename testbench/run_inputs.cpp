@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "build_info.hpp"
-#include "sw_ref/io/input_file.hpp"
+#include "core/build_info.hpp"
+#include "core/input_file.hpp"
 
 namespace tigris {
 

@@ -1,4 +1,4 @@
-// The work and memory guard (issue 11): before the search starts, a sample of the queries is
+// The work and memory guard: before the search starts, a sample of the queries is
 // searched by the golden model and the whole run's node and point visits and result records
 // are extrapolated from it. A run estimated above --max-work visits or --max-results records
 // stops with exit 2 and says how to raise the limit, instead of running for hours or dying of

@@ -82,7 +82,7 @@ expect 2 "Point Buffer" -- run --set sram.points.bytes=100000
 expect 2 "sram.query_stack.bytes" -- run --set sram.query_stack.bytes=64
 expect 2 "radius must be" -- run --mode radius --radius 0
 expect 2 "leader capacity must be" -- run --approx-thd 1 --leader-capacity -1
-# Values that used to wrap, overflow or be taken in another base (issue 11).
+# Values that used to wrap, overflow or be taken in another base.
 expect 2 "must be a whole number" -- run --seed -1
 expect 2 "must be a whole number" -- ref --seed 1e23
 expect 2 "must be a decimal number" -- run --set clock_mhz=0x10

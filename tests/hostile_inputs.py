@@ -180,7 +180,7 @@ def digest(path):
 
 
 def make_register_files(d, f):
-    """Small clouds for `register` (issue 18): a flat plane, the plane moved, random points."""
+    """Small clouds for `register`: a flat plane, the plane moved, random points."""
     rng = random.Random(18)
     plane = [(rng.uniform(-10, 10), rng.uniform(-10, 10), 0.0) for _ in range(6000)]
     ply(os.path.join(d, "plane.ply"), plane)
@@ -360,7 +360,7 @@ def register_checked(f, d):
          2, ["did not write (registration.json)"], not_through_link),
         ("register: unrelated clouds", ["register", "--source", f["rand2k_b.ply"], "--target", f["rand2k.ply"]], 1,
          ["warning"], not_converged),
-        # The accelerator in the loop (issue 19): its configuration is checked before any work.
+        # The accelerator in the loop: its configuration is checked before any work.
         ("register: accel-config missing", ["register"] + room + ["--search", "accel", "--accel-config",
                                                                    os.path.join(d, "no_such_accel.json")], 2,
          ["no_such_accel.json"], None),

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "scoreboard.hpp"
-#include "simulation.hpp"
+#include "testbench/scoreboard.hpp"
+#include "testbench/simulation.hpp"
 #include "sw_ref/search.hpp"
 
 namespace tigris::test {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`tigris odometry` through the command line (issue 20): a four-frame KITTI-layout sequence of a
+"""`tigris odometry` through the command line: a four-frame KITTI-layout sequence of a
 room scene with exact poses (no calib.txt: the axis swap), registered pair by pair; poses.txt,
 pairs.csv and metrics.json written, the chained poses near the truth, a short trajectory
 reported without KITTI metrics (null, not 0), the plots drawn, --jobs 2 equal to --jobs 1, a

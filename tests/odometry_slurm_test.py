@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`tigris odometry --slurm` on a real one-node cluster (scripts/local_slurm.sh, issue 20): the
+"""`tigris odometry --slurm` on a real one-node cluster (scripts/local_slurm.sh): the
 pairs of a 5-frame synthetic drive as one job array (chunks of 2) chain the same poses and give
 the same metrics as local processes; --no-wait returns the job id and a rerun collects; sbatch's
 own error is shown, exit 2. Skips (exit 77) with the reason when the cluster cannot start (not

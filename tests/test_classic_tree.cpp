@@ -1,5 +1,5 @@
 // The authors' classic tree (sw_ref/classic_tree.hpp), the golden-model option that counts the
-// paper's redundancy in the authors' convention (issue 38): its answers equal brute force on
+// paper's redundancy in the authors' convention: its answers equal brute force on
 // the awkward clouds, its leaves respect leaf_max, and its cost counts are what it scanned.
 #include <catch2/catch.hpp>
 

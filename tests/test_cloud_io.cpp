@@ -1,4 +1,4 @@
-// Point-cloud files (sw_ref/io/cloud_io.hpp): round trips, every kind of bad input, KITTI frames.
+// Point-cloud files (workloads/io/cloud_io.hpp): round trips, every kind of bad input, KITTI frames.
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "sw_ref/io/cloud_io.hpp"
-#include "sw_ref/io/lzf.hpp"
-#include "sw_ref/io/results_csv.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/io/cloud_io.hpp"
+#include "workloads/io/lzf.hpp"
+#include "traces/results_csv.hpp"
+#include "workloads/synthetic.hpp"
 
 namespace {
 
@@ -183,7 +183,7 @@ TEST_CASE("cloud_io: NaN, Inf and empty clouds are rejected", "[io]") {
   const std::string with_inf = dir.file("with_inf.bin");
   write_bytes(with_inf, kitti_bytes({{1.0f, 2.0f, -inf}}));
   require_input_error(with_inf, "point 0 has a non-finite coordinate");
-  // A list property before x, y, z in the vertex element (issue 11: PCL 1.13 read point 0 as
+  // A list property before x, y, z in the vertex element (PCL 1.13 read point 0 as
   // (7, 7, 1)): read past, x, y, z exact.
   const std::string list_ply = dir.file("list.ply");
   write_bytes(list_ply,
@@ -277,7 +277,7 @@ TEST_CASE("cloud_io: other .pcd and .ply layouts", "[io]") {
               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
               "property float y\nend_header\n1 2\n");
   require_input_error(no_z, "no 'z' property");
-  // Integer coordinates are converted to float32 (issue 11: any scalar type).
+  // Integer coordinates are converted to float32 (any scalar type).
   const std::string int_xyz = dir.file("int_xyz.pcd");
   write_bytes(int_xyz, "FIELDS x y z\nSIZE 4 4 4\nTYPE I I I\nPOINTS 1\nDATA ascii\n1 2 -3\n");
   CHECK(same_bits(tigris::load_cloud(int_xyz), {Point3{1, 2, -3}}));
@@ -350,7 +350,12 @@ TEST_CASE("cloud_io: truncated and corrupt .pcd and .ply files give InputError",
   write_bytes(unknown,
               "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nFOO 1\nPOINTS 1\n"
               "DATA ascii\n1 2 3\n");
-  require_input_error(unknown, ":5: corrupt PCD header: unknown line 'FOO'");
+  require_input_error(unknown, unknown + ":5: corrupt PCD header: unknown line 'FOO'");
+  try {  // the file is named once, as every reader error names it
+    tigris::load_cloud(unknown);
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).rfind(unknown + ":5: corrupt", 0) == 0);
+  }
 }
 
 TEST_CASE("cloud_io: randomly damaged files never crash the reader", "[io]") {
@@ -408,7 +413,7 @@ TEST_CASE("cloud_io: the KITTI frames of ../shared/data load", "[io][kitti]") {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The project's own PLY and PCD readers (issue 11): layouts PCL misread or aborted on, and
+// The project's own PLY and PCD readers: layouts PCL misread or aborted on, and
 // errors that name the file and the line, element or byte offset.
 
 namespace {
@@ -469,7 +474,7 @@ std::string u32_le(std::uint32_t v) { return Body{}.put(v).bytes; }
 
 }  // namespace
 
-TEST_CASE("ply: list properties in the vertex element are read past (issue 11)", "[io]") {
+TEST_CASE("ply: list properties in the vertex element are read past", "[io]") {
   const std::string list_first = "property list uint float e\nproperty float x\nproperty float y\nproperty float z\n";
   for (bool big : {false, true}) {
     INFO("big-endian " << big);

@@ -1,4 +1,4 @@
-// The project's PCD and PLY readers (sw_ref/io) against PCL 1.13's on ordinary files PCL writes
+// The project's PCD and PLY readers (workloads/io) against PCL 1.13's on ordinary files PCL writes
 // itself: every point type PCL users save, ASCII, binary and binary_compressed PCD, ASCII and
 // binary PLY, organized clouds. Both must read the same x, y, z, bit for bit. And PCL reads
 // what save_cloud writes. (PCL is linked by this test only: the readers do not use it.)
@@ -17,7 +17,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "sw_ref/io/cloud_io.hpp"
+#include "workloads/io/cloud_io.hpp"
 
 namespace {
 

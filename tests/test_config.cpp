@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
+#include "testbench/config.hpp"
 #include "hw/job.hpp"
 
 using nlohmann::json;

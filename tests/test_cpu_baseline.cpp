@@ -1,4 +1,4 @@
-// CPU baselines with repeats and spread (issue 38, item 1): a fake slow back-end (a function
+// CPU baselines with repeats and spread: a fake slow back-end (a function
 // that sleeps a known time per run) is timed as register --compare times its CPU rows, and the
 // median, range, speed-up range and warnings are checked against the sleeps.
 #include <catch2/catch.hpp>
@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-#include "cpu_baseline.hpp"
+#include "testbench/cpu_baseline.hpp"
 
 using namespace tigris;
 

@@ -8,7 +8,7 @@
 
 #include "hw/area_model.hpp"
 #include "hw/energy_meter.hpp"
-#include "simulation.hpp"
+#include "testbench/simulation.hpp"
 #include "sw_ref/search.hpp"
 #include "test_util.hpp"
 

@@ -14,13 +14,13 @@
 #include "hw/area_model.hpp"
 #include "hw/mem/banked_sram.hpp"
 #include "hw/be/pe_array.hpp"
-#include "scoreboard.hpp"
-#include "simulation.hpp"
+#include "testbench/scoreboard.hpp"
+#include "testbench/simulation.hpp"
 #include "sw_ref/search.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 #include "hw_cases.hpp"
 #include "test_util.hpp"
-#include "timeline.hpp"
+#include "testbench/timeline.hpp"
 
 using namespace tigris;
 using namespace tigris::test;

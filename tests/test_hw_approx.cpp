@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "hw_cases.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 #include "test_util.hpp"
 
 using namespace tigris;

@@ -1,4 +1,4 @@
-// KITTI-layout sequence folders (sw_ref/registration/kitti_sequence.hpp): listing, poses in the
+// KITTI-layout sequence folders (workloads/kitti_sequence.hpp): listing, poses in the
 // Velodyne frame through calib.txt's Tr or the axis swap, poses.txt written back, and clear
 // errors for a missing scan, a short poses.txt and a bad calibration.
 #include <catch2/catch.hpp>
@@ -12,11 +12,10 @@
 #include <Eigen/Geometry>
 
 #include "sw_ref/cloud.hpp"
-#include "sw_ref/io/kitti_bin.hpp"
-#include "sw_ref/registration/kitti_sequence.hpp"
+#include "workloads/io/kitti_bin.hpp"
+#include "workloads/kitti_sequence.hpp"
 
 using namespace tigris;
-using namespace tigris::registration;
 namespace fs = std::filesystem;
 
 namespace {

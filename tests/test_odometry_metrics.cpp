@@ -1,4 +1,4 @@
-// The KITTI odometry metrics (sw_ref/registration/odometry_metrics.hpp) on trajectories whose
+// The KITTI odometry metrics (registration/odometry_metrics.hpp) on trajectories whose
 // errors are computed by hand: segment selection and counts, the devkit's averages, the
 // too-short case, ATE with and without alignment, mean RPE and bad input.
 #include <catch2/catch.hpp>
@@ -8,8 +8,9 @@
 
 #include <Eigen/Geometry>
 
-#include "sw_ref/registration/odometry_metrics.hpp"
+#include "registration/odometry_metrics.hpp"
 
+using namespace tigris;
 using namespace tigris::registration;
 using Catch::Matchers::Contains;
 

@@ -13,10 +13,10 @@
 #include <memory>
 #include <string>
 
-#include "scoreboard.hpp"
-#include "simulation.hpp"
+#include "testbench/scoreboard.hpp"
+#include "testbench/simulation.hpp"
 #include "sw_ref/search.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using nlohmann::json;
@@ -74,7 +74,7 @@ std::vector<Pin> pins() {
   for (const auto& [name, cfg] : configs)
     for (const char* mode : {"nn", "knn", "radius"})
       for (int h : {3, 10, -1}) out.push_back({name, cfg, mode, h});
-  // Approximate search, each reading (recorded when first_leaf came, issue 37): a canonical
+  // Approximate search, each reading (recorded when first_leaf came): a canonical
   // tree has no leaf sets, so only the two-stage heights.
   hw::AcceleratorConfig finished_only, every_leaf;
   finished_only.leader.in_flight = LeaderInFlight::FinishedOnly;

@@ -1,4 +1,4 @@
-// The registration pipeline (sw_ref/registration/pipeline.hpp): pose recovery on the synthetic
+// The registration pipeline (registration/pipeline.hpp): pose recovery on the synthetic
 // pair with both presets and every back-end, approximate search with thd 0 equal to exact,
 // configuration errors, error injection (K-th neighbour, shell) reaching only its stages, and the
 // KITTI ground-truth conversion (skipped without ../shared/data).
@@ -8,10 +8,10 @@
 #include <map>
 #include <fstream>
 
-#include "sw_ref/io/cloud_io.hpp"
-#include "sw_ref/registration/pipeline.hpp"
-#include "sw_ref/registration/pose.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/io/cloud_io.hpp"
+#include "registration/pipeline.hpp"
+#include "workloads/pose.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::registration;
@@ -247,7 +247,7 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   CHECK_THROWS_WITH(apply_file(c, garbage), Catch::StartsWith(garbage) && Catch::Contains(": JSON parse error"));
   CHECK_THROWS_WITH(apply_file(c, "/nonexistent/pipeline.json"),
                     Catch::Contains("/nonexistent/pipeline.json: cannot read configuration file: no such file"));
-  // Issue 18: the same error quality as the accelerator's configuration.
+  // The same error quality as the accelerator's configuration.
   const std::string twice = temp_file("twice.json", R"({"icp": {"max_iterations": 5}, "icp": {"reciprocal": true}})");
   CHECK_THROWS_WITH(apply_file(c, twice), Catch::StartsWith(twice) && Catch::Contains("key 'icp' appears twice"));
   const std::string overflow = temp_file("overflow.json", R"({"normals": {"radius": 1e400}})");
@@ -331,7 +331,7 @@ TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward, and DP4 regi
   CHECK(r.transform(0, 3) > 0.5);
 }
 
-// The accelerator in the loop (issue 19) with a port that answers each job with the golden
+// The accelerator in the loop with a port that answers each job with the golden
 // model in this process: the batching itself, without SystemC. Each job is searched in its
 // order, so the approximate leader state evolves as on the CPU and every back-end must give
 // the CPU's transform bit for bit; the announced stages batch every search (key points by

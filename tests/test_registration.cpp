@@ -1,4 +1,4 @@
-// The PCL search plug-in (sw_ref/registration/search_plugin.hpp) through PCL's own entry points:
+// The PCL search plug-in (registration/search_plugin.hpp) through PCL's own entry points:
 // normals and correspondences equal to those PCL computes with its KdTreeFLANN.
 #include <catch2/catch.hpp>
 
@@ -8,7 +8,7 @@
 #include <pcl/registration/correspondence_estimation.h>
 
 #include "sw_ref/arith.hpp"
-#include "sw_ref/registration/search_plugin.hpp"
+#include "registration/search_plugin.hpp"
 #include "test_util.hpp"
 
 using namespace tigris;

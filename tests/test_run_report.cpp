@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <fstream>
 
-#include "bottleneck.hpp"
-#include "run_inputs.hpp"
-#include "stat_formulas.hpp"
+#include "testbench/bottleneck.hpp"
+#include "testbench/run_inputs.hpp"
+#include "testbench/stat_formulas.hpp"
 
 using nlohmann::json;
 

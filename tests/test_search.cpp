@@ -4,7 +4,7 @@
 
 #include "sw_ref/brute_force.hpp"
 #include "sw_ref/search.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 #include "test_util.hpp"
 
 using namespace tigris;

@@ -1,4 +1,4 @@
-// The synthetic LiDAR pair (sw_ref/synthetic.hpp): size, determinism, geometry, ground truth.
+// The synthetic LiDAR pair (workloads/synthetic.hpp): size, determinism, geometry, ground truth.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -8,7 +8,7 @@
 #include <iostream>
 #include <vector>
 
-#include "sw_ref/synthetic.hpp"
+#include "workloads/synthetic.hpp"
 
 namespace {
 

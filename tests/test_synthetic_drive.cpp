@@ -1,4 +1,4 @@
-// The synthetic drive (sw_ref/synthetic/drive.hpp): determinism, a short drive as the prefix of a
+// The synthetic drive (workloads/synthetic/drive.hpp): determinism, a short drive as the prefix of a
 // long one, the car's kinematics (speeds, accelerations, turns, stops), rigid poses, and scans
 // that agree with the poses (the road under consecutive scans, moved by the ground truth).
 #include <catch2/catch.hpp>
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <vector>
 
-#include "sw_ref/synthetic/drive.hpp"
+#include "workloads/synthetic/drive.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Workload traces (traces/workload_trace.hpp, sw_ref/registration/trace_recorder.hpp): a
+// Workload traces (traces/workload_trace.hpp, registration/trace_recorder.hpp): a
 // registration of the (thinned) synthetic pair recorded at test time; every stage's searches in
 // its jobs; recorded results equal the golden model's; recording changes nothing; the file reads
 // back equal; truncated, corrupt, foreign and newer-version files are refused naming the byte.
@@ -11,8 +11,8 @@
 #include <map>
 #include <set>
 
-#include "sw_ref/registration/pipeline.hpp"
-#include "sw_ref/synthetic.hpp"
+#include "registration/pipeline.hpp"
+#include "workloads/synthetic.hpp"
 #include "traces/workload_trace.hpp"
 
 using namespace tigris;

@@ -6,7 +6,7 @@
 #include <ostream>
 #include <sstream>
 
-#include "sw_ref/io/input_file.hpp"
+#include "core/input_file.hpp"
 
 namespace tigris {
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "sw_ref/cloud.hpp"  // InputError
-#include "traces/schedule.hpp"
+#include "sw_ref/schedule.hpp"
 
 namespace tigris {
 

@@ -28,7 +28,7 @@ std::string binary(std::uint64_t v, int width) {
 }
 
 // The file written in place of `path` until it is whole (the core's convention, as
-// testbench/out_folder.hpp's write_file): a killed run leaves no half file under the name and
+// core/out_folder.hpp's write_file): a killed run leaves no half file under the name and
 // never writes through a symbolic link; a device (/dev/null) is written directly.
 std::string temp_beside(const std::string& path) {
   namespace fs = std::filesystem;

@@ -1,6 +1,6 @@
-#include "traces/workload_trace.hpp"
+#include "workload_trace.hpp"
 
-#include "sw_ref/io/input_file.hpp"
+#include "core/input_file.hpp"
 
 #include <zstd.h>
 
@@ -17,7 +17,7 @@
 #include <stdexcept>
 
 #include "sw_ref/arith.hpp"
-#include "sw_ref/visible_text.hpp"
+#include "core/visible_text.hpp"
 
 namespace tigris::trace {
 namespace {

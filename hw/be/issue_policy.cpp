@@ -1,4 +1,4 @@
-#include "hw/be/issue_policy.hpp"
+#include "issue_policy.hpp"
 
 #include <stdexcept>
 

@@ -9,7 +9,7 @@
 
 #include <cstdint>
 
-#include "hw/be/leader_buffer.hpp"
+#include "leader_buffer.hpp"
 #include "hw/observer.hpp"
 
 namespace tigris::hw {

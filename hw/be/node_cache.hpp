@@ -10,8 +10,8 @@
 
 #include <systemc>
 
-#include "hw/be/issue_policy.hpp"
-#include "hw/be/replacement_policy.hpp"
+#include "issue_policy.hpp"
+#include "replacement_policy.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/stats.hpp"

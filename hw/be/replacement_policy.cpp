@@ -1,4 +1,4 @@
-#include "hw/be/replacement_policy.hpp"
+#include "replacement_policy.hpp"
 
 #include <stdexcept>
 

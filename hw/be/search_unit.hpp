@@ -10,11 +10,11 @@
 
 #include <systemc>
 
-#include "hw/be/issue_policy.hpp"
-#include "hw/be/leader_buffer.hpp"
-#include "hw/be/leader_check.hpp"
-#include "hw/be/node_cache.hpp"
-#include "hw/be/pe_array.hpp"
+#include "issue_policy.hpp"
+#include "leader_buffer.hpp"
+#include "leader_check.hpp"
+#include "node_cache.hpp"
+#include "pe_array.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"

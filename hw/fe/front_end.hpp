@@ -12,7 +12,7 @@
 
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
-#include "hw/fe/recursion_unit.hpp"
+#include "recursion_unit.hpp"
 #include "hw/host/fifo_ring.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"

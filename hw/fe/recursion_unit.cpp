@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "hw/fe/front_end.hpp"
+#include "front_end.hpp"
 #include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "hw/be/pe_array.hpp"
-#include "hw/host/scan_service.hpp"
+#include "scan_service.hpp"
 
 namespace tigris::hw {
 

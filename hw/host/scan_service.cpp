@@ -1,8 +1,8 @@
-#include "hw/host/scan_service.hpp"
+#include "scan_service.hpp"
 
 #include "hw/be/pe_array.hpp"
-#include "hw/host/inline_scans.hpp"
-#include "hw/host/threaded_scans.hpp"
+#include "inline_scans.hpp"
+#include "threaded_scans.hpp"
 
 namespace tigris::hw {
 

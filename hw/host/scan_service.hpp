@@ -17,8 +17,8 @@
 #include <memory>
 #include <vector>
 
-#include "hw/host/leaf_bounds.hpp"
-#include "hw/host/prefetch.hpp"
+#include "leaf_bounds.hpp"
+#include "prefetch.hpp"
 #include "hw/job.hpp"
 #include "hw/tree_view.hpp"
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "hw/be/pe_array.hpp"
-#include "hw/host/scan_service.hpp"
+#include "scan_service.hpp"
 
 namespace tigris::hw {
 

@@ -18,11 +18,11 @@
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
-#include "hw/mem/bank_calendar.hpp"
-#include "hw/mem/fast_divider.hpp"
-#include "hw/mem/port_calendar.hpp"
+#include "bank_calendar.hpp"
+#include "fast_divider.hpp"
+#include "port_calendar.hpp"
 #ifdef TIGRIS_CHECK_SRAM
-#include "hw/mem/sram_reference.hpp"
+#include "sram_reference.hpp"
 #endif
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"

@@ -11,9 +11,9 @@
 
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
-#include "hw/mem/banked_sram.hpp"
-#include "hw/mem/leader_staging.hpp"
-#include "hw/mem/result_writeback.hpp"
+#include "banked_sram.hpp"
+#include "leader_staging.hpp"
+#include "result_writeback.hpp"
 
 namespace tigris::hw {
 

@@ -1,6 +1,6 @@
 """What every part of the core shares: the limits, names and exceptions (docs/architecture.md,
 "The shared core")."""
-import datetime, os, signal
+import datetime, os, signal, sys
 
 MAX_INPUT_BYTES = 4 << 30           # clouds, traces
 MAX_SETTINGS_BYTES = 64 << 20       # JSON, CSV and text settings
@@ -41,3 +41,23 @@ def tigris_commit():
     """The tigris commit that runs this tool ($TIGRIS_COMMIT, as the binary's build_commit(): a
     hash, "-dirty" when the tree differed), "unknown" when run without the binary."""
     return os.environ.get(COMMIT_ENV) or "unknown"
+
+
+# The package (sweep/) and the folder that holds it: its tools run as modules of it.
+PACKAGE = __name__.split(".")[0]                                  # "sweep"
+PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def python_module_command(module, args=(), env=None, python=None):
+    """(argv, env) that run the package's tool `module` (e.g. "tigris_sweep") as
+    `python3 -m sweep.tigris_sweep ARGS`: env is a copy of `env` (default os.environ) whose
+    PYTHONPATH starts with the absolute folder that holds the package, so the child finds it
+    from any working folder (and on a Slurm node sharing the file system). python: the
+    interpreter (default: this one)."""
+    env = dict(os.environ if env is None else env)
+    rest = env.get("PYTHONPATH", "")
+    if rest.split(os.pathsep)[0] != PACKAGE_ROOT:
+        env["PYTHONPATH"] = PACKAGE_ROOT + (os.pathsep + rest if rest else "")
+    # -P: the working folder does not go first on sys.path (a sweep.py or shlex.py there would
+    # shadow the package or the standard library).
+    return [python or sys.executable, "-P", "-m", f"{PACKAGE}.{module}"] + [str(a) for a in args], env

@@ -1,5 +1,5 @@
 """Child processes: one pool for local children and the Slurm helpers (the C++ twin:
-testbench/children.*, slurm_array.*): process groups, the death signal, stop signals."""
+core/children.*, core/slurm_array.*): process groups, the death signal, stop signals."""
 import ctypes, os, shutil, signal, subprocess, time
 from .base import KILL_AFTER, PARENT_ENV, STOP_SIGNALS, Interrupted, SlurmFailed
 

@@ -1,4 +1,4 @@
-"""Output folders: the one way a tool owns its --out (the C++ twin: testbench/out_folder.*):
+"""Output folders: the one way a tool owns its --out (the C++ twin: core/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
 import fcntl, fnmatch, json, os, shutil, sys
 from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc, tigris_commit

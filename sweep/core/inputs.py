@@ -1,4 +1,4 @@
-"""Inputs: one opener for every file a tool reads (the C++ twin: sw_ref/io/input_file.*): links
+"""Inputs: one opener for every file a tool reads (the C++ twin: core/input_file.*): links
 resolved, regular files only, a size bound, errors naming the file and line."""
 import errno, hashlib, json, os, re, stat
 from .base import MAX_INPUT_BYTES, MAX_JSON_DEPTH, MAX_SETTINGS_BYTES, Refused, size_text

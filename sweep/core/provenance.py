@@ -1,4 +1,4 @@
-"""What made a figure (issue 38): every figure the tools draw carries a footer, one or two lines
+"""What made a figure: every figure the tools draw carries a footer, one or two lines
 of small grey text under its axes, with the command line that made its data, the inputs'
 identity (path and SHA-256), a digest of the settings and the tigris commit. The C++ twin, for
 text outputs: provenance_json / provenance_lines (testbench/run_inputs.*).
@@ -29,7 +29,7 @@ def digest(obj):
 
 def command_text(argv):
     """A command line as a shell would take it, the program by its name alone (the commit says
-    which build it was): ["/x/build/testbench/tigris", "odometry", "--out", "a b"] ->
+    which build it was): ["/x/build/bin/tigris", "odometry", "--out", "a b"] ->
     "tigris odometry --out 'a b'"."""
     argv = [str(a) for a in argv]
     if not argv:

@@ -1,20 +1,65 @@
-"""Shared helpers of the sweep driver's tests (each test file runs standalone:
-python3 sweep/tests/test_X.py --tigris build/testbench/tigris [--sweep PATH] [--keep])."""
+"""Shared helpers of the sweep package's tests (each test file runs standalone:
+python3 sweep/tests/test_X.py --tigris build/bin/tigris [--keep]). Every test file imports this
+module first: it puts the repository (the folder that holds the `sweep` package) on sys.path,
+the one place the tests do, so they `import sweep.report as report`, `from sweep import
+evaldata`, `from sweep.core import folders`; the tools run as `python3 -m sweep.<tool>`
+(tool_command)."""
 import argparse, csv, json, os, random, shutil, struct, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = os.path.dirname(HERE)                    # the package
+REPO = os.path.dirname(SWEEP)                    # the folder that holds it
+if REPO not in sys.path:
+    sys.path.insert(0, REPO)
+from sweep.core import paper_stages, parse_stages, python_module_command  # noqa: E402
+
 SKIP = 77                                        # ctest SKIP_RETURN_CODE
+
+# What `tigris register --list-stages` prints (registration/pipeline.hpp's stage_list): the one
+# copy the tests hold, for synthetic stage data; test_pipeline_dse.test_list_stages checks that
+# the binary under test prints these stages. The tools themselves ask the binary.
+LIST_STAGES_OUTPUT = """[
+  {"key": "outlier_removal", "title": "outlier removal"},
+  {"key": "normals", "title": "normal estimation"},
+  {"key": "keypoints", "title": "key-point detection"},
+  {"key": "descriptors", "title": "descriptor calculation"},
+  {"key": "kpce", "title": "KPCE"},
+  {"key": "rejection", "title": "rejection"},
+  {"key": "icp", "title": "ICP", "parts": [{"title": "RPCE", "time": "kdtree_search"},
+                                          {"title": "transformation estimation", "time": "rest"}]}
+]"""
+LIST_STAGES = parse_stages(LIST_STAGES_OUTPUT, "LIST_STAGES_OUTPUT")
+PAPER_STAGES = paper_stages(LIST_STAGES)         # [(title, key, time)]: outlier removal .. rejection, RPCE, ...
+PAPER_TITLES = tuple(title for title, _, _ in PAPER_STAGES)
+
+
+def tool_command(module, *args, env=None, python=None):
+    """(argv, env) that run the package's tool `module` ("tigris_sweep", "reproduce", ...) as
+    `python3 -m sweep.<module> ARGS` with the repository first on PYTHONPATH; env: the
+    environment to start from (default os.environ)."""
+    return python_module_command(module, [str(x) for x in args], env=env, python=python)
+
+
+def run_tool(module, *args, env=None, python=None, **kw):
+    """subprocess.run of `python3 -m sweep.<module> ARGS` (tool_command), stdout and stderr
+    captured as text; kw: more of subprocess.run's (cwd, timeout)."""
+    cmd, env = tool_command(module, *args, env=env, python=python)
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, **kw)
+
+
+def package_env(env=None):
+    """env (default os.environ) with the repository first on PYTHONPATH: a child `python3 -c`
+    that imports the package."""
+    return tool_command("tigris_sweep", env=env)[1]
 
 
 def options():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
-                    os.path.join(HERE, "..", "..", "build", "testbench", "tigris"))
-    ap.add_argument("--sweep", default=os.path.join(HERE, "..", "tigris_sweep.py"),
-                    help="the driver under test (e.g. the installed build/testbench/tigris-sweep)")
+                    os.path.join(HERE, "..", "..", "build", "bin", "tigris"))
     ap.add_argument("--keep", action="store_true", help="keep the temporary folder")
     a = ap.parse_args()
-    a.tigris, a.sweep = os.path.abspath(a.tigris), os.path.abspath(a.sweep)
+    a.tigris = os.path.abspath(a.tigris)
     if not os.access(a.tigris, os.X_OK):
         sys.exit(f"no tigris binary at {a.tigris} (give --tigris)")
     return a
@@ -56,10 +101,12 @@ def write_spec(folder, spec, name="spec.json"):
     return path
 
 
-def sweep(a, *args, check=None, timeout=300, env=None):
-    """Runs the driver; returns the CompletedProcess (stdout, stderr as text)."""
-    p = subprocess.run([sys.executable, a.sweep] + list(args), capture_output=True, text=True,
-                       timeout=timeout, env=env)
+def sweep(a, *args, check=None, timeout=300, env=None, **kw):
+    """Runs the driver (python3 -m sweep.tigris_sweep ARGS); returns the CompletedProcess
+    (stdout, stderr as text). env: the environment to start from (default os.environ); kw:
+    more of subprocess.run's (cwd, preexec_fn)."""
+    cmd, env = tool_command("tigris_sweep", *args, env=env)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, **kw)
     if check is not None and p.returncode != check:
         raise AssertionError(f"exit {p.returncode}, expected {check}: {' '.join(args)}\n"
                              f"stdout: {p.stdout}\nstderr: {p.stderr}")

@@ -2,17 +2,14 @@
 """sweep/core/ on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
 atomic writes, output folders (claim, foreign entries, lock, resume or fresh, the parent's files,
 the manifest), child processes (process groups, the death signal, stop on a signal), the
-Slurm and --list-flags helpers and provenance (what a figure's footer says). No tigris binary
-needed; about 10 s.
+Slurm and --list-flags helpers, provenance (what a figure's footer says) and the pipeline's
+stages as a binary lists them (fake binaries; test_pipeline_dse asks the real one). No tigris
+binary needed; about 10 s.
 
     python3 sweep/tests/test_core.py [--keep]"""
 import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
-HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)
-sys.path.insert(0, SWEEP)
-sys.path.insert(0, HERE)
-import core  # noqa: E402
-from common import run_tests  # noqa: E402
+from common import LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env, run_tests
+from sweep import core
 
 KEEP = "--keep" in sys.argv[1:]
 D = tempfile.mkdtemp(prefix="tigris-core-")
@@ -202,9 +199,9 @@ def test_lock():
     b.finish(0)
     # a killed holder leaves no lock behind
     p = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
-        import sys, time; sys.path.insert(0, {SWEEP!r}); import core
+        import time; from sweep import core
         core.OutFolder({d!r}, "tool", ["r"]).claim(); print("held", flush=True); time.sleep(60)""")],
-                         stdout=subprocess.PIPE, text=True)
+                         stdout=subprocess.PIPE, text=True, env=package_env())
     assert p.stdout.readline().strip() == "held"
     refused(core.OutFolder(d, "tool", ["r"]).claim, f"pid {p.pid}")
     p.kill()
@@ -286,10 +283,10 @@ def test_children_groups_and_death_signal():
     core.stop_groups([p], grace=0.5)
     assert p.returncode == -signal.SIGKILL and time.monotonic() - t0 < 3
     # the death signal: a middle process killed with SIGKILL (no clean-up) takes its child along
-    mid = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
-        import sys, time; sys.path.insert(0, {SWEEP!r}); import core
+    mid = subprocess.Popen([sys.executable, "-c", textwrap.dedent("""
+        import time; from sweep import core
         p = core.spawn(["sleep", "30"]); print(p.pid, flush=True); time.sleep(60)""")],
-                           stdout=subprocess.PIPE, text=True)
+                           stdout=subprocess.PIPE, text=True, env=package_env())
     child = int(mid.stdout.readline())
     assert alive(child)
     mid.kill()
@@ -309,7 +306,7 @@ def test_children_groups_and_death_signal():
 
 
 POOL = """
-import os, sys, time; sys.path.insert(0, {sweep!r}); import core
+import os, sys, time; from sweep import core
 core.handle_stop_signals()
 pids = open({pids!r}, "w")
 def launch(t):
@@ -327,7 +324,7 @@ def test_pool_stops_on_signal():
     for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
         pids = path(f"pool-{sig}.pids")
         # default dispositions even when started in the background (a shell ignores SIGINT there)
-        drv = subprocess.Popen([sys.executable, "-c", POOL.format(sweep=SWEEP, pids=pids)],
+        drv = subprocess.Popen([sys.executable, "-c", POOL.format(pids=pids)], env=package_env(),
                                preexec_fn=lambda: [signal.signal(s, signal.SIG_DFL) for s in core.STOP_SIGNALS])
         t0 = time.monotonic()
         while not (os.path.exists(pids + ".grand") and len(open(pids + ".grand").read().split()) == 3):
@@ -380,7 +377,7 @@ def test_provenance():
     os.makedirs(d)
     # No manifest: said so, the command line given instead, the commit from the environment.
     with commit_env("feedc0ffee12"):
-        p = core.provenance(d, argv=["/x/build/testbench/tigris", "plot", "sw dir"])
+        p = core.provenance(d, argv=["/x/build/bin/tigris", "plot", "sw dir"])
     assert p["note"] == f"no manifest.json in {d}" and p["command_line"] == "tigris plot 'sw dir'", p
     assert p["commit"] == "feedc0ffee12" and p["inputs"] == [] and p["config_sha256"] is None
     with commit_env(None):
@@ -461,12 +458,62 @@ def test_sbatch_failure_and_flags():
     assert by["check"]["takes_value"] is False and by["check"]["type"] == ""
 
 
+# ----------------------------------------------------------------------------------------------
+# The pipeline's stages (`tigris register --list-stages`)
+
+def fake_tigris(name, script):
+    """An executable that answers like tigris would: a shell script."""
+    p = write(path("stages", name), "#!/bin/sh\n" + script)
+    os.chmod(p, 0o755)
+    return p
+
+
+def test_pipeline_stages():
+    calls = path("stages", "calls")
+    out = write(path("stages", "list.json"), LIST_STAGES_OUTPUT)
+    good = fake_tigris("good", f'echo "$@" >> {calls}\n[ "$*" = "register --list-stages" ] || exit 9\ncat {out}\n')
+    got = core.pipeline_stages(good)
+    assert got == LIST_STAGES, got
+    assert core.paper_stages(got) == PAPER_STAGES
+    assert [t for t, _, _ in PAPER_STAGES[-2:]] == ["RPCE", "transformation estimation"]
+    assert {k for _, k, _ in PAPER_STAGES[-2:]} == {"icp"} and PAPER_STAGES[-1][2] == "rest"
+    got[0]["key"] = "changed"                            # the caller's copy; the cache keeps its own
+    assert core.pipeline_stages(good) == LIST_STAGES
+    assert core.pipeline_stages(os.path.relpath(good)) == LIST_STAGES   # one binary, another spelling
+    assert open(calls).read() == "register --list-stages\n", "asked once per binary"
+    # A stage without parts is one row; the paper's rows of the raw JSON are the same.
+    assert core.paper_stages(json.loads(LIST_STAGES_OUTPUT)) == PAPER_STAGES
+    assert core.paper_stages([{"key": "a", "title": "A"}]) == [("A", "a", "seconds")]
+    # Refused, naming the binary: missing, failing, no JSON, the wrong JSON.
+    refused(lambda: core.pipeline_stages(path("stages", "none")), path("stages", "none"), "not found")
+    old = fake_tigris("old", "echo 'tigris: error: tigris register takes no --list-stages' >&2\nexit 2\n")
+    refused(lambda: core.pipeline_stages(old), old, "register --list-stages failed (exit 2)", "takes no --list-stages")
+    refused(lambda: core.pipeline_stages(fake_tigris("text", "echo stages\n")), "text register --list-stages",
+            "did not print JSON")
+    bad = [({"key": "a"}, "not a non-empty JSON list"), ([], "not a non-empty JSON list"),
+           ([["a"]], "stage 0 is not an object"), ([{"title": "A"}], "\"key\" null"),
+           ([{"key": "a.b", "title": "A"}], "not a stage key"), ([{"key": "a", "title": ""}], "\"title\""),
+           ([{"key": "a", "title": "A"}, {"key": "a", "title": "B"}], "key 'a' is listed twice"),
+           ([{"key": "a", "title": "A"}, {"key": "b", "title": "A"}], "title 'A' is used twice"),
+           ([{"key": "a", "title": "A", "parts": {}}], "\"parts\" is not a list"),
+           ([{"key": "a", "title": "A", "parts": [{"time": "rest"}]}], "part 0: not an object"),
+           ([{"key": "a", "title": "A", "parts": [{"title": "P", "time": "search"}]}], "\"time\" \"search\""),
+           ([{"key": "a", "title": "A", "parts": [{"title": "P", "time": "rest"}, {"title": "Q", "time": "rest"}]}],
+            "a second part"),
+           ([{"key": "a", "title": "A", "parts": [{"title": "A", "time": "rest"}]}], "title 'A' is used twice")]
+    for k, (value, want) in enumerate(bad):
+        f = write(path("stages", f"bad{k}.json"), json.dumps(value))
+        b = fake_tigris(f"bad{k}", f"cat {f}\n")
+        refused(lambda: core.pipeline_stages(b), b, want)
+        refused(lambda: core.parse_stages(json.dumps(value), "the list"), "the list: ", want)
+
+
 if __name__ == "__main__":
     try:
         run_tests([test_input_kinds, test_json_inputs, test_identity_and_atomic_write, test_claim_and_manifest,
                    test_foreign_and_other_command, test_inputs_are_not_outputs, test_lock, test_resume_or_fresh,
                    test_children_groups_and_death_signal, test_pool_stops_on_signal, test_sbatch_failure_and_flags,
-                   test_shortening, test_provenance])
+                   test_shortening, test_provenance, test_pipeline_stages])
     finally:
         if KEEP:
             print(f"(files kept in {D})")

@@ -5,14 +5,11 @@ during a sweep, SIGHUP and SIGTERM, reproduce on a tiny cloud, with every point 
 a changed workload. Each case: the exit code and a message naming the key, file or flag; never
 a traceback. Last, 2,000 seeded mutations of a valid spec through the validator (exit 0 or a
 clean exit 2, bounded time)."""
-import contextlib, importlib.util, io, json, os, random, re, resource, signal, subprocess, sys, time
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import Workdir, options, read_csv, run_tests, small_workload, sweep, write_cloud, write_spec
+import contextlib, io, json, os, random, re, resource, signal, subprocess, sys, time
+from common import (Workdir, options, package_env, read_csv, run_tests, small_workload, sweep, tool_command,
+                    write_cloud, write_spec)
 
 a = options()
-REPRODUCE = os.path.join(os.path.dirname(a.sweep), "reproduce.py")
-if not os.path.isfile(REPRODUCE):                # an installed driver: the repository's reproduce.py
-    REPRODUCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reproduce.py")
 
 
 def clean(p, code, *words):
@@ -25,8 +22,8 @@ def clean(p, code, *words):
 
 
 def reproduce(*args, cwd=None, timeout=300):
-    return subprocess.run([sys.executable, REPRODUCE] + list(args), capture_output=True, text=True,
-                          cwd=cwd, timeout=timeout)
+    cmd, env = tool_command("reproduce", *args)
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd, timeout=timeout, env=env)
 
 
 def alive(pid):
@@ -50,10 +47,10 @@ case " $* " in
 esac
 exec "{real}" "$@"
 """
-# A tigris whose real runs all fail.
+# A tigris whose real runs all fail (what it lists for tools, --list-stages too, it lists).
 FAILING = """#!/bin/sh
 case " $* " in
-  *--help*|*--list-flags*|*--list-config*|*".dry-check-no-such-folder"*) exec "{real}" "$@" ;;
+  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*) exec "{real}" "$@" ;;
 esac
 echo "tigris run: error: injected failure" >&2
 exit 2
@@ -83,10 +80,8 @@ def test_empty_paths():
         spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4]}})
         cwd = os.path.join(d, "cwd")
         os.mkdir(cwd)
-        p = subprocess.run([sys.executable, a.sweep, spec, "--out", "", "--tigris", a.tigris],
-                           capture_output=True, text=True, cwd=cwd)
-        clean(p, 2, "--out is empty")
-        p = subprocess.run([sys.executable, a.sweep, "collect", ""], capture_output=True, text=True, cwd=cwd)
+        clean(sweep(a, spec, "--out", "", "--tigris", a.tigris, cwd=cwd), 2, "--out is empty")
+        p = sweep(a, "collect", "", cwd=cwd)
         clean(p, 2, "collect DIR")
         clean(reproduce("--out", "", "--specs-only", cwd=cwd), 2, "--out is empty")
         clean(reproduce("--out", "o", "--cloud", "", "--specs-only", cwd=cwd), 2, "--cloud", "no such file")
@@ -187,8 +182,8 @@ def test_collect_and_signals_mid_sweep():
             fake = wrapper(d, "slow-tigris", SLOW)
             spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"}, "grid": {"seed": [1, 9]}})
             out = os.path.join(d, "out")
-            drv = subprocess.Popen([sys.executable, a.sweep, spec, "--out", out, "--jobs", "2", "--tigris", fake],
-                                   stderr=subprocess.PIPE, text=True,   # even under nohup
+            cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "2", "--tigris", fake)
+            drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env,   # even under nohup
                                    preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL))
             t0 = time.monotonic()
             while not (os.path.exists(os.path.join(out, "points", "seed=1", "point.json"))
@@ -313,8 +308,7 @@ def test_unwritable_folders():
                 assert os.listdir(ro) == []
         # a full disk: the manifest (the first file) cannot be written; no temporary file, no new folder left
         out = os.path.join(d, "full")
-        p = subprocess.run([sys.executable, a.sweep, spec, "--out", out, "--tigris", a.tigris],
-                           capture_output=True, text=True, preexec_fn=full_disk())
+        p = sweep(a, spec, "--out", out, "--tigris", a.tigris, preexec_fn=full_disk())
         clean(p, 2, "manifest.json", "too large")
         assert not os.path.exists(out), os.listdir(out)
         # the same into a finished sweep folder grown by a point: the old plan.json stays whole
@@ -322,8 +316,7 @@ def test_unwritable_folders():
         plan = open(os.path.join(out, "plan.json")).read()
         grown = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"},
                                "grid": {"height": [4, 5, 6]}}, "grown.json")
-        p = subprocess.run([sys.executable, a.sweep, grown, "--out", out, "--tigris", a.tigris],
-                           capture_output=True, text=True, preexec_fn=full_disk())
+        p = sweep(a, grown, "--out", out, "--tigris", a.tigris, preexec_fn=full_disk())
         clean(p, 2, "manifest.json", "too large")
         assert open(os.path.join(out, "plan.json")).read() == plan and leftovers(out) == [], leftovers(out)
         assert json.load(open(os.path.join(out, "manifest.json")))["status"] == "done"   # the old one, whole
@@ -464,9 +457,7 @@ def test_spec_fuzz():
     """2,000 seeded mutations of a valid spec through the driver's own main() (--check, the dry
     check left out): each ends in exit 0 or exit 2 with one `tigris_sweep: error:` message, never
     another exception, each within 5 s; every 200th also through the real command line."""
-    spec_mod = importlib.util.spec_from_file_location("tigris_sweep_under_test", a.sweep)
-    ts = importlib.util.module_from_spec(spec_mod)
-    spec_mod.loader.exec_module(ts)
+    from sweep import tigris_sweep as ts
     ts.dry_check = lambda *args, **kw: None      # tigris per point: the CLI samples below have it
     r = random.Random(20240601)
     classes, slowest, t_all = {}, (0.0, None), time.monotonic()
@@ -506,8 +497,7 @@ def test_spec_fuzz():
             assert dt < 60, f"input {i} took {dt:.1f} s"
             m = re.search(r"(\d+) points, valid", msg)
             if i % 200 == 0 and (code == 2 or m and int(m.group(1)) <= 16):
-                p = subprocess.run([sys.executable, a.sweep, path, "--check", "--jobs", "2", "--tigris", a.tigris],
-                                   capture_output=True, text=True, timeout=60)
+                p = sweep(a, path, "--check", "--jobs", "2", "--tigris", a.tigris, timeout=60)
                 assert "Traceback" not in p.stderr, p.stderr
                 if code == 2:
                     assert p.returncode == 2 and p.stderr.splitlines()[0] == msg.splitlines()[0], (p.stderr, msg)
@@ -522,21 +512,24 @@ def test_spec_fuzz():
         print(f"    {n:5d}  exit {c}  {kind}")
 
 
-# ---------------------------------------------------------------------------------- issue 36 (the shared core)
-# Each reproduction of issue 36's Python part: exit code and message, never a traceback, and what
-# must not have been written. T = the tigris binary; the tools run as `python3 SCRIPT`.
+# ---------------------------------------------------------------------------------- the shared core
+# Each reproduction of the shared core's Python cases: exit code and message, never a traceback, and what
+# must not have been written. T = the tigris binary; the tools run as `python3 -m sweep.TOOL`.
 
-SWEEP_DIR = os.path.dirname(a.sweep) if os.path.isfile(os.path.join(os.path.dirname(a.sweep), "core", "__init__.py")) \
-    else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-TOOLS = {"sweep": a.sweep, "reproduce": REPRODUCE, "diff": os.path.join(SWEEP_DIR, "tigris_diff.py"),
-         "plot": os.path.join(SWEEP_DIR, "tigris_plot.py"), "pipeline-dse": os.path.join(SWEEP_DIR, "pipeline_dse.py")}
+TOOLS = {"sweep": "tigris_sweep", "reproduce": "reproduce", "diff": "tigris_diff", "plot": "tigris_plot",
+         "pipeline-dse": "pipeline_dse"}
 PY = "/usr/bin/python3" if os.access("/usr/bin/python3", os.X_OK) else sys.executable   # with matplotlib
+
+
+def tool_cmd(name, *args):
+    """(argv, env) of a tool by its tigris sub-command name, on PY, with TIGRIS set."""
+    return tool_command(TOOLS[name], *args, env=dict(os.environ, TIGRIS=a.tigris), python=PY)
 
 
 def tool(name, *args, cwd=None, timeout=60, env=None):
     t0 = time.monotonic()
-    p = subprocess.run([PY, TOOLS[name]] + [str(x) for x in args], capture_output=True, text=True, cwd=cwd,
-                       timeout=timeout, env=dict(os.environ, TIGRIS=a.tigris, **(env or {})))
+    cmd, cenv = tool_cmd(name, *args)
+    p = subprocess.run(cmd, capture_output=True, text=True, cwd=cwd, timeout=timeout, env=dict(cenv, **(env or {})))
     p.seconds = time.monotonic() - t0
     return p
 
@@ -569,7 +562,7 @@ def descendants(pid):
 # A tigris whose real runs (not the dry check, the lists or synth) sleep: a run to stop mid-way.
 SLEEPY = """#!/bin/sh
 case " $* " in
-  *--help*|*--list-flags*|*--list-config*|*".dry-check-no-such-folder"*|*" synth "*) exec "{real}" "$@" ;;
+  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*|*" synth "*) exec "{real}" "$@" ;;
 esac
 sleep {secs} & wait $!
 exec "{real}" "$@"
@@ -622,8 +615,9 @@ def test_concurrent_sweeps():
         small_workload(d, 200, 50)
         spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4, 5]}})
         slow, out = sleepy(d, 2), os.path.join(d, "out")
-        cmd = [PY, a.sweep, spec, "--out", out, "--jobs", "2", "--tigris", slow]
-        procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(2)]
+        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "2", "--tigris", slow, python=PY)
+        procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+                 for _ in range(2)]
         res = [(p.pid,) + (p.wait(timeout=120),) + p.communicate() for p in procs]
         codes = sorted(r[1] for r in res)
         assert codes == [0, 2], [(r[1], r[3]) for r in res]
@@ -795,10 +789,10 @@ def test_plot_hostile():
         with open(os.path.join(lone, "h.csv"), "w") as f:
             f.write("\n".join([lines[0]] + [",".join(c if i != at else "abc" for i, c in enumerate(l.split(",")))
                                             for l in lines[1:]]) + "\n")
-        code = ("import sys; sys.path.insert(0, sys.argv[1]); import evaldata as ed; "
-                "print(ed.workload_text(ed.Sweep([sys.argv[2]])))")
-        p = subprocess.run([PY, "-c", code, SWEEP_DIR, os.path.join(lone, "h.csv")], capture_output=True, text=True,
-                           env=dict(os.environ, TIGRIS=a.tigris))
+        code = ("import sys; from sweep import evaldata as ed; "
+                "print(ed.workload_text(ed.Sweep([sys.argv[1]])))")
+        p = subprocess.run([PY, "-c", code, os.path.join(lone, "h.csv")], capture_output=True, text=True,
+                           env=package_env(dict(os.environ, TIGRIS=a.tigris)))
         assert p.stdout.startswith("cloud cloud.bin, queries queries.bin"), (p.stdout, p.stderr)
         # a plot into the sweep's own folder (its default, plots/) keeps the sweep resumable
         clean(tool("plot", sw, "--which", "sweep"), 0)
@@ -840,14 +834,14 @@ def test_list_flags():
     assert via.returncode == 0 and json.loads(via.stdout)["command"] == "sweep", via.stderr
 
 
-def stop_parent_only(cmd, cwd, want_kids):
-    """Starts cmd, waits until it has want_kids descendants, SIGTERMs the parent alone: exit 143,
-    and within a few seconds none of its descendants is left (/proc)."""
-    p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                         env=dict(os.environ, TIGRIS=a.tigris))
+def stop_parent_only(name, args, cwd, want_kids):
+    """Starts tool `name` with args, waits until it has want_kids descendants, SIGTERMs the parent
+    alone: exit 143, and within a few seconds none of its descendants is left (/proc)."""
+    cmd, env = tool_cmd(name, *args)
+    p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
     kids, t0 = set(), time.monotonic()
     while len(kids) < want_kids:
-        assert p.poll() is None and time.monotonic() - t0 < 60, f"{cmd[1]}: exit {p.poll()} before its children ran"
+        assert p.poll() is None and time.monotonic() - t0 < 60, f"{name}: exit {p.poll()} before its children ran"
         kids = {k for k in descendants(p.pid) if alive(k)}
         time.sleep(0.05)
     kids |= descendants(p.pid)
@@ -859,7 +853,7 @@ def stop_parent_only(cmd, cwd, want_kids):
     left = [k for k in kids if alive(k)]
     for k in left:
         os.kill(k, signal.SIGKILL)
-    assert p.returncode == 143 and not left and "Traceback" not in err, (cmd[1], p.returncode, left, err[-2000:])
+    assert p.returncode == 143 and not left and "Traceback" not in err, (name, p.returncode, left, err[-2000:])
     return err
 
 
@@ -870,15 +864,15 @@ def test_parent_only_sigterm():
         small_workload(d, 200, 50)
         slow = sleepy(d, 60)
         spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4, 5]}})
-        err = stop_parent_only([PY, a.sweep, spec, "--out", os.path.join(d, "s"), "--jobs", "2", "--tigris", slow],
+        err = stop_parent_only("sweep", [spec, "--out", os.path.join(d, "s"), "--jobs", "2", "--tigris", slow],
                                d, 4)                                    # 2 x (sh, sleep)
         assert json.load(open(os.path.join(d, "s", "manifest.json")))["status"] == "interrupted", err
-        stop_parent_only([PY, REPRODUCE, "--out", os.path.join(d, "r"), "--only", "optimizations", "--jobs", "2",
-                          "--tigris", slow], d, 5)                      # driver + 2 x (sh, sleep)
+        stop_parent_only("reproduce", ["--out", os.path.join(d, "r"), "--only", "optimizations", "--jobs", "2",
+                                       "--tigris", slow], d, 5)         # driver + 2 x (sh, sleep)
         assert json.load(open(os.path.join(d, "r", "manifest.json")))["status"] == "interrupted"
         space = write_spec(d, SPACE, "space.json")
-        stop_parent_only([PY, TOOLS["pipeline-dse"], "--space", space, "--samples", "2", "--pairs", "1", "--jobs", "2",
-                          "--tigris", slow, "--out", os.path.join(d, "p")], d, 5)
+        stop_parent_only("pipeline-dse", ["--space", space, "--samples", "2", "--pairs", "1", "--jobs", "2",
+                                          "--tigris", slow, "--out", os.path.join(d, "p")], d, 5)
         assert json.load(open(os.path.join(d, "p", "manifest.json")))["status"] == "interrupted"
 
 

@@ -1,8 +1,7 @@
 #!/usr/bin/python3
 """Sweep driver, local back-end: a 4-point grid with --jobs 2 gives a CSV of 4 rows with the
 column contract; a failing point is recorded and the sweep goes on; collect reproduces the CSV."""
-import json, os, sys
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import json, os
 from common import Workdir, options, read_csv, run_tests, small_workload, sweep, write_spec
 
 a = options()

@@ -9,16 +9,13 @@ import hashlib
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPT = os.path.join(os.path.dirname(HERE), "odometry_plots.py")
-sys.path.insert(0, os.path.dirname(HERE))
-sys.path.insert(0, HERE)
-from common import footer_clear  # noqa: E402
+from common import SWEEP, footer_clear, run_tool
+
+SCRIPT = os.path.join(SWEEP, "odometry_plots.py")   # its sys.argv[0] when run as python3 -m sweep.odometry_plots
 
 try:
     import matplotlib  # noqa: F401
@@ -54,7 +51,7 @@ def make_run(d, frames, gt=True, segments=True):
 
 
 def write_manifest(d, argv, settings, inputs, commit=None):
-    """OUT/manifest.json as tigris odometry writes it (testbench/out_folder.cpp)."""
+    """OUT/manifest.json as tigris odometry writes it (core/out_folder.cpp)."""
     m = {"tigris_manifest": 1, "command": "odometry", "argv": argv, "cwd": "/", "settings": settings,
          "inputs": inputs, "outputs": ["trajectory.png", "errors.png"], "status": "running"}
     if commit:
@@ -64,15 +61,14 @@ def write_manifest(d, argv, settings, inputs, commit=None):
 
 
 def plot(d, env=None):
-    return subprocess.run([sys.executable, SCRIPT, d], capture_output=True, text=True, timeout=120,
-                          env=None if env is None else dict(os.environ, **env))
+    return run_tool("odometry_plots", d, timeout=120, env=None if env is None else dict(os.environ, **env))
 
 
 def footers(d, commit_env=None):
     """{figure: its footer} from odometry_plots.main() run here on d, each checked (as it is saved)
     to lie inside the figure and under every axes."""
-    import core
-    import odometry_plots
+    from sweep import core
+    from sweep import odometry_plots
     saved, real_save, argv = {}, core.save_figure, sys.argv
     old = os.environ.pop("TIGRIS_COMMIT", None)
     if commit_env:
@@ -120,7 +116,7 @@ class OdometryPlots(unittest.TestCase):
         scans = [{"role": f"scan {i:06d}", "path": f"{seq}/velodyne/{i:06d}.bin", "bytes": 10,
                   "sha256": hashlib.sha256(bytes([i])).hexdigest()} for i in range(41)]
         settings = {"sequence": seq, "frames": [0, 40], "register_flags": ["--preset", "dp7", "--max-work", "1e+12"]}
-        argv = ["/work/build/testbench/tigris", "odometry", "--sequence", seq, "--out", "runs/00"]
+        argv = ["/work/build/bin/tigris", "odometry", "--sequence", seq, "--out", "runs/00"]
         joint = hashlib.sha256("".join(s["sha256"] + "\n" for s in scans).encode()).hexdigest()[:12]
         digest = hashlib.sha256(json.dumps(settings, sort_keys=True, separators=(",", ":")).encode()).hexdigest()[:12]
         for gt, segments in ((True, True), (False, False)):

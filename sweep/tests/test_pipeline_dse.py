@@ -1,19 +1,39 @@
 #!/usr/bin/python3
-"""tigris pipeline-dse and sweeps of registrations (issue 22): the Pareto computation against
-hand-made points, the sample, bad spaces, a register sweep's columns, and a tiny design space
-end to end with a Pareto point's configuration run again through `tigris register --config`.
+"""tigris pipeline-dse and sweeps of registrations: the pipeline's stages as the binary lists
+them, the Pareto computation against hand-made points, the sample, bad spaces, a register sweep's
+columns, and a tiny design space end to end with a Pareto point's configuration run again through
+`tigris register --config`.
 
-    python3 sweep/tests/test_pipeline_dse.py --tigris build/testbench/tigris [--keep]
+    python3 sweep/tests/test_pipeline_dse.py --tigris build/bin/tigris [--keep]
 """
-import json, os, subprocess, sys
+import json, os, subprocess
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from common import Workdir, footer_clear, options, read_csv, run_tests, sweep, write_spec  # noqa: E402
-import pipeline_dse as dse  # noqa: E402
+from common import (LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, PAPER_TITLES, Workdir, footer_clear, options,
+                    read_csv, run_tests, run_tool, sweep, tool_command, write_spec)
+from sweep import core
+from sweep import pipeline_dse as dse
+from sweep import tigris_sweep as ts
 
 A = options()
-DSE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pipeline_dse.py")
+
+
+def test_list_stages():
+    """`tigris register --list-stages` of the binary under test is the list the tests build their
+    synthetic stage data from (common.LIST_STAGES_OUTPUT), read by the core as the paper's rows.
+    Never skipped: a binary without the flag fails here (every tool reading the stages needs it)."""
+    p = subprocess.run([A.tigris, "register", "--list-stages"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, f"{A.tigris} register --list-stages: exit {p.returncode}: {p.stderr}"
+    assert json.loads(p.stdout) == json.loads(LIST_STAGES_OUTPUT), p.stdout
+    stages = core.pipeline_stages(A.tigris)
+    assert stages == LIST_STAGES, stages
+    assert core.paper_stages(stages) == PAPER_STAGES
+    # The sweep's headline: per stage, in the binary's order, as before the list moved to the binary.
+    reg = ts.tigris_at(A.tigris, "register").headline
+    assert reg[reg.index("kdtree_work.distances_and_neighbors") + 1:] == \
+        [f"stages.{s['key']}.{f}" for s in stages for f in ("seconds", "search_seconds", "searches")], reg
+    odo = ts.tigris_at(A.tigris, "odometry").headline
+    assert odo[-3:] == ["stages.icp.per_pair_mean.seconds", "stages.icp.per_pair_mean.kdtree_search_seconds",
+                        "stages.icp.per_pair_mean.searches"], odo
 
 
 def test_pareto():
@@ -83,7 +103,7 @@ def hand_made_points(n=6):
     points = []
     for k in range(n):
         t, e = 1.0 + k, 0.05 / (1 + k) + 0.002 * (k % 2)
-        stages = {title: 0.1 * (j + 1) * t / 3.6 for j, (title, _) in enumerate(dse.STAGES)}
+        stages = {title: 0.1 * (j + 1) * t / 3.6 for j, title in enumerate(PAPER_TITLES)}
         points.append({"point": f"P{k + 1:03d}", "valid": True, "status": "ok", "seconds_per_pair": t,
                        "rpe_translation_m": e, "rpe_rotation_deg": 2 * e, "kdtree_share": 0.6, "stages": stages})
     fronts = [dse.pareto([(p["seconds_per_pair"], p[key]) for p in points])
@@ -98,7 +118,7 @@ def test_figures_footer():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import core
+    from sweep import core
     with Workdir(A, "dse-footer") as d:
         space = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
         out = os.path.join(d, "out")
@@ -129,13 +149,14 @@ def test_figures_footer():
         try:
             points, fronts, dps = hand_made_points()
             footer = core.footer_lines(core.provenance(out, command="pipeline-dse"), details=["6 sampled points, seed 5"])
-            dse.plot(out, points, fronts, dps, "synthetic drive (seed 5, 2 pairs)", footer)
+            dse.plot(out, points, fronts, dps, "synthetic drive (seed 5, 2 pairs)", footer, list(PAPER_TITLES))
         finally:
             core.save_figure = real_save
         assert [s_[0] for s_ in saved] == ["fig4.png", "fig5.png"], saved
         # The Pareto points drawn by their names, F1..Fn: no DPn anywhere in either figure.
         names = sorted(dps.values(), key=dse.pareto_number)
         assert names == [f"F{k}" for k in range(1, len(names) + 1)] and len(names) >= 2, names
+        assert all(t in drawn[1][1] for t in PAPER_TITLES), drawn[1]    # fig5's legend: every stage
         for name, texts in drawn:
             assert not any("DP" in t for t in texts), (name, [t for t in texts if "DP" in t])
             for n in names:
@@ -162,12 +183,12 @@ def test_bad_space():
                  ({"knob": []}, "unknown top-level key 'knob'")]
         for k, (space, want) in enumerate(cases):
             path = write_spec(d, space, f"space{k}.json")
-            p = subprocess.run([sys.executable, DSE, "--space", path, "--tigris", A.tigris, "--out",
-                                os.path.join(d, "out")], capture_output=True, text=True, timeout=60)
+            p = run_tool("pipeline_dse", "--space", path, "--tigris", A.tigris, "--out", os.path.join(d, "out"),
+                         timeout=60)
             assert p.returncode == 2 and want in p.stderr and path in p.stderr, (space, p.returncode, p.stderr)
         bad = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [0, 5]}], "anchors": []}, "bad.json")
-        p = subprocess.run([sys.executable, DSE, "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
-                            "--out", os.path.join(d, "out")], capture_output=True, text=True, timeout=300)
+        p = run_tool("pipeline_dse", "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
+                     "--out", os.path.join(d, "out"), timeout=300)
         assert p.returncode == 2 and "out of range" in p.stderr, p.stderr[-2000:]
 
 
@@ -183,14 +204,14 @@ def test_no_valid_point():
             f.write("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 1\n")
         space = write_spec(d, {"anchors": [], "knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
         out = os.path.join(d, "out")
-        p = subprocess.run([sys.executable, DSE, "--space", space, "--samples", "2", "--sequence", seq,
-                            "--tigris", A.tigris, "--out", out], capture_output=True, text=True, timeout=300)
+        p = run_tool("pipeline_dse", "--space", space, "--samples", "2", "--sequence", seq,
+                     "--tigris", A.tigris, "--out", out, timeout=300)
         assert p.returncode == 1 and "no point converged" in p.stderr, (p.returncode, p.stderr[-2000:])
         cols, rows = read_csv(os.path.join(out, "points.csv"))
         assert len(rows) == 2 and all(r["status"] != "ok" for r in rows), rows
         assert not os.path.exists(os.path.join(out, "fig4.png"))
-        p = subprocess.run([sys.executable, DSE, "--space", space, "--sequence", d, "--tigris", A.tigris,
-                            "--out", out], capture_output=True, text=True, timeout=60)
+        p = run_tool("pipeline_dse", "--space", space, "--sequence", d, "--tigris", A.tigris, "--out", out,
+                     timeout=60)
         assert p.returncode == 2 and "no poses.txt" in p.stderr, p.stderr
 
 
@@ -202,6 +223,8 @@ def test_register_sweep():
         assert "converged" in p.stderr and "error m" in p.stderr, p.stderr
         cols, rows = read_csv(os.path.join(out, "sweep.csv"))
         assert cols[:3] == ["point", "icp.max_iterations", "status"], cols[:5]
+        head = ts.tigris_at(A.tigris, "register").headline    # then the headline, the stages' in their order
+        assert cols[3:3 + len(head)] == head and cols[3 + len(head)] == "error", cols[:3 + len(head) + 1]
         for c in ("error.translation_m", "seconds", "kdtree_share", "stages.icp.searches", "source", "preset"):
             assert c in cols, c
         assert [r["status"] for r in rows] == ["ok", "ok"]
@@ -225,15 +248,20 @@ def test_tiny_dse():
                                          {"key": "icp.error", "values": ["point_to_point", "point_to_plane"]}]},
                            "space.json")
         out = os.path.join(d, "dse")
-        cmd = [sys.executable, DSE, "--space", space, "--samples", "3", "--pairs", "1", "--jobs", "2",
-               "--tigris", A.tigris, "--out", out]
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        cmd, env = tool_command("pipeline_dse", "--space", space, "--samples", "3", "--pairs", "1", "--jobs", "2",
+                                "--tigris", A.tigris, "--out", out)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env=env)
         assert p.returncode == 0, p.stderr[-3000:]
         cols, rows = read_csv(os.path.join(out, "points.csv"))
         assert [r["point"] for r in rows] == ["P001", "P002", "P003"], rows
         assert all(r["status"] == "ok" and float(r["seconds_per_pair"]) > 0 for r in rows), rows
         summary = json.load(open(os.path.join(out, "dse.json")))
         assert summary["points"] == 3 and "Latin" in summary["sampling"]
+        # The stages in the binary's order: dse.json's stage_order, every point's, points.csv's columns.
+        order = [title for title, _, _ in core.paper_stages(core.pipeline_stages(A.tigris))]
+        assert summary["stage_order"] == order, summary["stage_order"]
+        assert all(list(d_["stages"]) == order == list(d_["stage_kdtree_seconds"]) for d_ in summary["dps"])
+        assert [c for c in cols if c.endswith(" s")] == [f"{t} s" for t in order], cols
         # The frontier from the CSV's own numbers: every DP undominated, every other point dominated.
         for err, front in (("rpe_translation_m", "on_translation_frontier"), ("rpe_rotation_deg", "on_rotation_frontier")):
             xy = [(float(r["seconds_per_pair"]), float(r[err])) for r in rows]
@@ -269,7 +297,7 @@ def test_tiny_dse():
         assert ran["transform"] == pair["transform"], (ran["transform"], pair["transform"])
         assert str(written["icp"]["max_iterations"]) == dp1["icp.max_iterations"]
         # A rerun resumes: nothing runs again, the same points.
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
         assert p.returncode == 0 and "3 finished earlier" in p.stderr, p.stderr[-2000:]
         assert read_csv(os.path.join(out, "points.csv"))[1] == rows
         # A folder of an earlier version (DPn names, pareto/DPn.json): its report reads F1..Fn, and
@@ -280,15 +308,15 @@ def test_tiny_dse():
             d_["dp"] = "DP" + d_["dp"][1:]
         with open(os.path.join(out, "dse.json"), "w") as fh:
             json.dump(old, fh)
-        import report
+        from sweep import report
         lines, claims = report.pipeline_section(report.read_dse(out), out, out, standalone=True)
         md = "\n".join(lines)
         assert "| F1 | " in md and "| DP1 |" not in md, md
         os.rename(cfg, os.path.join(out, "pareto", "DP1.json"))
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
         assert p.returncode == 0, p.stderr[-2000:]
         assert sorted(os.listdir(os.path.join(out, "pareto"))) == sorted(f"{k}.json" for k in dps)
 
 
 if __name__ == "__main__":
-    run_tests([test_pareto, test_old_names, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])
+    run_tests([test_list_stages, test_pareto, test_old_names, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])

@@ -9,15 +9,11 @@ import io
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)
-sys.path.insert(0, SWEEP)
-sys.path.insert(0, HERE)
+from common import footer_clear, run_tool
 
 try:
     import matplotlib  # noqa: F401
@@ -27,13 +23,12 @@ except ImportError:
     if os.environ.get("TIGRIS_REQUIRE_MPL"):  # ctest: deps.sh installs it, so its absence is a failure
         sys.exit("matplotlib missing for " + sys.executable + ": apt-get install python3-matplotlib")
 
-import core  # noqa: E402
-import evaldata as ed  # noqa: E402
 import plot_fixtures as fx  # noqa: E402
-from common import footer_clear  # noqa: E402
+from sweep import core  # noqa: E402
+from sweep import evaldata as ed  # noqa: E402
 
 if HAVE_MPL:
-    import plots
+    from sweep import plots
 
 
 def texts(fig):
@@ -305,8 +300,7 @@ class Footer(unittest.TestCase):
         out = os.path.join(self.tmp.name, "plots")
         env = dict(os.environ, TIGRIS_COMMIT="fd523df8c13c-dirty")
         env.pop("TIGRIS", None)                  # the manifest says "tigris" then
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "tigris_plot.py"), sw_dir, "--out", out,
-                            "--which", "sweep", "units"], capture_output=True, text=True, env=env, timeout=300)
+        p = run_tool("tigris_plot", sw_dir, "--out", out, "--which", "sweep", "units", env=env, timeout=300)
         self.assertEqual(p.returncode, 0, p.stderr)
         svgs = sorted(f for f in os.listdir(out) if f.endswith(".svg"))
         self.assertIn("units.svg", svgs)
@@ -331,8 +325,7 @@ class CommandLine(unittest.TestCase):
         self.csvs = fx.hand_made_csvs(self.tmp.name)
 
     def run_plots(self, *args):
-        return subprocess.run([sys.executable, os.path.join(SWEEP, "plots.py")] + list(args),
-                              capture_output=True, text=True)
+        return run_tool("plots", *args)
 
     def test_which(self):
         out = os.path.join(self.tmp.name, "f")

@@ -4,19 +4,13 @@ measured values, direction and 2x verdicts (hits, a failed direction, sizes beyo
 missing claims, REPORT.md with the figures, the command line.
 Run: python3 sweep/tests/test_report.py"""
 import os
-import subprocess
-import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)
-sys.path.insert(0, SWEEP)
-sys.path.insert(0, HERE)
-
-import evaldata as ed  # noqa: E402
-import plot_fixtures as fx  # noqa: E402
-import report  # noqa: E402
+from common import PAPER_TITLES, run_tool
+import plot_fixtures as fx
+from sweep import evaldata as ed
+from sweep import report
 
 try:
     import matplotlib  # noqa: F401
@@ -264,8 +258,7 @@ class Document(unittest.TestCase):
     @unittest.skipUnless(HAVE_MPL, "matplotlib missing")
     def test_figures_embedded(self):
         out = os.path.join(self.tmp.name, "r2")
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py")] + list(self.csvs.values())
-                           + ["--out", out], capture_output=True, text=True)
+        p = run_tool("report", *self.csvs.values(), "--out", out)
         self.assertEqual(p.returncode, 0, p.stderr)
         with open(os.path.join(out, "REPORT.md")) as f:
             text = f.read()
@@ -280,20 +273,17 @@ class Document(unittest.TestCase):
 
     def test_cli_no_figures_and_errors(self):
         out = os.path.join(self.tmp.name, "r3")
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py"), self.csvs["optimizations"],
-                            "--out", out, "--no-figures"], capture_output=True, text=True)
+        p = run_tool("report", self.csvs["optimizations"], "--out", out, "--no-figures")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertFalse(os.path.exists(os.path.join(out, "figures")))
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "report.py"), "nope.csv", "--out", out],
-                           capture_output=True, text=True)
+        p = run_tool("report", "nope.csv", "--out", out)
         self.assertEqual(p.returncode, 2)
         self.assertIn("no such CSV", p.stderr)
 
 
 class PipelineClaims(unittest.TestCase):
     """The section-3 claims from a hand-made dse.json (tigris pipeline-dse's summary)."""
-    STAGES = ("outlier removal", "normal estimation", "key-point detection", "descriptor calculation",
-              "KPCE", "rejection", "RPCE", "transformation estimation")
+    STAGES = PAPER_TITLES            # `tigris register --list-stages` as the paper's rows (common.py)
 
     def dp(self, name, kd, stages, t=1.0):
         return {"dp": name, "point": f"P{name}", "seconds_per_pair": t, "rpe_translation_m": 0.01,
@@ -342,6 +332,41 @@ class PipelineClaims(unittest.TestCase):
         for x in report.claims_pipeline(self.dse([])):
             self.assertEqual(x.measured, "not measured")
 
+    def test_stage_order_from_dse(self):
+        """The stages and their order are dse.json's ("stage_order", the binary's list when the
+        exploration ran), else its first Pareto point's: a stage the report has no copy of is
+        reported, and the order breaks ties (the first of equal stages is the largest)."""
+        tie = (0, 3, 0, 3, 0, 0, 1, 0)                   # normal estimation = descriptor calculation
+        dse = self.dse([self.dp("F1", 0.7, tie), self.dp("F2", 0.7, tie)])
+        self.assertEqual(report.stage_order(dse), list(self.STAGES))
+        c = {x.cid: x for x in report.claims_pipeline(dse)}
+        self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: normal estimation on 2 of 2")
+        flipped = dict(dse, stage_order=["descriptor calculation"] + [s for s in self.STAGES
+                                                                      if s != "descriptor calculation"])
+        c = {x.cid: x for x in report.claims_pipeline(flipped)}
+        self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: descriptor calculation on 2 of 2")
+        # A stage of a newer pipeline, named in stage_order and in the points' stages.
+        new = [self.dp(f"F{k}", 0.6, (0, 1, 0, 1, 0, 0, 1, 0)) for k in (1, 2)]
+        for d in new:
+            d["stages"] = dict({"down-sampling": 6}, **d["stages"])
+        newer = dict(self.dse(new), stage_order=["down-sampling"] + list(self.STAGES))
+        c = {x.cid: x for x in report.claims_pipeline(newer)}
+        self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: down-sampling on 2 of 2")
+        self.assertIn("down-sampling over half the time on every Pareto point", c["pipe_no_dominant"].explanation)
+        self.assertIn("the largest of the rest: down-sampling 67%", c["pipe_big3"].explanation)
+        # Without stage_order: the first Pareto point's order, which has it first too.
+        self.assertEqual(report.stage_order(self.dse(new))[0], "down-sampling")
+
+    def test_committed_dse_order(self):
+        """The committed exploration (docs/pipeline-dse, written before dse.json had a
+        "stage_order") reads its stages in the order pipeline_dse wrote them: the binary's."""
+        d = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs", "pipeline-dse")
+        if not os.path.isfile(os.path.join(d, "dse.json")):
+            self.skipTest("no docs/pipeline-dse/dse.json")
+        dse = report.read_dse(d)
+        self.assertNotIn("stage_order", dse)
+        self.assertEqual(report.stage_order(dse), list(self.STAGES))
+
     def test_old_dse_reads_new_names(self):
         """A dse.json of an earlier pipeline-dse names its Pareto points DP1..DPn: read_dse and the
         section call them F1..Fn (the paper's DP4/DP7 and the presets dp4/dp7 keep their names)."""
@@ -378,6 +403,10 @@ class PipelineClaims(unittest.TestCase):
             with open(os.path.join(d, "dse.json"), "w") as f:
                 f.write("{}")
             with self.assertRaisesRegex(ValueError, "no \"dps\" list"):
+                report.read_dse(d)
+            with open(os.path.join(d, "dse.json"), "w") as f:
+                f.write('{"dps": [], "stage_order": ["RPCE", 3]}')
+            with self.assertRaisesRegex(ValueError, "stage_order"):
                 report.read_dse(d)
 
 

@@ -6,24 +6,18 @@ Run: python3 sweep/tests/test_reproduce.py"""
 import itertools
 import json
 import os
-import subprocess
-import sys
+import shutil
 import tempfile
 import textwrap
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)
-sys.path.insert(0, SWEEP)
-sys.path.insert(0, HERE)
+from common import HERE, REPO, run_tool
+from sweep import reproduce
 
-import reproduce  # noqa: E402
-
-# A stand-in for tigris_sweep.py: expands the spec (grid product, then points, over base) and
+# A stand-in for tigris_sweep.py (plot_fixtures.py is copied beside it): expands the spec (grid product, then points, over base) and
 # writes sweep.csv of hand-made stats in the driver's layout; `collect DIR` keeps the CSV.
 FAKE_DRIVER = textwrap.dedent('''\
     import itertools, json, os, sys
-    sys.path.insert(0, {here!r})
     import plot_fixtures as fx
     if sys.argv[1] == "collect":
         sys.exit(0 if os.path.isfile(os.path.join(sys.argv[2], "sweep.csv")) else 1)
@@ -59,7 +53,7 @@ FAKE_DRIVER = textwrap.dedent('''\
         rows.append({{"settings": s, "stats": fx.fake_stats(**kw)}})
     fx.write_csv(os.path.join(out, "sweep.csv"), rows,
                  base=[k for k in base if k not in ("cloud", "queries", "mode")], sidecar=True)
-''').format(here=HERE)
+''').format()
 
 
 def product_size(spec):
@@ -141,19 +135,20 @@ class Specs(unittest.TestCase):
 
     def test_driver_command(self):
         a = reproduce.parse_args(["--jobs", "3", "--tigris", "/x/tigris"])
-        cmd = reproduce.driver_command("s.json", "dir", a)
-        self.assertEqual(cmd[1:], [reproduce.DRIVER, "s.json", "--out", "dir", "--tigris", "/x/tigris", "--jobs", "3"])
+        cmd, env = reproduce.driver_command("s.json", "dir", a)
+        # -P: the working folder does not go first on sys.path (a sweep.py there would shadow the package)
+        self.assertEqual(cmd[1:], ["-P", "-m", "sweep.tigris_sweep", "s.json", "--out", "dir", "--tigris", "/x/tigris",
+                                   "--jobs", "3"])
+        self.assertEqual(env["PYTHONPATH"].split(os.pathsep)[0], REPO)   # python3 -m finds the package
         a = reproduce.parse_args(["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
                                   "--sbatch-arg", "--qos=low", "--no-wait"])
-        cmd = reproduce.driver_command("s.json", "dir", a)
-        self.assertEqual(cmd[5:], ["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
+        cmd, _ = reproduce.driver_command("s.json", "dir", a)
+        self.assertEqual(cmd[7:], ["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
                                    "--sbatch-arg=--qos=low", "--no-wait"])
 
     def test_argument_errors(self):
         def err(*args):
-            p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--specs-only",
-                                "--out", os.path.join(self.tmp.name, "e")] + list(args),
-                               capture_output=True, text=True)
+            p = run_tool("reproduce", "--specs-only", "--out", os.path.join(self.tmp.name, "e"), *args)
             self.assertEqual(p.returncode, 2, p.stderr)
             return p.stderr
         self.assertIn("need --slurm", err("--partition", "p"))
@@ -169,11 +164,11 @@ class Flow(unittest.TestCase):
         self.driver = os.path.join(self.tmp.name, "fake_sweep.py")
         with open(self.driver, "w") as f:
             f.write(FAKE_DRIVER)
+        shutil.copy(os.path.join(HERE, "plot_fixtures.py"), self.tmp.name)
 
     def test_run_then_report(self):
         out = os.path.join(self.tmp.name, "out")
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
-                            "--driver", self.driver, "--jobs", "2"], capture_output=True, text=True)
+        p = run_tool("reproduce", "--quick", "--out", out, "--driver", self.driver, "--jobs", "2")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertIn("claims measured", p.stderr)
         with open(os.path.join(out, "sweeps", "units-su", "argv.json")) as f:
@@ -191,17 +186,15 @@ class Flow(unittest.TestCase):
             pass
         # --report-only re-collects and reports without running
         os.remove(os.path.join(out, "REPORT.md"))
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
-                            "--driver", self.driver, "--report-only"], capture_output=True, text=True)
+        p = run_tool("reproduce", "--quick", "--out", out, "--driver", self.driver, "--report-only")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertIn(" collect ", p.stderr)
         self.assertTrue(os.path.isfile(os.path.join(out, "REPORT.md")))
 
     def test_variants_run_then_report(self):
         out = os.path.join(self.tmp.name, "out")
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
-                            "--driver", self.driver, "--variants", "dram-8x", "every-leaf-w4"],
-                           capture_output=True, text=True)
+        p = run_tool("reproduce", "--quick", "--out", out, "--driver", self.driver, "--variants", "dram-8x",
+                     "every-leaf-w4")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertIn("dram-8x (8 sweeps), every-leaf-w4 (1 sweeps)", p.stderr)
         self.assertTrue(os.path.isfile(os.path.join(out, "variants", "dram-8x", "sweeps", "units-su", "sweep.csv")))
@@ -222,18 +215,16 @@ class Flow(unittest.TestCase):
         mine = os.path.join(self.tmp.name, "mine.json")
         with open(mine, "w") as f:
             json.dump([{"name": "odd-nc", "set": {"dram.bytes_per_cycle": 7.5}, "experiments": ["units-su"]}], f)
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--out", out,
-                            "--driver", self.driver, "--variants", "odd-nc", "--variants-file", mine],
-                           capture_output=True, text=True)
+        p = run_tool("reproduce", "--quick", "--out", out, "--driver", self.driver, "--variants", "odd-nc",
+                     "--variants-file", mine)
         self.assertEqual(p.returncode, 1, p.stderr)
         self.assertIn("every run of variant(s) odd-nc failed", p.stderr)
         with open(os.path.join(out, "REPORT.md")) as f:
             self.assertIn("| # | claim | default | odd-nc | class |", f.read())
 
     def test_missing_driver(self):
-        p = subprocess.run([sys.executable, os.path.join(SWEEP, "reproduce.py"), "--out",
-                            os.path.join(self.tmp.name, "x"), "--driver", os.path.join(self.tmp.name, "none.py")],
-                           capture_output=True, text=True)
+        p = run_tool("reproduce", "--out", os.path.join(self.tmp.name, "x"), "--driver",
+                     os.path.join(self.tmp.name, "none.py"))
         self.assertEqual(p.returncode, 2)
         self.assertIn("the sweep driver", p.stderr)
 

@@ -2,9 +2,8 @@
 """Sweep driver, resume: Ctrl-C stops the running points (no tigris left), finished points are
 kept; a rerun runs only the missing points; a grown grid runs only the new points; another base
 into the same folder is refused."""
-import json, os, signal, subprocess, sys, time
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import Workdir, options, read_csv, run_tests, small_workload, sweep, write_spec
+import json, os, signal, subprocess, time
+from common import Workdir, options, read_csv, run_tests, small_workload, sweep, tool_command, write_spec
 
 a = options()
 
@@ -34,8 +33,8 @@ def test_interrupt_and_resume():
         spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"},
                               "grid": {"fe.recursion_units": [16, 32, 64, 128]}})
         out = os.path.join(d, "out")
-        drv = subprocess.Popen([sys.executable, a.sweep, spec, "--out", out, "--jobs", "1",
-                                "--tigris", a.tigris], stderr=subprocess.PIPE, text=True)
+        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "1", "--tigris", a.tigris)
+        drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env)
         first = os.path.join(out, "points", "fe.recursion_units=16", "point.json")
         t0 = time.monotonic()
         while not os.path.exists(first):

@@ -5,8 +5,7 @@ aside; --no-wait returns at once and `collect` gathers the finished array; sbatc
 shown. Skips (exit 77) with the reason when the cluster cannot start (not root and no sudo, no
 packages), unless TIGRIS_REQUIRE_SLURM=1. The cluster is stopped by PID whatever happens."""
 import os, subprocess, sys, time
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import SKIP, Workdir, options, read_csv, run_tests, small_workload, sweep, write_spec
+from common import SKIP, Workdir, options, read_csv, run_tests, small_workload, sweep, tool_command, write_spec
 
 a = options()
 LOCAL_SLURM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "local_slurm.sh")
@@ -66,9 +65,6 @@ def test_slurm(env, d):
     assert p.returncode == 3 and "sbatch failed" in p.stderr and "partition" in p.stderr, p.stderr
 
 
-DSE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipeline_dse.py")
-
-
 def test_dse(env, d):
     """tigris pipeline-dse on Slurm: every point's errors, statuses and knobs equal the local run's
     (times are measurements, so the frontiers may differ by noise and are not compared)."""
@@ -79,9 +75,9 @@ def test_dse(env, d):
     rows = {}
     for where, extra in (("local", ["--jobs", "2"]), ("array", ["--slurm", "--time", "10"])):
         out = os.path.join(d, f"dse-{where}")
-        p = subprocess.run([sys.executable, DSE, "--space", space, "--samples", "3", "--pairs", "1",
-                            "--tigris", a.tigris, "--out", out] + extra, capture_output=True, text=True,
-                           timeout=900, env=env)
+        cmd, cenv = tool_command("pipeline_dse", "--space", space, "--samples", "3", "--pairs", "1",
+                                 "--tigris", a.tigris, "--out", out, *extra, env=env)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env=cenv)
         assert p.returncode == 0, p.stderr[-3000:]
         rows[where] = read_csv(os.path.join(out, "points.csv"))[1]
     assert "submitted Slurm job array" in p.stderr, p.stderr[-2000:]

@@ -1,8 +1,7 @@
 #!/usr/bin/python3
 """Sweep driver: bad specs and arguments exit 2 with a message naming the key or path in the
 spec, before any point runs and without making the sweep folder."""
-import os, sys
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import os
 from common import Workdir, options, run_tests, small_workload, sweep, write_spec
 
 a = options()

@@ -12,10 +12,7 @@ import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)
-sys.path.insert(0, SWEEP)
-sys.path.insert(0, HERE)
+from common import footer_clear, tool_command
 
 TIGRIS = None
 if "--tigris" in sys.argv:
@@ -24,11 +21,11 @@ if "--tigris" in sys.argv:
     os.environ["TIGRIS"] = TIGRIS
     del sys.argv[i:i + 2]
 
-import evaldata as ed  # noqa: E402
 import plot_fixtures as fx  # noqa: E402
-import report  # noqa: E402
-import reproduce  # noqa: E402
-import variants as vt  # noqa: E402
+from sweep import evaldata as ed  # noqa: E402
+from sweep import report  # noqa: E402
+from sweep import reproduce  # noqa: E402
+from sweep import variants as vt  # noqa: E402
 
 DEFAULTS = {"dram.bytes_per_cycle": 51.2, "node_cache.bytes": 131072, "leader-width": 0,
             "fe.top_levels_replicated": 0}
@@ -172,7 +169,7 @@ class Figure(unittest.TestCase):
 
     def draw(self, cols, footer=None):
         """Draws the figure; returns (fig as saved, drawn: its pixels, the matrix' rows)."""
-        import core
+        from sweep import core
         import matplotlib
         matplotlib.use("Agg")
         import numpy as np
@@ -251,9 +248,6 @@ class Figure(unittest.TestCase):
         self.assertEqual(mc.to_hex(vt.COLOURS[vt.DIRECTION_ONLY]), mc.to_hex("#f5a623"))  # amber, as its name says
 
     def test_labels_whole_and_inside(self):
-        import sys as _sys
-        _sys.path.insert(0, HERE)
-        from common import footer_clear
         cols = self.columns(30)
         fig, _, rows = self.draw(cols, footer=["made by tigris reproduce --variants", "commit 0123abc"])
         fig.canvas.draw()                    # measured as drawn at the figure's own dpi
@@ -293,7 +287,7 @@ class Figure(unittest.TestCase):
             fig, _, _ = self.draw(self.columns(3))
         finally:
             sys.argv = old
-        import core
+        from sweep import core
         text = core.footer_text(fig)
         self.assertTrue(text.startswith("made by reproduce.py --variants dram-8x --out repro"), text)
         self.assertIn("3 configurations: default, dram-8x, nc-512k", text)
@@ -470,7 +464,7 @@ class EndToEnd(unittest.TestCase):
     def test_small_variant_run(self):
         tigris = TIGRIS or os.environ.get("TIGRIS")
         if not tigris:
-            import tigris_sweep as ts
+            from sweep import tigris_sweep as ts
             tigris = ts.default_tigris()
         tmp = tempfile.mkdtemp()
         self.addCleanup(shutil.rmtree, tmp)
@@ -479,10 +473,10 @@ class EndToEnd(unittest.TestCase):
         with open(user, "w") as f:
             json.dump([{"name": "slow-nc", "set": {"node_cache.bytes": 16384}, "why": "a small cache",
                         "experiments": ["node-cache"]}], f)
-        cmd = [sys.executable, os.path.join(SWEEP, "reproduce.py"), "--quick", "--only", "optimizations",
-               "node-cache", "--variants", "dram-8x", "slow-nc", "--variants-file", user, "--out", out,
-               "--jobs", "2", "--tigris", tigris]
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        cmd, env = tool_command("reproduce", "--quick", "--only", "optimizations", "node-cache", "--variants",
+                                "dram-8x", "slow-nc", "--variants-file", user, "--out", out, "--jobs", "2",
+                                "--tigris", tigris)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env=env)
         self.assertEqual(p.returncode, 0, p.stderr[-3000:])
         self.assertIn("2 variant(s)", p.stderr)
         with open(os.path.join(out, "variants", "dram-8x", "specs", "optimizations.json")) as f:
@@ -508,7 +502,7 @@ class EndToEnd(unittest.TestCase):
         # a rerun with another definition under the same name is refused: the results would mix
         with open(user, "w") as f:
             json.dump([{"name": "slow-nc", "set": {"node_cache.bytes": 8192}}], f)
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
         self.assertEqual(p.returncode, 2)
         self.assertIn("holds results of variant 'slow-nc'", p.stderr)
 

@@ -1,0 +1,698 @@
+#include "odometry_command.hpp"
+#include "command.hpp"
+
+#include <sys/wait.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/LU>
+#include <nlohmann/json.hpp>
+
+#include "core/arg_checks.hpp"
+#include "core/children.hpp"
+#include "core/out_folder.hpp"
+#include "testbench/run_inputs.hpp"
+#include "core/json_file.hpp"
+#include "python_tools.hpp"
+#include "testbench/report.hpp"
+#include "core/slurm_array.hpp"
+#include "synth_command.hpp"
+#include "workloads/kitti_sequence.hpp"
+#include "registration/odometry_metrics.hpp"
+#include "workloads/pose.hpp"
+#include "core/timer.hpp"
+
+namespace tigris {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::size_t scans) {
+  if (text.empty()) return {0, scans - 1};
+  long a = -1, b = -1;
+  char colon = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%ld%c%ld%c", &a, &colon, &b, &extra) != 3 || colon != ':' || a < 0 || b <= a)
+    throw std::invalid_argument("--frames must be A:B, the first and the last frame (A < B), got '" + text + "'");
+  if (static_cast<std::size_t>(b) >= scans)
+    throw std::invalid_argument("--frames " + text + ": the sequence has frames 0.." + std::to_string(scans - 1));
+  return {static_cast<std::size_t>(a), static_cast<std::size_t>(b)};
+}
+
+std::string frame_tag(std::size_t i) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%06zu", i);
+  return b;
+}
+
+// The flags every pair's `tigris register` gets, in a fixed order (also the resume key).
+std::vector<std::string> forwarded(const OdometryOptions& o) {
+  std::vector<std::string> a{"--preset", o.preset};
+  if (!o.config.empty()) a.insert(a.end(), {"--config", fs::absolute(o.config).string()});
+  for (const std::string& s : o.sets) a.insert(a.end(), {"--set", s});
+  if (!o.search.empty()) a.insert(a.end(), {"--search", o.search});
+  if (!o.height.empty()) a.insert(a.end(), {"--height", o.height});
+  if (!o.approx_thd.empty()) a.insert(a.end(), {"--approx-thd", o.approx_thd});
+  if (!o.accel_config.empty()) a.insert(a.end(), {"--accel-config", fs::absolute(o.accel_config).string()});
+  for (const std::string& s : o.accel_sets) a.insert(a.end(), {"--accel-set", s});
+  char w[32];
+  std::snprintf(w, sizeof w, "%.17g", o.max_work);
+  a.insert(a.end(), {"--max-work", w});
+  return a;
+}
+
+void check_register_flags(const OdometryOptions& o) {
+  std::vector<std::string> args{"/proc/self/exe", "register"};
+  for (const std::string& a : forwarded(o)) args.push_back(a);
+  args.push_back("--check-flags");
+  if (wait_child(start_child(args)) != 0)
+    throw std::invalid_argument("the flags tigris odometry gives each pair's tigris register do not hold" +
+                                (o.search.empty() ? std::string() : " (--search " + o.search + ")") +
+                                ": its message is above; nothing was run or written");
+}
+
+nlohmann::json config_inputs(const OdometryOptions& o) {
+  nlohmann::json in = nlohmann::json::array();
+  if (!o.config.empty()) in.push_back(input_file("config", o.config));
+  if (!o.accel_config.empty()) in.push_back(input_file("accelerator config", o.accel_config));
+  return in;
+}
+
+std::vector<std::string> odometry_outputs(bool compare) {
+  if (compare)
+    return {"comparison.json", "flann/", "exact/", "approx/", "accel/", "sequence/", "flann-repeat-*/",
+            "exact-repeat-*/", "approx-repeat-*/"};
+  return {"poses.txt", "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png", "errors.png",
+          "pairs/",    "slurm/",         "sequence/"};
+}
+
+std::string last_line(const std::string& path) {
+  std::ifstream f(path);
+  std::string line, last;
+  while (std::getline(f, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+// A pair's registration.json: false when it is not there (the pair runs); a report that is
+// there but not whole (edited, truncated) is an error naming the file and the key.
+bool read_pair(const std::string& path, ordered_json& out) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return false;
+  out = parse_json_text(read_input(path, "a pair's registration report", kMaxSettingsBytes), path);
+  const auto need = [&](bool ok, const std::string& what) {
+    if (!ok)
+      throw std::invalid_argument(path + ": " + what + "; not a whole tigris register report (remove the pair's "
+                                  "folder to register it again)");
+  };
+  need(out.is_object(), "not a JSON object");
+  need(out.contains("status") && out["status"].is_string(), "no 'status' text");
+  need(out.contains("transform") && (out["transform"].is_null() || out["transform"].is_array()), "no 'transform'");
+  need(out.contains("seconds") && out["seconds"].is_number() && out["seconds"].get<double>() >= 0,
+       "no 'seconds' (a number, at least 0)");
+  need(out.contains("stages") && out["stages"].is_object() && !out["stages"].empty(), "no 'stages'");
+  for (const auto& [name, st] : out["stages"].items()) {
+    need(st.is_object(), "stage '" + name + "' is not an object");
+    for (const char* key : {"seconds", "search_seconds", "searches"})
+      need(!st.contains(key) || (st[key].is_number() && st[key].get<double>() >= 0),
+           "stage '" + name + "': '" + key + "' is not a number at least 0");
+  }
+  if (out["transform"].is_array()) {
+    bool ok = out["transform"].size() == 4;
+    for (const auto& row : out["transform"])
+      ok = ok && row.is_array() && row.size() == 4 &&
+           std::all_of(row.begin(), row.end(), [](const ordered_json& x) { return x.is_number() && std::isfinite(x.get<double>()); });
+    need(ok, "'transform' is not a 4x4 matrix of finite numbers");
+  }
+  return true;
+}
+
+Pose pose_of(const ordered_json& m) {
+  Pose t;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) t(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
+  return t;
+}
+
+double stage_sum(const ordered_json& reg, const char* key) {
+  double s = 0.0;
+  for (const auto& [name, st] : reg.at("stages").items()) s += st.value(key, 0.0);
+  return s;
+}
+
+// NaN (no segment, no ground truth) as null in JSON.
+ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : ordered_json(); }
+
+}  // namespace
+
+void add_odometry_options(CLI::App& app, OdometryOptions& o) {
+  CLI::Option* seq = app.add_option(
+      "--sequence", o.sequence, "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)");
+  CLI::Option* syn = app.add_option("--synthetic", o.synthetic,
+                                    "Instead of --sequence: a synthetic drive of N frames with exact poses (tigris synth), "
+                                    "written to OUT/sequence first")
+                         ->check(CLI::Range(2, 20000));
+  seq->excludes(syn);
+  app.add_option("--seed", o.seed, "With --synthetic: the drive's seed (0 .. 2^64-1)")
+      ->check(uint64_text())
+      ->needs(syn)
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "A:B, the first and the last frame (default: every frame)");
+  app.add_option("--jobs", o.jobs, "Pairs registered at once, each a process of its own")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app.add_option("--preset", o.preset, "Pipeline preset: dp4 or dp7 (as tigris register)")
+      ->check(CLI::IsMember({"dp4", "dp7"}))
+      ->capture_default_str();
+  app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)");
+  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")
+      ->allow_extra_args(false);
+  app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
+      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
+  app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
+  app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
+  app.add_option("--accel-config", o.accel_config, "With --search accel*: the accelerator's configuration JSON");
+  app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--max-work", o.max_work, "Work bound of each pair's registration (as tigris register)")
+      ->check(finite_range(0.0, 1e18))
+      ->capture_default_str();
+  app.add_option("--out", o.out, "Output folder")->capture_default_str();
+  add_slurm_options(app, o.slurm);
+  app.add_flag("--compare", o.compare,
+               "Register the sequence with flann, exact, approx and accel, each into OUT/<back-end>/, then one table: "
+               "KD-tree and end-to-end time against FLANN, energy, KITTI errors (OUT/comparison.json)");
+  app.add_option("--repeat", o.repeat,
+                 "With --compare: run each CPU back-end (flann, exact, approx) this many times, interleaved, and "
+                 "report the median time with min and max; the accelerator's run is modeled and runs once")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+}
+
+namespace {
+
+// Refuses flags that do not go together, before anything is written.
+void check_odometry_flags(const CLI::App& app, const OdometryOptions& o) {
+  if (o.sequence.empty() && o.synthetic == 0)
+    throw std::invalid_argument("give --sequence DIR (a KITTI-layout folder) or --synthetic N (a synthetic drive)");
+  if (!o.compare && app.count("--repeat"))
+    throw std::invalid_argument("--repeat goes with --compare (it times the CPU back-ends of the comparison)");
+  if (o.compare)
+    for (const char* flag : {"--search", "--no-wait"})
+      if (app.count(flag))
+        throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs flann, exact, approx and "
+                                    "accel one after the other)");
+  // Every flag the pairs get is checked by `tigris register` itself before anything is written.
+  if (o.compare)
+    for (const OdometryOptions& b : compare_variants(o)) check_register_flags(b);
+  else
+    check_register_flags(o);
+}
+
+// --synthetic: claims OUT and writes the drive to OUT/sequence, which then is the sequence (o.sequence).
+std::unique_ptr<OutFolder> write_synthetic(OdometryOptions& o, const std::vector<std::string>& flags) {
+  // The drive is an output (OUT/sequence, written by the synth core): the settings decide it.
+  FolderSpec spec{"odometry", {}, nlohmann::json({{"synthetic", o.synthetic}, {"seed", o.seed},
+                                                      {"frames", o.frames}, {"register_flags", flags},
+                                                      {"compare", o.compare}}),
+                  config_inputs(o), odometry_outputs(o.compare), true, {}};
+  auto folder = std::make_unique<OutFolder>(o.out, spec);
+  DriveConfig drive;
+  drive.frames = o.synthetic;
+  drive.seed = o.seed;
+  o.sequence = o.out + "/sequence";
+  std::fprintf(stderr, "tigris odometry: the synthetic drive (seed %llu, %d frames) in %s\n",
+               static_cast<unsigned long long>(o.seed), o.synthetic, o.sequence.c_str());
+  write_synthetic_drive(drive, o.sequence, o.jobs, false);
+  return folder;
+}
+
+// --compare: claims OUT (unless the synthetic drive did) and runs each back-end's odometry into it.
+int run_compare(const OdometryOptions& o, const std::vector<std::string>& flags, std::unique_ptr<OutFolder> folder) {
+  if (!folder) {  // each back-end's odometry checks (and records) the sequence's files itself
+    FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                                          {"frames", o.frames}, {"register_flags", flags},
+                                                          {"compare", true}}),
+                    config_inputs(o), odometry_outputs(true), true, {}};
+    folder = std::make_unique<OutFolder>(o.out, spec);
+  }
+  const int code = run_odometry_compare(o);
+  folder->finish(code == 0 ? "done" : "failed");
+  return code;
+}
+
+// Sums over the pairs, for metrics.json and the summary.
+struct PairTotals {
+  double seconds = 0, kd = 0, modeled_e2e = 0, modeled_kd = 0, energy = 0;
+  std::size_t not_converged = 0;
+};
+
+// One odometry of one back-end, its steps in the order run() takes them; the members are what
+// one step leaves for the next.
+struct OdometryRun {
+  OdometryOptions o;
+  std::vector<std::string> flags;     // each pair's `tigris register` flags
+  std::unique_ptr<OutFolder> folder;  // null until claimed (the synthetic drive claims it first)
+  KittiSequence seq;
+  std::size_t first = 0, last = 0, pairs = 0;    // the frames registered, pairs = last - first
+  std::vector<ordered_json> regs;                // each pair's registration.json
+  std::vector<std::size_t> todo;                 // the pairs still to register
+  std::vector<Pose> est, gt;                     // chained, and ground truth from frame first (empty: none)
+  bool accel = false;                            // --search accel*: the accelerator's modeled figures too
+  PairTotals sum;
+  ordered_json stages = ordered_json::object();  // per stage: sums over the pairs, then means
+  ordered_json m;                                // metrics.json
+  std::string note;                              // the summary's note line, if any
+
+  OdometryRun(OdometryOptions options, std::vector<std::string> pair_flags, std::unique_ptr<OutFolder> claimed)
+      : o(std::move(options)), flags(std::move(pair_flags)), folder(std::move(claimed)) {}
+  int run();
+  void read_sequence();
+  void claim_folder();
+  void plan_pairs();
+  bool run_pairs();
+  bool run_on_slurm(SteadyClock::time_point t0, std::string& failure);
+  void run_locally(SteadyClock::time_point t0, std::string& failure);
+  void chain_poses();
+  void write_trajectory();
+  void add_pair(std::size_t k, std::ostringstream& csv);
+  void write_pairs_csv();
+  void add_kitti_metrics(bool synthetic);
+  void write_metrics();
+  int print_summary();
+};
+
+int OdometryRun::run() {
+  read_sequence();
+  claim_folder();
+  plan_pairs();
+  if (!run_pairs()) return 0;
+  chain_poses();
+  write_trajectory();
+  write_pairs_csv();
+  write_metrics();
+  return print_summary();
+}
+
+// The sequence's listing, poses and calibration, and the frames to register.
+void OdometryRun::read_sequence() {
+  seq = read_kitti_sequence(o.sequence);
+  if (seq.scans.size() < 2) throw std::invalid_argument(o.sequence + ": a sequence needs two frames or more");
+  std::tie(first, last) = parse_frames(o.frames, seq.scans.size());
+}
+
+// Claims OUT for a sequence given with --sequence, keyed on every input the pairs read.
+void OdometryRun::claim_folder() {
+  if (!folder) {
+    // A rerun resumes only with the same flags, frames and file contents (every scan of the
+    // range, poses.txt and calib.txt included): changed inputs never mix with old pairs.
+    nlohmann::json inputs = config_inputs(o);
+    for (std::size_t i = first; i <= last; ++i) inputs.push_back(input_file("scan " + frame_tag(i), seq.scans[i]));
+    for (const char* name : {"poses.txt", "calib.txt"}) {
+      const std::string path = o.sequence + "/" + name;
+      std::error_code ec;
+      if (fs::exists(fs::symlink_status(path, ec))) inputs.push_back(input_file(name, path));
+    }
+    FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                                          {"frames", {first, last}}, {"register_flags", flags}}),
+                    inputs, odometry_outputs(false), true, {}};
+    folder = std::make_unique<OutFolder>(o.out, spec);
+  }
+  fs::create_directories(o.out + "/pairs");
+}
+
+// Reads the pairs a run before left in OUT/pairs (a rerun resumes) and lists the rest.
+void OdometryRun::plan_pairs() {
+  // Each pair: frame i + 1 (source) into frame i (target), in OUT/pairs/<i>/.
+  pairs = last - first;
+  regs.resize(pairs);
+  for (std::size_t k = 0; k < pairs; ++k)
+    if (!read_pair(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json", regs[k])) todo.push_back(k);
+  if (!seq.note.empty()) std::fprintf(stderr, "tigris odometry: note: %s\n", seq.note.c_str());
+  std::fprintf(stderr, "tigris odometry: %s, frames %zu..%zu: %zu pairs (%zu already in %s), --jobs %d\n",
+               o.sequence.c_str(), first, last, pairs, pairs - todo.size(), o.out.c_str(), o.jobs);
+  if (const std::string job = active_array(o.out); !job.empty())
+    throw std::invalid_argument("Slurm job " + job + " of an earlier submission still runs into " + o.out +
+                                ": wait for it (squeue -j " + job + ") or cancel it (scancel " + job + ")");
+}
+
+// Registers the pairs to do, on Slurm or here; false: submitted with --no-wait (OUT is finished).
+bool OdometryRun::run_pairs() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string failure;
+  if (o.slurm.slurm && !todo.empty()) {
+    if (!run_on_slurm(t0, failure)) return false;
+  } else {
+    run_locally(t0, failure);
+  }
+  if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
+  return true;
+}
+
+// The pairs to do as one Slurm job array; false: submitted with --no-wait.
+bool OdometryRun::run_on_slurm(SteadyClock::time_point t0, std::string& failure) {
+  // One job array; each task runs `tigris register` exactly as the local processes do.
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  std::vector<ArrayCommand> commands;
+  for (const std::size_t k : todo) {
+    const std::string dir = fs::absolute(o.out + "/pairs/" + frame_tag(first + k)).lexically_normal().string();
+    fs::create_directories(dir);
+    ArrayCommand c;
+    c.argv = {self, "register", "--source", fs::absolute(seq.scans[first + k + 1]).string(), "--target",
+              fs::absolute(seq.scans[first + k]).string()};
+    c.argv.insert(c.argv.end(), flags.begin(), flags.end());
+    c.argv.insert(c.argv.end(), {"--out", dir});
+    c.log = dir + "/log.txt";
+    c.parent_outputs = "log.txt";
+    commands.push_back(c);
+  }
+  const std::string job = submit_array(o.slurm, commands, o.out, "tigris-odometry");
+  if (o.slurm.no_wait) {
+    std::printf("job %s\ncollect when it has ended: rerun the same command (the pairs done are reused)\n", job.c_str());
+    folder->finish("submitted");
+    return false;
+  }
+  std::size_t seen = 0;
+  wait_array(job, [&] {
+    std::size_t n = 0;
+    for (const std::size_t k : todo) n += fs::exists(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json");
+    if (n != seen)
+      std::fprintf(stderr, "tigris odometry: Slurm job %s: %zu/%zu pairs (%.0f s)\n", job.c_str(), n, todo.size(),
+                   seconds_since(t0));
+    seen = n;
+  });
+  for (const std::size_t k : todo) {
+    const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+    if (!read_pair(dir + "/registration.json", regs[k]) && failure.empty())
+      failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": no result from Slurm job " +
+                job + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + "; task logs in " + o.out + "/slurm/)";
+  }
+  return true;
+}
+
+// The pairs to do as child processes here, --jobs at a time; the first failure stops the scheduling.
+void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) {
+  std::size_t done = 0;
+  run_pool(
+      todo.size(), o.jobs,
+      [&](std::size_t i) {
+        const std::size_t k = todo[i];
+        const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+        fs::create_directories(dir);
+        std::vector<std::string> args{"/proc/self/exe", "register", "--source", seq.scans[first + k + 1], "--target",
+                                      seq.scans[first + k]};
+        args.insert(args.end(), flags.begin(), flags.end());
+        args.insert(args.end(), {"--out", dir});
+        return start_child(args, dir + "/log.txt", "log.txt");
+      },
+      [&](std::size_t i, int code) {
+        const std::size_t k = todo[i];
+        ++done;
+        const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
+        const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
+        const double elapsed = seconds_since(t0);
+        std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s elapsed, about %.0f s left)\n", done,
+                     todo.size(), frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
+                     ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED", elapsed,
+                     elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done));
+        if (!ok && failure.empty())
+          failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
+                    std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
+        return failure.empty();  // a failure stops the scheduling
+      });
+}
+
+// The estimated poses from the pairs' transforms, and the ground truth anchored at frame first.
+void OdometryRun::chain_poses() {
+  // Chain: pose of frame first + k + 1 = pose of frame first + k * (its pair's transform).
+  est.push_back(Pose::Identity());
+  for (std::size_t k = 0; k < pairs; ++k) {
+    if (regs[k]["transform"].is_null())
+      throw std::invalid_argument("pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) +
+                                  " is degenerate (no transform: " + regs[k].value("problem", std::string()) +
+                                  "): the trajectory cannot be chained past it");
+    est.push_back(est.back() * pose_of(regs[k]["transform"]));
+  }
+  if (!seq.poses.empty()) {
+    const Pose anchor = seq.poses[first].inverse();
+    for (std::size_t i = first; i <= last; ++i) gt.push_back(anchor * seq.poses[i]);
+  }
+}
+
+// OUT/poses.txt and OUT/trajectory.csv.
+void OdometryRun::write_trajectory() {
+  write_file(o.out + "/poses.txt", [&](std::ostream& f) { write_kitti_poses(f, est, seq.velo_to_cam); });
+  // Positions in frame A's Velodyne frame (x forward, y left, z up), for the plots.
+  write_file(o.out + "/trajectory.csv", [&](std::ostream& f) {
+    f << "frame,est_x,est_y,est_z,gt_x,gt_y,gt_z\n";
+    char line[256];
+    for (std::size_t i = 0; i < est.size(); ++i) {
+      const Pose g = gt.empty() ? Pose::Constant(NAN) : gt[i];
+      std::snprintf(line, sizeof line, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", first + i, est[i](0, 3), est[i](1, 3),
+                    est[i](2, 3), g(0, 3), g(1, 3), g(2, 3));
+      f << line;
+    }
+  });
+}
+
+// Pair k: its stages into the per-stage sums, its figures into the totals, its line of pairs.csv.
+void OdometryRun::add_pair(std::size_t k, std::ostringstream& csv) {
+  const ordered_json& r = regs[k];
+  for (const auto& [name, st] : r.at("stages").items()) {
+    ordered_json& acc = stages[name];
+    if (acc.is_null()) acc = ordered_json::object();
+    const auto add = [&acc](const char* key, double v) { acc[key] = acc.value(key, 0.0) + v; };
+    add("seconds", st.value("seconds", 0.0));
+    add("kdtree_search_seconds", st.value("search_seconds", 0.0));
+    add("searches", st.value("searches", 0.0));
+    if (accel && st.contains("accelerator")) {
+      const ordered_json& a = st.at("accelerator");
+      add("accelerator_jobs", a.at("jobs").get<double>());
+      add("modeled_kdtree_seconds", a.at("modeled_kdtree_seconds").get<double>());
+      add("modeled_stage_seconds", a.at("modeled_stage_seconds").get<double>());
+      add("kdtree_energy_pj", a.at("energy_pj").get<double>());
+      add("fallback_searches", a.at("fallback_searches").get<double>());
+    }
+  }
+  const double seconds = r.at("seconds").get<double>(), kd = stage_sum(r, "search_seconds");
+  sum.seconds += seconds;
+  sum.kd += kd;
+  sum.not_converged += r.at("status") != "converged";
+  char line[512];
+  double rpe_t = NAN, rpe_r = NAN;
+  if (!gt.empty()) {
+    const PoseError e =
+        pose_error(gt[k].inverse() * gt[k + 1], est[k].inverse() * est[k + 1]);
+    rpe_t = e.translation_m;
+    rpe_r = e.rotation_deg;
+  }
+  std::snprintf(line, sizeof line, "%zu,%zu,%zu,%s,%.6f,%.6f,%.4f,%.0f,%.6g,%.6g", k, first + k + 1, first + k,
+                r.at("status").get<std::string>().c_str(), seconds, kd, seconds > 0 ? kd / seconds : 0.0,
+                stage_sum(r, "searches"), rpe_t, rpe_r);
+  csv << line;
+  if (accel) {
+    const ordered_json& a = r.at("accelerator");
+    if (!a.at("fallback_searches").is_number_unsigned())  // a count: a negative or fractional one is no report's
+      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json: "
+                                  "accelerator.fallback_searches is not a count; not a whole tigris register report "
+                                  "(remove the pair's folder to register it again)");
+    sum.modeled_kd += a.at("modeled_kdtree_seconds").get<double>();
+    sum.modeled_e2e += a.at("modeled_end_to_end_seconds").get<double>();
+    sum.energy += a.at("kdtree_energy_pj").get<double>();
+    std::snprintf(line, sizeof line, ",%.6g,%.6g,%.6g,%llu", a.at("modeled_kdtree_seconds").get<double>(),
+                  a.at("modeled_end_to_end_seconds").get<double>(), a.at("kdtree_energy_pj").get<double>(),
+                  static_cast<unsigned long long>(a.at("fallback_searches").get<std::uint64_t>()));
+    csv << line;
+  }
+  csv << '\n';
+}
+
+// OUT/pairs.csv, one line a pair; sums the pairs' figures on the way.
+void OdometryRun::write_pairs_csv() {
+  // Per pair.
+  accel = o.search == "accel" || o.search == "accel-approx";
+  std::ostringstream csv;
+  csv << "pair,source,target,status,seconds,kdtree_seconds,kdtree_share,searches,rpe_translation_m,rpe_rotation_deg";
+  if (accel) csv << ",modeled_kdtree_seconds,modeled_end_to_end_seconds,kdtree_energy_pj,fallback_searches";
+  csv << '\n';
+  for (std::size_t k = 0; k < pairs; ++k) {
+    try {  // a hand-edited report: the error names its file
+      add_pair(k, csv);
+    } catch (const nlohmann::json::exception& e) {
+      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json: " +
+                                  std::string(e.what()).substr(std::string(e.what()).find("] ") + 2) +
+                                  "; not a whole tigris register report (remove the pair's folder to register it "
+                                  "again)");
+    }
+  }
+  write_file(o.out + "/pairs.csv", [&](std::ostream& f) { f << csv.str(); });
+}
+
+// The KITTI devkit's errors, ATE and RPE against the ground truth (gt not empty), into m; a
+// warning into note when the ground truth looks synthetic and the drive is not.
+void OdometryRun::add_kitti_metrics(bool synthetic) {
+  const registration::OdometryMetrics x = registration::odometry_metrics(gt, est);
+  ordered_json lengths = ordered_json::array();
+  for (const auto& l : x.per_length)
+    lengths.push_back({{"length_m", l.length_m}, {"segments", l.segments},
+                       {"t_err_percent", number(l.t_err_percent)}, {"r_err_deg_per_m", number(l.r_err_deg_per_m)}});
+  m["kitti"] = {{"t_err_percent", number(x.t_err_percent)},
+                {"r_err_deg_per_m", number(x.r_err_deg_per_m)},
+                {"segments", x.segments},
+                {"trajectory_length_m", x.trajectory_length_m},
+                {"too_short", x.too_short},
+                {"per_length", lengths},
+                {"how", "the KITTI odometry devkit: segments of 100..800 m of ground-truth path starting every "
+                        "10 frames; translational error in % and rotational error in deg/m, averaged over every "
+                        "segment"}};
+  if (x.too_short)
+    m["kitti"]["note"] = "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
+                         "(null, not 0)";
+  ordered_json segs = ordered_json::array();  // every devkit segment, for the plots
+  for (const registration::SegmentError& e : registration::sequence_errors(gt, est))
+    segs.push_back({{"first_frame", first + e.first_frame}, {"length_m", e.length_m},
+                    {"speed_m_per_s", e.speed_m_per_s}, {"t_err_percent", 100.0 * e.t_err_per_m},
+                    {"r_err_deg_per_m", e.r_err_rad_per_m * 180.0 / M_PI}});
+  m["kitti"]["segment_list"] = segs;
+  m["ate"] = {{"rmse_m", number(x.ate_rmse_m)}, {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
+              {"unaligned_max_m", number(x.ate_max_m)}};
+  m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
+              {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
+  // On every ground-truth pose from frame A, also those past the scans the folder holds.
+  const std::size_t steps = equal_steps(
+      std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
+  if (steps >= kEqualStepsWarn && !synthetic) {
+    m["ground_truth_warning"] = equal_steps_warning(steps);
+    note = equal_steps_warning(steps);
+  }
+}
+
+// OUT/metrics.json: the run, the totals, the per-stage means and the errors against the ground truth.
+void OdometryRun::write_metrics() {
+  m["command"] = "odometry";
+  m["command_line"] = o.command_line;
+  m["sequence"] = o.sequence;
+  m["calibration"] = seq.calibration;
+  // A drive tigris synth wrote has exact poses: equal steps there are steady driving.
+  const bool synthetic = fs::exists(o.sequence + "/drive.json");
+  m["ground_truth_source"] = seq.poses.empty() ? "none"
+                             : synthetic       ? "exact (a synthetic drive, tigris synth: drive.json)"
+                                               : "poses.txt";
+  if (!seq.note.empty()) m["sequence_note"] = seq.note;
+  m["frames"] = {first, last};
+  m["pairs"] = pairs;
+  m["register_flags"] = flags;
+  m["not_converged_pairs"] = sum.not_converged;
+  m["totals"] = {{"seconds", sum.seconds}, {"kdtree_search_seconds", sum.kd},
+                 {"kdtree_share", sum.seconds > 0 ? sum.kd / sum.seconds : 0.0}};
+  if (accel)
+    m["accelerator"] = {{"modeled_kdtree_seconds", sum.modeled_kd},
+                        {"modeled_end_to_end_seconds", sum.modeled_e2e},
+                        {"kdtree_energy_pj", sum.energy},
+                        {"per_pair_mean", {{"modeled_kdtree_seconds", sum.modeled_kd / pairs},
+                                           {"modeled_end_to_end_seconds", sum.modeled_e2e / pairs},
+                                           {"kdtree_energy_pj", sum.energy / pairs}}}};
+  // Per stage: the mean over the pairs (with accel, a stage's seconds and KD-tree search seconds
+  // hold the simulation's wall time; its modeled figures are the accelerator's).
+  for (auto& [name, acc] : stages.items()) {
+    ordered_json mean;
+    for (const auto& [key, v] : acc.items()) mean[key] = v.get<double>() / static_cast<double>(pairs);
+    acc = {{"per_pair_mean", mean}};
+  }
+  m["stages"] = stages;
+  if (gt.empty()) {
+    m["ground_truth"] = nullptr;
+    note = "no poses.txt: no error metrics";
+  } else {
+    add_kitti_metrics(synthetic);
+  }
+  write_file(o.out + "/metrics.json",
+             [&](std::ostream& f) { f << m.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+}
+
+// The summary on stdout, the plots (a warning when they cannot be drawn), and OUT finished;
+// exit 1 when a pair did not converge.
+int OdometryRun::print_summary() {
+  std::printf("tigris odometry: %s, frames %zu..%zu (%zu pairs, %zu not converged), %s\n", o.sequence.c_str(), first,
+              last, pairs, sum.not_converged, o.search.empty() ? "search exact" : ("search " + o.search).c_str());
+  if (accel)
+    std::printf("  registration %.2f s of wall time in all, the accelerator's simulation included\n", sum.seconds);
+  else
+    std::printf("  registration %.2f s in all, KD-tree search %.2f s (%.1f%%)\n", sum.seconds, sum.kd,
+                sum.seconds > 0 ? 100.0 * sum.kd / sum.seconds : 0.0);
+  if (accel)
+    std::printf("  on the accelerator (modeled): KD-tree %.4f s, end to end %.3f s, KD-tree energy %.1f uJ\n",
+                sum.modeled_kd, sum.modeled_e2e, sum.energy * 1e-6);
+  if (m.contains("kitti")) {
+    const auto& k = m["kitti"];
+    if (k["too_short"].get<bool>())
+      std::printf("  KITTI metrics: none, the trajectory (%.1f m) is shorter than 100 m\n",
+                  k["trajectory_length_m"].get<double>());
+    else
+      std::printf("  KITTI metrics over %zu segments of %.0f m of path: translation %.3f%%, rotation %.5f deg/m\n",
+                  k["segments"].get<std::size_t>(), k["trajectory_length_m"].get<double>(),
+                  k["t_err_percent"].get<double>(), k["r_err_deg_per_m"].get<double>());
+    std::printf("  ATE %.4f m (aligned), %.4f m unaligned; mean RPE %.4f m, %.4f deg per pair\n",
+                m["ate"]["rmse_m"].get<double>(), m["ate"]["unaligned_rmse_m"].get<double>(),
+                m["rpe"]["mean_translation_m"].get<double>(), m["rpe"]["mean_rotation_deg"].get<double>());
+  }
+  if (!note.empty()) std::printf("  note: %s\n", note.c_str());
+  std::string why;
+  const int plotted = run_python_module("odometry_plots", {o.out}, why);
+  if (plotted != 0)
+    std::fprintf(stderr, "tigris odometry: warning: the plots were not drawn (%s)\n",
+                 plotted < 0 || !why.empty() ? why.c_str()
+                                             : ("python3 -m sweep.odometry_plots exit " + std::to_string(plotted)).c_str());
+  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n",
+              o.out.c_str(), plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
+  folder->finish(sum.not_converged > 0 ? "not converged" : "done");
+  return sum.not_converged > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
+  OdometryOptions o = given;
+  check_odometry_flags(app, o);
+  std::unique_ptr<OutFolder> folder;
+  const std::vector<std::string> flags = forwarded(o);
+  if (o.synthetic > 0) folder = write_synthetic(o, flags);
+  if (o.compare) return run_compare(o, flags, std::move(folder));
+  OdometryRun odometry(std::move(o), flags, std::move(folder));
+  return odometry.run();
+}
+
+}  // namespace tigris
+
+namespace tigris {
+namespace {
+
+const CommandRegistration kRegistration{options_command<OdometryOptions>(
+    "odometry", "Register each frame of a KITTI-layout sequence into the previous one (tigris register per "
+        "pair, --jobs at a time), chain the poses, KITTI's error metrics", 40,
+    [](CLI::App& app, OdometryOptions& o) {
+      add_odometry_options(app, o);
+    },
+    [](const CLI::App& app, OdometryOptions& o, const CommandLine& line) {
+      o.command_line = line.text;
+      o.argv = line.argv;
+      return run_odometry_command(app, o);
+    })};
+
+}  // namespace
+}  // namespace tigris

@@ -1,0 +1,20 @@
+// `tigris sweep`, `reproduce`, `diff`, `plot` and `pipeline-dse`: the analysis tools are the
+// Python package `sweep` (docs/sweeps.md), found beside this binary in ../share/tigris/sweep (the
+// build tree links it to the source tree's sweep/, an install copies it; TIGRIS_SWEEP_DIR
+// overrides). They run as `python3 -m sweep.<module>` with this binary as their `tigris`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tigris {
+
+// If argv names a Python tool, runs it in place of this process (returns only on failure, with
+// the exit code); otherwise returns -1.
+int run_python_tool(int argc, char** argv);
+
+// Runs the package's `module` with `args` in a child process and waits; returns its exit code,
+// or -1 with `why` set when it could not start (no package, no python3).
+int run_python_module(const std::string& module, const std::vector<std::string>& args, std::string& why);
+
+}  // namespace tigris

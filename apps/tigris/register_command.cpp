@@ -1,0 +1,675 @@
+#include "register_command.hpp"
+#include "command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <pcl/console/print.h>
+
+#include "testbench/accel_in_loop.hpp"
+#include "core/arg_checks.hpp"
+#include "testbench/config.hpp"
+#include "options.hpp"
+#include "testbench/simulation.hpp"
+#include "testbench/report.hpp"
+#include "testbench/run_inputs.hpp"
+#include "workloads/io/cloud_io.hpp"
+#include "registration/pipeline.hpp"
+#include "workloads/pose.hpp"
+#include "workloads/synthetic.hpp"
+#include "traces/workload_trace.hpp"
+
+namespace tigris {
+namespace {
+
+using nlohmann::ordered_json;
+
+ordered_json matrix_json(const Eigen::Matrix4d& t) {
+  ordered_json rows = ordered_json::array();
+  for (int r = 0; r < 4; ++r) {
+    ordered_json row = ordered_json::array();
+    for (int c = 0; c < 4; ++c) row.push_back(t(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// A stage's KD-tree time with the accelerator in the loop: its jobs as modeled (search and host
+// transfers) plus the searches it could not batch, at their CPU time.
+double modeled_kdtree_seconds(const registration::SearchCounters& k) {
+  return k.accel.modeled_search_seconds + k.accel.modeled_host_seconds + k.accel.fallback_seconds;
+}
+
+ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
+  ordered_json j;
+  j["seconds"] = s.seconds;
+  const registration::SearchCounters& k = s.kdtree;
+  if (!s.search.empty()) {
+    j["search"] = s.search;
+    // PCL's batch calls loop over single points: each search is one query point.
+    j["searches"] = k.searches;
+    j["queries"] = k.searches;
+    j["neighbors"] = k.neighbors;
+    j["trees_built"] = k.builds;
+    j["build_seconds"] = k.build_seconds;
+    j["search_seconds"] = k.search_seconds;
+    if (s.search != "flann")
+      j["visits"] = {{"top", k.visits.top},
+                     {"pruned", k.visits.pruned},
+                     {"leaf_visits", k.visits.leaf_visits},
+                     {"leaf_points", k.visits.leaf_points},
+                     {"follower_points", k.visits.follower_points},
+                     {"leader_checks", k.visits.leader_checks}};
+    if (s.search == "approx" && !in_loop)
+      j["leaders"] = {{"leaders", k.leaders.leaders},
+                      {"followers", k.leaders.followers},
+                      {"leader_buffer_full", k.leaders.leader_buffer_full}};
+    if (in_loop) {
+      // search_seconds above holds the jobs' simulation: the stage's figures on the hardware are these.
+      const auto& a = k.accel;
+      j["visits_note"] = "visits: the golden model's, of the fallback searches only";
+      j["accelerator"] = {{"jobs", a.jobs},
+                          {"queries", a.queries},
+                          {"fallback_searches", a.fallback_searches},
+                          {"fallback_cpu_seconds", a.fallback_seconds},
+                          {"cycles", a.cycles},
+                          {"modeled_search_seconds", a.modeled_search_seconds},
+                          {"modeled_host_seconds", a.modeled_host_seconds},
+                          {"modeled_kdtree_seconds", modeled_kdtree_seconds(k)},
+                          {"modeled_stage_seconds", s.seconds - k.search_seconds + modeled_kdtree_seconds(k)},
+                          {"energy_pj", a.energy_pj},
+                          {"visits", {{"top", a.visits.top},
+                                      {"pruned", a.visits.pruned},
+                                      {"leaf_visits", a.visits.leaf_visits},
+                                      {"leaf_points", a.visits.leaf_points},
+                                      {"follower_points", a.visits.follower_points},
+                                      {"leader_checks", a.visits.leader_checks}}}};
+    }
+  } else {
+    j["search"] = "none";
+    j["searches"] = 0;
+    j["queries"] = 0;
+    j["search_seconds"] = 0.0;
+  }
+  for (const auto& [key, v] : s.info.items()) j[key] = v;
+  return j;
+}
+
+std::pair<int, int> parse_frames(const std::string& text) {
+  int a = -1, b = -1;
+  char comma = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &comma, &b, &extra) != 3 || comma != ',' || a < 0 || b < 0)
+    throw std::invalid_argument("--kitti-frames must be SOURCE,TARGET frame numbers (e.g. 1,0), got '" + text + "'");
+  return {a, b};
+}
+
+double parse_number(const std::string& flag, const std::string& text) {
+  std::size_t used = 0;
+  double x = NAN;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(x) || x < 0)
+    throw std::invalid_argument(flag + " must be a number >= 0 (metres), got '" + text + "'");
+  return x;
+}
+
+// --inject-kth K: an integer >= 1.
+int parse_kth(const std::string& text) {
+  std::size_t used = 0;
+  long long k = 0;
+  try {
+    k = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || k < 1 || k > 100000)
+    throw std::invalid_argument("--inject-kth must be an integer K in 1..100000 (1: the nearest, no error), got '" +
+                                text + "'");
+  return static_cast<int>(k);
+}
+
+// --inject-shell R1,R2 against the normal radius r: 0 <= R1 < r < R2.
+std::pair<double, double> parse_shell(const std::string& text, double r) {
+  const auto comma = text.find(',');
+  const auto number = [&](const std::string& part, double& x) {
+    std::size_t used = 0;
+    try {
+      x = std::stod(part, &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    return used == part.size() && std::isfinite(x);
+  };
+  double r1 = NAN, r2 = NAN;
+  if (comma == std::string::npos || !number(text.substr(0, comma), r1) || !number(text.substr(comma + 1), r2))
+    throw std::invalid_argument("--inject-shell must be R1,R2 in metres (e.g. 0.1,0.4), got '" + text + "'");
+  char buf[160];
+  if (r1 < 0 || r1 >= r2) {
+    std::snprintf(buf, sizeof buf, "--inject-shell %s: needs 0 <= R1 < R2, got R1 = %g, R2 = %g", text.c_str(), r1, r2);
+    throw std::invalid_argument(buf);
+  }
+  if (r1 >= r || r2 <= r) {
+    std::snprintf(buf, sizeof buf,
+                  "--inject-shell %s: needs R1 < r < R2 around the normal radius r = %g (normals.radius), got "
+                  "R1 = %g, R2 = %g",
+                  text.c_str(), r, r1, r2);
+    throw std::invalid_argument(buf);
+  }
+  return {r1, r2};
+}
+
+}  // namespace
+
+void add_register_options(CLI::App& app, RegisterOptions& o) {
+  app.add_option("--source", o.source,
+                 "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
+  app.add_option("--target", o.target,
+                 "Target (earlier) frame, same formats (default: synthetic frame 0)");
+  app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair (0 .. 2^64-1)")
+      ->capture_default_str()
+      ->check(uint64_text());
+  app.add_option("--preset", o.preset, "Pipeline preset: dp4 (performance) or dp7 (accuracy)")
+      ->check(CLI::IsMember({"dp4", "dp7"}))
+      ->capture_default_str();
+  app.add_option("--config", o.config, "Pipeline configuration JSON applied over the preset");
+  app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--search", o.search,
+                 "3D KD-tree back-end: flann (PCL's, the CPU baseline), exact or approx (golden "
+                 "model on the CPU), accel or accel-approx (the accelerator model in the loop: each "
+                 "stage's query set runs as one simulated job, checked against the golden model); "
+                 "default: search.backend (exact)")
+      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
+  app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (default: search.top_height, 10)");
+  app.add_option("--approx-thd", o.approx_thd,
+                 "Approximate NN threshold in metres (sets search.nn_thd; search.radius_thd becomes "
+                 "0.4 * T / 1.2 of r, so 1.2 gives the paper's pair and 0 exact search); implies "
+                 "--search approx");
+  app.add_option("--inject-kth", o.inject_kth,
+                 "Error injection (paper Fig. 5): RPCE's nearest-neighbour searches (both ways when "
+                 "reciprocal) return the K-th nearest neighbour; 1: no error (sets inject.rpce_kth)");
+  app.add_option("--inject-shell", o.inject_shell,
+                 "Error injection: normal estimation's radius searches return the points with "
+                 "R1 <= d <= R2 instead of d <= r, R1 < r < R2 (r = normals.radius; sets "
+                 "inject.normals_shell_inner/_outer)");
+  app.add_option("--ground-truth", o.ground_truth,
+                 "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file");
+  app.add_option("--kitti-poses", o.kitti_poses,
+                 "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)");
+  app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")
+      ->capture_default_str();
+  app.add_option("--max-work", o.max_work,
+                 "Stop the registration when its KD-tree searches have computed and returned more than "
+                 "this many distances and neighbours (a KITTI pair takes 4e8 with dp4, 1.3e9 with dp7); 0: no limit")
+      ->check(finite_range(0.0, 1e18))
+      ->capture_default_str();
+  app.add_option("--record-trace", o.record_trace,
+                 "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
+                 "traces/README.md) for tigris run --trace");
+  app.add_option("--accel-config", o.accel_config,
+                 "With --search accel*: the accelerator's configuration JSON (as tigris run --config; "
+                 "default: the built-in paper configuration)");
+  app.add_option("--accel-set", o.accel_sets,
+                 "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
+                 "(repeatable; tigris run --list-config lists them)")
+      ->allow_extra_args(false);
+  app.add_flag("--compare", o.compare,
+               "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
+               "and with the golden model, on the accelerator exact and approximate; print one table "
+               "(KD-tree time, end to end, KD-tree energy, error) and write OUT/comparison.json");
+  app.add_option("--repeat", o.repeat,
+                 "With --compare: time each CPU back-end (flann, exact) this many times, interleaved, and report "
+                 "the median with min and max; the accelerator's rows are modeled and run once")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_flag("--list-config", o.list_config, "Print every configuration key of the preset and exit");
+  app.add_flag("--list-stages", o.list_stages,
+               "Print the pipeline's stages in order as JSON (registration.json's key, the paper's title, the "
+               "paper's parts of a stage), for tools, and exit");
+  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, default, range or names, "
+                                 "meaning), for tools");
+  app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
+  app.add_flag("--check-flags", o.check_flags,
+               "Check every flag and configuration, then exit 0 without reading a file or running "
+               "(odometry and --compare check the flags they forward this way)");
+}
+
+namespace {
+
+// The pipeline's configuration from the preset, --config, --set and the flags over them.
+registration::PipelineConfig pipeline_config(const RegisterOptions& o, bool in_loop) {
+  registration::PipelineConfig config = registration::preset(o.preset);
+  if (!o.config.empty()) registration::apply_file(config, o.config);
+  for (const std::string& s : o.sets) registration::apply_set(config, s);
+  // accel / accel-approx: the golden back-end's searches (exact / approx) on the model.
+  if (!o.search.empty())
+    config.search.backend = registration::parse_backend(o.search == "accel"          ? "exact"
+                                                        : o.search == "accel-approx" ? "approx"
+                                                                                     : o.search);
+  if (!in_loop && (!o.accel_config.empty() || !o.accel_sets.empty()))
+    throw std::invalid_argument(std::string(o.accel_config.empty() ? "--accel-set" : "--accel-config") +
+                                " configures the accelerator in the loop: it needs --search accel or accel-approx");
+  if (in_loop && !o.record_trace.empty())
+    throw std::invalid_argument("--record-trace records the CPU's searches: use --search flann, exact or approx "
+                                "(then tigris run --trace replays them on the accelerator)");
+  if (!o.height.empty()) {
+    const int h = parse_height(o.height);
+    config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
+  }
+  if (!o.approx_thd.empty()) {
+    if (!o.search.empty() && o.search != "approx" && o.search != "accel-approx")
+      throw std::invalid_argument("--approx-thd needs --search approx or accel-approx (got --search " + o.search + ")");
+    const double t = parse_number("--approx-thd", o.approx_thd);
+    config.search.backend = registration::Backend::Approx;
+    // Through the keys, so the flag has the key's range and registration.json reads back.
+    registration::apply_set(config, "search.nn_thd=" + o.approx_thd, "--approx-thd");
+    config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
+  }
+  const bool injecting = !o.inject_kth.empty() || !o.inject_shell.empty();
+  if (!o.inject_kth.empty()) config.inject.rpce_kth = parse_kth(o.inject_kth);
+  if (!o.inject_shell.empty()) {
+    parse_shell(o.inject_shell, config.normals.radius);  // the form R1,R2 and R1 < r < R2
+    const std::size_t at = o.inject_shell.find(',');
+    registration::apply_set(config, "inject.normals_shell_inner=" + o.inject_shell.substr(0, at), "--inject-shell");
+    registration::apply_set(config, "inject.normals_shell_outer=" + o.inject_shell.substr(at + 1), "--inject-shell");
+  }
+  if (injecting && config.search.backend == registration::Backend::Approx)
+    throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
+                                " needs --search exact, flann or accel (error injection measures exact search; "
+                                "got search " + (in_loop ? o.search : std::string("approx")) + ")");
+  registration::validate(config, "tigris register");
+  return config;
+}
+
+// The flags that only go together, and the accelerator's configuration (checked before any work).
+hw::AcceleratorConfig check_register_flags(const CLI::App& app, const RegisterOptions& o, bool in_loop) {
+  if (app.count("--source") != app.count("--target"))
+    throw std::invalid_argument("--source and --target go together (neither: the built-in synthetic pair)");
+  if (!o.ground_truth.empty() && !o.kitti_poses.empty())
+    throw std::invalid_argument("give --ground-truth or --kitti-poses, not both");
+  if (app.count("--kitti-frames") && o.kitti_poses.empty())
+    throw std::invalid_argument("--kitti-frames " + o.kitti_frames + " picks lines of --kitti-poses, which is not given");
+  // The accelerator in the loop: its configuration checked before any work.
+  hw::AcceleratorConfig accel_cfg;
+  if (!o.accel_config.empty()) apply_config_file(accel_cfg, o.accel_config);
+  for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s, "--accel-set '" + s + "'");
+  if (in_loop) validate_config(accel_cfg);
+  check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
+                        {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses},
+                        {"--accel-config", o.accel_config}},
+                       {{"--out (registration.json)", o.out + "/registration.json"},
+                        {"--record-trace", o.record_trace}});
+  return accel_cfg;
+}
+
+// The two frames and the ground truth, when there is one.
+struct FramePair {
+  PointCloud source, target;
+  std::string source_name, target_name;
+  std::optional<Pose> truth;
+  std::string truth_name, truth_warning;
+};
+
+FramePair load_frames(const RegisterOptions& o) {
+  FramePair f;
+  if (o.source.empty()) {
+    SyntheticConfig sc;
+    sc.seed = o.seed;
+    const SyntheticPair pair = make_synthetic_pair(sc);
+    f.source = pair.frame1;
+    f.target = pair.frame0;
+    const std::string tag = " (seed " + std::to_string(o.seed) + ")";
+    f.source_name = "synthetic:frame1" + tag;
+    f.target_name = "synthetic:frame0" + tag;
+    Pose t;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) t(r, c) = pair.frame1_to_frame0[static_cast<std::size_t>(4 * r + c)];
+    f.truth = t;
+    f.truth_name = "synthetic pair's known pose";
+  } else {
+    f.source = load_cloud(o.source);
+    f.target = load_cloud(o.target);
+    f.source_name = o.source;
+    f.target_name = o.target;
+  }
+  if (!o.ground_truth.empty()) {
+    f.truth = read_pose_file(o.ground_truth);
+    f.truth_name = o.ground_truth;
+  } else if (!o.kitti_poses.empty()) {
+    const auto [s, t] = parse_frames(o.kitti_frames);
+    f.truth = kitti_relative_velo_pose(o.kitti_poses, s, t);
+    f.truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
+    // Both frames within a run of equal ground-truth steps from frame 0 (KITTI 00's first ~15).
+    const std::size_t steps = equal_steps(read_kitti_poses(o.kitti_poses));
+    if (steps >= kEqualStepsWarn && static_cast<std::size_t>(std::max(s, t)) <= steps)
+      f.truth_warning = equal_steps_warning(steps);
+  }
+  return f;
+}
+
+// The injected error, as the summary lines say it ("" when none).
+std::string injection_text(const registration::PipelineConfig& config) {
+  std::string injection;
+  if (config.inject.rpce_kth > 1)
+    injection += ", RPCE returns the K-th nearest (K = " + std::to_string(config.inject.rpce_kth) + ")";
+  if (config.inject.normals_shell_outer > 0) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, ", normals search the shell %g..%g m (r %g)", config.inject.normals_shell_inner,
+                  config.inject.normals_shell_outer, config.normals.radius);
+    injection += buf;
+  }
+  return injection;
+}
+
+// A line per accelerator job on stderr, and the job's row of registration.json.
+ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep,
+                           const std::string& stage) {
+  const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
+  std::fprintf(stderr, "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %.3g ms modeled, %.1f s simulated\n",
+               stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
+               job.points->size(), rep.value("verdict", "?").c_str(), 1e3 * modeled, rep.value("wall_seconds", 0.0));
+  ordered_json j;
+  j["job"] = n;
+  j["stage"] = stage;
+  j["mode"] = to_string(job.params.mode);
+  j["k"] = job.params.effective_k();
+  j["radius"] = job.params.radius;
+  j["approximate"] = job.params.approximate;
+  j["queries"] = job.queries->size();
+  j["points"] = job.points->size();
+  j["verdict"] = rep.value("verdict", "");
+  j["cycles"] = rep.value("cycles", 0);
+  j["modeled_seconds"] = rep.value("modeled_seconds", nlohmann::json());
+  j["energy_pj"] = rep.value("energy_pj", 0.0);
+  return j;
+}
+
+// The accelerator's part of registration.json: its jobs, modeled KD-tree time and end to end.
+struct LoopFigures {
+  double modeled_e2e = 0, modeled_kd = 0, energy_pj = 0;
+};
+
+LoopFigures loop_figures(const registration::RegistrationResult& r) {
+  LoopFigures f;
+  f.modeled_e2e = r.total_seconds;
+  for (const auto& s : r.stages) {
+    f.modeled_e2e += modeled_kdtree_seconds(s.kdtree) - s.kdtree.search_seconds;
+    f.modeled_kd += modeled_kdtree_seconds(s.kdtree);
+    f.energy_pj += s.kdtree.accel.energy_pj;
+  }
+  return f;
+}
+
+ordered_json accelerator_json(const registration::RegistrationResult& r, const hw::AcceleratorConfig& accel_cfg,
+                              const ordered_json& accel_jobs) {
+  std::uint64_t jobs = 0, fallbacks = 0;
+  for (const auto& s : r.stages) {
+    jobs += s.kdtree.accel.jobs;
+    fallbacks += s.kdtree.accel.fallback_searches;
+  }
+  const LoopFigures f = loop_figures(r);
+  return {{"jobs", jobs},
+          {"fallback_searches", fallbacks},
+          {"modeled_kdtree_seconds", f.modeled_kd},
+          {"kdtree_energy_pj", f.energy_pj},
+          {"modeled_end_to_end_seconds", f.modeled_e2e},
+          {"wall_seconds", r.total_seconds},
+          {"how", "modeled end to end = the stages' CPU time without their KD-tree searches + the accelerator's "
+                  "modeled search and host-transfer time + the CPU time of the searches it could not batch (golden "
+                  "model); tree builds stay on the CPU; wall_seconds includes simulating the jobs"},
+          {"every_job", "checked against the golden model, bit for bit"},
+          {"config", ordered_json::parse(config_to_json(accel_cfg).dump())},
+          {"job_list", accel_jobs}};
+}
+
+// Writes the workload trace of the registration (--record-trace); returns registration.json's "trace".
+ordered_json write_trace(const RegisterOptions& o, registration::TraceRecorder& recorder, const ordered_json& doc,
+                         const registration::RegistrationResult& r) {
+  trace::Trace t = recorder.finish();
+  t.meta = nlohmann::json::parse(doc.dump(-1, ' ', false, ordered_json::error_handler_t::replace));  // the registration's report, without its stages' details
+  t.meta.erase("stages");
+  t.meta["command_line"] = o.command_line;
+  t.total_seconds = r.total_seconds;
+  for (const auto& s : r.stages) {  // the time spent recording is not the registration's
+    const double overhead = recorder.overhead(s.name);
+    t.stages.push_back({s.name, s.seconds - overhead, s.kdtree.search_seconds, s.kdtree.build_seconds});
+    t.total_seconds -= overhead;
+  }
+  t.meta["seconds"] = t.total_seconds;  // registration.json's, which includes the recording
+  t.meta["seconds_recording"] = r.total_seconds - t.total_seconds;
+  const std::vector<std::uint8_t> bytes = trace::encode(t);
+  write_file(o.record_trace, [&](std::ostream& f) {
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  });
+  std::fprintf(stderr, "tigris register: trace %s: %zu jobs, %zu clouds\n", o.record_trace.c_str(), t.jobs.size(),
+               t.clouds.size());
+  return {{"path", o.record_trace}, {"jobs", t.jobs.size()}, {"clouds", t.clouds.size()}};
+}
+
+// registration.json: the pair, the result, each stage's time and searches, the accelerator's
+// figures (in the loop), the error against the ground truth (`err`) and the configuration.
+ordered_json registration_doc(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
+                              const FramePair& f, const registration::RegistrationResult& r, double work_spent,
+                              const ordered_json& accelerator, std::optional<PoseError>& err) {
+  ordered_json doc;
+  doc["command"] = "register";
+  doc["source"] = {{"name", f.source_name}, {"points", f.source.size()}};
+  doc["target"] = {{"name", f.target_name}, {"points", f.target.size()}};
+  doc["preset"] = o.preset;
+  doc["search"] = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
+  // The injected error (also in config.inject): null when none.
+  doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
+                      {"normals_shell", config.inject.normals_shell_outer > 0
+                                            ? ordered_json::array({config.inject.normals_shell_inner,
+                                                                   config.inject.normals_shell_outer})
+                                            : ordered_json()},
+                      {"normals_radius", config.normals.radius}};
+  doc["status"] = r.status;
+  if (!r.problem.empty()) doc["problem"] = r.problem;
+  doc["transform"] = r.status == "degenerate" ? ordered_json() : matrix_json(r.transform);
+  doc["initial_transform"] = matrix_json(r.initial);
+  doc["seconds"] = r.total_seconds;
+  double kd_seconds = 0.0;
+  ordered_json stages = ordered_json::object();
+  for (const auto& s : r.stages) {
+    stages[s.name] = stage_json(s, in_loop);
+    kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
+  }
+  doc["stages"] = stages;
+  doc["kdtree_seconds"] = kd_seconds;
+  doc["kdtree_work"] = {{"distances_and_neighbors", work_spent}, {"max_work", o.max_work}};
+  doc["kdtree_share"] = r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0;
+  if (in_loop) doc["accelerator"] = accelerator;
+  if (f.truth && r.status != "degenerate") {
+    err = pose_error(*f.truth, r.transform);
+    const PoseError initial = pose_error(*f.truth, r.initial);
+    doc["ground_truth"] = {{"source", f.truth_name}, {"transform", matrix_json(*f.truth)}};
+    if (!f.truth_warning.empty()) doc["ground_truth"]["warning"] = f.truth_warning;
+    doc["error"] = {{"translation_m", err->translation_m},
+                    {"rotation_deg", err->rotation_deg},
+                    {"travelled_m", err->travelled_m},
+                    {"translation_m_per_m", err->translation_per_m},
+                    {"rotation_deg_per_m", err->rotation_deg_per_m},
+                    {"initial_translation_m", initial.translation_m},
+                    {"initial_rotation_deg", initial.rotation_deg}};
+  }
+  doc["config"] = ordered_json::parse(registration::to_json(config).dump());
+  return doc;
+}
+
+// The summary on stdout: stages, the accelerator's figures, the transform and its error.
+void print_registration(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
+                        const FramePair& f, const registration::RegistrationResult& r, const std::string& injection,
+                        const std::optional<PoseError>& err, const std::string& path) {
+  std::printf("tigris register: preset %s, search %s, %zu -> %zu points%s\n", o.preset.c_str(),
+              registration::to_string(config.search.backend), f.source.size(), f.target.size(), injection.c_str());
+  std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
+  double kd_seconds = 0.0;
+  for (const auto& s : r.stages) {
+    std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,
+                static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
+    kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
+  }
+  if (in_loop) {
+    std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
+    std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles",
+                "kd s", "stage s", "energy uJ");
+    for (const auto& s : r.stages) {
+      if (s.search.empty()) continue;
+      const auto& a = s.kdtree.accel;
+      std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
+                  static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
+                  static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
+                  modeled_kdtree_seconds(s.kdtree), s.seconds - s.kdtree.search_seconds + modeled_kdtree_seconds(s.kdtree),
+                  a.energy_pj * 1e-6);
+    }
+    const LoopFigures l = loop_figures(r);
+    std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
+                l.modeled_e2e, l.modeled_kd, l.energy_pj * 1e-6, r.total_seconds);
+  } else {
+    std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
+                100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
+  }
+  if (r.status != "degenerate") {
+    std::printf("  transform (target <- source)%s:\n", r.status == "converged" ? "" : ", NOT CONVERGED");
+    for (int i = 0; i < 3; ++i)
+      std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
+                  r.transform(i, 3));
+  }
+  if (err && std::isfinite(err->translation_per_m))
+    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
+                err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
+                err->travelled_m);
+  else if (err)
+    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
+                "does not move)\n", err->translation_m, err->rotation_deg);
+  if (err && !f.truth_warning.empty()) std::printf("  warning: %s\n", f.truth_warning.c_str());
+  std::printf("  wrote %s\n", path.c_str());
+}
+
+}  // namespace
+
+int run_register_command(const CLI::App& app, const RegisterOptions& o) {
+  if (o.list_stages) {
+    std::cout << registration::stage_list_json().dump(2) << '\n';
+    return 0;
+  }
+  if (o.compare) return run_register_compare(app, o);
+  if (app.count("--repeat"))
+    throw std::invalid_argument("--repeat goes with --compare (it times the CPU back-ends of the comparison)");
+  const bool in_loop = o.search == "accel" || o.search == "accel-approx";
+  const registration::PipelineConfig config = pipeline_config(o, in_loop);
+  if (o.list_config && o.json) {
+    std::cout << registration::key_reference_json(config).dump(2) << '\n';
+    return 0;
+  }
+  if (app.count("--json") && !o.list_config) throw std::invalid_argument("--json goes with --list-config");
+  if (o.list_config) {
+    std::cout << registration::key_reference(config, o.preset);
+    return 0;
+  }
+  const hw::AcceleratorConfig accel_cfg = check_register_flags(app, o, in_loop);
+  if (o.check_flags) return 0;
+
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
+                                  {"config", o.config}, {"ground truth", o.ground_truth},
+                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+    if (!path.empty()) inputs.push_back(input_file(role, path));
+  FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}, false, {}};
+  spec.also_written = {o.record_trace};
+  OutFolder folder(o.out, spec);
+
+  // The model server starts while the process is small (accel_in_loop.hpp).
+  std::shared_ptr<ModelInTheLoop> model;
+  if (in_loop) model = std::make_shared<ModelInTheLoop>(accel_cfg, WorkLimits{}, default_sim_threads());
+  const FramePair f = load_frames(o);
+
+  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
+  // would flood stderr: the counts are in registration.json instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  const std::string injection = injection_text(config);
+  std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
+               f.source_name.c_str(), f.source.size(), f.target_name.c_str(), f.target.size(), o.preset.c_str(),
+               registration::to_string(config.search.backend), injection.c_str());
+  auto budget = std::make_shared<registration::WorkBudget>();
+  budget->limit = o.max_work;
+  std::string stage_now;
+  budget->progress = [&](const registration::WorkBudget& b) {
+    std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
+                 stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
+  };
+  registration::PipelineHooks hooks;
+  hooks.on_stage = [&](const std::string& stage) {
+    stage_now = stage;
+    std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
+  };
+  hooks.budget = budget;
+  if (!o.record_trace.empty()) hooks.recorder = std::make_shared<registration::TraceRecorder>();
+  ordered_json accel_jobs = ordered_json::array();
+  if (in_loop) {
+    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
+      accel_jobs.push_back(accel_job_row(n, job, rep, stage_now));
+    };
+    hooks.accelerator = model;
+    model.reset();
+  }
+  registration::RegistrationResult r;
+  try {
+    r = registration::register_clouds(f.source, f.target, config, hooks);
+  } catch (const registration::AcceleratorFailure& e) {
+    std::fprintf(stderr, "tigris register: MISMATCH in stage %s: %s\n", stage_now.c_str(), e.what());
+    return 1;
+  } catch (const registration::WorkLimitExceeded& e) {
+    throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
+                                "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
+                                "check the injection, radii and k of the configuration");
+  }
+
+  std::optional<PoseError> err;
+  ordered_json doc = registration_doc(o, config, in_loop, f, r, budget->spent,
+                                      in_loop ? accelerator_json(r, accel_cfg, accel_jobs) : ordered_json(), err);
+  if (hooks.recorder) doc["trace"] = write_trace(o, *hooks.recorder, doc, r);
+  const std::string path = o.out + "/registration.json";
+  write_file(path, [&](std::ostream& out) { out << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });  // paths: any bytes
+  print_registration(o, config, in_loop, f, r, injection, err, path);
+  if (r.status != "converged") {
+    std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
+                 r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),
+                 r.status.c_str(), path.c_str());
+    folder.finish(r.status);
+    return 1;
+  }
+  folder.finish();
+  return 0;
+}
+
+}  // namespace tigris
+
+namespace tigris {
+namespace {
+
+const CommandRegistration kRegistration{options_command<RegisterOptions>(
+    "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
+        "KPCE, rejection, ICP) with its KD-tree searches on the golden model, FLANN or the accelerator "
+        "model in the loop; --compare: the four side by side", 30,
+    [](CLI::App& app, RegisterOptions& o) {
+      o.out = "tigris-out/register";
+      add_register_options(app, o);
+    },
+    [](const CLI::App& app, RegisterOptions& o, const CommandLine& line) {
+      o.command_line = line.text;
+      o.argv = line.argv;
+      return run_register_command(app, o);
+    })};
+
+}  // namespace
+}  // namespace tigris

@@ -1,0 +1,210 @@
+// `tigris register --compare` ("side by side"): the registration on four back-ends,
+// each run by this program in a child process (fair timing: no heap or cache left over from
+// another back-end), then one table from their registration.json files. The CPU back-ends are
+// timed --repeat times, interleaved with the others so a slow minute of the machine touches
+// every back-end alike; the table gives their medians with min and max (cpu_baseline.hpp).
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/children.hpp"
+#include "testbench/cpu_baseline.hpp"
+#include "testbench/run_inputs.hpp"
+#include "core/json_file.hpp"
+#include "register_command.hpp"
+#include "testbench/report.hpp"
+
+namespace tigris {
+namespace {
+
+using nlohmann::ordered_json;
+
+struct Variant {
+  const char* search;  // --search
+  const char* label;   // in the table
+  bool cpu;            // measured on the CPU (timed --repeat times); else modeled, run once
+};
+constexpr Variant kVariants[] = {{"flann", "CPU, PCL's FLANN", true},
+                                 {"exact", "CPU, golden model (exact)", true},
+                                 {"accel", "accelerator, exact", false},
+                                 {"accel-approx", "accelerator, approximate", false}};
+
+// Repeat 1 in OUT/<back-end>/ (the layout of one run), repeat k in OUT/<back-end>-repeat-k/.
+std::string run_dir(const std::string& out, const Variant& v, int k) {
+  return out + "/" + v.search + (k == 1 ? std::string() : "-repeat-" + std::to_string(k));
+}
+
+// The command's arguments for one back-end: --compare and --out dropped, --approx-thd kept for
+// the approximate run only, --accel-config and --accel-set for the accelerator runs only, then
+// --search and --out of the variant.
+std::vector<std::string> variant_args(const std::vector<std::string>& argv, const Variant& v, const std::string& out) {
+  const std::string search = v.search;
+  std::vector<std::string> drop{"--out", "--repeat"};
+  if (search != "accel-approx") drop.push_back("--approx-thd");
+  if (search.rfind("accel", 0) != 0) drop.insert(drop.end(), {"--accel-config", "--accel-set"});
+  return rerun_args(argv, {"--compare"}, drop, {"--search", v.search, "--out", out});
+}
+
+double search_seconds(const ordered_json& reg) {
+  double s = 0.0;
+  for (const auto& [name, st] : reg["stages"].items()) s += st.value("search_seconds", 0.0);
+  return s;
+}
+
+}  // namespace
+
+int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
+  for (const char* flag : {"--search", "--record-trace", "--list-config", "--inject-kth", "--inject-shell"})
+    if (app.count(flag))
+      throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs the paper's back-ends " +
+                                  "flann, exact, accel and accel-approx without error injection)");
+  if (o.argv.empty()) throw std::logic_error("--compare: the command's arguments were not kept");
+  // Every back-end's flags are checked before the first one runs (and before the folder).
+  for (const Variant& v : kVariants) {
+    std::vector<std::string> args = variant_args(o.argv, v, o.out + "/" + v.search);
+    args.push_back("--check-flags");
+    if (wait_child(start_child(args)) != 0)
+      throw std::invalid_argument(std::string("--compare: the flags do not hold for the ") + v.search +
+                                  " back-end (its message is above); nothing was run");
+  }
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
+                                  {"config", o.config}, {"ground truth", o.ground_truth},
+                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+    if (!path.empty()) inputs.push_back(input_file(role, path));
+  std::vector<std::string> outputs{"comparison.json"};
+  for (const Variant& v : kVariants) {
+    outputs.push_back(std::string(v.search) + "/");
+    if (v.cpu) outputs.push_back(std::string(v.search) + "-repeat-*/");
+  }
+  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs, false, {}});
+  Machine machine = machine_before();
+  std::vector<std::vector<ordered_json>> regs(std::size(kVariants));
+  ordered_json runs = ordered_json::object();
+  int worst = 0;
+  for (int k = 1; k <= o.repeat; ++k)
+    for (std::size_t i = 0; i < std::size(kVariants); ++i) {
+      const Variant& v = kVariants[i];
+      if (k > 1 && !v.cpu) continue;
+      const std::string out = run_dir(o.out, v, k);
+      std::fprintf(stderr, "tigris register --compare: %s%s (--search %s --out %s)\n", v.label,
+                   v.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str() : "",
+                   v.search, out.c_str());
+      const int code = wait_child(start_child(variant_args(o.argv, v, out)));
+      if (code != 0 && code != 1)
+        throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +
+                                    std::to_string(code) + "; its message is above)");
+      worst = std::max(worst, code);
+      const std::string path = out + "/registration.json";
+      regs[i].push_back(parse_json_text(read_input(path, "the back-end's report", kMaxSettingsBytes), path));
+      runs[v.search].push_back(path);
+      // The CPU back-ends are deterministic: a repeat that registers differently is a bug, not noise.
+      if (regs[i].back()["transform"] != regs[i].front()["transform"])
+        throw std::runtime_error(std::string("--compare: the ") + v.search + " back-end's run " + std::to_string(k) +
+                                 " found another transform than its run 1 (" + path + "): the registration is not "
+                                 "deterministic");
+    }
+  machine_after(machine);
+
+  ordered_json rows = ordered_json::array();
+  std::vector<std::pair<Spread, Spread>> times;  // KD-tree, end to end of each row
+  std::vector<std::pair<std::string, Spread>> timed;
+  for (std::size_t i = 0; i < std::size(kVariants); ++i) {
+    const Variant& v = kVariants[i];
+    const ordered_json& reg = regs[i].front();
+    const bool accel = reg.contains("accelerator");
+    std::vector<double> kd, e2e;
+    for (const ordered_json& r : regs[i]) {
+      kd.push_back(accel ? r["accelerator"]["modeled_kdtree_seconds"].get<double>() : search_seconds(r));
+      e2e.push_back(accel ? r["accelerator"]["modeled_end_to_end_seconds"].get<double>() : r["seconds"].get<double>());
+    }
+    times.emplace_back(spread_of(kd), spread_of(e2e));
+    if (v.cpu) timed.emplace_back(std::string(v.search) + "'s KD-tree time", times.back().first);
+    ordered_json row;
+    row["back_end"] = v.search;
+    row["label"] = v.label;
+    row["status"] = reg["status"];
+    row["runs"] = regs[i].size();
+    row["kdtree_seconds"] = times.back().first.median;
+    row["end_to_end_seconds"] = times.back().second.median;
+    row["kdtree_seconds_spread"] = to_json(times.back().first);
+    row["end_to_end_seconds_spread"] = to_json(times.back().second);
+    row["timing"] = accel ? "modeled (the accelerator's jobs; the rest measured on this CPU, once)"
+                          : "measured on this CPU: the median of the runs";
+    row["kdtree_energy_pj"] = accel ? reg["accelerator"]["kdtree_energy_pj"] : ordered_json();
+    row["tree_build_seconds"] = 0.0;
+    for (const auto& [name, st] : reg["stages"].items()) row["tree_build_seconds"] = row["tree_build_seconds"].get<double>() + st.value("build_seconds", 0.0);
+    row["error"] = reg.contains("error") ? ordered_json{{"translation_m", reg["error"]["translation_m"]},
+                                                        {"rotation_deg", reg["error"]["rotation_deg"]}}
+                                         : ordered_json();
+    row["transform"] = reg["transform"];
+    rows.push_back(row);
+  }
+  // Against the CPU baseline, PCL's FLANN (the first row): the ratio of medians, and the widest
+  // range the runs allow.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    auto& row = rows[i];
+    row["kdtree_speedup_vs_flann_range"] = ratio_range(times[0].first, times[i].first);
+    row["end_to_end_reduction_vs_flann_percent_range"] = reduction_range_percent(times[0].second, times[i].second);
+    row["kdtree_speedup_vs_flann"] = row["kdtree_speedup_vs_flann_range"]["median"];
+    row["end_to_end_reduction_vs_flann_percent"] = row["end_to_end_reduction_vs_flann_percent_range"]["median"];
+  }
+  const std::vector<std::string> warnings = baseline_warnings(machine, timed);
+  ordered_json doc;
+  doc["command"] = "register --compare";
+  doc["command_line"] = o.command_line;
+  doc["repeat"] = o.repeat;
+  doc["machine"] = to_json(machine);
+  doc["warnings"] = warnings;
+  doc["rows"] = rows;
+  doc["runs"] = runs;
+  doc["notes"] = {"KD-tree time: the 3D KD-tree searches (tree builds stay on the CPU in every row, measured)",
+                  "CPU rows: the median of --repeat runs, interleaved with the other back-ends; *_spread gives "
+                  "min, max and every sample; a speed-up's range is base min / row max .. base max / row min",
+                  "accelerator rows: end to end = the run's CPU time without its KD-tree searches + the modeled "
+                  "search and host-transfer time + searches that could not be batched at their CPU time; run once "
+                  "(the modeled part is deterministic)",
+                  "CPU energy is not modeled: the energy column is the accelerator's only"};
+  write_file(o.out + "/comparison.json",
+             [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+
+  std::printf("tigris register --compare: preset %s, %s\n", o.preset.c_str(),
+              o.source.empty() ? "the built-in synthetic pair" : (o.source + " -> " + o.target).c_str());
+  std::printf("  %-26s %-24s %-18s %-24s %-22s %11s %9s %9s\n", "back-end", "KD-tree s [min-max]", "KD x [range]",
+              "end to end s [min-max]", "vs FLANN [range]", "KD energy", "error m", "error deg");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    char energy[32] = "n/a (CPU)", err_m[32] = "-", err_deg[32] = "-";
+    if (!row["kdtree_energy_pj"].is_null())
+      std::snprintf(energy, sizeof energy, "%.1f uJ", row["kdtree_energy_pj"].get<double>() * 1e-6);
+    if (!row["error"].is_null()) {
+      std::snprintf(err_m, sizeof err_m, "%.4f", row["error"]["translation_m"].get<double>());
+      std::snprintf(err_deg, sizeof err_deg, "%.4f", row["error"]["rotation_deg"].get<double>());
+    }
+    ordered_json vs = row["end_to_end_reduction_vs_flann_percent_range"];
+    for (auto& [k, x] : vs.items())  // printed as the change in time: a reduction is negative
+      if (x.is_number()) x = -x.get<double>();
+    std::swap(vs["min"], vs["max"]);
+    std::printf("  %-26s %-24s %-18s %-24s %-22s %11s %9s %9s%s\n", row["label"].get<std::string>().c_str(),
+                spread_cell(times[i].first, "%.4f").c_str(),
+                i == 0 ? "base" : (range_cell(row["kdtree_speedup_vs_flann_range"], "%.3g") + "x").c_str(),
+                spread_cell(times[i].second, "%.3f").c_str(), i == 0 ? "base" : (range_cell(vs, "%+.1f") + "%").c_str(),
+                energy, err_m, err_deg, row["status"] == "converged" ? "" : "  (not converged)");
+  }
+  std::printf("  KD-tree: searches only (tree builds stay on the CPU); CPU rows: median [min-max] of %d runs, measured;\n"
+              "  accelerator rows: modeled, run once; CPU energy is not modeled.\n"
+              "  machine: %s\n  Table: %s/comparison.json\n", o.repeat, machine_line(machine).c_str(), o.out.c_str());
+  for (const std::string& w : warnings) std::fprintf(stderr, "tigris register --compare: warning: %s\n", w.c_str());
+  folder.finish();
+  return worst;
+}
+
+}  // namespace tigris

@@ -1,0 +1,352 @@
+#include "run_command.hpp"
+#include "command.hpp"
+
+#include <chrono>
+#include <exception>
+#include <optional>
+#include <thread>
+#include <cstdio>
+#include <iostream>
+
+#include "core/arg_checks.hpp"
+#include "testbench/bottleneck.hpp"
+#include "testbench/run_inputs.hpp"
+#include "testbench/config.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/result_slots.hpp"
+#include "testbench/accel_job.hpp"
+#include "testbench/simulation.hpp"
+#include "testbench/timeline.hpp"
+#include "trace_replay.hpp"
+#include "traces/schedule_csv.hpp"
+#include "core/progress.hpp"
+#include "testbench/report.hpp"
+#include "testbench/run_report.hpp"
+#include "testbench/scoreboard.hpp"
+#include "testbench/stat_formulas.hpp"
+#include "testbench/stats_schema.hpp"
+#include "tlm/tree_image.hpp"
+#include "workloads/workload.hpp"
+#include "core/timer.hpp"
+
+namespace tigris {
+
+namespace {
+
+}  // namespace
+
+void add_run_options(CLI::App& app, RunOptions& o) {
+  add_search_options(app, o.search);
+  app.add_option("--config", o.config_file,
+                 "Accelerator configuration, JSON nested by block (see testbench/configs/paper.json)");
+  app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
+  app.add_option("--vcd", o.vcd,
+                 "Write waveforms as VCD, and a GTKWave save file beside it (same name, .gtkw): machine-wide "
+                 "counts of RUs busy and stalled by cause, PEs busy, waiting for data and held by the write-back, "
+                 "BQB occupancy, write-back backlog; per unit its busy and stall flags, queue occupancies, query ids");
+  app.add_option("--timeline", o.timeline,
+                 "Write the run as a Chrome trace-event JSON (open in ui.perfetto.dev or "
+                 "chrome://tracing): whole-machine counters over every query (RUs and PEs busy and stalled, BQB "
+                 "occupancy, write-back backlog), and a track per RU, QDN port, SU and the write-back with a slice "
+                 "per walk, hop, BQB wait and batch and flow arrows per query, for the sampled queries");
+  app.add_option("--timeline-queries", o.timeline_queries,
+                 "About how many queries the timeline's slices show (every n-th query; 0: all); its "
+                 "whole-machine counters cover every query either way")
+      ->check(whole_range(0, 4294967295LL))
+      ->capture_default_str();
+  app.add_option("--sim-threads", o.sim_threads,
+                 "Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread, 1 "
+                 "keeps everything on one (the figures are the same). Default: 2 on a machine with "
+                 "two or more cores, else 1")
+      ->check(CLI::Range(1, 2));
+  app.add_option("--trace", o.trace,
+                 "Replay a registration's workload trace (tigris register --record-trace): every job through the "
+                 "model as the host would run it, each query checked; per job, stage and total figures and the "
+                 "end-to-end time with the accelerator");
+  app.add_option("--trace-stages", o.trace_stages,
+                 "With --trace: replay only these stages, comma-separated (e.g. normals,icp; default: all)");
+  app.add_option("--jobs", o.jobs, "With --trace: jobs simulated at a time, each in a process of its own (the "
+                                   "figures do not depend on it)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_flag("--list-config", o.list_config,
+               "Print every configuration key with its default, unit, allowed values and meaning as a Markdown "
+               "table, and exit");
+  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, unit, default, range or names, "
+                                 "meaning), for tools");
+  app.add_flag("--stats-schema", o.stats_schema,
+               "Print the schema of stats.json as JSON (every field's path, unit and meaning; derived fields with "
+               "their formula) and exit");
+}
+
+namespace {
+
+// What `tigris run` simulates: the checked configuration, the workload, its tree and the job.
+struct RunSetup {
+  SearchParams params;
+  Workload w;
+  nlohmann::json inputs;
+  PreparedJob p;  // configuration, tree, image, job, work estimate
+};
+
+// What the run measured: the golden model's search, the simulation and its check.
+using RunMeasured = JobOutcome;
+
+// Configure: the flags, the configuration (file, --set, flags over them), the workload and its
+// tree; refuses a job that does not fit the buffers or exceeds the work limits.
+RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
+  check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
+                       {{"--out (stats.json)", o.search.out + "/stats.json"},
+                        {"--vcd", o.vcd},
+                        {"--vcd (GTKWave save file)", o.vcd.empty() ? "" : gtkw_path(o.vcd)},
+                        {"--timeline", o.timeline},
+                        {"--dump-results", o.search.dump_results},
+                        {"--dump-schedule", o.search.dump_schedule}});
+  RunSetup r;
+  hw::AcceleratorConfig cfg;
+  if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
+  for (const std::string& s : o.settings) apply_setting(cfg, s);
+  r.params = search_params(app, o.search, cfg.leader.scope, cfg.leader.in_flight);
+  if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
+  if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
+  // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
+  if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
+  cfg.leader.scope = r.params.leader_scope;  // the flags over the configuration
+  cfg.leader.in_flight = r.params.leader_in_flight;
+  validate_config(cfg);
+  r.params.leader_capacity = cfg.leader.capacity_per_leaf;
+  r.params.leader_scope = cfg.leader.scope;
+  r.params.leader_in_flight = cfg.leader.in_flight;
+
+  r.w = load_workload(o.search.cloud, o.search.queries, o.search.seed);
+  const Workload& w = r.w;
+  note_k_above_cloud("tigris run", r.params, w.cloud.size(), w.cloud_name);
+  r.inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
+  // The default top height only: one from --height, --set or --config stays as asked.
+  const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+  cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
+  r.p = prepare_job(w.cloud, w.queries, r.params, cfg, o.search.limits,
+                    w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): ");
+  return r;
+}
+
+// The configuration as stats.json records it: the accelerator's keys, and the search and
+// approximation settings of this run. Its SHA-256 identifies the configuration in every output.
+nlohmann::json run_config_json(const RunSetup& r) {
+  nlohmann::json config = config_to_json(r.p.cfg);
+  const nlohmann::json search_config = search_config_json(r.params, r.p.tree);
+  config["search"] = search_config["search"];
+  config["approx"] = search_config["approx"];  // the threshold and leader width of this run
+  return config;
+}
+
+// Simulate: the golden model's exact search in query order (what an exact run must reproduce;
+// an approximate run is checked against the replay of its own schedule and measured against
+// these exact results), then the accelerator, then the check. Nullopt after a deadlock, which
+// it reports.
+std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, TimelineRecorder& timeline) {
+  SimExtras extras;
+  extras.vcd_path = o.vcd;
+  if (!o.vcd.empty())
+    extras.provenance = provenance_lines(provenance_json(o.search.command_line, r.inputs, run_config_json(r)));
+  if (o.sim_threads) extras.sim_threads = o.sim_threads;
+  const auto queries = static_cast<std::uint32_t>(r.w.queries.size());
+  if (!o.timeline.empty()) {
+    extras.observers.push_back(&timeline);
+    const std::uint32_t shown = o.timeline_queries == 0 ? queries : o.timeline_queries;
+    const std::uint32_t stride = TimelineRecorder::stride_for(queries, shown);
+    const double sampled = static_cast<double>(queries) / stride;
+    const double bytes = TimelineRecorder::estimated_bytes(sampled, r.p.estimate.leaf_visits_per_query);
+    if (bytes > 100e6)
+      std::fprintf(stderr,
+                   "tigris run: note: the timeline of %.0f queries (--timeline-queries %u) will be about %.0f MB of JSON "
+                   "(about 1 KB per leaf visit) and takes minutes to write and to open; --timeline-queries 2000 "
+                   "samples the slices (the whole-machine counters stay exact)\n",
+                   sampled, o.timeline_queries, bytes * 1e-6);
+  }
+  ProgressReporter progress("tigris run: queries finished");
+  extras.progress = [&](std::uint32_t done, std::uint32_t total) { progress(done, total); };
+  RunMeasured m = run_job(r.p, r.w.cloud, r.w.queries, r.params, extras);
+  if (!m.sim.finished) {
+    std::cerr << "tigris run: DEADLOCK: the simulation ran out of events with work left:\n" << m.sim.deadlock;
+    return std::nullopt;
+  }
+  return m;
+}
+
+// The stats JSON (docs/stats.md): the run, the accelerator's statistics, the derived fields from
+// their formulas, the bottleneck and the configuration that produced them.
+nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptions& o, Accuracy& accuracy) {
+  const SearchOutput& hw_view = m.sim.visits;
+  nlohmann::json stats;
+  stats["command"] = "run";
+  stats["command_line"] = o.search.command_line;
+  stats["inputs"] = r.inputs;
+  stats["workload"] = {{"cloud", r.w.cloud_name}, {"queries", r.w.queries_name}, {"points", r.w.cloud.size()}};
+  stats["cycles"] = m.sim.cycles;
+  stats["queries"] = r.w.queries.size();
+  stats["verdict"] = m.verdict.match ? "match" : "mismatch";
+  stats["mismatches"] = {{"results", m.verdict.result_mismatches}, {"visits", m.verdict.visit_mismatches},
+                         {"first", m.verdict.first}};
+  stats["visits"] = visits_json(hw_view);
+  if (r.params.approximate) {
+    accuracy = measure_accuracy(r.params.mode, m.golden.results, m.sim.results);
+    stats["leaders"] = leaders_json(hw_view);
+    stats["accuracy"] = accuracy_json(accuracy);
+  }
+  stats["units"] = m.sim.units;
+  stats["buffers"] = m.sim.buffers;
+  stats["energy_pj"] = m.sim.energy;
+  stats["area_mm2"] = m.sim.area;
+  stats["latency_cycles"] = m.sim.latency;
+  stats["config"] = run_config_json(r);
+  const nlohmann::json prov = provenance_json(o.search.command_line, r.inputs, stats["config"]);
+  stats["config_sha256"] = prov["config_sha256"];
+  stats["commit"] = prov["commit"];
+  add_derived(stats);
+  stats["tree"] = tree_json(r.p.tree);  // the bound names what the hottest Point Buffer banks hold
+  stats["bottleneck"] = bottleneck_json(stats);
+  stats["wall_seconds"] = {{"golden", m.golden_seconds}, {"simulation", m.sim_seconds}};
+  if (const std::string bad = non_finite_field(stats); !bad.empty())
+    throw std::invalid_argument("the model computed a non-finite " + bad +
+                                " (NaN or infinity) from this configuration; check the energy.*, area.* and "
+                                "cost.* keys that feed it (tigris run --list-config)");
+  return stats;
+}
+
+// The summary lines of a run on stdout.
+void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions& o, const nlohmann::json& stats,
+                       const Accuracy& accuracy, const std::string& stats_path, const TimelineRecorder& timeline) {
+  const hw::AcceleratorConfig& cfg = r.p.cfg;
+  const SearchParams& params = r.params;
+  const SearchOutput& hw_view = m.sim.visits;
+  const auto& u = stats["units"];
+  std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
+              r.w.queries.size(), r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
+  std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
+  std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
+              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
+              cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(),
+              r.p.tree.top_height, r.p.tree.full_height, cfg.clock_mhz);
+  std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
+              static_cast<unsigned long long>(m.sim.cycles), stats["seconds"].get<double>() * 1e3, cfg.clock_mhz,
+              stats["lower_bound_cycles"].get<double>());
+  std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
+  std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
+              100 * u["recursion_units"]["utilization"].get<double>(),
+              100 * u["search_units"]["utilization"].get<double>(),
+              100 * u["search_units"]["pe_utilization"].get<double>());
+  std::printf("  visits  top %llu, pruned %llu, leaf points %llu\n",
+              static_cast<unsigned long long>(hw_view.visits.top),
+              static_cast<unsigned long long>(hw_view.visits.pruned),
+              static_cast<unsigned long long>(hw_view.visits.leaf_points));
+  const auto& lat = m.sim.latency;
+  std::printf("  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
+              lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
+              lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
+              lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
+              lat["bqb_wait"]["max"].get<unsigned long long>());
+  if (params.approximate) {
+    std::printf("  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
+                "leader checks %llu, follower points %llu\n",
+                static_cast<double>(params.approx_thd), params.leader_capacity,
+                static_cast<unsigned long long>(hw_view.leaders.leaders),
+                static_cast<unsigned long long>(hw_view.leaders.followers),
+                static_cast<unsigned long long>(hw_view.leaders.leader_buffer_full),
+                static_cast<unsigned long long>(hw_view.visits.leader_checks),
+                static_cast<unsigned long long>(hw_view.visits.follower_points));
+    if (params.mode == Mode::Radius)
+      std::printf("  accuracy vs exact: recall %.4f, precision %.4f, %.1f%% of queries exact\n",
+                  accuracy.recall(), accuracy.precision(), 100 * accuracy.exact_match_fraction());
+    else
+      std::printf("  accuracy vs exact: %.1f%% of queries exact, extra distance mean %.4f m, max %.3f m\n",
+                  100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
+  }
+  std::fputs(energy_area_summary(stats).c_str(), stdout);
+  std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", m.sim_seconds, m.golden_seconds,
+              stats_path.c_str());
+  if (!o.timeline.empty())
+    std::printf("  timeline %s (slices: %s; counters: every query; open in ui.perfetto.dev)\n", o.timeline.c_str(),
+                timeline.trace_note().c_str());
+  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
+}
+
+}  // namespace
+
+int run_run_command(const CLI::App& app, const RunOptions& o) {
+  if (o.list_config) {
+    std::cout << (o.json ? config_reference_json().dump(2) + "\n" : config_reference());
+    return 0;
+  }
+  if (o.stats_schema) {
+    std::cout << stats_schema_json().dump(2) << '\n';
+    return 0;
+  }
+  if (app.count("--json")) throw std::invalid_argument("--json goes with --list-config");
+  if (!o.trace.empty()) return run_trace_replay(app, o);
+  if (app.count("--trace-stages") || app.count("--jobs"))
+    throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
+
+  const RunSetup r = configure_run(app, o);
+  FolderSpec spec{"run", {}, nlohmann::json::object(),
+                  search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name, o.config_file),
+                  {"stats.json"}, false, {}};
+  spec.also_written = {o.vcd, o.vcd.empty() ? "" : gtkw_path(o.vcd), o.timeline, o.search.dump_results,
+                       o.search.dump_schedule};
+  OutFolder folder(o.search.out, spec);
+  const std::uint32_t shown =
+      o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
+  TimelineRecorder timeline(1000.0 / r.p.cfg.clock_mhz, shown);
+  const std::optional<RunMeasured> m = simulate_run(r, o, timeline);
+  if (!m) {
+    folder.finish("failed");
+    return 1;
+  }
+
+  if (!o.search.dump_schedule.empty())
+    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
+  Accuracy accuracy;
+  const nlohmann::json stats = run_stats(r, *m, o, accuracy);
+  const std::string stats_path = o.search.out + "/stats.json";
+  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
+  if (!o.timeline.empty())
+    write_file(o.timeline, [&](std::ostream& f) {
+      nlohmann::json trace = timeline.trace();
+      trace["otherData"]["run"] = provenance_json(o.search.command_line, r.inputs, stats["config"]);
+      f << trace.dump() << '\n';
+    });
+  if (!o.search.dump_results.empty())
+    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
+
+  print_run_summary(r, *m, o, stats, accuracy, stats_path, timeline);
+  if (!m->verdict.match) {
+    std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
+                 static_cast<unsigned long long>(m->verdict.result_mismatches),
+                 static_cast<unsigned long long>(m->verdict.visit_mismatches));
+    for (const std::string& line : m->verdict.first) std::fprintf(stderr, "  %s\n", line.c_str());
+    folder.finish("failed");
+    return 1;
+  }
+  folder.finish();
+  return 0;
+}
+
+}  // namespace tigris
+
+namespace tigris {
+namespace {
+
+const CommandRegistration kRegistration{options_command<RunOptions>(
+    "run", "Run the accelerator model; every query is checked against the golden model "
+        "(exit 0 only when all match, 1 on a mismatch or deadlock)", 20,
+    [](CLI::App& app, RunOptions& o) {
+      o.search.out = "tigris-out/run";
+      add_run_options(app, o);
+    },
+    [](const CLI::App& app, RunOptions& o, const CommandLine& line) {
+      o.search.command_line = line.text;
+      return run_run_command(app, o);
+    })};
+
+}  // namespace
+}  // namespace tigris
