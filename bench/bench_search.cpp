@@ -17,18 +17,18 @@
 #include <utility>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <benchmark/benchmark.h>
+#include <CLI/CLI.hpp>
 #include <flann/flann.hpp>
 #include <nanoflann.hpp>
 
 #include "sw_ref/arith.hpp"
 #include "sw_ref/cloud.hpp"
-#include "workloads/io/cloud_io.hpp"
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
 #include "sw_ref/stats.hpp"
+#include "workloads/io/cloud_io.hpp"
 #include "workloads/synthetic.hpp"
 
 #ifndef TIGRIS_BENCH_KITTI_DIR
@@ -54,23 +54,22 @@ struct Options {
 
 // Parses argv into `o`; returns -1 to go on, or the exit code (0 after --help, 2 on a bad flag).
 int parse_options(int argc, char** argv, Options& o) {
-  CLI::App app{"bench_search: times the golden model's KD-tree searches (sw_ref) against nanoflann "
-               "and FLANN on one thread, and prints the two-stage tree's redundancy and visit "
-               "distributions. Markdown tables go to stdout, progress to stderr."};
+  CLI::App app{
+      "bench_search: times the golden model's KD-tree searches (sw_ref) against nanoflann "
+      "and FLANN on one thread, and prints the two-stage tree's redundancy and visit "
+      "distributions. Markdown tables go to stdout, progress to stderr."};
   app.add_option("--kitti", o.kitti_dir,
                  "KITTI directory holding 000000.bin (tree) and 000001.bin (queries); the KITTI "
                  "workload is skipped if either file is missing")
       ->type_name("DIR")
       ->capture_default_str();
-  CLI::Option* runs =
-      app.add_option("--runs", o.runs,
-                     "timed repetitions of every build and search; the tables report medians "
-                     "(default 5, or 1 with --quick)")
-          ->type_name("N")
-          ->check(CLI::TypeValidator<int>(""))  // "abc" gets a parse error, not a range one
-          ->check(CLI::Range(1, 1000));
-  app.add_flag("--quick", o.quick,
-               "smoke run: search every 16th query only (every 64th for radius 0.75)");
+  CLI::Option* runs = app.add_option("--runs", o.runs,
+                                     "timed repetitions of every build and search; the tables report medians "
+                                     "(default 5, or 1 with --quick)")
+                          ->type_name("N")
+                          ->check(CLI::TypeValidator<int>(""))  // "abc" gets a parse error, not a range one
+                          ->check(CLI::Range(1, 1000));
+  app.add_flag("--quick", o.quick, "smoke run: search every 16th query only (every 64th for radius 0.75)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -156,15 +155,16 @@ struct NanoCloud {
   std::size_t kdtree_get_point_count() const { return xyz->size() / 3; }
   float kdtree_get_pt(std::uint32_t idx, std::size_t dim) const { return (*xyz)[3 * idx + dim]; }
   template <class BBox>
-  bool kdtree_get_bbox(BBox&) const { return false; }
+  bool kdtree_get_bbox(BBox&) const {
+    return false;
+  }
 };
-using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, NanoCloud>,
-                                                     NanoCloud, 3, std::uint32_t>;
+using NanoTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, NanoCloud>, NanoCloud, 3, std::uint32_t>;
 using FlannIndex = flann::Index<flann::L2_Simple<float>>;
 
 enum Impl { kCanonical = 0, kTwoStage = 1, kNanoflann = 2, kFlann = 3, kNumImpls = 4 };
-const char* const kImplNames[kNumImpls] = {"sw_ref canonical", "sw_ref 2-stage h=10", "nanoflann",
-                                           "FLANN"};
+const char* const kImplNames[kNumImpls] = {"sw_ref canonical", "sw_ref 2-stage h=10", "nanoflann", "FLANN"};
 
 struct Trees {
   tigris::KdTree canonical, two_stage;
@@ -195,8 +195,7 @@ void timed(benchmark::State* state, Work&& work) {
 
 // Builds implementation `impl` into `t`, timed by `state` if given. The old tree is freed first,
 // outside the timer, so build times cover construction only.
-void build(Impl impl, const Workload& w, std::vector<float>& cloud_flat, Trees& t,
-           benchmark::State* state) {
+void build(Impl impl, const Workload& w, std::vector<float>& cloud_flat, Trees& t, benchmark::State* state) {
   switch (impl) {
     case kCanonical:
       t.canonical = {};
@@ -344,15 +343,15 @@ struct Agreement {
 };
 
 // Compares `got` with sw_ref's answer `ref`; prints the first few disagreements to stderr.
-Agreement compare(const Row& row, const Workload& w, const QuerySet& qs, const RowAnswer& ref,
-                  const RowAnswer& got, const char* impl_name) {
+Agreement compare(const Row& row, const Workload& w, const QuerySet& qs, const RowAnswer& ref, const RowAnswer& got,
+                  const char* impl_name) {
   Agreement a;
   const std::size_t nq = qs.points.size();
   int shown = 0;
   auto note = [&](std::size_t q, const std::string& what) {
     if (shown++ < 3)
-      std::fprintf(stderr, "[%s] %s, %s: query %zu (input index %zu): %s\n", w.name.c_str(),
-                   row.name.c_str(), impl_name, q, q * static_cast<std::size_t>(qs.stride), what.c_str());
+      std::fprintf(stderr, "[%s] %s, %s: query %zu (input index %zu): %s\n", w.name.c_str(), row.name.c_str(),
+                   impl_name, q, q * static_cast<std::size_t>(qs.stride), what.c_str());
   };
   if (row.mode == Mode::Radius) {
     const float r2 = tigris::square(row.radius);
@@ -369,10 +368,9 @@ Agreement compare(const Row& row, const Workload& w, const QuerySet& qs, const R
       }
       const bool explained = ref.count[q] == le && got.count[q] == lt;
       a.unexplained += !explained;
-      note(q, "sw_ref " + std::to_string(ref.count[q]) + " neighbours, baseline " +
-                  std::to_string(got.count[q]) + "; brute force: " + std::to_string(le) +
-                  " with dist2 <= r2, " + std::to_string(lt) + " with dist2 < r2" +
-                  (explained ? " (boundary points, explained)" : " (UNEXPLAINED)"));
+      note(q, "sw_ref " + std::to_string(ref.count[q]) + " neighbours, baseline " + std::to_string(got.count[q]) +
+                  "; brute force: " + std::to_string(le) + " with dist2 <= r2, " + std::to_string(lt) +
+                  " with dist2 < r2" + (explained ? " (boundary points, explained)" : " (UNEXPLAINED)"));
     }
     return a;
   }
@@ -391,8 +389,8 @@ Agreement compare(const Row& row, const Workload& w, const QuerySet& qs, const R
         const bool dd = d2(q, ri) != d2(q, gi);
         dist_diff = dist_diff || dd;
         if (what.size() < 200)
-          what += "rank " + std::to_string(j) + ": sw_ref " + std::to_string(ri) + ", baseline " +
-                  std::to_string(gi) + (dd ? " (different dist2) " : " (same dist2: tie) ");
+          what += "rank " + std::to_string(j) + ": sw_ref " + std::to_string(ri) + ", baseline " + std::to_string(gi) +
+                  (dd ? " (different dist2) " : " (same dist2: tie) ");
       }
     }
     a.differs += idx_diff;
@@ -405,9 +403,7 @@ Agreement compare(const Row& row, const Workload& w, const QuerySet& qs, const R
 
 // ---- per-workload benchmark -----------------------------------------------------------------------
 
-std::uint64_t nodes_visited(const tigris::QueryVisits& v) {
-  return std::uint64_t{v.top} + v.leaf_points;
-}
+std::uint64_t nodes_visited(const tigris::QueryVisits& v) { return std::uint64_t{v.top} + v.leaf_points; }
 
 double mean_nodes(const tigris::VisitTotals& t, std::size_t nq) {
   return nq ? static_cast<double>(t.top + t.leaf_points) / static_cast<double>(nq) : 0.0;
@@ -450,7 +446,7 @@ void init_bench(Bench& b, bool quick) {
 // What the untimed pass keeps: every implementation's answers, and sw_ref's visit counts for the
 // redundancy and distribution tables (visit counts are deterministic).
 struct Answers {
-  std::vector<std::vector<RowAnswer>> rows;              // [impl][row]
+  std::vector<std::vector<RowAnswer>> rows;                // [impl][row]
   std::vector<tigris::SearchOutput> canonical, two_stage;  // [row]
 };
 
@@ -464,9 +460,7 @@ Answers answer_pass(Bench& b) {
   for (int i = 0; i < kNumImpls; ++i) build(static_cast<Impl>(i), b.w, b.cloud_flat, b.trees, nullptr);
   for (std::size_t r = 0; r < nr; ++r) {
     for (int i = 0; i < kNumImpls; ++i) {
-      tigris::SearchOutput* out = i == kCanonical  ? &a.canonical[r]
-                                  : i == kTwoStage ? &a.two_stage[r]
-                                                   : nullptr;
+      tigris::SearchOutput* out = i == kCanonical ? &a.canonical[r] : i == kTwoStage ? &a.two_stage[r] : nullptr;
       run_search(static_cast<Impl>(i), b.trees, b.rows[r], b.queries(r), nullptr, &a.rows[i][r], out);
       if (!out) continue;
       // Memory: keep only the visit counts, and per-query visits only where a table uses them.
@@ -527,9 +521,8 @@ Timings time_all(Bench& b, int runs) {
         [&b, i](benchmark::State& s) { build(static_cast<Impl>(i), b.w, b.cloud_flat, b.trees, &s); });
   for (std::size_t r = 0; r < b.rows.size(); ++r)
     for (int i = 0; i < kNumImpls; ++i)
-      add(bench_name(b, b.rows[r].name, i), [&b, r, i](benchmark::State& s) {
-        run_search(static_cast<Impl>(i), b.trees, b.rows[r], b.queries(r), &s);
-      });
+      add(bench_name(b, b.rows[r].name, i),
+          [&b, r, i](benchmark::State& s) { run_search(static_cast<Impl>(i), b.trees, b.rows[r], b.queries(r), &s); });
 
   MedianCollector collector;
   benchmark::RunSpecifiedBenchmarks(&collector);
@@ -555,46 +548,50 @@ void print_build_table(const Timings& t, int runs) {
 
 void print_qps_table(Bench& b, const Timings& t, int runs) {
   std::printf("### Queries per second (median of %d)\n\n", runs);
-  std::printf("| search | queries | sw_ref canonical | sw_ref 2-stage h=10 | nanoflann | FLANN | "
-              "canonical / nanoflann time |\n|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| search | queries | sw_ref canonical | sw_ref 2-stage h=10 | nanoflann | FLANN | "
+      "canonical / nanoflann time |\n|---|---:|---:|---:|---:|---:|---:|\n");
   for (std::size_t r = 0; r < b.rows.size(); ++r) {
     const std::size_t nq = b.queries(r).points.size();
     std::string label = b.rows[r].name;
     if (b.rows[r].stride > 1) label += " (every " + std::to_string(b.rows[r].stride) + "th query)";
     std::printf("| %s | %zu |", label.c_str(), nq);
-    for (int i = 0; i < kNumImpls; ++i)
-      std::printf(" %s |", grouped(static_cast<double>(nq) / t.search[i][r]).c_str());
+    for (int i = 0; i < kNumImpls; ++i) std::printf(" %s |", grouped(static_cast<double>(nq) / t.search[i][r]).c_str());
     std::printf(" %s |\n", fmt("%.2fx", t.search[kCanonical][r] / t.search[kNanoflann][r]).c_str());
   }
   const double nn_ratio = t.search[kCanonical][0] / t.search[kNanoflann][0];
   if (b.w.name == "KITTI")
-    std::printf("\nNN: sw_ref canonical takes %.2fx nanoflann's time; the project target (within 2x "
-                "on KITTI) is %s.\n\n",
-                nn_ratio, nn_ratio <= 2.0 ? "met" : "NOT met");
+    std::printf(
+        "\nNN: sw_ref canonical takes %.2fx nanoflann's time; the project target (within 2x "
+        "on KITTI) is %s.\n\n",
+        nn_ratio, nn_ratio <= 2.0 ? "met" : "NOT met");
   else
-    std::printf("\nNN: sw_ref canonical takes %.2fx nanoflann's time (for reference; the 2x project "
-                "target is defined on KITTI).\n\n",
-                nn_ratio);
+    std::printf(
+        "\nNN: sw_ref canonical takes %.2fx nanoflann's time (for reference; the 2x project "
+        "target is defined on KITTI).\n\n",
+        nn_ratio);
 }
 
 // Sanity: the baselines against sw_ref canonical; the two-stage tree must match it exactly.
 void print_agreement(Bench& b, const Answers& a) {
   std::printf("### Agreement with sw_ref canonical\n\n");
-  std::printf("NN/kNN: queries whose neighbour index list differs; of those, whose dist2 list "
-              "(recomputed with sw_ref's dist2) also differs. Equal dist2 means a tie broken "
-              "differently (sw_ref takes the smaller index); a different dist2 is a real "
-              "disagreement. Radius: queries whose neighbour set differs; of those, whose count "
-              "differs; a difference is explained when a brute-force count confirms that sw_ref "
-              "kept exactly the points with dist2 <= r2 and the baseline those with dist2 < r2 "
-              "(nanoflann and FLANN use a strict <). Examples are printed to stderr.\n\n");
-  std::printf("| search | queries | implementation | differs | of which dist2 (NN/kNN) or count "
-              "(radius) differs | unexplained |\n|---|---:|---|---:|---:|---:|\n");
+  std::printf(
+      "NN/kNN: queries whose neighbour index list differs; of those, whose dist2 list "
+      "(recomputed with sw_ref's dist2) also differs. Equal dist2 means a tie broken "
+      "differently (sw_ref takes the smaller index); a different dist2 is a real "
+      "disagreement. Radius: queries whose neighbour set differs; of those, whose count "
+      "differs; a difference is explained when a brute-force count confirms that sw_ref "
+      "kept exactly the points with dist2 <= r2 and the baseline those with dist2 < r2 "
+      "(nanoflann and FLANN use a strict <). Examples are printed to stderr.\n\n");
+  std::printf(
+      "| search | queries | implementation | differs | of which dist2 (NN/kNN) or count "
+      "(radius) differs | unexplained |\n|---|---:|---|---:|---:|---:|\n");
   for (std::size_t r = 0; r < b.rows.size(); ++r) {
     const QuerySet& qs = b.queries(r);
     for (int i : {kTwoStage, kNanoflann, kFlann}) {
       const Agreement ag = compare(b.rows[r], b.w, qs, a.rows[kCanonical][r], a.rows[i][r], kImplNames[i]);
-      std::printf("| %s | %zu | %s | %zu | %zu | %zu |\n", b.rows[r].name.c_str(), qs.points.size(),
-                  kImplNames[i], ag.differs, ag.dist_differs, ag.unexplained);
+      std::printf("| %s | %zu | %s | %zu | %zu | %zu |\n", b.rows[r].name.c_str(), qs.points.size(), kImplNames[i],
+                  ag.differs, ag.dist_differs, ag.unexplained);
     }
   }
   std::printf("\n");
@@ -605,12 +602,12 @@ void print_redundancy(Bench& b, const Answers& a) {
   const std::vector<Row>& rows = b.rows;
   const int full = b.trees.canonical.full_height;
   std::printf("### Two-stage redundancy (paper section 4.1)\n\n");
-  std::printf("Nodes visited per query: two-stage = top visits + leaf-set points scanned; canonical "
-              "= top visits of the full-height tree (%d levels). h = round(log2(n / leaf-set "
-              "size)); mean leaf-set size = points in leaf sets / 2^h.",
-              full);
-  if (rows[3].stride > 1)
-    std::printf(" Radius 0.75 uses every %dth query, as in the timing table.", rows[3].stride);
+  std::printf(
+      "Nodes visited per query: two-stage = top visits + leaf-set points scanned; canonical "
+      "= top visits of the full-height tree (%d levels). h = round(log2(n / leaf-set "
+      "size)); mean leaf-set size = points in leaf sets / 2^h.",
+      full);
+  if (rows[3].stride > 1) std::printf(" Radius 0.75 uses every %dth query, as in the timing table.", rows[3].stride);
   std::printf("\n\n| leaf-set size | h | mean leaf-set size |");
   const std::size_t red_rows[] = {0, 2, 3};
   for (std::size_t r : red_rows)
@@ -632,12 +629,10 @@ void print_redundancy(Bench& b, const Answers& a) {
     for (std::size_t r : red_rows) {
       const QuerySet& qs = b.queries(r);
       const std::size_t nq = qs.points.size();
-      const tigris::VisitTotals two = h == kTwoStageHeight
-                                          ? a.two_stage[r].visits
-                                          : tigris::search(t, qs.points, sw_params(rows[r])).visits;
+      const tigris::VisitTotals two =
+          h == kTwoStageHeight ? a.two_stage[r].visits : tigris::search(t, qs.points, sw_params(rows[r])).visits;
       const double x = mean_nodes(two, nq), y = mean_nodes(a.canonical[r].visits, nq);
-      std::printf(" %s | %s | %s |", fmt("%.1f", x).c_str(), fmt("%.1f", y).c_str(),
-                  fmt("%.2fx", x / y).c_str());
+      std::printf(" %s | %s | %s |", fmt("%.1f", x).c_str(), fmt("%.1f", y).c_str(), fmt("%.2fx", x / y).c_str());
     }
     std::printf("\n");
   }
@@ -671,8 +666,8 @@ void bench_workload(const Workload& w, const Options& opt) {
   const Timings t = time_all(b, opt.runs);
 
   std::printf("## Workload: %s\n\n", w.name.c_str());
-  std::printf("%s. Tree: %zu points; queries: %zu. Medians of %d run%s, one thread.\n\n",
-              w.source.c_str(), w.cloud.size(), w.queries.size(), opt.runs, opt.runs == 1 ? "" : "s");
+  std::printf("%s. Tree: %zu points; queries: %zu. Medians of %d run%s, one thread.\n\n", w.source.c_str(),
+              w.cloud.size(), w.queries.size(), opt.runs, opt.runs == 1 ? "" : "s");
   print_build_table(t, opt.runs);
   print_qps_table(b, t, opt.runs);
   print_agreement(b, answers);
@@ -696,11 +691,12 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   std::printf("# bench_search: sw_ref vs nanoflann %d.%d.%d vs FLANN %s\n\n", (NANOFLANN_VERSION >> 8) & 0xF,
               (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF, FLANN_VERSION_);
-  std::printf("Single-threaded. nanoflann and FLANN: leaf max size %d, L2 (squared) distances, exact "
-              "(FLANN: unlimited checks, eps 0, sorted). sw_ref: `search()` with "
-              "record_schedule=false; two-stage top height %d. Timed with Google Benchmark: one "
-              "pass over the queries per repetition, repetitions interleaved at random.%s\n\n",
-              kLeafMaxSize, kTwoStageHeight, opt.quick ? " **--quick: every 16th query only.**" : "");
+  std::printf(
+      "Single-threaded. nanoflann and FLANN: leaf max size %d, L2 (squared) distances, exact "
+      "(FLANN: unlimited checks, eps 0, sorted). sw_ref: `search()` with "
+      "record_schedule=false; two-stage top height %d. Timed with Google Benchmark: one "
+      "pass over the queries per repetition, repetitions interleaved at random.%s\n\n",
+      kLeafMaxSize, kTwoStageHeight, opt.quick ? " **--quick: every 16th query only.**" : "");
   try {
     {
       std::fprintf(stderr, "[synthetic] generating the built-in pair\n");
@@ -717,8 +713,8 @@ int main(int argc, char** argv) {
                  tigris::load_cloud(f0.string()), tigris::load_cloud(f1.string())};
       bench_workload(w, opt);
     } else {
-      std::printf("## Workload: KITTI\n\nSkipped: %s or %s not found (use --kitti DIR).\n\n",
-                  f0.string().c_str(), f1.string().c_str());
+      std::printf("## Workload: KITTI\n\nSkipped: %s or %s not found (use --kitti DIR).\n\n", f0.string().c_str(),
+                  f1.string().c_str());
     }
   } catch (const std::exception& e) {
     std::fflush(stdout);

@@ -20,9 +20,9 @@ using nlohmann::json;
 [[noreturn]] void unknown_key(const std::vector<Key>& keys, const std::string& source, const std::string& name,
                               const char* list_command) {
   const std::string best = nearest_name(keys, name);
-  throw std::invalid_argument(source + ": unknown key '" + visible_text(name) + "'" +
-                              (best.empty() ? " (" + std::string(list_command) + " lists every key)"
-                                            : " (did you mean '" + best + "'?)"));
+  throw std::invalid_argument(
+      source + ": unknown key '" + visible_text(name) + "'" +
+      (best.empty() ? " (" + std::string(list_command) + " lists every key)" : " (did you mean '" + best + "'?)"));
 }
 
 [[noreturn]] void key_error(const std::string& source, const Key& k, const std::string& what) {
@@ -45,14 +45,14 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
       for (const char* f : {"false", "0", "off"})
         if (text == f) return false;
       return fail("true/false/1/0/on/off");
-    case Type::Enum:
-      return text;
+    case Type::Enum: return text;
     case Type::Number: {
       // Decimal numbers only: strtod would also take hex ("0x10"), "inf" and "nan".
       if (text.find_first_not_of("0123456789.eE+-") != std::string::npos) return fail("a decimal number");
       char* end = nullptr;
       errno = 0;
-      const double x = text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ? 0.0 : std::strtod(first, &end);
+      const double x =
+          text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ? 0.0 : std::strtod(first, &end);
       // ERANGE on underflow still gives the nearest number (a denormal, or 0): the range decides.
       if (end != last || (errno == ERANGE && std::abs(x) == HUGE_VAL)) return fail("a number");
       return x;
@@ -68,7 +68,7 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
       if (r.ec == std::errc::result_out_of_range && r.ptr == last)
         key_error(source, k, "= " + text + " is out of range (" + describe(k) + ")");
       if (r.ec != std::errc() || r.ptr != last || text.empty())
-        return fail(!is_int          ? std::string("a whole number of bytes")
+        return fail(!is_int         ? std::string("a whole number of bytes")
                     : names.empty() ? std::string("an integer")
                                     : "an integer or '" + names[0].name + "'");
       return is_int ? json(i) : json(u);
@@ -86,8 +86,9 @@ void apply_object(const std::vector<Key>& keys, const Setter& set, const json& o
       set(*k, checked(*k, v, source));
     } else if (const Key* first = first_in_block(keys, path)) {
       if (!v.is_object())
-        throw std::invalid_argument(source + ": '" + path + "' is a block and must be a JSON object of its keys (e.g. '" +
-                                    first->name + "'), got " + shown(v));
+        throw std::invalid_argument(source + ": '" + path +
+                                    "' is a block and must be a JSON object of its keys (e.g. '" + first->name +
+                                    "'), got " + shown(v));
       apply_object(keys, set, v, path, source, list_command);
     } else {
       unknown_key(keys, source, path, list_command);

@@ -19,8 +19,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "key_table.hpp"
 #include "core/json_file.hpp"
+#include "key_table.hpp"
 
 namespace tigris::config {
 
@@ -43,7 +43,8 @@ std::string shown(const nlohmann::json& v);
 // keys: the configuration type's own validate does that once everything is applied).
 template <class C>
 void apply_json(C& cfg, const nlohmann::json& j, const std::string& source) {
-  apply_json(keys<C>(), [&](const Key& k, const nlohmann::json& v) { set(cfg, k, v); }, j, source, C::kListCommand);
+  apply_json(
+      keys<C>(), [&](const Key& k, const nlohmann::json& v) { set(cfg, k, v); }, j, source, C::kListCommand);
 }
 // The same for a file's text, or a file (missing, unreadable or invalid: an error naming it).
 template <class C>
@@ -58,8 +59,9 @@ void apply_file(C& cfg, const std::string& path) {
 // start with `source`, by default "--set 'key=value'" (a flag that sets a key names itself).
 template <class C>
 void apply_setting(C& cfg, const std::string& assignment, const std::string& source = "") {
-  apply_setting(keys<C>(), [&](const Key& k, const nlohmann::json& v) { set(cfg, k, v); }, assignment,
-                source.empty() ? "--set '" + assignment + "'" : source, C::kListCommand, C::kSetExample);
+  apply_setting(
+      keys<C>(), [&](const Key& k, const nlohmann::json& v) { set(cfg, k, v); }, assignment,
+      source.empty() ? "--set '" + assignment + "'" : source, C::kListCommand, C::kSetExample);
 }
 // Every key, nested by block (enums by name): apply_json of it onto any value gives back cfg.
 template <class C>
@@ -79,7 +81,8 @@ void check_keys(const C& cfg, const std::string& source) {
 // or an enum's values}]}.
 template <class C>
 std::string reference_markdown(const C& cfg, const std::string& value_heading = "default") {
-  return reference_markdown(keys<C>(), [&](const Key& k) { return get(cfg, k); }, value_heading);
+  return reference_markdown(
+      keys<C>(), [&](const Key& k) { return get(cfg, k); }, value_heading);
 }
 template <class C>
 nlohmann::json reference_json(const C& cfg) {

@@ -29,13 +29,18 @@ struct Key {
 
 template <class T>
 constexpr Type type_of() {
-  if constexpr (std::is_same_v<T, bool>) return Type::Bool;
-  else if constexpr (std::is_enum_v<T> || std::is_same_v<T, std::string>) return Type::Enum;
-  else if constexpr (std::is_same_v<T, double>) return Type::Number;
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return Type::Bytes;
+  if constexpr (std::is_same_v<T, bool>)
+    return Type::Bool;
+  else if constexpr (std::is_enum_v<T> || std::is_same_v<T, std::string>)
+    return Type::Enum;
+  else if constexpr (std::is_same_v<T, double>)
+    return Type::Number;
+  else if constexpr (std::is_same_v<T, std::uint64_t>)
+    return Type::Bytes;
   else {
-    static_assert(std::is_same_v<T, int>, "a configuration field is int, bool, double, "
-                                          "std::uint64_t, an enum or a registered name (std::string)");
+    static_assert(std::is_same_v<T, int>,
+                  "a configuration field is int, bool, double, "
+                  "std::uint64_t, an enum or a registered name (std::string)");
     return Type::Integer;
   }
 }

@@ -31,7 +31,7 @@ struct Allowed {
 struct Spec {
   std::string unit;  // "-" when the key has none
   Allowed allowed;
-  std::string doc;   // the key's meaning: the one place it is documented
+  std::string doc;  // the key's meaning: the one place it is documented
 };
 
 inline Allowed in(double lo, double hi) { return Allowed{lo, hi, false, {}}; }

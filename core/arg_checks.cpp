@@ -18,10 +18,13 @@ void reject_empty_arguments(int argc, const char* const* argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     std::string flag;
-    if (arg.empty()) flag = i > 1 && argv[i - 1][0] == '-' ? argv[i - 1] : "an argument";
-    else if (arg.rfind("--", 0) == 0 && arg.back() == '=') flag = arg.substr(0, arg.size() - 1);
+    if (arg.empty())
+      flag = i > 1 && argv[i - 1][0] == '-' ? argv[i - 1] : "an argument";
+    else if (arg.rfind("--", 0) == 0 && arg.back() == '=')
+      flag = arg.substr(0, arg.size() - 1);
     if (!flag.empty())
-      throw std::invalid_argument(flag + " was given an empty value; leave the flag out for its default "
+      throw std::invalid_argument(flag +
+                                  " was given an empty value; leave the flag out for its default "
                                   "(--help lists them)");
   }
 }
@@ -41,13 +44,15 @@ std::string closest(const std::string& word, const std::vector<std::string>& can
     }
     if (prev[c.size()] < best_d) best_d = prev[c.size()], best = c;
   }
-  const std::string letters = word.substr(word.find_first_not_of('-') == std::string::npos ? 0 : word.find_first_not_of('-'));
+  const std::string letters =
+      word.substr(word.find_first_not_of('-') == std::string::npos ? 0 : word.find_first_not_of('-'));
   return best_d <= 2 && best_d < letters.size() ? best : std::string();
 }
 
 std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, const std::string& error) {
   std::vector<std::string> commands;
-  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) commands.push_back(sub->get_name());
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    commands.push_back(sub->get_name());
   if (argc < 2) return "";
   const std::string first = argv[1];
   if (first.empty() || first[0] == '-') return "";
@@ -72,8 +77,8 @@ std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, 
   // CLI11's "VALUE not in {a,b,c}": the closest allowed value.
   if (const auto in = error.find(" not in {"); in != std::string::npos && error.find('}', in) != std::string::npos) {
     const std::size_t colon = error.rfind(": ", in);
-    const std::string value = error.substr(colon == std::string::npos ? 0 : colon + 2,
-                                           in - (colon == std::string::npos ? 0 : colon + 2));
+    const std::string value =
+        error.substr(colon == std::string::npos ? 0 : colon + 2, in - (colon == std::string::npos ? 0 : colon + 2));
     std::vector<std::string> allowed;
     std::string list = error.substr(in + 9, error.find('}', in) - in - 9);
     for (std::size_t p = 0; p <= list.size();) {
@@ -106,7 +111,8 @@ std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, 
         if (guess.empty() || guess == "-") guess = closest(arg, names);
         out += "tigris " + sub->get_name() + " takes flags, not the word '" + arg + "'" +
                (guess.empty() || guess == "-" ? " (tigris " + sub->get_name() + " --help lists them)"
-                                              : "; did you mean --" + guess + " " + arg + "?") + "\n";
+                                              : "; did you mean --" + guess + " " + arg + "?") +
+               "\n";
       }
       continue;
     }
@@ -120,8 +126,7 @@ std::string parse_suggestions(CLI::App& app, int argc, const char* const* argv, 
         elsewhere += (elsewhere.empty() ? "tigris " : " and tigris ") + other->get_name();
     }
     const std::string guess = closest(arg, own);
-    out += "tigris " + sub->get_name() + " takes no " + arg +
-           (guess.empty() ? "" : "; did you mean " + guess + "?") +
+    out += "tigris " + sub->get_name() + " takes no " + arg + (guess.empty() ? "" : "; did you mean " + guess + "?") +
            (elsewhere.empty() ? "" : " (" + arg + " is a flag of " + elsewhere + ")") + "\n";
   }
   return out;
@@ -155,9 +160,10 @@ fs::path resolved(const std::string& path) {
 
 bool same_file(const std::string& a, const std::string& b) {
   if (resolved(a) == resolved(b)) return true;
-  struct stat sa {}, sb {};
-  return stat(a.c_str(), &sa) == 0 && stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
-         sa.st_ino == sb.st_ino && S_ISREG(sa.st_mode);
+  struct stat sa {
+  }, sb{};
+  return stat(a.c_str(), &sa) == 0 && stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino &&
+         S_ISREG(sa.st_mode);
 }
 
 }  // namespace
@@ -172,8 +178,8 @@ void check_distinct_paths(const std::vector<PathUse>& inputs, const std::vector<
                                     in.path + "; write the output elsewhere");
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].path.empty() && same_file(outputs[j].path, out.path))
-        throw std::invalid_argument(out.flag + " " + out.path + " and " + outputs[j].flag + " " +
-                                    outputs[j].path + " are the same file; give each output its own path");
+        throw std::invalid_argument(out.flag + " " + out.path + " and " + outputs[j].flag + " " + outputs[j].path +
+                                    " are the same file; give each output its own path");
   }
 }
 

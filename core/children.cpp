@@ -82,7 +82,7 @@ void on_stop(int sig) {
           ++count;
       }
     if (count > 0) {
-      const struct timespec t{0, 100 * 1000 * 1000};
+      const struct timespec t { 0, 100 * 1000 * 1000 };
       ::nanosleep(&t, nullptr);
     }
   }
@@ -216,7 +216,10 @@ DeferStop::~DeferStop() { --g_defer; }
 int stop_signal() { return g_stop; }
 
 Interrupted::Interrupted(int sig)
-    : std::runtime_error(std::string("interrupted (") + (sig == SIGINT ? "SIGINT" : sig == SIGHUP ? "SIGHUP" : "SIGTERM") +
+    : std::runtime_error(std::string("interrupted (") +
+                         (sig == SIGINT   ? "SIGINT"
+                          : sig == SIGHUP ? "SIGHUP"
+                                          : "SIGTERM") +
                          ")"),
       signal(sig) {}
 
@@ -235,7 +238,8 @@ void set_interrupted_record(const std::string& path, const std::string& bytes) {
 }
 
 std::vector<std::string> rerun_args(const std::vector<std::string>& argv, const std::vector<std::string>& drop_switches,
-                                    const std::vector<std::string>& drop_options, const std::vector<std::string>& extra) {
+                                    const std::vector<std::string>& drop_options,
+                                    const std::vector<std::string>& extra) {
   const auto in = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();
   };

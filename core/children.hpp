@@ -65,6 +65,7 @@ void set_interrupted_record(const std::string& path, const std::string& bytes);
 // the switches `drop_switches` and without the options `drop_options` and their values (also
 // given as --option=value), then `extra`.
 std::vector<std::string> rerun_args(const std::vector<std::string>& argv, const std::vector<std::string>& drop_switches,
-                                    const std::vector<std::string>& drop_options, const std::vector<std::string>& extra);
+                                    const std::vector<std::string>& drop_options,
+                                    const std::vector<std::string>& extra);
 
 }  // namespace tigris

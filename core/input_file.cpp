@@ -42,7 +42,8 @@ struct stat stat_input(const std::string& path, const std::string& what) {
   if (err == ENOENT && ::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
     char target[4096];
     const ssize_t n = ::readlink(path.c_str(), target, sizeof target - 1);
-    fail(path, what, "a broken symbolic link (to " + std::string(target, n > 0 ? static_cast<std::size_t>(n) : 0) + ")");
+    fail(path, what,
+         "a broken symbolic link (to " + std::string(target, n > 0 ? static_cast<std::size_t>(n) : 0) + ")");
   }
   if (err == ENOENT) fail(path, what, "no such file");
   if (err == ENOTDIR) fail(path, what, "a part of the path is not a folder");
@@ -52,8 +53,9 @@ struct stat stat_input(const std::string& path, const std::string& what) {
 void check_stat(const struct stat& st, const std::string& path, const std::string& what, std::uint64_t max_bytes) {
   if (!S_ISREG(st.st_mode)) fail(path, what, std::string("is ") + kind(st.st_mode) + ", not a regular file");
   if (static_cast<std::uint64_t>(st.st_size) > max_bytes)
-    fail(path, what, "is " + size_text(static_cast<std::uint64_t>(st.st_size)) + ", more than the " +
-                         size_text(max_bytes) + " such an input may be (is it the right file?)");
+    fail(path, what,
+         "is " + size_text(static_cast<std::uint64_t>(st.st_size)) + ", more than the " + size_text(max_bytes) +
+             " such an input may be (is it the right file?)");
 }
 
 }  // namespace

@@ -212,7 +212,8 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
     if (had_manifest && spec_.resumable) {
       const std::vector<std::string> diff = changes(old, spec_);
       if (!diff.empty()) {
-        std::string msg = what + " holds a " + cmd + " run with other settings or inputs, so its results would mix "
+        std::string msg = what + " holds a " + cmd +
+                          " run with other settings or inputs, so its results would mix "
                           "with this run's:";
         for (const std::string& d : diff) msg += "\n  " + d;
         throw std::invalid_argument(msg + "\nuse another --out, or remove " + dir_ + " to start afresh");
@@ -278,10 +279,11 @@ void write_file(const std::string& path, const std::function<void(std::ostream&)
   const fs::file_status st = fs::symlink_status(path, ec);
   const bool special = fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st);
   if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
-  const std::string tmp = special ? path
-                                  : (parent / (std::string(kTmpPrefix) + fs::path(path).filename().string() + "-" +
-                                               std::to_string(::getpid())))
-                                        .string();
+  const std::string tmp =
+      special
+          ? path
+          : (parent / (std::string(kTmpPrefix) + fs::path(path).filename().string() + "-" + std::to_string(::getpid())))
+                .string();
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");

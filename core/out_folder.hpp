@@ -16,8 +16,8 @@
 namespace tigris {
 
 struct FolderSpec {
-  std::string command;            // "odometry": a manifest of another command is refused
-  std::vector<std::string> argv;  // the command line, recorded
+  std::string command;                                 // "odometry": a manifest of another command is refused
+  std::vector<std::string> argv;                       // the command line, recorded
   nlohmann::json settings = nlohmann::json::object();  // what decides the results (compared on resume)
   nlohmann::json inputs = nlohmann::json::array();     // input_file() records (compared on resume)
   // What the command writes in the folder, as top-level names: "stats.json", "*.vcd", "pairs/"

@@ -18,8 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "children.hpp"
-#include "out_folder.hpp"  // write_file
 #include "json_file.hpp"
+#include "out_folder.hpp"  // write_file
 
 namespace tigris {
 namespace {
@@ -86,15 +86,21 @@ int queued(const std::string& job) {
 }  // namespace
 
 void add_slurm_options(CLI::App& app, SlurmOptions& o) {
-  CLI::Option* s = app.add_flag("--slurm", o.slurm, "Run the pairs as one Slurm job array (sbatch) instead of local processes");
+  CLI::Option* s =
+      app.add_flag("--slurm", o.slurm, "Run the pairs as one Slurm job array (sbatch) instead of local processes");
   app.add_option("--partition", o.partition, "With --slurm: sbatch --partition")->needs(s);
   app.add_option("--time", o.time, "With --slurm: sbatch --time (per array task)")->needs(s);
   app.add_option("--mem", o.mem, "With --slurm: sbatch --mem (per array task)")->needs(s);
-  app.add_option("--chunk", o.chunk, "With --slurm: pairs per array task")->check(CLI::Range(1, 100000))->needs(s)->capture_default_str();
-  app.add_option("--sbatch-arg", o.sbatch_args, "With --slurm: one more raw sbatch argument, repeatable (--sbatch-arg=--qos=low)")
+  app.add_option("--chunk", o.chunk, "With --slurm: pairs per array task")
+      ->check(CLI::Range(1, 100000))
+      ->needs(s)
+      ->capture_default_str();
+  app.add_option("--sbatch-arg", o.sbatch_args,
+                 "With --slurm: one more raw sbatch argument, repeatable (--sbatch-arg=--qos=low)")
       ->needs(s)
       ->allow_extra_args(false);
-  app.add_flag("--no-wait", o.no_wait, "With --slurm: return after submitting; rerun the same command to collect")->needs(s);
+  app.add_flag("--no-wait", o.no_wait, "With --slurm: return after submitting; rerun the same command to collect")
+      ->needs(s);
 }
 
 std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>& commands, const std::string& dir,
@@ -105,7 +111,8 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
   const std::time_t now = std::time(nullptr);
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
   const std::string script = sdir + "/array-" + stamp + "-" + std::to_string(::getpid()) + ".sh";
-  const std::size_t tasks = (commands.size() + static_cast<std::size_t>(o.chunk) - 1) / static_cast<std::size_t>(o.chunk);
+  const std::size_t tasks =
+      (commands.size() + static_cast<std::size_t>(o.chunk) - 1) / static_cast<std::size_t>(o.chunk);
   write_file(script, [&](std::ostream& f) {
     f << "#!/bin/sh\n# One task of a " << name << " job array: runs its chunk of commands, each logged on its own.\n"
       << "status=0\ncase \"$SLURM_ARRAY_TASK_ID\" in\n";
@@ -124,8 +131,11 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
   std::string log_dir;  // sbatch reads % in --output as a pattern: %% is a literal one
   for (char c : sdir) log_dir += c == '%' ? std::string("%%") : std::string(1, c);
-  std::vector<std::string> cmd{"sbatch", "--parsable", "--array=0-" + std::to_string(tasks - 1),
-                               "--job-name=" + name, "--output=" + log_dir + "/%A_%a.out",
+  std::vector<std::string> cmd{"sbatch",
+                               "--parsable",
+                               "--array=0-" + std::to_string(tasks - 1),
+                               "--job-name=" + name,
+                               "--output=" + log_dir + "/%A_%a.out",
                                "--chdir=" + fs::absolute(dir).lexically_normal().string()};
   if (!o.partition.empty()) cmd.push_back("--partition=" + o.partition);
   if (!o.time.empty()) cmd.push_back("--time=" + o.time);
@@ -140,17 +150,17 @@ std::string submit_array(const SlurmOptions& o, const std::vector<ArrayCommand>&
     throw SlurmError("--slurm: sbatch not found on PATH (is Slurm installed and SLURM_CONF set?)");
   if (code != 0)
     throw SlurmError("sbatch failed (exit " + std::to_string(code) + "): " + trimmed(err + out) +
-                             "\n  command: " + shown);
+                     "\n  command: " + shown);
   // --parsable prints "jobid[;cluster]" as its last line of stdout; warnings go to stderr.
   std::string last = trimmed(out);
   last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
   const std::string job = last.substr(0, last.find(';'));
   if (job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
     throw SlurmError("sbatch printed no job id (stdout: '" + trimmed(out) + "', stderr: '" + trimmed(err) +
-                             "')\n  command: " + shown);
+                     "')\n  command: " + shown);
   if (!trimmed(err).empty()) std::fprintf(stderr, "tigris: sbatch said: %s\n", trimmed(err).c_str());
-  nlohmann::ordered_json j{{"job", job}, {"script", script}, {"tasks", tasks}, {"commands", commands.size()},
-                           {"command", cmd}};
+  nlohmann::ordered_json j{
+      {"job", job}, {"script", script}, {"tasks", tasks}, {"commands", commands.size()}, {"command", cmd}};
   write_file(sdir + "/job.json", [&](std::ostream& f) { f << j.dump(2) << '\n'; });
   std::fprintf(stderr, "tigris: submitted Slurm job array %s: %zu task(s) for %zu command(s); logs %s/%s_<task>.out\n",
                job.c_str(), tasks, commands.size(), sdir.c_str(), job.c_str());
@@ -166,7 +176,8 @@ void wait_array(const std::string& job, const std::function<void()>& tick) {
     if (const int sig = stop_signal()) {
       std::string out;
       capture({"scancel", job}, out);
-      std::fprintf(stderr, "tigris: cancelled Slurm job %s; the pairs finished are kept, a rerun resumes\n", job.c_str());
+      std::fprintf(stderr, "tigris: cancelled Slurm job %s; the pairs finished are kept, a rerun resumes\n",
+                   job.c_str());
       throw Interrupted(sig);
     }
     if (active == 0) break;

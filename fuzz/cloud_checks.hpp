@@ -24,8 +24,8 @@ inline std::string difference(const tigris::PointCloud& got, const tigris::Point
         float_bits(got[i].z) != float_bits(want[i].z)) {
       std::ostringstream m;
       m.precision(9);
-      m << "point " << i << " read as (" << got[i].x << ", " << got[i].y << ", " << got[i].z
-        << "), expected (" << want[i].x << ", " << want[i].y << ", " << want[i].z << ")";
+      m << "point " << i << " read as (" << got[i].x << ", " << got[i].y << ", " << got[i].z << "), expected ("
+        << want[i].x << ", " << want[i].y << ", " << want[i].z << ")";
       return m.str();
     }
   return "";

@@ -13,8 +13,8 @@ namespace {
 
 // A scalar type as the generator knows it (its own table, not the reader's).
 struct Type {
-  int size;       // bytes
-  char kind;      // 'I', 'U', 'F'
+  int size;   // bytes
+  char kind;  // 'I', 'U', 'F'
 };
 
 const Type kTypes[] = {{1, 'I'}, {1, 'U'}, {2, 'I'}, {2, 'U'}, {4, 'I'},
@@ -22,9 +22,8 @@ const Type kTypes[] = {{1, 'I'}, {1, 'U'}, {2, 'I'}, {2, 'U'}, {4, 'I'},
 constexpr int kPlyTypes = 8;  // PLY has no 64-bit integers
 
 // PLY spellings: the classic name and the sized alias of each of the first eight types.
-const char* const kPlyNames[kPlyTypes][2] = {{"char", "int8"},     {"uchar", "uint8"},
-                                             {"short", "int16"},   {"ushort", "uint16"},
-                                             {"int", "int32"},     {"uint", "uint32"},
+const char* const kPlyNames[kPlyTypes][2] = {{"char", "int8"},     {"uchar", "uint8"},   {"short", "int16"},
+                                             {"ushort", "uint16"}, {"int", "int32"},     {"uint", "uint32"},
                                              {"float", "float32"}, {"double", "float64"}};
 
 // One value of a type: its text, its little-endian bytes, and (for coordinates) the float32
@@ -124,12 +123,9 @@ Val make_count(std::uint64_t n, const Type& t) {
 
 std::string separator(ByteSource& s) {
   switch (s.byte() % 6) {
-    case 0:
-      return "\t";
-    case 1:
-      return "  ";
-    default:
-      return " ";
+    case 0: return "\t";
+    case 1: return "  ";
+    default: return " ";
   }
 }
 
@@ -302,7 +298,8 @@ Generated generate_pcd(ByteSource& s) {
         width = points / h;
         break;
       }
-  const int dims = static_cast<int>(s.range(0, 3));  // 0: all, 1: no POINTS, 2: no WIDTH/HEIGHT, 3: WIDTH without HEIGHT
+  const int dims =
+      static_cast<int>(s.range(0, 3));  // 0: all, 1: no POINTS, 2: no WIDTH/HEIGHT, 3: WIDTH without HEIGHT
   const bool with_width = dims != 2, with_height = dims == 0 || dims == 1, with_points = dims != 1;
   if (dims == 3) {  // WIDTH alone means HEIGHT 1
     width = points;
@@ -338,7 +335,8 @@ Generated generate_pcd(ByteSource& s) {
     std::swap(dims_lines[a], dims_lines[b]);
   }
   for (std::string& l : dims_lines) header.push_back(l);
-  if (s.chance(10)) header.insert(header.begin() + static_cast<std::ptrdiff_t>(s.range(0, header.size())), "# a comment");
+  if (s.chance(10))
+    header.insert(header.begin() + static_cast<std::ptrdiff_t>(s.range(0, header.size())), "# a comment");
   if (s.chance(5)) header.insert(header.begin() + static_cast<std::ptrdiff_t>(s.range(1, header.size())), "");
   header.push_back(std::string("DATA ") + kData[data]);
   for (const std::string& l : header) g.bytes += l + eol;
@@ -389,7 +387,8 @@ std::string lzf_compress(const std::string& in) {
     std::size_t best = 0, dist = 0;
     if (i + 3 <= n) {
       const unsigned h = ((static_cast<unsigned char>(in[i]) << 8) ^ (static_cast<unsigned char>(in[i + 1]) << 4) ^
-                          static_cast<unsigned char>(in[i + 2])) & 0xFFF;
+                          static_cast<unsigned char>(in[i + 2])) &
+                         0xFFF;
       const long cand = last[h];
       last[h] = static_cast<long>(i);
       if (cand >= 0 && i - static_cast<std::size_t>(cand) <= 8192) {

@@ -38,8 +38,7 @@ inline std::uint32_t float_bits(float f) {
 
 // A clean error names its source first ("label: ..." or "label:LINE: ...").
 inline bool names_source(const std::string& message, const std::string& label) {
-  return message.compare(0, label.size(), label) == 0 && message.size() > label.size() &&
-         message[label.size()] == ':';
+  return message.compare(0, label.size(), label) == 0 && message.size() > label.size() && message[label.size()] == ':';
 }
 
 // Draws values from the fuzzer's bytes; past the end every draw is 0 (so every input is usable

@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "testbench/config.hpp"
 #include "fuzz_common.hpp"
+#include "testbench/config.hpp"
 
 namespace {
 

@@ -31,7 +31,8 @@ extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     float f[3];
     std::memcpy(f, data + 16 * i, 12);
-    if (float_bits(cloud[i].x) != float_bits(f[0]) || float_bits(cloud[i].y) != float_bits(f[1]) || float_bits(cloud[i].z) != float_bits(f[2]))
+    if (float_bits(cloud[i].x) != float_bits(f[0]) || float_bits(cloud[i].y) != float_bits(f[1]) ||
+        float_bits(cloud[i].z) != float_bits(f[2]))
       wrong_read(kTarget, "point " + std::to_string(i) + " differs from its bytes");
   }
   const std::string again = tigris::kitti_bin_bytes(cloud);

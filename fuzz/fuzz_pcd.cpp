@@ -49,18 +49,22 @@ extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
 #ifdef TIGRIS_LIBFUZZER
 #include "mutators.hpp"
 
-extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size,
-                                               std::size_t max_size, unsigned int seed) {
+extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size,
+                                               unsigned int seed) {
   static const std::vector<std::string> kWords = {
-      "VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT",
-      "POINTS", "DATA", "ascii", "binary", "binary_compressed", "0.7", ".7", "0.6", "F", "I", "U",
-      "1", "2", "4", "8", "0", "3", "x", "y", "z", "_", "rgb", "4294967295", "-1", "nan", "inf",
-      "1e39", "1e309", "#"};
-  static const std::vector<std::string> kLines = {
-      "FIELDS x y z", "FIELDS x y z _ rgb", "SIZE 4 4 4", "SIZE 8 8 8", "SIZE 1 2 4", "TYPE F F F",
-      "TYPE I U F", "COUNT 1 1 1", "COUNT 1 1 3", "WIDTH 1", "HEIGHT 1", "HEIGHT 2", "POINTS 1",
-      "POINTS 2", "VIEWPOINT 0 0 0 1 0 0 0", "DATA ascii", "DATA binary", "DATA binary_compressed",
-      "VERSION 0.7", "# comment"};
+      "VERSION", "FIELDS",    "COLUMNS", "SIZE",       "TYPE",  "COUNT",  "WIDTH",
+      "HEIGHT",  "VIEWPOINT", "POINTS",  "DATA",       "ascii", "binary", "binary_compressed",
+      "0.7",     ".7",        "0.6",     "F",          "I",     "U",      "1",
+      "2",       "4",         "8",       "0",          "3",     "x",      "y",
+      "z",       "_",         "rgb",     "4294967295", "-1",    "nan",    "inf",
+      "1e39",    "1e309",     "#"};
+  static const std::vector<std::string> kLines = {"FIELDS x y z", "FIELDS x y z _ rgb", "SIZE 4 4 4",
+                                                  "SIZE 8 8 8",   "SIZE 1 2 4",         "TYPE F F F",
+                                                  "TYPE I U F",   "COUNT 1 1 1",        "COUNT 1 1 3",
+                                                  "WIDTH 1",      "HEIGHT 1",           "HEIGHT 2",
+                                                  "POINTS 1",     "POINTS 2",           "VIEWPOINT 0 0 0 1 0 0 0",
+                                                  "DATA ascii",   "DATA binary",        "DATA binary_compressed",
+                                                  "VERSION 0.7",  "# comment"};
   return structured_mutate(data, size, max_size, seed, generate_pcd, "DATA", kWords, kLines);
 }
 #endif

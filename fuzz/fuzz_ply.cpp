@@ -45,19 +45,64 @@ extern "C" int TIGRIS_FUZZ_ENTRY(const std::uint8_t* data, std::size_t size) {
 #ifdef TIGRIS_LIBFUZZER
 #include "mutators.hpp"
 
-extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size,
-                                               std::size_t max_size, unsigned int seed) {
-  static const std::vector<std::string> kWords = {
-      "ply", "format", "ascii", "binary_little_endian", "binary_big_endian", "1.0", "element",
-      "vertex", "face", "property", "list", "char", "uchar", "short", "ushort", "int", "uint",
-      "float", "double", "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32",
-      "float64", "x", "y", "z", "end_header", "comment", "obj_info", "0", "1", "4294967295",
-      "-1", "nan", "inf", "1e39", "1e309"};
-  static const std::vector<std::string> kLines = {
-      "property list uint float e", "property list int double e", "property list uchar int vertex_indices",
-      "property list char uchar l", "property double x", "property int y", "property uchar z",
-      "element face 1", "element vertex 1", "element empty 5", "comment hello", "obj_info x",
-      "format binary_big_endian 1.0", "format ascii 1.0", "property float w"};
+extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size,
+                                               unsigned int seed) {
+  static const std::vector<std::string> kWords = {"ply",
+                                                  "format",
+                                                  "ascii",
+                                                  "binary_little_endian",
+                                                  "binary_big_endian",
+                                                  "1.0",
+                                                  "element",
+                                                  "vertex",
+                                                  "face",
+                                                  "property",
+                                                  "list",
+                                                  "char",
+                                                  "uchar",
+                                                  "short",
+                                                  "ushort",
+                                                  "int",
+                                                  "uint",
+                                                  "float",
+                                                  "double",
+                                                  "int8",
+                                                  "uint8",
+                                                  "int16",
+                                                  "uint16",
+                                                  "int32",
+                                                  "uint32",
+                                                  "float32",
+                                                  "float64",
+                                                  "x",
+                                                  "y",
+                                                  "z",
+                                                  "end_header",
+                                                  "comment",
+                                                  "obj_info",
+                                                  "0",
+                                                  "1",
+                                                  "4294967295",
+                                                  "-1",
+                                                  "nan",
+                                                  "inf",
+                                                  "1e39",
+                                                  "1e309"};
+  static const std::vector<std::string> kLines = {"property list uint float e",
+                                                  "property list int double e",
+                                                  "property list uchar int vertex_indices",
+                                                  "property list char uchar l",
+                                                  "property double x",
+                                                  "property int y",
+                                                  "property uchar z",
+                                                  "element face 1",
+                                                  "element vertex 1",
+                                                  "element empty 5",
+                                                  "comment hello",
+                                                  "obj_info x",
+                                                  "format binary_big_endian 1.0",
+                                                  "format ascii 1.0",
+                                                  "property float w"};
   return structured_mutate(data, size, max_size, seed, generate_ply, "end_header", kWords, kLines);
 }
 #endif

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "config/key_table.hpp"
-#include "fuzz_common.hpp"
 #include "core/json_file.hpp"
+#include "fuzz_common.hpp"
 #include "registration/pipeline_config.hpp"
 
 namespace {
@@ -41,9 +41,10 @@ void check_accepted(const reg::PipelineConfig& c) {
 
 // A value for `key` of the kind the next byte picks.
 std::string value_for(const tigris::config::Key& key, ByteSource& in) {
-  static const char* const kinds[] = {"0", "1", "-1", "0.5", "100", "1e6", "1e-320", "1e400", "nan", "inf",
-                                      "0x10", "10.0", "true", "off", "", " 1", "1 ", "narf", "shot", "svd",
-                                      "99999999999999999999", "-0", "1e-300", "lm"};
+  static const char* const kinds[] = {"0",     "1",      "-1",  "0.5",  "100",  "1e6",  "1e-320",
+                                      "1e400", "nan",    "inf", "0x10", "10.0", "true", "off",
+                                      "",      " 1",     "1 ",  "narf", "shot", "svd",  "99999999999999999999",
+                                      "-0",    "1e-300", "lm"};
   const std::uint8_t pick = in.byte();
   if (pick < 200) return kinds[pick % (sizeof kinds / sizeof *kinds)];
   const nlohmann::json v = tigris::config::get(reg::preset("dp4"), key);  // the default, as --set takes it

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <vector>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "fuzz_common.hpp"
 #include "traces/results_csv.hpp"
@@ -23,7 +23,8 @@ const std::string kLabel = "fuzz.csv";
 std::string difference(const tigris::Results& a, const tigris::Results& b) {
   if (a.offset != b.offset) return "queries or neighbour counts differ";
   for (std::size_t i = 0; i < a.neighbors.size(); ++i)
-    if (a.neighbors[i].index != b.neighbors[i].index || float_bits(a.neighbors[i].dist2) != float_bits(b.neighbors[i].dist2))
+    if (a.neighbors[i].index != b.neighbors[i].index ||
+        float_bits(a.neighbors[i].dist2) != float_bits(b.neighbors[i].dist2))
       return "neighbour " + std::to_string(i) + " differs";
   return "";
 }
@@ -83,12 +84,11 @@ void check_raw(const std::uint8_t* data, std::size_t size) {
     if (line.empty()) continue;
     const std::size_t c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1);
     if (c3 == std::string::npos) wrong_read(kTarget, "row " + std::to_string(row) + " accepted: " + line);
-    const unsigned long long q = std::stoull(line.substr(0, c1)),
-                             rank = std::stoull(line.substr(c1 + 1, c2 - c1 - 1)),
+    const unsigned long long q = std::stoull(line.substr(0, c1)), rank = std::stoull(line.substr(c1 + 1, c2 - c1 - 1)),
                              index = std::stoull(line.substr(c2 + 1, c3 - c2 - 1));
     const float d = std::strtof(line.c_str() + c3 + 1, nullptr);
-    if (row >= r.neighbors.size() || q >= r.num_queries() || rank >= r.count(q) ||
-        r.offset[q] + rank != row || r.neighbors[row].index != index || float_bits(r.neighbors[row].dist2) != float_bits(d))
+    if (row >= r.neighbors.size() || q >= r.num_queries() || rank >= r.count(q) || r.offset[q] + rank != row ||
+        r.neighbors[row].index != index || float_bits(r.neighbors[row].dist2) != float_bits(d))
       wrong_read(kTarget, "row " + std::to_string(row) + " read differently: " + line);
     ++row;
   }

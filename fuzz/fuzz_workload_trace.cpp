@@ -169,7 +169,8 @@ void check_layout(const std::uint8_t* d, std::size_t n, const trace::Trace& t) {
       const std::uint64_t hash = in.u64(), points = in.u64();
       if (hash != c.hash || points != c.points.size()) wrong_read(kTarget, where + "cloud hash or size differs");
       const std::uint8_t* p = in.take(points * 12);
-      if (points && std::memcmp(p, c.points.data(), points * 12) != 0) wrong_read(kTarget, where + "cloud points differ");
+      if (points && std::memcmp(p, c.points.data(), points * 12) != 0)
+        wrong_read(kTarget, where + "cloud points differ");
     } else {
       if (jobs >= t.jobs.size()) wrong_read(kTarget, where + "more job sections than jobs");
       const trace::Job& j = t.jobs[jobs++];
@@ -254,7 +255,8 @@ std::string difference(const trace::Trace& a, const trace::Trace& b) {
   for (std::size_t i = 0; i < a.jobs.size(); ++i) {
     const trace::Job &x = a.jobs[i], &y = b.jobs[i];
     const std::string w = "job " + std::to_string(i) + " ";
-    if (x.stage != y.stage || x.iteration != y.iteration || x.backend != y.backend) return w + "stage/iteration/backend";
+    if (x.stage != y.stage || x.iteration != y.iteration || x.backend != y.backend)
+      return w + "stage/iteration/backend";
     if (x.tree != y.tree || x.queries != y.queries || x.tree_serial != y.tree_serial || x.top_height != y.top_height)
       return w + "tree/queries/serial/top_height";
     if (x.mode != y.mode || x.k != y.k || !same_bits(x.radius, y.radius) || x.max_nn != y.max_nn)
@@ -297,11 +299,12 @@ void check_promises(const trace::Trace& t) {
     const trace::Cloud *tree = find_cloud(t, j.tree), *queries = find_cloud(t, j.queries);
     if (!tree || !queries) wrong_read(kTarget, w + "names a missing cloud");
     if (j.mode != "nn" && j.mode != "knn" && j.mode != "radius") wrong_read(kTarget, w + "mode " + j.mode);
-    if (j.iteration < -1 || j.tree_serial < 0 || j.k < 1 || j.top_height < 0 || j.top_height > 30 || j.leader_capacity < 0 || j.leader_width < 0 ||
-        j.inject_kth < 1 || !std::isfinite(j.radius) || !std::isfinite(j.approx_thd) ||
-        !std::isfinite(j.shell_inner) || !std::isfinite(j.shell_outer) || (j.mode == "radius" && !(j.radius > 0.0f)) ||
-        !std::isfinite(j.search_seconds) || !std::isfinite(j.build_seconds) || j.search_seconds < 0 ||
-        j.build_seconds < 0 || j.stage.empty() || (j.backend != "flann" && j.backend != "exact" && j.backend != "approx"))
+    if (j.iteration < -1 || j.tree_serial < 0 || j.k < 1 || j.top_height < 0 || j.top_height > 30 ||
+        j.leader_capacity < 0 || j.leader_width < 0 || j.inject_kth < 1 || !std::isfinite(j.radius) ||
+        !std::isfinite(j.approx_thd) || !std::isfinite(j.shell_inner) || !std::isfinite(j.shell_outer) ||
+        (j.mode == "radius" && !(j.radius > 0.0f)) || !std::isfinite(j.search_seconds) ||
+        !std::isfinite(j.build_seconds) || j.search_seconds < 0 || j.build_seconds < 0 || j.stage.empty() ||
+        (j.backend != "flann" && j.backend != "exact" && j.backend != "approx"))
       wrong_read(kTarget, w + "parameters out of range accepted");
     if (j.counts.size() != queries->points.size()) wrong_read(kTarget, w + "counts do not match the queries");
     std::uint64_t total = 0;
@@ -349,7 +352,8 @@ void check_damaged(const Bytes& b, const trace::Trace* same, const std::string& 
     t = decode(b);
   } catch (const tigris::InputError& e) {
     const std::string m = e.what();
-    if (m.compare(0, kLabel.size() + 7, kLabel + ": byte ") != 0) wrong_read(kTarget, what + ": error without the byte: " + m);
+    if (m.compare(0, kLabel.size() + 7, kLabel + ": byte ") != 0)
+      wrong_read(kTarget, what + ": error without the byte: " + m);
     if (b.size() >= 40 && std::memcmp(b.data(), "TIGRISWT", 8) == 0 && load<std::uint32_t>(b.data() + 8) > 1 &&
         m.find(": byte 8: trace format version ") == std::string::npos)
       wrong_read(kTarget, what + ": a newer version not refused as such: " + m);
@@ -422,8 +426,23 @@ int any_int(ByteSource& s, int lo, int hi) {
 // Valid UTF-8 (nlohmann's dump refuses anything else): ASCII, control bytes, 2-4 byte sequences.
 std::string any_text(ByteSource& s, const std::vector<std::string>& names) {
   if (!names.empty() && s.chance(60)) return names[s.range(0, names.size() - 1)];
-  static const char* const pieces[] = {"a", "Z", "_", " ", "0", "\n", "\t", "\x01", "\x7f", "\"", "\\", "/",
-                                       "\xc3\xa9", "\xe2\x82\xac", "\xf0\x9f\x98\x80", "icp", "normals"};
+  static const char* const pieces[] = {"a",
+                                       "Z",
+                                       "_",
+                                       " ",
+                                       "0",
+                                       "\n",
+                                       "\t",
+                                       "\x01",
+                                       "\x7f",
+                                       "\"",
+                                       "\\",
+                                       "/",
+                                       "\xc3\xa9",
+                                       "\xe2\x82\xac",
+                                       "\xf0\x9f\x98\x80",
+                                       "icp",
+                                       "normals"};
   std::string out;
   for (std::size_t n = s.range(0, 8); n > 0; --n) out += pieces[s.range(0, sizeof pieces / sizeof *pieces - 1)];
   return out;
@@ -463,7 +482,8 @@ std::string any_name(ByteSource& s, const std::vector<std::string>& names) {
 trace::Trace generate(ByteSource& s) {
   trace::Trace t;
   t.meta = {{"tool", "tigris"}, {"command_line", any_text(s, {"tigris register a.pcd b.pcd --record-trace t"})}};
-  for (std::size_t n = s.range(0, 3); n > 0; --n) t.meta[any_text(s, {"preset", "search", "transform"})] = any_json(s, 3);
+  for (std::size_t n = s.range(0, 3); n > 0; --n)
+    t.meta[any_text(s, {"preset", "search", "transform"})] = any_json(s, 3);
   for (std::size_t n = s.range(0, 4); n > 0; --n)
     t.stages.push_back({any_name(s, kStages), any_seconds(s), any_seconds(s), any_seconds(s)});
   t.total_seconds = any_seconds(s);
@@ -518,7 +538,8 @@ trace::Trace generate(ByteSource& s) {
     const std::uint64_t points = tree.points.size();
     std::uint64_t prev = 0;
     for (std::size_t q = 0; q < queries.points.size(); ++q) {
-      const std::uint32_t count = points == 0 ? 0 : static_cast<std::uint32_t>(s.chance(5) ? s.range(0, 300) : s.range(0, 5));
+      const std::uint32_t count =
+          points == 0 ? 0 : static_cast<std::uint32_t>(s.chance(5) ? s.range(0, 300) : s.range(0, 5));
       j.counts.push_back(count);
       for (std::uint32_t k = 0; k < count; ++k) {
         switch (s.range(0, 5)) {
@@ -608,8 +629,20 @@ Bytes seal(const std::vector<Section>& sections, const Seal& o) {
 }
 
 std::uint64_t interesting(ByteSource& s) {
-  static const std::uint64_t v[] = {0, 1, 2, 7, 0x7f, 0x80, 0xff, 0x7fffffff, 0x80000000u, 0xffffffffu,
-                                    0x100000000ull, 0x7fffffffffffffffull, 0x8000000000000000ull, ~0ull};
+  static const std::uint64_t v[] = {0,
+                                    1,
+                                    2,
+                                    7,
+                                    0x7f,
+                                    0x80,
+                                    0xff,
+                                    0x7fffffff,
+                                    0x80000000u,
+                                    0xffffffffu,
+                                    0x100000000ull,
+                                    0x7fffffffffffffffull,
+                                    0x8000000000000000ull,
+                                    ~0ull};
   return s.chance(70) ? v[s.range(0, sizeof v / sizeof *v - 1)] : s.bits(64);
 }
 
@@ -650,21 +683,57 @@ void damage_bytes(ByteSource& s, const Bytes& file, const std::vector<Section>& 
   check_damaged(b, &t, "bytes damaged");
 }
 
-const char* const kJobKeys[] = {"stage", "iteration", "backend", "tree", "queries", "tree_serial", "top_height",
-                                "mode", "k", "radius", "max_nn", "approximate", "approx_thd", "leader_capacity",
-                                "leader_width", "inject_kth", "shell_inner", "shell_outer", "search_seconds",
-                                "build_seconds"};
+const char* const kJobKeys[] = {
+    "stage",        "iteration",  "backend",     "tree",        "queries",        "tree_serial",  "top_height",
+    "mode",         "k",          "radius",      "max_nn",      "approximate",    "approx_thd",   "leader_capacity",
+    "leader_width", "inject_kth", "shell_inner", "shell_outer", "search_seconds", "build_seconds"};
 const char* const kMetaKeys[] = {"meta", "total_seconds", "stages"};
 
 // A JSON text in place of a value: every kind, numbers at and beyond the fields' ranges.
 std::string odd_json(ByteSource& s, const json& was) {
   static const char* const v[] = {
-      "1.5", "-1", "0", "-0.0", "1e300", "-1e300", "1e-300", "3.4028235677973366e38", "3.4028236e38", "1e39",
-      "2147483647", "2147483648", "-2147483648", "-2147483649", "4294967295", "4294967296", "4294967297",
-      "9223372036854775807", "9223372036854775808", "18446744073709551615", "18446744073709551616",
-      "-9223372036854775808", "1e20", "31", "30", "true", "false", "null", "\"\"", "\"nn\"", "\"knn\"",
-      "\"radius\"", "\"NN\"", "\"0123456789abcdef\"", "\"0123456789ABCDEF\"", "\"0123456789abcde\"",
-      "\"-123456789abcdef\"", "\"0x23456789abcdef\"", "\" 123456789abcdef\"", "[]", "{}", "[1]",
+      "1.5",
+      "-1",
+      "0",
+      "-0.0",
+      "1e300",
+      "-1e300",
+      "1e-300",
+      "3.4028235677973366e38",
+      "3.4028236e38",
+      "1e39",
+      "2147483647",
+      "2147483648",
+      "-2147483648",
+      "-2147483649",
+      "4294967295",
+      "4294967296",
+      "4294967297",
+      "9223372036854775807",
+      "9223372036854775808",
+      "18446744073709551615",
+      "18446744073709551616",
+      "-9223372036854775808",
+      "1e20",
+      "31",
+      "30",
+      "true",
+      "false",
+      "null",
+      "\"\"",
+      "\"nn\"",
+      "\"knn\"",
+      "\"radius\"",
+      "\"NN\"",
+      "\"0123456789abcdef\"",
+      "\"0123456789ABCDEF\"",
+      "\"0123456789abcde\"",
+      "\"-123456789abcdef\"",
+      "\"0x23456789abcdef\"",
+      "\" 123456789abcdef\"",
+      "[]",
+      "{}",
+      "[1]",
       "{\"name\":\"x\",\"seconds\":1,\"kdtree_search_seconds\":0,\"kdtree_build_seconds\":0}",
       "[{\"name\":\"x\",\"seconds\":1,\"kdtree_search_seconds\":0,\"kdtree_build_seconds\":0}]",
       "[{\"name\":\"x\",\"seconds\":1e999,\"kdtree_search_seconds\":0,\"kdtree_build_seconds\":0}]"};
@@ -728,7 +797,8 @@ void damage_payload(ByteSource& s, std::vector<Section> sections, const std::vec
     case 1: {  // a number over 1, 4 or 8 bytes
       const std::uint64_t v = interesting(s);
       const std::size_t width = std::size_t{1} << s.range(0, 3);
-      for (std::size_t k = 0; k < width && at + k < raw.size(); ++k) raw[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+      for (std::size_t k = 0; k < width && at + k < raw.size(); ++k)
+        raw[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
       break;
     }
     case 2: raw.resize(at); break;
@@ -754,7 +824,8 @@ void damage_payload(ByteSource& s, std::vector<Section> sections, const std::vec
         const std::uint64_t n = load<std::uint64_t>(raw.data() + 8);
         if (n > 0 && raw.size() >= 16 + n * 12) {
           const std::size_t f = 16 + 4 * s.range(0, n * 3 - 1);
-          const std::uint32_t v = s.chance(50) ? 0x7f800000u | static_cast<std::uint32_t>(s.range(0, 1)) : static_cast<std::uint32_t>(s.bits(32));
+          const std::uint32_t v = s.chance(50) ? 0x7f800000u | static_cast<std::uint32_t>(s.range(0, 1))
+                                               : static_cast<std::uint32_t>(s.bits(32));
           std::memcpy(raw.data() + f, &v, 4);
         }
         if (s.chance(80)) {
@@ -775,7 +846,8 @@ void damage_payload(ByteSource& s, std::vector<Section> sections, const std::vec
             store<std::uint64_t>(raw, counts, nq + (s.flag() ? 1 : -1));
           } else {
             const std::size_t c = counts + 8 + 4 * s.range(0, nq - 1);
-            if (c + 4 <= raw.size()) store<std::uint32_t>(raw, c, load<std::uint32_t>(raw.data() + c) + (s.flag() ? 1 : -1));
+            if (c + 4 <= raw.size())
+              store<std::uint32_t>(raw, c, load<std::uint32_t>(raw.data() + c) + (s.flag() ? 1 : -1));
           }
         }
       }

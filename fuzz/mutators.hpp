@@ -18,17 +18,15 @@ extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, st
 
 namespace tigris_fuzz {
 
-inline std::size_t put(const std::string& bytes, std::uint8_t* data, std::size_t max_size,
-                       std::size_t fallback) {
+inline std::size_t put(const std::string& bytes, std::uint8_t* data, std::size_t max_size, std::size_t fallback) {
   if (bytes.empty() || bytes.size() > max_size) return fallback;
   std::memcpy(data, bytes.data(), bytes.size());
   return bytes.size();
 }
 
-inline std::size_t structured_mutate(std::uint8_t* data, std::size_t size, std::size_t max_size,
-                                     unsigned int seed, Generated (*generate)(ByteSource&),
-                                     const char* header_end, const std::vector<std::string>& words,
-                                     const std::vector<std::string>& lines) {
+inline std::size_t structured_mutate(std::uint8_t* data, std::size_t size, std::size_t max_size, unsigned int seed,
+                                     Generated (*generate)(ByteSource&), const char* header_end,
+                                     const std::vector<std::string>& words, const std::vector<std::string>& lines) {
   std::mt19937 rng(seed);
   const unsigned r = rng() % 16;
   if (size > 0 && data[0] == 0 && r < 3) {
@@ -50,21 +48,14 @@ inline std::size_t structured_mutate(std::uint8_t* data, std::size_t size, std::
     if (!hl.empty()) {
       const std::size_t a = rng() % hl.size(), b = rng() % hl.size();
       switch (rng() % 5) {
-        case 0:
-          std::swap(hl[a], hl[b]);
-          break;
-        case 1:
-          hl.insert(hl.begin() + static_cast<std::ptrdiff_t>(a), hl[b]);
-          break;
-        case 2:
-          hl.erase(hl.begin() + static_cast<std::ptrdiff_t>(a));
-          break;
+        case 0: std::swap(hl[a], hl[b]); break;
+        case 1: hl.insert(hl.begin() + static_cast<std::ptrdiff_t>(a), hl[b]); break;
+        case 2: hl.erase(hl.begin() + static_cast<std::ptrdiff_t>(a)); break;
         case 3: {  // a word of line a becomes a grammar word
           std::string& l = hl[a];
           std::vector<std::size_t> starts;
           for (std::size_t k = 0; k < l.size(); ++k)
-            if (l[k] != ' ' && l[k] != '\n' && l[k] != '\r' && (k == 0 || l[k - 1] == ' '))
-              starts.push_back(k);
+            if (l[k] != ' ' && l[k] != '\n' && l[k] != '\r' && (k == 0 || l[k - 1] == ' ')) starts.push_back(k);
           if (!starts.empty()) {
             const std::size_t s0 = starts[rng() % starts.size()];
             std::size_t s1 = s0;
@@ -73,9 +64,7 @@ inline std::size_t structured_mutate(std::uint8_t* data, std::size_t size, std::
           }
           break;
         }
-        default:
-          hl.insert(hl.begin() + static_cast<std::ptrdiff_t>(a), lines[rng() % lines.size()] + "\n");
-          break;
+        default: hl.insert(hl.begin() + static_cast<std::ptrdiff_t>(a), lines[rng() % lines.size()] + "\n"); break;
       }
       std::string out;
       for (const std::string& l : hl) out += l;

@@ -19,12 +19,13 @@ double sum(const std::vector<Area::Block>& blocks) {
 
 std::uint64_t leader_buffer_bytes(const AcceleratorConfig& c) {
   if (c.tree.top_height < 0) return 0;
-  return (std::uint64_t{1} << c.tree.top_height) * static_cast<std::uint64_t>(c.leader.capacity_per_leaf) * LeaderBuffer::kLeaderBytes;
+  return (std::uint64_t{1} << c.tree.top_height) * static_cast<std::uint64_t>(c.leader.capacity_per_leaf) *
+         LeaderBuffer::kLeaderBytes;
 }
 
 std::uint64_t replicated_top_bytes(const AcceleratorConfig& c) {
-  const int levels = c.tree.top_height < 0 ? c.fe.top_levels_replicated
-                                           : std::min(c.fe.top_levels_replicated, c.tree.top_height);
+  const int levels =
+      c.tree.top_height < 0 ? c.fe.top_levels_replicated : std::min(c.fe.top_levels_replicated, c.tree.top_height);
   return ((std::uint64_t{1} << levels) - 1) * sizeof(tlm_if::PointEntry);
 }
 
@@ -52,7 +53,8 @@ Area area_of(const AcceleratorConfig& c) {
   const auto sram = [&](std::uint64_t bytes, int banks) {
     return bytes == 0 ? 0.0 : static_cast<double>(bytes) / 1048576.0 * t.sram_mm2_per_mib + banks * t.sram_bank_mm2;
   };
-  const std::uint64_t bqb = static_cast<std::uint64_t>(c.be.bqb_entries) * static_cast<std::uint64_t>(c.be.bqb_entry_bytes);
+  const std::uint64_t bqb =
+      static_cast<std::uint64_t>(c.be.bqb_entries) * static_cast<std::uint64_t>(c.be.bqb_entry_bytes);
   Area a;
   a.sram = {{"points", sram(c.sram.points.bytes, c.sram.points.banks)},
             {"queries", sram(c.sram.queries.bytes, c.sram.queries.banks)},
@@ -62,8 +64,8 @@ Area area_of(const AcceleratorConfig& c) {
             {"bqb", sus * sram(bqb, 1)},
             {"node_cache", sram(c.node_cache.bytes, per_su_banks(c))},
             {"leader_buffer", sram(leader_buffer_bytes(c), per_su_banks(c))},
-            {"top_level_replicas", c.fe.recursion_units * static_cast<double>(replicated_top_bytes(c)) / 1024.0 *
-                                       t.register_mm2_per_kib}};
+            {"top_level_replicas",
+             c.fe.recursion_units * static_cast<double>(replicated_top_bytes(c)) / 1024.0 * t.register_mm2_per_kib}};
   a.logic = {{"recursion_units", c.fe.recursion_units * t.ru_mm2},
              {"pes", static_cast<double>(sus) * c.be.pes_per_su * t.pe_mm2},
              {"issue_logic", sus * t.issue_logic_mm2}};

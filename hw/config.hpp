@@ -20,7 +20,6 @@
 
 namespace tigris::hw {
 
-
 struct SramConfig {
   std::uint64_t bytes = 0;
   int banks = 32;
@@ -33,12 +32,9 @@ struct SramConfig {
   void visit(V&& v, const std::string& buffer) {
     // A buffer is one window of the host address map.
     v("bytes", bytes, {"bytes", in(1, static_cast<double>(tlm_if::kWindowSize)), buffer});
-    v("banks", banks,
-      {"banks", in(1, kMaxUnits), "word-interleaved banks, one access per bank per cycle"});
-    v("ports", ports,
-      {"accesses/cycle", in(1, kMaxUnits), "accesses accepted per cycle, all banks together"});
-    v("latency_cycles", latency_cycles,
-      {"cycles", in(0, kMaxCycles), "read latency of one access"});
+    v("banks", banks, {"banks", in(1, kMaxUnits), "word-interleaved banks, one access per bank per cycle"});
+    v("ports", ports, {"accesses/cycle", in(1, kMaxUnits), "accesses accepted per cycle, all banks together"});
+    v("latency_cycles", latency_cycles, {"cycles", in(0, kMaxCycles), "read latency of one access"});
     v("word_bytes", word_bytes, {"bytes", in(1, 4096), "bank interleaving granule (one entry)"});
   }
 };
@@ -72,18 +68,15 @@ struct AcceleratorConfig {
 
     template <class V>
     void visit(V&& v) {
-      v("recursion_units", recursion_units,
-        {"units", in(1, kMaxUnits), "Recursion Units (RUs) in the front end"});
+      v("recursion_units", recursion_units, {"units", in(1, kMaxUnits), "Recursion Units (RUs) in the front end"});
       v("forwarding", forwarding,
-        {"-", boolean(),
-         "PI->RS forwarding: removes the PI->RS stall (cost.ru_pi_rs_stall) per visited node"});
+        {"-", boolean(), "PI->RS forwarding: removes the PI->RS stall (cost.ru_pi_rs_stall) per visited node"});
       v("bypassing", bypassing,
         {"-", boolean(), "a pruned node leaves the RU pipeline at RN instead of going down to PI"});
       v("fqq_bytes", fqq_bytes,
         {"bytes", at_least(1),
          "FE Query Queue: new queries and queries re-inserted by the BE; backpressure when full"});
-      v("fqq_entry_bytes", fqq_entry_bytes,
-        {"bytes", in(1, 4096), "one FQQ entry (query id + flags)"});
+      v("fqq_entry_bytes", fqq_entry_bytes, {"bytes", in(1, 4096), "one FQQ entry (query id + flags)"});
       v("top_levels_replicated", top_levels_replicated,
         {"levels", in(0, 16),
          "the top tree's first levels kept in every RU's own registers (2^N - 1 nodes of 16 "
@@ -96,24 +89,20 @@ struct AcceleratorConfig {
     int search_units = 32;
     int pes_per_su = 32;
     int bqb_entries = 128;
-    int bqb_entry_bytes = 8;  // the paper's 1 KB per SU for 128 entries
+    int bqb_entry_bytes = 8;            // the paper's 1 KB per SU for 128 entries
     std::string issue_policy = "mqsn";  // a name in IssuePolicies (hw/be/policies/)
     int issue_search_width = 32;
 
     template <class V>
     void visit(V&& v) {
-      v("search_units", search_units,
-        {"units", in(1, kMaxUnits), "Search Units (SUs) in the back end"});
-      v("pes_per_su", pes_per_su,
-        {"PEs", in(1, kMaxUnits), "PEs per SU: a 1-D query-stationary systolic array"});
-      v("bqb_entries", bqb_entries,
-        {"entries", in(1, kMaxEntries), "BE Query Buffer entries per SU"});
+      v("search_units", search_units, {"units", in(1, kMaxUnits), "Search Units (SUs) in the back end"});
+      v("pes_per_su", pes_per_su, {"PEs", in(1, kMaxUnits), "PEs per SU: a 1-D query-stationary systolic array"});
+      v("bqb_entries", bqb_entries, {"entries", in(1, kMaxEntries), "BE Query Buffer entries per SU"});
       v("bqb_entry_bytes", bqb_entry_bytes,
         {"bytes", in(1, 4096), "one BQB entry (query id + leaf id); sizes the BQB's area"});
       v("issue_policy", issue_policy, {"-", IssuePolicies::allowed(), IssuePolicies::doc("issue logic")});
       v("issue_search_width", issue_search_width,
-        {"entries", in(1, kMaxEntries),
-         "BQB entries the MQSN associative search checks per cycle"});
+        {"entries", in(1, kMaxEntries), "BQB entries the MQSN associative search checks per cycle"});
     }
   } be;
 
@@ -125,8 +114,7 @@ struct AcceleratorConfig {
     template <class V>
     void visit(V&& v) {
       v("capacity_per_leaf", capacity_per_leaf,
-        {"leaders", in(0, kMaxUnits),
-         "leaders the Leader Buffer keeps per leaf (approximate search)"});
+        {"leaders", in(0, kMaxUnits), "leaders the Leader Buffer keeps per leaf (approximate search)"});
       v("scope", scope,
         {"-", one_of({LeaderScope::FirstLeaf, LeaderScope::EveryLeaf}),
          "where approximate search checks leaders: first_leaf (the paper authors' code: a query's first "
@@ -142,12 +130,11 @@ struct AcceleratorConfig {
 
   struct NodeCache {
     std::uint64_t bytes = 131072;  // 128 KB
-    std::string policy = "lru";  // a name in ReplacementPolicies (hw/be/policies/)
+    std::string policy = "lru";    // a name in ReplacementPolicies (hw/be/policies/)
 
     template <class V>
     void visit(V&& v) {
-      v("bytes", bytes,
-        {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
+      v("bytes", bytes, {"bytes", at_least(0), "Node Cache: whole Node Sets, read as FIFOs; 0 turns it off"});
       v("policy", policy, {"-", ReplacementPolicies::allowed(), ReplacementPolicies::doc("Node Set to evict")});
     }
   } node_cache;
@@ -166,11 +153,9 @@ struct AcceleratorConfig {
 
     template <class V>
     void visit(V&& v) {
-      points.visit(in_block(v, "points"),
-          "Point Buffer: the tree's points, 16-byte entries (x, y, z, index)");
+      points.visit(in_block(v, "points"), "Point Buffer: the tree's points, 16-byte entries (x, y, z, index)");
       queries.visit(in_block(v, "queries"), "Query Buffer: the queries");
-      query_stack.visit(in_block(v, "query_stack"),
-          "Query Stack Buffer: top-height entries per query in flight");
+      query_stack.visit(in_block(v, "query_stack"), "Query Stack Buffer: top-height entries per query in flight");
       results.visit(in_block(v, "results"), "Result Buffer, double-buffered to DRAM");
     }
   } sram;

@@ -5,8 +5,10 @@ namespace tigris::hw {
 Counter& EnergyMeter::line(const std::string& name, Component component, double pj) {
   for (const auto& l : lines_)
     if (l->count.name() == name) return l->count;  // units of one kind share their line
-  lines_.push_back(std::unique_ptr<Line>(new Line{component, pj, Counter(stats_, name, name.size() >= 5 && name.compare(name.size() - 5, 5, "bytes") == 0 ? "bytes" : "count",
-                                                     "events priced on the energy line " + name)}));
+  lines_.push_back(std::unique_ptr<Line>(new Line{
+      component, pj,
+      Counter(stats_, name, name.size() >= 5 && name.compare(name.size() - 5, 5, "bytes") == 0 ? "bytes" : "count",
+              "events priced on the energy line " + name)}));
   return lines_.back()->count;
 }
 

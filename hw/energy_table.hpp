@@ -34,16 +34,16 @@ struct EnergyTable {
   // The SRAM rule at the default Leader Buffer bank, one per SU: 6 KB (hw/area_model.hpp).
   double leader_buffer_pj_per_byte = 0.30;
   double register_pj_per_byte = 0.05;
-  double dram_pj_per_byte = 120.0;           // 15 pJ/bit
-  double leakage_pj_per_mm2_cycle = 4.0;     // 2 mW/mm2 at 500 MHz
+  double dram_pj_per_byte = 120.0;        // 15 pJ/bit
+  double leakage_pj_per_mm2_cycle = 4.0;  // 2 mW/mm2 at 500 MHz
 
   // pJ per byte of an access to an SRAM of `bytes` in `banks` equal banks: the access drives
   // one bank, priced by the square-root rule from the reference point. Wires between banks
   // (which grow with the whole capacity) are not modelled.
   double sram_price(std::uint64_t bytes, int banks, bool write) const {
     const double bank = static_cast<double>(bytes) / std::max(banks, 1);
-    const double read = sram_ref_pj_per_byte *
-                        std::pow(bank / static_cast<double>(sram_ref_bank_bytes), sram_size_exponent);
+    const double read =
+        sram_ref_pj_per_byte * std::pow(bank / static_cast<double>(sram_ref_bank_bytes), sram_size_exponent);
     return write ? read * sram_write_factor : read;
   }
 

@@ -11,13 +11,12 @@ std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf) {
   return ResultSlots::slot_bytes(k) + (first_leaf ? 12 * std::uint64_t{k} : 0);
 }
 
-std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes,
-                          std::uint64_t num_queries, int top_height, tlm_if::SearchMode mode,
-                          std::uint32_t k, bool first_leaf) {
+std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes, std::uint64_t num_queries,
+                          int top_height, tlm_if::SearchMode mode, std::uint32_t k, bool first_leaf) {
   const auto n = [](std::uint64_t x) { return std::to_string(x); };
   if (image_bytes > config.sram.points.bytes)
-    return "the tree image needs " + n(image_bytes) + " bytes, the Point Buffer holds " +
-           n(config.sram.points.bytes) + " (sram.points.bytes)";
+    return "the tree image needs " + n(image_bytes) + " bytes, the Point Buffer holds " + n(config.sram.points.bytes) +
+           " (sram.points.bytes)";
   const std::uint64_t query_bytes = num_queries * sizeof(tlm_if::QueryRecord);
   if (query_bytes > config.sram.queries.bytes)
     return n(num_queries) + " queries need " + n(query_bytes) + " bytes, the Query Buffer holds " +
@@ -25,13 +24,12 @@ std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_b
   if (num_queries == 0) return {};
   const std::uint64_t stack_bytes = std::uint64_t(std::max(top_height, 1)) * sizeof(StackEntry);
   if (stack_bytes > config.sram.query_stack.bytes)
-    return "the Query Stack Buffer cannot hold one query's stack of top height " +
-           std::to_string(top_height) + " (" + n(stack_bytes) + " bytes, sram.query_stack.bytes)";
+    return "the Query Stack Buffer cannot hold one query's stack of top height " + std::to_string(top_height) + " (" +
+           n(stack_bytes) + " bytes, sram.query_stack.bytes)";
   if (config.fe.fqq_bytes < static_cast<std::uint64_t>(config.fe.fqq_entry_bytes))
     return "the FE Query Queue cannot hold one query: fe.fqq_bytes = " + n(config.fe.fqq_bytes) +
            " holds no entry of fe.fqq_entry_bytes = " + std::to_string(config.fe.fqq_entry_bytes);
-  if (mode != tlm_if::SearchMode::Radius &&
-      ResultBuffer::slot_capacity(config, result_slot_bytes(k, first_leaf)) == 0)
+  if (mode != tlm_if::SearchMode::Radius && ResultBuffer::slot_capacity(config, result_slot_bytes(k, first_leaf)) == 0)
     return "the Result Buffer cannot hold one query's " + n(k) + " results" +
            (first_leaf ? " with their coordinates (approximate, leader.scope first_leaf)" : "") +
            " (sram.results.bytes x result_buffer.slot_fraction)";

@@ -32,8 +32,8 @@ struct JobDescriptor {
   std::uint32_t num_top_nodes = 0;  // first leaf node id
   std::uint32_t num_leaves = 0;     // 0: no leaf sets
   std::uint32_t leaf_dir_offset = 0;
-  std::uint32_t stack_entries = 1;  // per query: max(top height, 1)
-  std::uint32_t slots = 0;          // queries in flight at most
+  std::uint32_t stack_entries = 1;      // per query: max(top height, 1)
+  std::uint32_t slots = 0;              // queries in flight at most
   std::uint64_t result_slot_bytes = 0;  // NN/kNN: one query's Result Buffer slot; radius: 0
   // Approximate search (docs/model.md): a query within thd of a leaf's closest leader
   // follows it. first_leaf: at the query's first leaf only, a leader's list is its final
@@ -44,7 +44,7 @@ struct JobDescriptor {
   bool wait_for_leaders = false;  // first_leaf: a leader counts from its check; followers wait for its list
   float thd2 = 0.0f;
   std::uint32_t leader_width = 1;
-  std::uint32_t leader_capacity = 0;  // per leaf (leader.capacity_per_leaf)
+  std::uint32_t leader_capacity = 0;                          // per leaf (leader.capacity_per_leaf)
   std::uint64_t leader_area_base = 0, leader_area_bytes = 0;  // Result Buffer bytes for lists
 
   bool radius() const { return mode == tlm_if::SearchMode::Radius; }
@@ -65,9 +65,9 @@ struct QueryToken {
   std::uint32_t leaf = 0;
   std::uint16_t sp = 0;
   bool started = false;
-  bool finished = false;  // first_leaf: a follower, whose search ended in the back-end
-  bool parked = false;    // first_leaf, wait: a follower waiting with its leader (this copy is done)
-  std::uint32_t first_leaf = kNoLeaf;  // first_leaf: the leaf of its Leader Check, once made
+  bool finished = false;                 // first_leaf: a follower, whose search ended in the back-end
+  bool parked = false;                   // first_leaf, wait: a follower waiting with its leader (this copy is done)
+  std::uint32_t first_leaf = kNoLeaf;    // first_leaf: the leaf of its Leader Check, once made
   std::uint32_t leader_entry = kNoLeaf;  // wait: a leader's entry among its first leaf's leaders
   std::uint32_t follows = kNoLeaf;       // wait: a parked follower's leader (entry at first_leaf)
   Point3 point;
@@ -92,8 +92,7 @@ std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf);
 // The one check that a job fits the configured buffers: the tree image in the Point Buffer,
 // the queries in the Query Buffer, one query's stack and (NN/kNN) its k results. Returns why
 // not, naming the configuration key, or an empty string.
-std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes,
-                          std::uint64_t num_queries, int top_height, tlm_if::SearchMode mode,
-                          std::uint32_t k, bool first_leaf = false);
+std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes, std::uint64_t num_queries,
+                          int top_height, tlm_if::SearchMode mode, std::uint32_t k, bool first_leaf = false);
 
 }  // namespace tigris::hw

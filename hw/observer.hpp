@@ -49,15 +49,18 @@ class JobObserver {
   // an RU walk of `query` (an activation, up to its CL stage);
   virtual void ru_walk(std::uint32_t /*ru*/, std::uint32_t /*query*/, std::uint64_t /*begin*/, std::uint64_t /*end*/) {}
   // an RU holding `query` while the target BE Query Buffer is full;
-  virtual void ru_blocked(std::uint32_t /*ru*/, std::uint32_t /*query*/, std::uint64_t /*begin*/, std::uint64_t /*end*/) {}
+  virtual void ru_blocked(std::uint32_t /*ru*/, std::uint32_t /*query*/, std::uint64_t /*begin*/,
+                          std::uint64_t /*end*/) {}
   // `query` sent over the QDN port of SU `su` at `send`, in its BE Query Buffer at `arrive`;
-  virtual void qdn_hop(std::uint32_t /*su*/, std::uint32_t /*query*/, std::uint64_t /*send*/, std::uint64_t /*arrive*/) {}
+  virtual void qdn_hop(std::uint32_t /*su*/, std::uint32_t /*query*/, std::uint64_t /*send*/,
+                       std::uint64_t /*arrive*/) {}
   // a Search Unit batch at `leaf`: `n` queries (each token's `ready` is its BQB arrival),
   // issued at `issue`, streaming `stream` entries until `end`;
   virtual void su_batch(std::uint32_t /*su*/, std::uint32_t /*leaf*/, const QueryToken* /*tokens*/, std::size_t /*n*/,
                         std::uint64_t /*issue*/, std::uint64_t /*end*/, std::uint64_t /*stream*/) {}
   // `records` result records of `query` accepted by the write-back at `accept`, in DRAM by `drained`.
-  virtual void writeback(std::uint32_t /*query*/, std::size_t /*records*/, std::uint64_t /*accept*/, std::uint64_t /*drained*/) {}
+  virtual void writeback(std::uint32_t /*query*/, std::size_t /*records*/, std::uint64_t /*accept*/,
+                         std::uint64_t /*drained*/) {}
   // `count` units (RUs or PEs) spend [begin, end) in state `what`: the same cycles the
   // statistics count, for whole-machine counters whatever a timeline samples.
   enum class Activity { RuBusy, RuSramStall, RuBqbFull, RuWritebackStall, PeBusy, PeSramStall, PeWritebackHold };

@@ -165,7 +165,7 @@ class Scheduler : public sc_core::sc_module {
   Clock clock_;
   std::vector<Client*> clients_;  // in (rank, id) order once prepared
   bool sorted_ = false;
-  std::size_t words_ = 0;         // 64-bit words per cycle's set
+  std::size_t words_ = 0;  // 64-bit words per cycle's set
   std::vector<std::uint64_t> bits_, cycles_;
   std::priority_queue<Far, std::vector<Far>, std::greater<Far>> far_;
   sc_core::sc_event tick_;

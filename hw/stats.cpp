@@ -51,7 +51,8 @@ nlohmann::json StatGroup::sum(const std::vector<const StatGroup*>& groups) {
   for (const StatGroup* g : groups)
     for (const CounterArray* a : g->arrays_) {
       const auto p = pointer(a->name());
-      std::vector<std::uint64_t> v = j.contains(p) ? j[p].get<std::vector<std::uint64_t>>() : std::vector<std::uint64_t>();
+      std::vector<std::uint64_t> v =
+          j.contains(p) ? j[p].get<std::vector<std::uint64_t>>() : std::vector<std::uint64_t>();
       v.resize(std::max(v.size(), a->values().size()), 0);
       for (std::size_t i = 0; i < a->values().size(); ++i) v[i] += a->values()[i];
       j[p] = v;

@@ -13,17 +13,14 @@ using namespace tlm_if;
 TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
                                      const HostOptions& host_options)
     : sc_module(name), config_(config), meter_(config_.energy), scans_(make_scan_service(host_options.scan_thread)),
-      host("host"), irq("irq"),
-      clock_{config_.period()}, scheduler_("scheduler", clock_),
+      host("host"), irq("irq"), clock_{config_.period()}, scheduler_("scheduler", clock_),
       points_("points", config_.sram.points, clock_, meter_, config_.stall),
       queries_("queries", config_.sram.queries, clock_, meter_, config_.stall),
       query_stack_("query_stack", config_.sram.query_stack, clock_, meter_, config_.stall),
       result_buffer_("result_buffer", config_, meter_, observers_), node_cache_("node_cache", config_, meter_),
-      qdn_("qdn", config_, observers_),
-      fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_, *scans_,
-          host_options.reverse_construction),
-      to_points_("to_points"), to_queries_("to_queries"),
-      to_dram_("to_dram") {
+      qdn_("qdn", config_, observers_), fe_("fe", config_, job_, qdn_, result_buffer_, meter_, observers_, scheduler_,
+                                            *scans_, host_options.reverse_construction),
+      to_points_("to_points"), to_queries_("to_queries"), to_dram_("to_dram") {
   const SearchUnit::Links links{fe_, qdn_, node_cache_, result_buffer_, meter_, observers_, scheduler_, *scans_};
   const int n = config_.be.search_units;
   sus_.resize(static_cast<std::size_t>(n));
@@ -47,9 +44,9 @@ TigrisAccelerator::TigrisAccelerator(sc_core::sc_module_name name, const Acceler
     ru->stacks.socket.bind(query_stack_.socket);
     ru->results.socket.bind(result_buffer_.socket());
   }
-  for (StatGroup* g : {&fe_.stats(), &qdn_.stats(), &be_stats_, &points_.stats(), &queries_.stats(),
-                       &query_stack_.stats(), &result_buffer_.sram_stats(), &node_cache_.stats(),
-                       &result_buffer_.dram_stats(), &meter_.stats()})
+  for (StatGroup* g :
+       {&fe_.stats(), &qdn_.stats(), &be_stats_, &points_.stats(), &queries_.stats(), &query_stack_.stats(),
+        &result_buffer_.sram_stats(), &node_cache_.stats(), &result_buffer_.dram_stats(), &meter_.stats()})
     stats_.add(*g);
   to_points_.socket.bind(points_.socket);
   to_queries_.socket.bind(queries_.socket);
@@ -141,8 +138,7 @@ std::string TigrisAccelerator::configure_job() {
   j.leaf_dir_offset = csr_[kLeafDirOffset / 4];
   if (j.top_height < 0 || j.top_height > 30 || j.num_top_nodes != (1u << j.top_height) - 1)
     return "CSR TOP_HEIGHT and NUM_TOP_NODES disagree";
-  if (j.num_leaves != 0 && j.num_leaves != j.num_top_nodes + 1)
-    return "CSR NUM_LEAVES must be 0 or 2^TOP_HEIGHT";
+  if (j.num_leaves != 0 && j.num_leaves != j.num_top_nodes + 1) return "CSR NUM_LEAVES must be 0 or 2^TOP_HEIGHT";
   if (j.num_leaves && j.leaf_dir_offset % sizeof(LeafDirEntry) != 0)
     return "CSR LEAF_DIR_OFFSET is not a multiple of 4";
   const std::uint64_t image_bytes =
@@ -161,8 +157,8 @@ std::string TigrisAccelerator::configure_job() {
     j.leader_capacity = static_cast<std::uint32_t>(config_.leader.capacity_per_leaf);
     if (!j.radius()) j.result_slot_bytes = result_slot_bytes(j.k, j.first_leaf);
   }
-  const std::string fit = job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k,
-                                        j.approximate && j.first_leaf);
+  const std::string fit =
+      job_fit_error(config_, image_bytes, j.num_queries, j.top_height, j.mode, j.k, j.approximate && j.first_leaf);
   if (!fit.empty()) return fit;
   if (j.num_leaves) {
     const auto* dir = reinterpret_cast<const LeafDirEntry*>(to_points_.data() + j.leaf_dir_offset);
@@ -175,7 +171,8 @@ std::string TigrisAccelerator::configure_job() {
   const std::uint64_t stack_slots = config_.sram.query_stack.bytes / (j.stack_entries * sizeof(StackEntry));
   const std::uint64_t fqq_entries = config_.fe.fqq_bytes / static_cast<std::uint64_t>(config_.fe.fqq_entry_bytes);
   const std::uint64_t result_slots = ResultBuffer::slot_capacity(config_, j.result_slot_bytes);
-  j.slots = static_cast<std::uint32_t>(std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}}));
+  j.slots =
+      static_cast<std::uint32_t>(std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}}));
   if (j.approximate) {
     j.leader_area_base = j.slots * j.result_slot_bytes;
     j.leader_area_bytes = ResultBuffer::leader_area_bytes(config_);
@@ -251,22 +248,22 @@ void TigrisAccelerator::attach_waves(VcdWriter& vcd) {
   waves_.queries_finished.attach(vcd, all + "queries_finished", 32);
   result_buffer_.attach_waves(waves_.writeback_backlog);
   fe_.attach_waves(vcd, scope + ".fe", waves_);
-  for (std::size_t i = 0; i < sus_.size(); ++i) sus_[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i), waves_);
+  for (std::size_t i = 0; i < sus_.size(); ++i)
+    sus_[i]->attach_waves(vcd, scope + ".be.su" + std::to_string(i), waves_);
 }
 
 std::string TigrisAccelerator::describe_state() const {
   std::ostringstream s;
   std::size_t held = fe_.fqq_occupancy();
-  s << "queries finished " << fe_.finished() << " of " << job_.num_queries << ", admitted "
-    << fe_.admitted() << " (" << fe_.admitted() - fe_.finished() << " in flight); FE Query Queue holds "
-    << fe_.fqq_occupancy() << "\n";
+  s << "queries finished " << fe_.finished() << " of " << job_.num_queries << ", admitted " << fe_.admitted() << " ("
+    << fe_.admitted() - fe_.finished() << " in flight); FE Query Queue holds " << fe_.fqq_occupancy() << "\n";
   for (const auto& ru : fe_.rus) {
     if (!ru->busy_flag()) continue;
     ++held;
     s << "  RU " << ru->id() << " holds query " << ru->current_query();
     if (ru->blocked())
-      s << ", blocked: waits for room in the BE Query Buffer of SU " << ru->blocked_leaf() % sus_.size()
-        << " (leaf " << ru->blocked_leaf() << ")";
+      s << ", blocked: waits for room in the BE Query Buffer of SU " << ru->blocked_leaf() % sus_.size() << " (leaf "
+        << ru->blocked_leaf() << ")";
     s << "\n";
   }
   for (std::size_t i = 0; i < sus_.size(); ++i) {
@@ -276,8 +273,7 @@ std::string TigrisAccelerator::describe_state() const {
         << ", busy PEs " << sus_[i]->busy_pes() << " of " << config_.be.pes_per_su << "\n";
   }
   const std::size_t in_flight = fe_.admitted() - fe_.finished();
-  if (held < in_flight)
-    s << "  " << in_flight - held << " admitted queries are held by no queue or unit (lost)\n";
+  if (held < in_flight) s << "  " << in_flight - held << " admitted queries are held by no queue or unit (lost)\n";
   if (!error_.empty()) s << "  error: " << error_ << "\n";
   return s.str();
 }

@@ -10,23 +10,23 @@
 #include <string>
 #include <vector>
 
+#include <tlm_utils/simple_target_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_target_socket.h>
 
+#include "config.hpp"
+#include "energy_meter.hpp"
 #include "hw/be/issue_policy.hpp"
 #include "hw/be/node_cache.hpp"
 #include "hw/be/search_unit.hpp"
-#include "config.hpp"
-#include "energy_meter.hpp"
 #include "hw/fe/front_end.hpp"
 #include "hw/host/scan_service.hpp"
-#include "job.hpp"
 #include "hw/mem/banked_sram.hpp"
 #include "hw/mem/buffer_port.hpp"
 #include "hw/mem/result_buffer.hpp"
-#include "observer.hpp"
 #include "hw/qdn/distribution_network.hpp"
+#include "job.hpp"
+#include "observer.hpp"
 #include "scheduler.hpp"
 #include "stats.hpp"
 

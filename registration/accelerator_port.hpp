@@ -15,11 +15,11 @@
 namespace tigris::registration {
 
 struct AccelJob {
-  std::uint64_t tree_id = 0;        // the plug-in tree build it searches (a new id: a new tree image)
+  std::uint64_t tree_id = 0;           // the plug-in tree build it searches (a new id: a new tree image)
   const PointCloud* points = nullptr;  // the tree's points: its finite input points, in index order
-  int top_height = 0;               // the golden tree's top height (clamped to the cloud)
+  int top_height = 0;                  // the golden tree's top height (clamped to the cloud)
   const PointCloud* queries = nullptr;
-  SearchParams params;              // exact, or approximate with its thresholds and leader settings
+  SearchParams params;  // exact, or approximate with its thresholds and leader settings
 };
 
 struct AccelAnswer {
@@ -28,7 +28,7 @@ struct AccelAnswer {
   double search_seconds = 0.0;  // cycles at the accelerator clock
   double host_seconds = 0.0;    // host link: tree image (when sent), queries, results
   double energy_pj = 0.0;
-  VisitTotals visits;           // as the accelerator made them
+  VisitTotals visits;  // as the accelerator made them
 };
 
 // A job the accelerator did not answer correctly (a golden mismatch or a deadlock): the

@@ -11,9 +11,9 @@ bool same_point(const Point3& a, const Point3& b) { return a.x == b.x && a.y == 
 
 bool same_params(const SearchParams& a, const SearchParams& b) {
   return a.mode == b.mode && a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn &&
-         a.approximate == b.approximate && a.approx_thd == b.approx_thd &&
-         a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width &&
-         a.leader_scope == b.leader_scope && a.leader_in_flight == b.leader_in_flight;
+         a.approximate == b.approximate && a.approx_thd == b.approx_thd && a.leader_capacity == b.leader_capacity &&
+         a.leader_width == b.leader_width && a.leader_scope == b.leader_scope &&
+         a.leader_in_flight == b.leader_in_flight;
 }
 
 void count_job(SearchCounters::Accelerated& a, const AccelAnswer& answer, std::size_t queries) {

@@ -60,12 +60,12 @@ class AnnouncedJobs {
   pcl::Indices last_job_neighbors(const std::vector<pcl::index_t>& map) const;
 
  private:
-  PointCloud expected_;                         // the announced queries
+  PointCloud expected_;                        // the announced queries
   std::deque<std::function<void()>> pending_;  // the announcements after it
-  AccelAnswer answer_;                          // the last job's
-  SearchParams params_;                         // the last job's
-  bool ran_ = false;                            // the announced set's job ran
-  std::size_t cursor_ = 0;                      // the next announced query to serve
+  AccelAnswer answer_;                         // the last job's
+  SearchParams params_;                        // the last job's
+  bool ran_ = false;                           // the announced set's job ran
+  std::size_t cursor_ = 0;                     // the next announced query to serve
 };
 
 }  // namespace tigris::registration

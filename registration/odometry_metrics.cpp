@@ -10,8 +10,8 @@
 namespace tigris::registration {
 namespace {
 
-void check_inputs(const std::vector<Pose>& gt, const std::vector<Pose>& est,
-                  const std::vector<double>& lengths, std::size_t step_frames, double frame_seconds) {
+void check_inputs(const std::vector<Pose>& gt, const std::vector<Pose>& est, const std::vector<double>& lengths,
+                  std::size_t step_frames, double frame_seconds) {
   if (gt.size() != est.size())
     throw std::invalid_argument("odometry metrics: the ground truth has " + std::to_string(gt.size()) +
                                 " poses, the estimate " + std::to_string(est.size()));
@@ -81,24 +81,23 @@ std::vector<SegmentError> sequence_errors(const std::vector<Pose>& gt, const std
   for (std::size_t first = 0; first < gt.size(); first += step_frames) {
     for (double len : lengths) {
       // The devkit's lastFrameFromSegmentLength: the first frame strictly beyond `len`.
-      const auto beyond = std::upper_bound(dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(),
-                                           dist[first] + len);
+      const auto beyond =
+          std::upper_bound(dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(), dist[first] + len);
       if (beyond == dist.end()) continue;
       const auto last = static_cast<std::size_t>(beyond - dist.begin());
       const Pose delta_gt = gt[first].inverse() * gt[last];
       const Pose delta_est = est[first].inverse() * est[last];
       const Pose error = delta_est.inverse() * delta_gt;
       const double frames = static_cast<double>(last - first + 1);
-      out.push_back({first, last, len, error.topRightCorner<3, 1>().norm() / len,
-                     rotation_error_rad(error) / len, len / (frame_seconds * frames)});
+      out.push_back({first, last, len, error.topRightCorner<3, 1>().norm() / len, rotation_error_rad(error) / len,
+                     len / (frame_seconds * frames)});
     }
   }
   return out;
 }
 
 OdometryMetrics odometry_metrics(const std::vector<Pose>& gt, const std::vector<Pose>& est,
-                                 const std::vector<double>& lengths, std::size_t step_frames,
-                                 double frame_seconds) {
+                                 const std::vector<double>& lengths, std::size_t step_frames, double frame_seconds) {
   const std::vector<SegmentError> errors = sequence_errors(gt, est, lengths, step_frames, frame_seconds);
   OdometryMetrics m;
   m.frames = gt.size();

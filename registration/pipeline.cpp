@@ -2,8 +2,8 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "stages.hpp"
 #include "core/timer.hpp"
+#include "stages.hpp"
 
 namespace tigris::registration {
 namespace {
@@ -27,8 +27,9 @@ SearchSettings settings_for(const PipelineConfig& c, bool approximable, const Pi
   s.backend = c.search.backend;
   if (s.backend == Backend::Approx && !approximable) s.backend = Backend::Exact;
   if (s.backend == Backend::Flann && hooks.accelerator)
-    throw std::invalid_argument("the accelerator in the loop runs the golden model's searches: search.backend must be "
-                                "exact or approx, not flann");
+    throw std::invalid_argument(
+        "the accelerator in the loop runs the golden model's searches: search.backend must be "
+        "exact or approx, not flann");
   s.accelerator = hooks.accelerator;
   s.top_height = c.search.top_height;
   s.nn_thd = static_cast<float>(c.search.nn_thd);
@@ -91,8 +92,20 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
   RegistrationResult r;
   validate(c, "registration configuration");
   const SearchSettings approximable = settings_for(c, true, hooks);
-  PipelineState state{c, settings_for(c, false, hooks), approximable, approximable, to_pcl(source_points),
-                      to_pcl(target_points), {}, {}, {}, {}, {}, {}, {}, r};
+  PipelineState state{c,
+                      settings_for(c, false, hooks),
+                      approximable,
+                      approximable,
+                      to_pcl(source_points),
+                      to_pcl(target_points),
+                      {},
+                      {},
+                      {},
+                      {},
+                      {},
+                      {},
+                      {},
+                      r};
   // Error injection only on the paper's injected searches: normal estimation (radius) and RPCE.
   state.normals_search.shell_inner = static_cast<float>(c.inject.normals_shell_inner);
   state.normals_search.shell_outer = static_cast<float>(c.inject.normals_shell_outer);

@@ -29,10 +29,10 @@
 namespace tigris::registration {
 
 struct StageReport {
-  std::string name;            // outlier_removal, normals, keypoints, descriptors, kpce, rejection, icp
-  double seconds = 0.0;        // wall time of the whole stage (both clouds)
-  std::string search;          // the 3D back-end its KD-tree searches used ("" when none)
-  SearchCounters kdtree;       // the stage's 3D KD-tree builds and searches
+  std::string name;       // outlier_removal, normals, keypoints, descriptors, kpce, rejection, icp
+  double seconds = 0.0;   // wall time of the whole stage (both clouds)
+  std::string search;     // the 3D back-end its KD-tree searches used ("" when none)
+  SearchCounters kdtree;  // the stage's 3D KD-tree builds and searches
   nlohmann::json info = nlohmann::json::object();  // stage-specific counts
 };
 
@@ -79,7 +79,7 @@ struct PipelineHooks {
 // Runs the pipeline. Throws std::runtime_error when a stage cannot go on (e.g. no key point
 // survives), WorkLimitExceeded when the searches exceed the hooks' budget. `config` must have
 // been validated (apply_json / preset).
-RegistrationResult register_clouds(const PointCloud& source, const PointCloud& target,
-                                   const PipelineConfig& config, const PipelineHooks& hooks = {});
+RegistrationResult register_clouds(const PointCloud& source, const PointCloud& target, const PipelineConfig& config,
+                                   const PipelineHooks& hooks = {});
 
 }  // namespace tigris::registration

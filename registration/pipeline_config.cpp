@@ -98,7 +98,8 @@ void validate(const PipelineConfig& c, const std::string& source) {
   const double r1 = c.inject.normals_shell_inner, r2 = c.inject.normals_shell_outer, r = c.normals.radius;
   const bool shell = r1 != 0.0 || r2 != 0.0;
   if (shell && !(r1 < r && r < r2))
-    throw std::invalid_argument(source + ": the injected shell needs 'inject.normals_shell_inner' < 'normals.radius' < "
+    throw std::invalid_argument(source +
+                                ": the injected shell needs 'inject.normals_shell_inner' < 'normals.radius' < "
                                 "'inject.normals_shell_outer' (the paper's R1 < r < R2; both 0: off), got " +
                                 number_text(r1) + ", " + number_text(r) + ", " + number_text(r2));
   if (c.search.leader_width != 0 && c.search.leader_scope == LeaderScope::FirstLeaf)

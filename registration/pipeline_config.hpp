@@ -42,9 +42,18 @@ struct PipelineConfig {
   } normals;
   struct {
     KeypointMethod method = KeypointMethod::Narf;
-    struct { double angular_resolution_deg = 0.5, support_size = 0.2; } narf;
-    struct { double radius = 0.35, threshold = 0.01; bool non_max_suppression = true, refine = true; } harris3d;
-    struct { double min_scale = 0.03; int octaves = 8, scales_per_octave = 12; double min_contrast = 0.08; } sift;
+    struct {
+      double angular_resolution_deg = 0.5, support_size = 0.2;
+    } narf;
+    struct {
+      double radius = 0.35, threshold = 0.01;
+      bool non_max_suppression = true, refine = true;
+    } harris3d;
+    struct {
+      double min_scale = 0.03;
+      int octaves = 8, scales_per_octave = 12;
+      double min_contrast = 0.08;
+    } sift;
   } keypoints;
   struct {
     DescriptorMethod method = DescriptorMethod::Fpfh;
@@ -113,12 +122,14 @@ struct PipelineConfig {
     v("keypoints.harris3d.refine", keypoints.harris3d.refine, {"-", boolean(), "Harris3D corner refinement"});
     v("keypoints.sift.min_scale", keypoints.sift.min_scale, {"m", above(0, 100), "SIFT smallest scale"});
     v("keypoints.sift.octaves", keypoints.sift.octaves, {"octaves", in(1, 16), "SIFT octaves"});
-    v("keypoints.sift.scales_per_octave", keypoints.sift.scales_per_octave, {"scales", in(1, 64), "SIFT scales per octave"});
+    v("keypoints.sift.scales_per_octave", keypoints.sift.scales_per_octave,
+      {"scales", in(1, 64), "SIFT scales per octave"});
     v("keypoints.sift.min_contrast", keypoints.sift.min_contrast, {"-", in(0, 1e6), "SIFT minimum contrast"});
     v("descriptors.method", descriptors.method,
       {"-", one_of({DescriptorMethod::Fpfh, DescriptorMethod::Shot}), "feature descriptor"});
     v("descriptors.radius", descriptors.radius, {"m", above(0, 100), "descriptor search radius"});
-    v("kpce.reciprocal", kpce.reciprocal, {"-", boolean(), "key-point correspondences must be mutual nearest features"});
+    v("kpce.reciprocal", kpce.reciprocal,
+      {"-", boolean(), "key-point correspondences must be mutual nearest features"});
     v("rejection.method", rejection.method,
       {"-", one_of({RejectionMethod::Ransac, RejectionMethod::Distance}), "key-point correspondence rejection"});
     v("rejection.ransac_threshold", rejection.ransac_threshold, {"m", above(0, 100), "RANSAC inlier threshold"});
@@ -135,10 +146,12 @@ struct PipelineConfig {
       {"-", in(0, 1), "ICP stops when the step is below this"});
     v("icp.euclidean_fitness_epsilon", icp.euclidean_fitness_epsilon,
       {"m^2", in(0, 1e6), "ICP stops when the relative MSE change is below this"});
-    v("icp.reciprocal", icp.reciprocal, {"-", boolean(), "RPCE keeps mutual nearest neighbours only (searches both ways)"});
+    v("icp.reciprocal", icp.reciprocal,
+      {"-", boolean(), "RPCE keeps mutual nearest neighbours only (searches both ways)"});
     v("icp.ransac", icp.ransac, {"-", boolean(), "ICP-internal RANSAC correspondence rejector"});
     v("icp.ransac_threshold", icp.ransac_threshold, {"m", above(0, 1000), "ICP-internal RANSAC inlier threshold"});
-    v("icp.ransac_iterations", icp.ransac_iterations, {"iterations", in(1, 10000000), "ICP-internal RANSAC iterations"});
+    v("icp.ransac_iterations", icp.ransac_iterations,
+      {"iterations", in(1, 10000000), "ICP-internal RANSAC iterations"});
     v("search.backend", search.backend,
       {"-", one_of({Backend::Flann, Backend::Exact, Backend::Approx}),
        "3D KD-tree search: PCL's FLANN (CPU baseline), golden exact, golden approximate"});
@@ -146,7 +159,8 @@ struct PipelineConfig {
       {"levels", in(0, 30), "top-tree height (clamped to each cloud's full height)"});
     v("search.nn_thd", search.nn_thd, {"m", in(0, 1000), "approximate NN/kNN leader threshold"});
     v("search.radius_thd", search.radius_thd, {"fraction of r", in(0, 1), "approximate radius threshold"});
-    v("search.leader_capacity", search.leader_capacity, {"leaders", in(1, 1 << 20), "leaders kept per leaf (approximate)"});
+    v("search.leader_capacity", search.leader_capacity,
+      {"leaders", in(1, 1 << 20), "leaders kept per leaf (approximate)"});
     v("search.leader_width", search.leader_width,
       {"results", in(0, 1 << 20), "leader result width R for NN/kNN (0: k; every_leaf only)"});
     v("search.leader_scope", search.leader_scope,
@@ -172,8 +186,8 @@ PipelineConfig preset(const std::string& name);
 
 // Applies a JSON object (nested by stage, or dotted keys at any level; keys starting with "//"
 // are comments), a file (// and /* */ comments allowed) or one `key=value` (as given to --set,
-// or by `flag` when a flag sets the key: errors then start with "flag (key=value)"). Every key is checked; errors are std::invalid_argument
-// starting with the source and naming the key: unknown key (with the nearest valid name), wrong
+// or by `flag` when a flag sets the key: errors then start with "flag (key=value)"). Every key is checked; errors are
+// std::invalid_argument starting with the source and naming the key: unknown key (with the nearest valid name), wrong
 // type, out of range, or not one of the allowed names (config/apply.hpp).
 void apply_json(PipelineConfig& config, const nlohmann::json& doc, const std::string& source);
 void apply_file(PipelineConfig& config, const std::string& path);

@@ -59,9 +59,8 @@ pcl::Correspondences match(const typename pcl::PointCloud<Feature>::Ptr& source,
 
 }  // namespace
 
-Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& surface,
-                     const Normals::ConstPtr& normals, const PipelineConfig& c, const SearchSettings& s,
-                     const Counters& counters) {
+Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& surface, const Normals::ConstPtr& normals,
+                     const PipelineConfig& c, const SearchSettings& s, const Counters& counters) {
   Descriptors d;
   const double r = c.descriptors.radius;
   if (c.descriptors.method == DescriptorMethod::Fpfh) {
@@ -132,14 +131,17 @@ pcl::Correspondences match_features(const Descriptors& source, const Descriptors
 void run_descriptors(PipelineState& s, StageContext& st) {
   s.src_d = describe(s.src_k, s.src, s.src_n, s.c, s.exact, st.counters);
   s.tgt_d = describe(s.tgt_k, s.tgt, s.tgt_n, s.c, s.exact, st.counters);
-  st.info = {{"method", to_string(s.c.descriptors.method)}, {"source", s.src_d.keypoints->size()},
-             {"target", s.tgt_d.keypoints->size()}, {"source_dropped", s.src_d.dropped},
+  st.info = {{"method", to_string(s.c.descriptors.method)},
+             {"source", s.src_d.keypoints->size()},
+             {"target", s.tgt_d.keypoints->size()},
+             {"source_dropped", s.src_d.dropped},
              {"target_dropped", s.tgt_d.dropped}};
 }
 
 void run_kpce(PipelineState& s, StageContext& st) {
   s.pairs = match_features(s.src_d, s.tgt_d, s.c.kpce.reciprocal);
-  st.info = {{"correspondences", s.pairs.size()}, {"reciprocal", s.c.kpce.reciprocal},
+  st.info = {{"correspondences", s.pairs.size()},
+             {"reciprocal", s.c.kpce.reciprocal},
              {"feature_queries", s.src_d.keypoints->size() + (s.c.kpce.reciprocal ? s.tgt_d.keypoints->size() : 0)},
              {"feature_search", "exact feature-space KD-tree (PCL FLANN), not the 3D plug-in"}};
 }

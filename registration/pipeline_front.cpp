@@ -31,7 +31,7 @@ Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c
                            const Counters& counters) {
   auto tree = make_tree<pcl::PointXYZ>(s, counters);
   tree->setInputCloud(cloud);
-  tree->expect_queries(*cloud);  // in the loop: every point, in order, is one job
+  tree->expect_queries(*cloud);                // in the loop: every point, in order, is one job
   const int k = c.outlier_removal.mean_k + 1;  // the query point itself comes first
   pcl::Indices nn(static_cast<std::size_t>(k));
   std::vector<float> d2(static_cast<std::size_t>(k));
@@ -61,8 +61,8 @@ Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c
   return out;
 }
 
-std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c,
-                             const SearchSettings& s, const Counters& counters) {
+std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const SearchSettings& s,
+                             const Counters& counters) {
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;  // never NormalEstimationOMP
   ne.setInputCloud(cloud);
   const auto tree = make_tree<pcl::PointXYZ>(s, counters);
@@ -147,8 +147,8 @@ Cloud::Ptr sift(const Cloud::ConstPtr& cloud, const PipelineConfig& c) {
 
 }  // namespace
 
-Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals,
-                            const PipelineConfig& c, const SearchSettings& s, const Counters& counters) {
+Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals, const PipelineConfig& c,
+                            const SearchSettings& s, const Counters& counters) {
   switch (c.keypoints.method) {
     case KeypointMethod::Narf: return narf(cloud, c);
     case KeypointMethod::Harris3d: return harris(cloud, normals, c, s, counters);
@@ -163,14 +163,17 @@ void run_outlier_removal(PipelineState& s, StageContext& st) {
   const std::size_t ns = s.src->size(), nt = s.tgt->size();
   s.src = remove_outliers(s.src, s.c, s.exact, st.counters);
   s.tgt = remove_outliers(s.tgt, s.c, s.exact, st.counters);
-  st.info = {{"source_points", ns}, {"source_kept", s.src->size()}, {"target_points", nt}, {"target_kept", s.tgt->size()}};
+  st.info = {
+      {"source_points", ns}, {"source_kept", s.src->size()}, {"target_points", nt}, {"target_kept", s.tgt->size()}};
 }
 
 void run_normals(PipelineState& s, StageContext& st) {
   const std::size_t ds = estimate_normals(s.src, s.src_n, s.c, s.normals_search, st.counters);
   const std::size_t dt = estimate_normals(s.tgt, s.tgt_n, s.c, s.normals_search, st.counters);
-  st.info = {{"source_without_normal", ds}, {"target_without_normal", dt},
-             {"source_points", s.src->size()}, {"target_points", s.tgt->size()}};
+  st.info = {{"source_without_normal", ds},
+             {"target_without_normal", dt},
+             {"source_points", s.src->size()},
+             {"target_points", s.tgt->size()}};
   if (s.normals_search.injects_shell())
     st.info["injected"] = {{"error", "shell"},
                            {"inner_m", s.c.inject.normals_shell_inner},

@@ -78,8 +78,8 @@ class GuardedEstimation : public pcl::registration::TransformationEstimation<PN,
     inner_->estimateRigidTransformation(s, is, t, m);
     check(m);
   }
-  void estimateRigidTransformation(const PNCloud& s, const pcl::Indices& is, const PNCloud& t,
-                                   const pcl::Indices& it, Matrix4& m) const override {
+  void estimateRigidTransformation(const PNCloud& s, const pcl::Indices& is, const PNCloud& t, const pcl::Indices& it,
+                                   Matrix4& m) const override {
     inner_->estimateRigidTransformation(s, is, t, it, m);
     check(m);
   }
@@ -92,8 +92,9 @@ class GuardedEstimation : public pcl::registration::TransformationEstimation<PN,
  private:
   static void check(const Matrix4& m) {
     if (!m.allFinite() || m.topRightCorner<3, 1>().cwiseAbs().maxCoeff() > 1e6f)
-      throw Degenerate("the correspondences do not determine a rigid transform (the estimate is not finite): "
-                       "the clouds do not constrain all six degrees of freedom, e.g. a flat or linear scene");
+      throw Degenerate(
+          "the correspondences do not determine a rigid transform (the estimate is not finite): "
+          "the clouds do not constrain all six degrees of freedom, e.g. a flat or linear scene");
   }
   Ptr inner_;
 };
@@ -195,9 +196,8 @@ Rejection reject(const Descriptors& source, const Descriptors& target, const pcl
 }
 
 IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& source_normals,
-                   const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals,
-                   const Eigen::Matrix4d& guess, const PipelineConfig& c, const SearchSettings& s,
-                   const Counters& counters) {
+                   const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals, const Eigen::Matrix4d& guess,
+                   const PipelineConfig& c, const SearchSettings& s, const Counters& counters) {
   Icp icp;
   icp.setInputSource(with_normals(*source, *source_normals));
   icp.setInputTarget(with_normals(*target, *target_normals));
@@ -209,10 +209,14 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
   const bool plane = c.icp.error == IcpError::PointToPlane, lm = c.icp.solver == IcpSolver::Lm;
   using TE = pcl::registration::TransformationEstimation<PN, PN>;
   std::shared_ptr<TE> te;
-  if (plane && lm) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlane<PN, PN>>();
-  else if (plane) te = std::make_shared<pcl::registration::TransformationEstimationPointToPlaneLLS<PN, PN>>();
-  else if (lm) te = std::make_shared<pcl::registration::TransformationEstimationLM<PN, PN>>();
-  else te = std::make_shared<pcl::registration::TransformationEstimationSVD<PN, PN>>();
+  if (plane && lm)
+    te = std::make_shared<pcl::registration::TransformationEstimationPointToPlane<PN, PN>>();
+  else if (plane)
+    te = std::make_shared<pcl::registration::TransformationEstimationPointToPlaneLLS<PN, PN>>();
+  else if (lm)
+    te = std::make_shared<pcl::registration::TransformationEstimationLM<PN, PN>>();
+  else
+    te = std::make_shared<pcl::registration::TransformationEstimationSVD<PN, PN>>();
   icp.setTransformationEstimation(std::make_shared<GuardedEstimation>(te));
   icp.setMaximumIterations(c.icp.max_iterations);
   icp.setMaxCorrespondenceDistance(c.icp.max_correspondence_distance);
@@ -261,7 +265,8 @@ IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& sourc
 void run_rejection(PipelineState& s, StageContext& st) {
   const Rejection rej = reject(s.src_d, s.tgt_d, s.pairs, s.c);
   s.r.initial = rej.initial;
-  st.info = {{"method", to_string(s.c.rejection.method)}, {"inliers", rej.inliers.size()},
+  st.info = {{"method", to_string(s.c.rejection.method)},
+             {"inliers", rej.inliers.size()},
              {"identity_fallback", rej.fallback}};
 }
 
@@ -278,7 +283,9 @@ void run_icp_stage(PipelineState& s, StageContext& st) {
                 " correspondences in its last iteration): the clouds may not overlap, or the initial estimate "
                 "is too far off for icp.max_correspondence_distance";
   }
-  st.info = {{"iterations", icp.iterations}, {"converged", icp.converged && icp.degenerate.empty()}, {"stop", icp.stop},
+  st.info = {{"iterations", icp.iterations},
+             {"converged", icp.converged && icp.degenerate.empty()},
+             {"stop", icp.stop},
              {"last_correspondences", icp.last_correspondences}};
   if (s.rpce_search.injects_kth()) st.info["injected"] = {{"error", "kth_nearest"}, {"k", s.c.inject.rpce_kth}};
 }

@@ -55,10 +55,10 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
 
  public:
   using Ptr = std::shared_ptr<TigrisKdTree<PointT>>;
-  using typename Base::IndicesConstPtr;
-  using typename Base::PointCloudConstPtr;
   using Base::nearestKSearch;
   using Base::radiusSearch;
+  using typename Base::IndicesConstPtr;
+  using typename Base::PointCloudConstPtr;
 
   TigrisKdTree(const SearchSettings& settings, std::shared_ptr<SearchCounters> counters)
       : Base(true), settings_(settings), counters_(std::move(counters)) {
@@ -140,8 +140,8 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     return n;
   }
 
-  int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices,
-                   std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override {
+  int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices, std::vector<float>& k_sqr_distances,
+                   unsigned int max_nn = 0) const override {
     const auto t0 = Clock::now();
     if (!finite(point)) return none(k_indices, k_sqr_distances, t0);
     const ShellInjection shell = shell_injection(settings_, radius, max_nn);
@@ -231,7 +231,7 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   SearchSettings settings_;
   std::shared_ptr<SearchCounters> counters_;
   GoldenTree golden_;
-  std::vector<pcl::index_t> map_;  // a finite point's index in the input cloud (finite_points)
+  std::vector<pcl::index_t> map_;        // a finite point's index in the input cloud (finite_points)
   mutable double last_distances_ = 0.0;  // the golden search's distances, for the budget
   mutable SearchRecording recording_;
   mutable AnnouncedJobs jobs_;

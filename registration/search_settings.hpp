@@ -17,18 +17,18 @@ namespace tigris::registration {
 
 struct SearchSettings {
   Backend backend = Backend::Exact;
-  int top_height = 10;          // clamped to each cloud's full height
-  float nn_thd = 1.2f;          // approximate NN/kNN: follow a leader this close (metres)
-  float radius_thd = 0.4f;      // approximate radius: threshold as a fraction of r
+  int top_height = 10;      // clamped to each cloud's full height
+  float nn_thd = 1.2f;      // approximate NN/kNN: follow a leader this close (metres)
+  float radius_thd = 0.4f;  // approximate radius: threshold as a fraction of r
   int leader_capacity = 16;
-  int leader_width = 0;         // R for NN/kNN (0: k)
+  int leader_width = 0;  // R for NN/kNN (0: k)
   LeaderScope leader_scope = LeaderScope::FirstLeaf;
   LeaderInFlight leader_in_flight = LeaderInFlight::Wait;
   // Error injection (injection.hpp has the exact semantics); the defaults inject nothing.
-  int inject_kth = 1;           // k-nearest searches return ranks K .. K+k-1 (>= 1)
-  float shell_inner = 0.0f;     // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
-  float shell_outer = 0.0f;     // 0: no shell
-  std::shared_ptr<WorkBudget> budget;  // shared by every tree of a registration; null: none
+  int inject_kth = 1;                       // k-nearest searches return ranks K .. K+k-1 (>= 1)
+  float shell_inner = 0.0f;                 // radius searches return R1 <= d <= R2 (metres, >= 0, < outer)
+  float shell_outer = 0.0f;                 // 0: no shell
+  std::shared_ptr<WorkBudget> budget;       // shared by every tree of a registration; null: none
   std::shared_ptr<TraceRecorder> recorder;  // records every tree and search; null: none
   // In the loop (announced_jobs.hpp): golden back-ends only; null: none.
   std::shared_ptr<AcceleratorPort> accelerator;

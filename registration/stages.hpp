@@ -31,11 +31,11 @@ Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c
                            const Counters& counters);
 // Normals by radius search; points whose normal is undefined (too few neighbours) are dropped
 // from `cloud` and the normals, so both stay aligned. Returns the dropped count.
-std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c,
-                             const SearchSettings& s, const Counters& counters);
+std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const SearchSettings& s,
+                             const Counters& counters);
 // Key points of `cloud` (the sensor at the origin, for NARF's range image).
-Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals,
-                            const PipelineConfig& c, const SearchSettings& s, const Counters& counters);
+Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals, const PipelineConfig& c,
+                            const SearchSettings& s, const Counters& counters);
 
 // pipeline_features.cpp
 struct Descriptors {
@@ -44,9 +44,8 @@ struct Descriptors {
   pcl::PointCloud<pcl::SHOT352>::Ptr shot;
   std::size_t dropped = 0;  // key points without a finite descriptor
 };
-Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& surface,
-                     const Normals::ConstPtr& normals, const PipelineConfig& c, const SearchSettings& s,
-                     const Counters& counters);
+Descriptors describe(const Cloud::ConstPtr& keypoints, const Cloud::ConstPtr& surface, const Normals::ConstPtr& normals,
+                     const PipelineConfig& c, const SearchSettings& s, const Counters& counters);
 // Feature-space nearest neighbours source -> target (exact, PCL's FLANN KD-tree on features).
 pcl::Correspondences match_features(const Descriptors& source, const Descriptors& target, bool reciprocal);
 
@@ -62,14 +61,13 @@ struct IcpOutcome {
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();
   int iterations = 0;
   bool converged = false;
-  std::string stop;      // why ICP stopped (PCL's convergence state)
+  std::string stop;                      // why ICP stopped (PCL's convergence state)
   std::size_t last_correspondences = 0;  // pairs the last iteration used
-  std::string degenerate;  // why no transform could be estimated (transform NaN); "" when fine
+  std::string degenerate;                // why no transform could be estimated (transform NaN); "" when fine
 };
 IcpOutcome run_icp(const Cloud::ConstPtr& source, const Normals::ConstPtr& source_normals,
-                   const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals,
-                   const Eigen::Matrix4d& guess, const PipelineConfig& c, const SearchSettings& s,
-                   const Counters& counters);
+                   const Cloud::ConstPtr& target, const Normals::ConstPtr& target_normals, const Eigen::Matrix4d& guess,
+                   const PipelineConfig& c, const SearchSettings& s, const Counters& counters);
 
 // ---------------------------------------------------------------------------------------------
 // The stages and what they hand on to each other.
@@ -105,9 +103,9 @@ struct StageDef {
 void run_outlier_removal(PipelineState& s, StageContext& st);  // pipeline_front.cpp
 void run_normals(PipelineState& s, StageContext& st);
 void run_keypoints(PipelineState& s, StageContext& st);
-void run_descriptors(PipelineState& s, StageContext& st);       // pipeline_features.cpp
+void run_descriptors(PipelineState& s, StageContext& st);  // pipeline_features.cpp
 void run_kpce(PipelineState& s, StageContext& st);
-void run_rejection(PipelineState& s, StageContext& st);         // pipeline_icp.cpp
+void run_rejection(PipelineState& s, StageContext& st);  // pipeline_icp.cpp
 void run_icp_stage(PipelineState& s, StageContext& st);
 
 // The stages in the pipeline's order (the paper's Table 1, outlier removal first).
@@ -115,22 +113,30 @@ inline const std::vector<StageDef>& stage_table() {
   static const std::vector<StageDef> table = {
       {{"outlier_removal", "outlier removal", {}},
        [](const PipelineState& s) -> const SearchSettings* { return &s.exact; },
-       [](const PipelineConfig& c) { return c.outlier_removal.enabled; }, run_outlier_removal},
+       [](const PipelineConfig& c) { return c.outlier_removal.enabled; },
+       run_outlier_removal},
       {{"normals", "normal estimation", {}},
-       [](const PipelineState& s) -> const SearchSettings* { return &s.normals_search; }, nullptr, run_normals},
+       [](const PipelineState& s) -> const SearchSettings* { return &s.normals_search; },
+       nullptr,
+       run_normals},
       {{"keypoints", "key-point detection", {}},
        [](const PipelineState& s) -> const SearchSettings* {
          return s.c.keypoints.method == KeypointMethod::Harris3d ? &s.exact : nullptr;  // NARF, SIFT: no 3D tree
        },
-       nullptr, run_keypoints},
+       nullptr,
+       run_keypoints},
       {{"descriptors", "descriptor calculation", {}},
-       [](const PipelineState& s) -> const SearchSettings* { return &s.exact; }, nullptr, run_descriptors},
+       [](const PipelineState& s) -> const SearchSettings* { return &s.exact; },
+       nullptr,
+       run_descriptors},
       {{"kpce", "KPCE", {}}, nullptr, nullptr, run_kpce},  // feature space: PCL's FLANN, never the 3D tree
       {{"rejection", "rejection", {}}, nullptr, nullptr, run_rejection},
       // ICP is one stage here; the paper splits it into RPCE (its KD-tree searches) and
       // transformation estimation (the rest).
       {{"icp", "ICP", {{"RPCE", "kdtree_search"}, {"transformation estimation", "rest"}}},
-       [](const PipelineState& s) -> const SearchSettings* { return &s.rpce_search; }, nullptr, run_icp_stage},
+       [](const PipelineState& s) -> const SearchSettings* { return &s.rpce_search; },
+       nullptr,
+       run_icp_stage},
   };
   return table;
 }

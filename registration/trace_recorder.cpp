@@ -13,8 +13,8 @@ bool same_shape(const trace::Job& a, const trace::Job& b) {
   return a.stage == b.stage && a.iteration == b.iteration && a.tree_serial == b.tree_serial && a.mode == b.mode &&
          a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn && a.approximate == b.approximate &&
          a.approx_thd == b.approx_thd && a.leader_capacity == b.leader_capacity && a.leader_width == b.leader_width &&
-         a.leader_scope == b.leader_scope && a.leader_in_flight == b.leader_in_flight &&
-         a.inject_kth == b.inject_kth && a.shell_inner == b.shell_inner && a.shell_outer == b.shell_outer;
+         a.leader_scope == b.leader_scope && a.leader_in_flight == b.leader_in_flight && a.inject_kth == b.inject_kth &&
+         a.shell_inner == b.shell_inner && a.shell_outer == b.shell_outer;
 }
 
 }  // namespace

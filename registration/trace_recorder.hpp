@@ -27,8 +27,8 @@ class TraceRecorder {
   int tree_built(const PointCloud& points, const std::string& backend, int top_height, double build_seconds);
   // One search on tree `serial`, as issued (mode etc. in `shape`, whose counts/indices/seconds
   // are ignored), with the indices it returned into the tree's points.
-  void searched(int serial, const trace::Job& shape, const Point3& query, const std::uint32_t* indices,
-                std::size_t n, double seconds);
+  void searched(int serial, const trace::Job& shape, const Point3& query, const std::uint32_t* indices, std::size_t n,
+                double seconds);
 
   // Time spent recording (copying results, hashing clouds): the trace's stage and total
   // seconds leave it out, so a recorded registration is timed as one without recording.

@@ -45,9 +45,12 @@ Accuracy measure_accuracy(Mode mode, const Results& exact, const Results& approx
       std::sort(a_idx.begin(), a_idx.end());
       std::size_t common = 0;
       for (std::size_t i = 0, j = 0; i < e_idx.size() && j < a_idx.size();) {
-        if (e_idx[i] == a_idx[j]) ++common, ++i, ++j;
-        else if (e_idx[i] < a_idx[j]) ++i;
-        else ++j;
+        if (e_idx[i] == a_idx[j])
+          ++common, ++i, ++j;
+        else if (e_idx[i] < a_idx[j])
+          ++i;
+        else
+          ++j;
       }
       a.exact_matches += ne == na && common == ne;
       a.exact_hits += ne, a.returned_hits += na, a.true_hits += common;

@@ -14,10 +14,10 @@ struct Accuracy {
   Mode mode = Mode::NN;
   std::uint64_t queries = 0;
   // NN/kNN.
-  std::uint64_t exact_matches = 0;   // queries whose list equals the exact list (index and dist2)
-  std::uint64_t ranks = 0;           // neighbour ranks compared (both lists hold that rank)
-  std::uint64_t missing = 0;         // ranks the exact list holds and the approximate does not
-  double mean_extra_m = 0.0;         // mean over ranks of sqrt(dist2) - sqrt(exact dist2), metres
+  std::uint64_t exact_matches = 0;  // queries whose list equals the exact list (index and dist2)
+  std::uint64_t ranks = 0;          // neighbour ranks compared (both lists hold that rank)
+  std::uint64_t missing = 0;        // ranks the exact list holds and the approximate does not
+  double mean_extra_m = 0.0;        // mean over ranks of sqrt(dist2) - sqrt(exact dist2), metres
   double max_extra_m = 0.0;
   // Radius (pooled over all queries).
   std::uint64_t exact_hits = 0, returned_hits = 0, true_hits = 0;

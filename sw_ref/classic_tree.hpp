@@ -41,12 +41,12 @@ struct ClassicNode {
 };
 
 struct ClassicTree {
-  std::uint32_t leaf_max = 1;         // a node of at most leaf_max points is a leaf
-  std::vector<ClassicNode> nodes;     // node 0 is the root; preorder
-  std::vector<std::uint32_t> index;   // leaf positions -> input index (ascending inside a leaf)
-  std::vector<Point3> points;         // the points in leaf-position order
+  std::uint32_t leaf_max = 1;        // a node of at most leaf_max points is a leaf
+  std::vector<ClassicNode> nodes;    // node 0 is the root; preorder
+  std::vector<std::uint32_t> index;  // leaf positions -> input index (ascending inside a leaf)
+  std::vector<Point3> points;        // the points in leaf-position order
   std::uint32_t num_leaves = 0;
-  int depth = 0;                      // levels below the root of the deepest leaf
+  int depth = 0;  // levels below the root of the deepest leaf
 };
 
 // Builds the classic tree over `cloud` (validated; InputError for a bad cloud). leaf_max >= 1,
@@ -66,7 +66,7 @@ struct ClassicCounts {
 };
 
 struct ClassicOutput {
-  Results results;                       // canonical order, equal to brute_force()
+  Results results;  // canonical order, equal to brute_force()
   std::vector<ClassicCounts> per_query;
   std::uint64_t dist = 0, leaves = 0, box_tests = 0, backtracks = 0;  // sums over the queries
 };

@@ -11,8 +11,8 @@ void validate_cloud(const PointCloud& cloud, const std::string& label) {
     const Point3& p = cloud[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
       std::ostringstream msg;
-      msg << label << ": point " << i << " has a non-finite coordinate (" << p.x << ", " << p.y
-          << ", " << p.z << "); NaN/Inf points are rejected, filter them out first";
+      msg << label << ": point " << i << " has a non-finite coordinate (" << p.x << ", " << p.y << ", " << p.z
+          << "); NaN/Inf points are rejected, filter them out first";
       throw InputError(msg.str());
     }
     if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate || std::fabs(p.z) > kMaxCoordinate) {

@@ -12,9 +12,7 @@ SplitRule parse_split_rule(const std::string& name) {
   throw std::invalid_argument("unknown split axis rule '" + name + "' (use widest or round-robin)");
 }
 
-const char* to_string(SplitRule rule) {
-  return rule == SplitRule::WidestExtent ? "widest" : "round-robin";
-}
+const char* to_string(SplitRule rule) { return rule == SplitRule::WidestExtent ? "widest" : "round-robin"; }
 
 int full_height_for(std::size_t num_points) {
   int h = 0;
@@ -64,11 +62,10 @@ struct Builder {
     const std::size_t mid = lo + (hi - lo) / 2;
     // Order by (coordinate on axis, index): a strict total order, so the median and the two
     // halves (as sets) do not depend on how nth_element permutes them.
-    std::nth_element(perm.begin() + lo, perm.begin() + mid, perm.begin() + hi,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       const float ca = cloud[a][axis], cb = cloud[b][axis];
-                       return ca < cb || (ca == cb && a < b);
-                     });
+    std::nth_element(perm.begin() + lo, perm.begin() + mid, perm.begin() + hi, [&](std::uint32_t a, std::uint32_t b) {
+      const float ca = cloud[a][axis], cb = cloud[b][axis];
+      return ca < cb || (ca == cb && a < b);
+    });
     TopNode& n = tree.top[node];
     n.index = perm[mid];
     n.point = cloud[n.index];
@@ -86,9 +83,8 @@ KdTree build_kdtree(const PointCloud& cloud, int top_height, SplitRule split) {
   const int full = full_height_for(cloud.size());
   if (top_height < 0) top_height = full;
   if (top_height > full)
-    throw std::invalid_argument("top height " + std::to_string(top_height) +
-                                " exceeds the full height " + std::to_string(full) + " of a " +
-                                std::to_string(cloud.size()) + "-point tree");
+    throw std::invalid_argument("top height " + std::to_string(top_height) + " exceeds the full height " +
+                                std::to_string(full) + " of a " + std::to_string(cloud.size()) + "-point tree");
   KdTree tree;
   tree.top_height = top_height;
   tree.full_height = full;
@@ -97,8 +93,13 @@ KdTree build_kdtree(const PointCloud& cloud, int top_height, SplitRule split) {
   const std::size_t leaves = std::size_t{1} << top_height;
   tree.top.assign(leaves - 1, TopNode{});
 
-  Builder b{cloud, split, top_height, tree, std::vector<std::uint32_t>(cloud.size()),
-            std::vector<std::uint32_t>(leaves, 0), std::vector<std::uint32_t>(leaves, 0)};
+  Builder b{cloud,
+            split,
+            top_height,
+            tree,
+            std::vector<std::uint32_t>(cloud.size()),
+            std::vector<std::uint32_t>(leaves, 0),
+            std::vector<std::uint32_t>(leaves, 0)};
   std::iota(b.perm.begin(), b.perm.end(), 0u);
   b.build(0, 0, cloud.size(), 0);
 

@@ -44,9 +44,7 @@ struct KdTree {
 
   std::uint32_t num_leaves() const { return static_cast<std::uint32_t>(leaf_begin.size() - 1); }
   std::uint32_t first_leaf_node() const { return static_cast<std::uint32_t>(top.size()); }
-  std::uint32_t leaf_size(std::uint32_t leaf) const {
-    return leaf_begin[leaf + 1] - leaf_begin[leaf];
-  }
+  std::uint32_t leaf_size(std::uint32_t leaf) const { return leaf_begin[leaf + 1] - leaf_begin[leaf]; }
   bool is_canonical() const { return top_height == full_height; }
 };
 

@@ -43,8 +43,7 @@ std::optional<std::string> first_difference(const Results& expected, const Resul
       same = a.index == b.index && bits(a.dist2) == bits(b.dist2);
     }
     if (!same)
-      return "query " + std::to_string(q) + ": expected " + describe(expected, q) + ", got " +
-             describe(actual, q);
+      return "query " + std::to_string(q) + ": expected " + describe(expected, q) + ", got " + describe(actual, q);
   }
   return std::nullopt;
 }
@@ -55,8 +54,7 @@ void write_results_csv(std::ostream& out, const Results& results) {
   for (std::size_t q = 0; q < results.num_queries(); ++q) {
     for (std::size_t i = 0; i < results.count(q); ++i) {
       const Neighbor& n = results.begin(q)[i];
-      std::snprintf(line, sizeof line, "%zu,%zu,%" PRIu32 ",%.9g\n", q, i, n.index,
-                    static_cast<double>(n.dist2));
+      std::snprintf(line, sizeof line, "%zu,%zu,%" PRIu32 ",%.9g\n", q, i, n.index, static_cast<double>(n.dist2));
       out << line;
     }
   }

@@ -16,9 +16,7 @@ struct ScheduleEntry {
   std::uint32_t query = 0;
   std::uint32_t leaf = 0;
   Event event = Event::Visit;
-  bool operator==(const ScheduleEntry& o) const {
-    return query == o.query && leaf == o.leaf && event == o.event;
-  }
+  bool operator==(const ScheduleEntry& o) const { return query == o.query && leaf == o.leaf && event == o.event; }
 };
 using Schedule = std::vector<ScheduleEntry>;
 

@@ -29,9 +29,7 @@ LeaderScope parse_leader_scope(const std::string& name) {
   throw std::invalid_argument("unknown leader scope '" + name + "' (use first_leaf or every_leaf)");
 }
 
-const char* to_string(LeaderScope scope) {
-  return scope == LeaderScope::FirstLeaf ? "first_leaf" : "every_leaf";
-}
+const char* to_string(LeaderScope scope) { return scope == LeaderScope::FirstLeaf ? "first_leaf" : "every_leaf"; }
 
 LeaderInFlight parse_leader_in_flight(const std::string& name) {
   if (name == "wait") return LeaderInFlight::Wait;
@@ -39,13 +37,9 @@ LeaderInFlight parse_leader_in_flight(const std::string& name) {
   throw std::invalid_argument("unknown leader in-flight policy '" + name + "' (use wait or finished_only)");
 }
 
-const char* to_string(LeaderInFlight policy) {
-  return policy == LeaderInFlight::Wait ? "wait" : "finished_only";
-}
+const char* to_string(LeaderInFlight policy) { return policy == LeaderInFlight::Wait ? "wait" : "finished_only"; }
 
-float default_approx_thd(const SearchParams& p) {
-  return p.mode == Mode::Radius ? 0.4f * p.radius : 1.2f;
-}
+float default_approx_thd(const SearchParams& p) { return p.mode == Mode::Radius ? 0.4f * p.radius : 1.2f; }
 
 void validate(const SearchParams& p) {
   if (p.mode == Mode::KNN && p.k < 1) throw std::invalid_argument("k must be >= 1, got " + std::to_string(p.k));
@@ -60,8 +54,9 @@ void validate(const SearchParams& p) {
     if (p.leader_capacity < 0) throw std::invalid_argument("leader capacity must be >= 0");
     if (p.leader_width < 0) throw std::invalid_argument("leader result width must be >= 0");
     if (p.leader_width != 0 && p.leader_scope == LeaderScope::FirstLeaf)
-      throw std::invalid_argument("a leader result width applies to leader scope every_leaf (first_leaf leaders keep "
-                                  "their final results)");
+      throw std::invalid_argument(
+          "a leader result width applies to leader scope every_leaf (first_leaf leaders keep "
+          "their final results)");
   }
 }
 
@@ -153,8 +148,8 @@ struct Walker {
   int sp = 0;
   QueryVisits* visits;
   Collector result;
-  std::uint32_t first_leaf = kDone;  // first_leaf scope: the leaf of its Leader Check
-  bool leader = false;               // first_leaf, finished_only: no leader followed: joins when done
+  std::uint32_t first_leaf = kDone;    // first_leaf scope: the leaf of its Leader Check
+  bool leader = false;                 // first_leaf, finished_only: no leader followed: joins when done
   std::uint32_t leader_index = kDone;  // first_leaf, wait: its entry among the leaf's leaders
 };
 
@@ -162,16 +157,14 @@ template <class Collector>
 class Engine {
  public:
   Engine(const KdTree& tree, const SearchParams& params, SearchOutput& out)
-      : t_(tree), p_(params), out_(out), first_leaf_(tree.first_leaf_node()),
-        thd2_(square(params.approx_thd)),
+      : t_(tree), p_(params), out_(out), first_leaf_(tree.first_leaf_node()), thd2_(square(params.approx_thd)),
         first_leaf_scope_(params.approximate && params.leader_scope == LeaderScope::FirstLeaf),
         wait_(params.leader_in_flight == LeaderInFlight::Wait) {
     // nonempty_[node] for every heap node down to the leaves: empty ones are never pushed.
     const std::size_t nodes = t_.top.size() + t_.num_leaves();
     nonempty_.resize(nodes);
     for (std::size_t n = 0; n < t_.top.size(); ++n) nonempty_[n] = !t_.top[n].empty();
-    for (std::uint32_t j = 0; j < t_.num_leaves(); ++j)
-      nonempty_[first_leaf_ + j] = t_.leaf_size(j) > 0;
+    for (std::uint32_t j = 0; j < t_.num_leaves(); ++j) nonempty_[first_leaf_ + j] = t_.leaf_size(j) > 0;
     if (p_.approximate) leaders_.resize(t_.num_leaves());
     if (first_leaf_scope_) {  // a leader's final results as positions in the leaf arrays
       std::uint32_t points = 0;
@@ -354,8 +347,7 @@ class Engine {
     return list;
   }
 
-  void record(std::uint32_t query, std::uint32_t leaf,
-              ScheduleEntry::Event event = ScheduleEntry::Event::Visit) {
+  void record(std::uint32_t query, std::uint32_t leaf, ScheduleEntry::Event event = ScheduleEntry::Event::Visit) {
     if (p_.record_schedule) out_.schedule.push_back({query, leaf, event});
   }
 
@@ -367,7 +359,8 @@ class Engine {
   float thd2_;
   bool first_leaf_scope_, wait_;
   static std::uint64_t key(std::uint32_t leaf, std::uint32_t leader) { return std::uint64_t{leaf} << 32 | leader; }
-  std::unordered_multimap<std::uint64_t, Walker<Collector>*> waiting_;  // followers of leaders still searching (replays)
+  std::unordered_multimap<std::uint64_t, Walker<Collector>*>
+      waiting_;  // followers of leaders still searching (replays)
   std::vector<std::uint8_t> nonempty_;
   std::vector<std::vector<Leader>> leaders_;
   std::vector<std::uint32_t> leaf_position_;  // first_leaf: point index -> leaf-array position
@@ -375,8 +368,8 @@ class Engine {
 };
 
 template <class Collector>
-void run_in_order(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
-                  SearchOutput& out, const Progress& progress) {
+void run_in_order(const KdTree& tree, const PointCloud& queries, const SearchParams& p, SearchOutput& out,
+                  const Progress& progress) {
   Engine<Collector> engine(tree, p, out);
   std::vector<StackEntry> stack(engine.stack_capacity());
   Walker<Collector> w{{}, stack.data(), 0, nullptr, Collector(p)};  // emit() resets the result
@@ -396,8 +389,8 @@ void run_in_order(const KdTree& tree, const PointCloud& queries, const SearchPar
 }
 
 template <class Collector>
-void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
-                const Schedule& schedule, SearchOutput& out, const Progress& progress) {
+void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParams& p, const Schedule& schedule,
+                SearchOutput& out, const Progress& progress) {
   Engine<Collector> engine(tree, p, out);
   const std::size_t cap = engine.stack_capacity();
   std::vector<StackEntry> stacks(queries.size() * cap);
@@ -420,8 +413,9 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
     if (e.event == ScheduleEntry::Event::Finish) {
       Walker<Collector>& w = walkers[e.query];
       if (!engine.first_leaf_scope() || engine.waits())
-        throw ScheduleError(row() + "a leader's finish row belongs to approximate search with leader scope first_leaf and "
-                                    "in-flight policy finished_only");
+        throw ScheduleError(row() +
+                            "a leader's finish row belongs to approximate search with leader scope first_leaf and "
+                            "in-flight policy finished_only");
       if (pending[e.query] != kDone)
         throw ScheduleError(row() + "the query finishes, but its next leaf visit is leaf " +
                             std::to_string(pending[e.query]));
@@ -433,11 +427,9 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
         throw ScheduleError(row() + "the leader found no leaf-set point, so it has no record to join with");
       continue;
     }
-    if (pending[e.query] == kDone)
-      throw ScheduleError(row() + "the query has already finished its search");
+    if (pending[e.query] == kDone) throw ScheduleError(row() + "the query has already finished its search");
     if (pending[e.query] != e.leaf)
-      throw ScheduleError(row() + "the query's next leaf visit is leaf " +
-                          std::to_string(pending[e.query]));
+      throw ScheduleError(row() + "the query's next leaf visit is leaf " + std::to_string(pending[e.query]));
     engine.visit_leaf(walkers[e.query], e.leaf);
     pending[e.query] = engine.advance(walkers[e.query]);
     if (pending[e.query] == kDone) engine.finish_wait(walkers[e.query]);
@@ -445,15 +437,15 @@ void run_replay(const KdTree& tree, const PointCloud& queries, const SearchParam
   }
   for (std::uint32_t q = 0; q < queries.size(); ++q)
     if (pending[q] != kDone)
-      throw ScheduleError("the schedule ends but query " + std::to_string(q) +
-                          " still has to visit leaf " + std::to_string(pending[q]));
+      throw ScheduleError("the schedule ends but query " + std::to_string(q) + " still has to visit leaf " +
+                          std::to_string(pending[q]));
   for (auto& w : walkers) w.result.emit(out.results);
   out.schedule = schedule;
 }
 
 template <class Collector>
-void run(const KdTree& tree, const PointCloud& queries, const SearchParams& p,
-         const Schedule* replay, SearchOutput& out, const Progress& progress) {
+void run(const KdTree& tree, const PointCloud& queries, const SearchParams& p, const Schedule* replay,
+         SearchOutput& out, const Progress& progress) {
   if (replay)
     run_replay<Collector>(tree, queries, p, *replay, out, progress);
   else
@@ -481,8 +473,8 @@ struct SearcherImpl final : Searcher::Impl {
   Results one;
 
   SearcherImpl(const KdTree& tree, const SearchParams& p)
-      : params(p), engine(tree, params, totals), stack(engine.stack_capacity()),
-        walker{{}, stack.data(), 0, &last, Collector(params)} {}
+      : params(p), engine(tree, params, totals),
+        stack(engine.stack_capacity()), walker{{}, stack.data(), 0, &last, Collector(params)} {}
 
   void search(const Point3& q, std::vector<Neighbor>& out) override {
     walker.q = q;
@@ -518,8 +510,8 @@ const LeaderTotals& Searcher::leaders() const { return impl_->totals.leaders; }
 const QueryVisits& Searcher::last_visits() const { return impl_->last; }
 std::uint64_t Searcher::queries() const { return impl_->queries; }
 
-SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
-                    const Schedule* replay, const Progress& progress) {
+SearchOutput search(const KdTree& tree, const PointCloud& queries, const SearchParams& params, const Schedule* replay,
+                    const Progress& progress) {
   validate(params);
   validate_cloud(queries, "queries");
   if (queries.size() >= kNoPoint) throw std::invalid_argument("too many queries");

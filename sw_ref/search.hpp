@@ -24,16 +24,16 @@ const char* to_string(Mode mode);
 
 struct SearchParams {
   Mode mode = Mode::NN;
-  int k = 1;                   // neighbours for kNN (NN: 1)
-  float radius = 0.0f;         // metres, radius mode
-  std::uint32_t max_nn = 0;    // radius: keep only the first max_nn (0: all); no effect on visits
-  bool approximate = false;    // leader/follower search (Algorithm 1)
-  float approx_thd = 0.0f;     // metres: a query within thd of a leader follows it
+  int k = 1;                 // neighbours for kNN (NN: 1)
+  float radius = 0.0f;       // metres, radius mode
+  std::uint32_t max_nn = 0;  // radius: keep only the first max_nn (0: all); no effect on visits
+  bool approximate = false;  // leader/follower search (Algorithm 1)
+  float approx_thd = 0.0f;   // metres: a query within thd of a leader follows it
   LeaderScope leader_scope = LeaderScope::FirstLeaf;
   LeaderInFlight leader_in_flight = LeaderInFlight::Wait;  // first_leaf only
-  int leader_capacity = 16;    // leaders kept per leaf
-  int leader_width = 0;        // every_leaf: R, a leader's local result list for NN/kNN (0: k)
-  bool record_schedule = true; // keep the (query, leaf) visit decisions
+  int leader_capacity = 16;                                // leaders kept per leaf
+  int leader_width = 0;         // every_leaf: R, a leader's local result list for NN/kNN (0: k)
+  bool record_schedule = true;  // keep the (query, leaf) visit decisions
 
   int effective_k() const { return mode == Mode::NN ? 1 : k; }
   int effective_leader_width() const { return leader_width > 0 ? leader_width : effective_k(); }
@@ -56,8 +56,7 @@ struct QueryVisits {
 };
 
 struct VisitTotals {
-  std::uint64_t top = 0, pruned = 0, leaf_points = 0, follower_points = 0, leader_checks = 0,
-                leaf_visits = 0;
+  std::uint64_t top = 0, pruned = 0, leaf_points = 0, follower_points = 0, leader_checks = 0, leaf_visits = 0;
   void add(const QueryVisits& v);
 };
 
@@ -104,7 +103,7 @@ class Searcher {
   Searcher& operator=(const Searcher&) = delete;
   // Searches `q` (finite); `out` receives its neighbours in canonical order.
   void search(const Point3& q, std::vector<Neighbor>& out);
-  const VisitTotals& visits() const;    // summed over every call
+  const VisitTotals& visits() const;       // summed over every call
   const QueryVisits& last_visits() const;  // of the last call
   const LeaderTotals& leaders() const;
   std::uint64_t queries() const;

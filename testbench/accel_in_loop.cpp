@@ -27,7 +27,9 @@ void put(Bytes& out, const void* p, std::size_t n) {
   out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
 }
 template <class T>
-void put_value(Bytes& out, const T& v) { put(out, &v, sizeof v); }
+void put_value(Bytes& out, const T& v) {
+  put(out, &v, sizeof v);
+}
 template <class T>
 void put_vector(Bytes& out, const std::vector<T>& v) {
   put_value<std::uint64_t>(out, v.size());
@@ -158,9 +160,9 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
       ::close(job_fds[0]);
       const int code = wait_child(pid);
       if (!got || code != 0)
-        answer = error_answer(2, "the job's process ended without an answer (" +
-                                     (code > 128 ? "signal " + std::to_string(code - 128)
-                                                 : "exit code " + std::to_string(code)) + ")");
+        answer = error_answer(
+            2, "the job's process ended without an answer (" +
+                   (code > 128 ? "signal " + std::to_string(code - 128) : "exit code " + std::to_string(code)) + ")");
     } catch (const std::exception& e) {
       answer = error_answer(2, e.what());
     }

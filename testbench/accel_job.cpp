@@ -6,12 +6,12 @@
 #include <thread>
 
 #include "config.hpp"
-#include "report.hpp"
-#include "scoreboard.hpp"
-#include "simulation.hpp"
 #include "core/timer.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
+#include "report.hpp"
+#include "scoreboard.hpp"
+#include "simulation.hpp"
 #include "tlm/tree_image.hpp"
 
 namespace tigris {
@@ -90,8 +90,9 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   const PointCloud& queries = *mj.queries;
   const SearchParams& params = mj.params;
   cfg.tree.top_height = std::min(mj.top_height, full_height_for(mj.points->size()));
-  if (params.approximate) cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
-                                cfg.leader.in_flight = params.leader_in_flight;
+  if (params.approximate)
+    cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
+    cfg.leader.in_flight = params.leader_in_flight;
   validate_config(cfg);
   const PreparedJob p = prepare_job(*mj.points, queries, params, cfg, limits, "does not fit the accelerator: ");
   phases["prepare"] = since(t_phase);
@@ -126,8 +127,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   run.visits = sim.visits.visits;
   r["cycles"] = sim.cycles;
   r["top_height"] = p.tree.top_height;
-  r["modeled_seconds"] = {{"search", run.search_seconds}, {"host", run.host_seconds},
-                          {"total", run.search_seconds + run.host_seconds}};
+  r["modeled_seconds"] = {
+      {"search", run.search_seconds}, {"host", run.host_seconds}, {"total", run.search_seconds + run.host_seconds}};
   r["host_bytes"] = {{"tree", tree_bytes}, {"queries", query_bytes}, {"results", result_bytes}};
   r["energy_pj"] = run.energy_pj;
   r["neighbors"] = sim.results.neighbors.size();

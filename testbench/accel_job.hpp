@@ -68,17 +68,17 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
 // A job of a registration (replayed or in the loop), with the host link's cost.
 
 struct ModelJob {
-  const PointCloud* points = nullptr;   // the tree's points
+  const PointCloud* points = nullptr;  // the tree's points
   const PointCloud* queries = nullptr;
   SearchParams params;
-  int top_height = 10;     // clamped to the cloud's full height
-  bool send_tree = true;   // the host writes the tree image first
+  int top_height = 10;    // clamped to the cloud's full height
+  bool send_tree = true;  // the host writes the tree image first
 };
 
 struct ModelJobRun {
-  bool match = false;      // every query bit-exact (false: see report["mismatches"] or ["deadlock"])
-  Results results;         // the accelerator's
-  VisitTotals visits;      // the accelerator's
+  bool match = false;  // every query bit-exact (false: see report["mismatches"] or ["deadlock"])
+  Results results;     // the accelerator's
+  VisitTotals visits;  // the accelerator's
   std::uint64_t cycles = 0;
   double search_seconds = 0.0, host_seconds = 0.0, energy_pj = 0.0;
   // verdict, mismatches, cycles, top_height, modeled_seconds {search, host, total}, host_bytes,
@@ -92,7 +92,6 @@ double link_seconds(const hw::AcceleratorConfig& cfg, double bytes);
 // Runs `job` on an accelerator configured by `cfg` (its tree height and, for approximate
 // search, its leader capacity are the job's). Throws std::invalid_argument when the job does
 // not fit the accelerator or exceeds `limits`.
-ModelJobRun run_model_job(const ModelJob& job, hw::AcceleratorConfig cfg, const WorkLimits& limits,
-                          int sim_threads);
+ModelJobRun run_model_job(const ModelJob& job, hw::AcceleratorConfig cfg, const WorkLimits& limits, int sim_threads);
 
 }  // namespace tigris

@@ -21,7 +21,7 @@ constexpr const char* kPartOfBusy = "pi_rs_dependency";
 bool waits_on_another_block(const std::string& cause) { return cause == "bqb_full" || cause == "result_writeback"; }
 
 struct Kind {
-  std::string name, label;                          // "recursion_units", "RUs"
+  std::string name, label;                            // "recursion_units", "RUs"
   std::vector<std::pair<std::string, double>> parts;  // busy first, then its own stalls by share
   std::vector<std::pair<std::string, double>> waits;  // stalls on another block, by share
   double occupancy = 0.0;                             // busy + own stalls
@@ -158,7 +158,8 @@ std::string describe_hot_spot(const json& h) {
   bool first = true;
   for (const json& x : h["hottest_banks"]) {
     std::snprintf(b, sizeof b, "%sbank %llu %s", first ? "" : ", ",
-                  static_cast<unsigned long long>(x["bank"].get<std::uint64_t>()), percent(x["share"].get<double>()).c_str());
+                  static_cast<unsigned long long>(x["bank"].get<std::uint64_t>()),
+                  percent(x["share"].get<double>()).c_str());
     s += b;
     const std::string holds = x.value("holds", "");
     if (!holds.empty()) s += " (" + holds + ")";
@@ -194,12 +195,13 @@ json bottleneck_json(const json& stats) {
     bound = top == &ru ? "front-end" : "back-end";
   }
   const Kind& other = top == &ru ? su : ru;
-  const auto& cause = bound == "result write-back" ? std::make_pair(std::string("result_writeback stall"), writeback(*top))
-                                                    : largest(*top);
+  const auto& cause = bound == "result write-back"
+                          ? std::make_pair(std::string("result_writeback stall"), writeback(*top))
+                          : largest(*top);
   const auto& other_cause = largest(other);
   const double lower = number(stats, "lower_bound_cycles");
 
-  std::string summary = bound == "front-end" ? "front-end (RU) bound"
+  std::string summary = bound == "front-end"  ? "front-end (RU) bound"
                         : bound == "back-end" ? "back-end (SU) bound"
                                               : "result write-back (DRAM) bound";
   summary += ": " + describe(*top) + "; " + describe(other);
@@ -218,7 +220,9 @@ json bottleneck_json(const json& stats) {
             {"cause", cause.first},
             {"share", cause.second},
             {"runner_up",
-             {{"unit", other.name}, {"occupancy", other.occupancy}, {"cause", other_cause.first},
+             {{"unit", other.name},
+              {"occupancy", other.occupancy},
+              {"cause", other_cause.first},
               {"share", other_cause.second}}}};
   if (lower > 0) {
     j["cycles_over_lower_bound"] = cycles / lower;

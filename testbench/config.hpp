@@ -26,16 +26,14 @@ namespace tigris {
 // cross-field rules: call validate_config once everything is applied). `source` names the input
 // in error messages, e.g. "my.json: unknown key 'fe.recursion_unit' (did you mean
 // 'fe.recursion_units'?)".
-void apply_config_json(hw::AcceleratorConfig& cfg, const nlohmann::json& j,
-                       const std::string& source);
+void apply_config_json(hw::AcceleratorConfig& cfg, const nlohmann::json& j, const std::string& source);
 
 // Reads and applies a configuration file; a missing file or a JSON syntax error (with its line
 // and column) is a std::invalid_argument naming the file.
 void apply_config_file(hw::AcceleratorConfig& cfg, const std::string& path);
 
 // The same for the file's text; `source` names it in messages (the fuzz target uses it).
-void apply_config_text(hw::AcceleratorConfig& cfg, const std::string& text,
-                       const std::string& source);
+void apply_config_text(hw::AcceleratorConfig& cfg, const std::string& text, const std::string& source);
 
 // Applies one `--set key=value`; the value is parsed per the key's type (bools: true/false/1/0/
 // on/off; tree.top_height: a number or "full"). Errors name the --set text.

@@ -36,7 +36,9 @@ ordered_json to_json(const Spread& s) {
 
 namespace {
 // A ratio without a figure (null) when a denominator is not positive.
-ordered_json ratio(double a, double b) { return b > 0.0 && std::isfinite(a / b) ? ordered_json(a / b) : ordered_json(); }
+ordered_json ratio(double a, double b) {
+  return b > 0.0 && std::isfinite(a / b) ? ordered_json(a / b) : ordered_json();
+}
 }  // namespace
 
 ordered_json ratio_range(const Spread& base, const Spread& x) {
@@ -44,9 +46,7 @@ ordered_json ratio_range(const Spread& base, const Spread& x) {
 }
 
 ordered_json reduction_range_percent(const Spread& base, const Spread& x) {
-  const auto red = [](double b, double v) {
-    return b > 0.0 ? ordered_json(100.0 * (1.0 - v / b)) : ordered_json();
-  };
+  const auto red = [](double b, double v) { return b > 0.0 ? ordered_json(100.0 * (1.0 - v / b)) : ordered_json(); };
   return {{"median", red(base.median, x.median)}, {"min", red(base.min, x.max)}, {"max", red(base.max, x.min)}};
 }
 
@@ -114,8 +114,12 @@ Machine machine_before() {
 void machine_after(Machine& m) { m.load_after = load_average(); }
 
 ordered_json to_json(const Machine& m) {
-  return {{"cpu_model", m.cpu_model}, {"cores", m.cores}, {"host", m.host}, {"commit", m.commit},
-          {"load_average_before", loads(m.load_before)}, {"load_average_after", loads(m.load_after)}};
+  return {{"cpu_model", m.cpu_model},
+          {"cores", m.cores},
+          {"host", m.host},
+          {"commit", m.commit},
+          {"load_average_before", loads(m.load_before)},
+          {"load_average_after", loads(m.load_after)}};
 }
 
 std::string machine_line(const Machine& m) {
@@ -130,8 +134,10 @@ std::vector<std::string> baseline_warnings(const Machine& m, const std::vector<s
   // Our own runs count in the load after them, so only the load before says the machine was busy.
   if (std::isfinite(m.load_before[0]) && m.load_before[0] >= 0.5 * m.cores) {
     char b[200];
-    std::snprintf(b, sizeof b, "the machine was busy before the runs (1-minute load %.2f on %u cores): the CPU "
-                  "timings include other work", m.load_before[0], m.cores);
+    std::snprintf(b, sizeof b,
+                  "the machine was busy before the runs (1-minute load %.2f on %u cores): the CPU "
+                  "timings include other work",
+                  m.load_before[0], m.cores);
     w.push_back(b);
   }
   for (const auto& [name, s] : timed) {
@@ -139,8 +145,10 @@ std::vector<std::string> baseline_warnings(const Machine& m, const std::vector<s
       w.push_back(name + " was timed once: no spread (use --repeat 3 or more for a figure to quote)");
     } else if (s.max - s.min > 0.25 * s.median) {
       char b[200];
-      std::snprintf(b, sizeof b, " varied by %.0f%% of its median between runs: the machine may have been busy; "
-                    "rerun on an idle machine or with a larger --repeat", 100.0 * (s.max - s.min) / s.median);
+      std::snprintf(b, sizeof b,
+                    " varied by %.0f%% of its median between runs: the machine may have been busy; "
+                    "rerun on an idle machine or with a larger --repeat",
+                    100.0 * (s.max - s.min) / s.median);
       w.push_back(name + b);
     }
   }

@@ -38,8 +38,8 @@ struct Machine {
   unsigned cores = 0;
   std::array<double, 3> load_before{}, load_after{};  // /proc/loadavg: 1, 5, 15 minutes
 };
-Machine machine_before();          // everything but load_after
-void machine_after(Machine& m);    // load_after, when the timed runs are over
+Machine machine_before();        // everything but load_after
+void machine_after(Machine& m);  // load_after, when the timed runs are over
 nlohmann::ordered_json to_json(const Machine& m);
 std::string machine_line(const Machine& m);  // one line for the table's footer
 

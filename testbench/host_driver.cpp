@@ -24,15 +24,15 @@ HostJob host_job(const SearchParams& p) {
   return j;
 }
 
-HostDriver::HostDriver(sc_core::sc_module_name name, const TreeImage& image,
-                       const PointCloud& queries, std::uint32_t num_points, const HostJob& job)
-    : sc_module(name), socket("socket"), irq("irq"), image_(image), queries_(queries),
-      num_points_(num_points), job_(job) {
+HostDriver::HostDriver(sc_core::sc_module_name name, const TreeImage& image, const PointCloud& queries,
+                       std::uint32_t num_points, const HostJob& job)
+    : sc_module(name), socket("socket"), irq("irq"), image_(image), queries_(queries), num_points_(num_points),
+      job_(job) {
   SC_THREAD(run);
 }
 
-void HostDriver::transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data,
-                           std::size_t len, const char* what) {
+void HostDriver::transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data, std::size_t len,
+                           const char* what) {
   tlm::tlm_generic_payload t;
   sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
   t.set_command(cmd);
@@ -41,8 +41,7 @@ void HostDriver::transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned ch
   t.set_data_length(static_cast<unsigned int>(len));
   t.set_streaming_width(static_cast<unsigned int>(len));
   socket->b_transport(t, delay);
-  if (t.is_response_error())
-    throw std::runtime_error(std::string(what) + " failed: " + t.get_response_string());
+  if (t.is_response_error()) throw std::runtime_error(std::string(what) + " failed: " + t.get_response_string());
   wait(delay);  // loosely timed: the host syncs after each transaction
 }
 
@@ -61,9 +60,7 @@ void HostDriver::read(std::uint64_t addr, void* data, std::size_t len) {
     transport(tlm::TLM_READ_COMMAND, addr + done, bytes + done, std::min(kChunk, len - done), "host read");
 }
 
-void HostDriver::write_csr(std::uint32_t offset, std::uint32_t value) {
-  write(kCsrBase + offset, &value, 4, "a CSR");
-}
+void HostDriver::write_csr(std::uint32_t offset, std::uint32_t value) { write(kCsrBase + offset, &value, 4, "a CSR"); }
 
 std::uint32_t HostDriver::read_csr(std::uint32_t offset) {
   std::uint32_t v = 0;
@@ -125,8 +122,7 @@ void HostDriver::run_once() {
 void HostDriver::collect(std::uint64_t bytes) {
   // Records arrive in completion order. Two passes over the DRAM window, a chunk at a time (the
   // stream can be gigabytes for wide radius searches): count per query, then place.
-  if (bytes % sizeof(ResultRecord) != 0)
-    throw std::runtime_error("result stream is not a whole number of records");
+  if (bytes % sizeof(ResultRecord) != 0) throw std::runtime_error("result stream is not a whole number of records");
   const std::size_t nq = queries_.size();
   std::vector<ResultRecord> chunk(1 << 16);
   auto for_each_record = [&](auto&& visit) {

@@ -8,9 +8,9 @@
 #include <string>
 #include <utility>
 
+#include <tlm_utils/simple_initiator_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_initiator_socket.h>
 
 #include "sw_ref/cloud.hpp"
 #include "sw_ref/results.hpp"
@@ -23,13 +23,13 @@ struct HostJob {
   tlm_if::SearchMode mode = tlm_if::SearchMode::NN;
   std::uint32_t k = 1;
   float radius = 0.0f;
-  std::uint32_t max_nn = 0;  // radius: the host keeps the first max_nn of each query's hits
-  bool approximate = false;  // leader/follower search (docs/model.md)
-  bool first_leaf = true;    // ... with the leader check at a query's first leaf (else every leaf)
-  bool wait_for_leaders = true;  // first_leaf: in-flight leaders count, followers wait (else finished only)
-  float approx_thd = 0.0f;   // metres
+  std::uint32_t max_nn = 0;        // radius: the host keeps the first max_nn of each query's hits
+  bool approximate = false;        // leader/follower search (docs/model.md)
+  bool first_leaf = true;          // ... with the leader check at a query's first leaf (else every leaf)
+  bool wait_for_leaders = true;    // first_leaf: in-flight leaders count, followers wait (else finished only)
+  float approx_thd = 0.0f;         // metres
   std::uint32_t leader_width = 1;  // R for NN/kNN
-  int runs = 1;              // the job is loaded and run this many times on one accelerator
+  int runs = 1;                    // the job is loaded and run this many times on one accelerator
 };
 
 // The job a golden-model search asks for (the testbench's translation into CSR terms).
@@ -42,8 +42,8 @@ class HostDriver : public sc_core::sc_module {
   tlm_utils::simple_initiator_socket<HostDriver> socket;
   sc_core::sc_in<bool> irq;
 
-  HostDriver(sc_core::sc_module_name name, const tlm_if::TreeImage& image,
-             const PointCloud& queries, std::uint32_t num_points, const HostJob& job);
+  HostDriver(sc_core::sc_module_name name, const tlm_if::TreeImage& image, const PointCloud& queries,
+             std::uint32_t num_points, const HostJob& job);
 
   // Called after each run of the job, once its results are read (before the next run starts).
   void on_run_done(std::function<void(int run)> f) { on_run_done_ = std::move(f); }
@@ -59,8 +59,7 @@ class HostDriver : public sc_core::sc_module {
   void write(std::uint64_t addr, const void* data, std::size_t len, const char* what);
   void read(std::uint64_t addr, void* data, std::size_t len);
   // One bus transaction; throws with `what` on an error response.
-  void transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data, std::size_t len,
-                 const char* what);
+  void transport(tlm::tlm_command cmd, std::uint64_t addr, unsigned char* data, std::size_t len, const char* what);
   void write_csr(std::uint32_t offset, std::uint32_t value);
   std::uint32_t read_csr(std::uint32_t offset);
   void collect(std::uint64_t bytes);

@@ -36,17 +36,16 @@ nlohmann::json visits_json(const SearchOutput& out) {
                       {"follower_points", t.follower_points},
                       {"leader_checks", t.leader_checks},
                       {"leaf_visits", t.leaf_visits}};
-  j["per_query"] = {
-      {"top", per_query(out, [](const QueryVisits& q) { return q.top; })},
-      {"pruned", per_query(out, [](const QueryVisits& q) { return q.pruned; })},
-      {"leaf_points", per_query(out, [](const QueryVisits& q) { return q.leaf_points; })},
-      {"follower_points", per_query(out, [](const QueryVisits& q) { return q.follower_points; })},
-      {"leader_checks", per_query(out, [](const QueryVisits& q) { return q.leader_checks; })},
-      {"leaf_visits", per_query(out, [](const QueryVisits& q) { return q.leaf_visits; })},
-      // Distance computations of any kind: what a search unit or recursion unit pays for.
-      {"nodes", per_query(out, [](const QueryVisits& q) {
-         return std::uint64_t{q.top} + q.leaf_points + q.follower_points + q.leader_checks;
-       })}};
+  j["per_query"] = {{"top", per_query(out, [](const QueryVisits& q) { return q.top; })},
+                    {"pruned", per_query(out, [](const QueryVisits& q) { return q.pruned; })},
+                    {"leaf_points", per_query(out, [](const QueryVisits& q) { return q.leaf_points; })},
+                    {"follower_points", per_query(out, [](const QueryVisits& q) { return q.follower_points; })},
+                    {"leader_checks", per_query(out, [](const QueryVisits& q) { return q.leader_checks; })},
+                    {"leaf_visits", per_query(out, [](const QueryVisits& q) { return q.leaf_visits; })},
+                    // Distance computations of any kind: what a search unit or recursion unit pays for.
+                    {"nodes", per_query(out, [](const QueryVisits& q) {
+                       return std::uint64_t{q.top} + q.leaf_points + q.follower_points + q.leader_checks;
+                     })}};
   return j;
 }
 
@@ -57,9 +56,8 @@ nlohmann::json leaders_json(const SearchOutput& out) {
 }
 
 nlohmann::json accuracy_json(const Accuracy& a) {
-  nlohmann::json j = {{"queries", a.queries},
-                      {"exact_matches", a.exact_matches},
-                      {"exact_match_fraction", a.exact_match_fraction()}};
+  nlohmann::json j = {
+      {"queries", a.queries}, {"exact_matches", a.exact_matches}, {"exact_match_fraction", a.exact_match_fraction()}};
   if (a.mode != Mode::Radius) {
     j["mean_extra_distance_m"] = a.mean_extra_m;
     j["max_extra_distance_m"] = a.max_extra_m;

@@ -112,7 +112,8 @@ std::string inputs_summary(const nlohmann::json& inputs) {
     if (in.contains("builtin"))
       std::snprintf(line, sizeof line, "  %-7s %s, built in\n", role.c_str(), in["builtin"].get<std::string>().c_str());
     else if (in.contains("same_as"))
-      std::snprintf(line, sizeof line, "  %-7s the %s itself\n", role.c_str(), in["same_as"].get<std::string>().c_str());
+      std::snprintf(line, sizeof line, "  %-7s the %s itself\n", role.c_str(),
+                    in["same_as"].get<std::string>().c_str());
     else
       std::snprintf(line, sizeof line, "  %-7s %s (%.4g MB, sha256 %.12s)\n", role.c_str(),
                     in["path"].get<std::string>().c_str(), in["bytes"].get<double>() * 1e-6,

@@ -48,25 +48,24 @@ namespace {
 
 bool same_visits(const QueryVisits& a, const QueryVisits& b) {
   return a.top == b.top && a.pruned == b.pruned && a.leaf_points == b.leaf_points &&
-         a.follower_points == b.follower_points && a.leader_checks == b.leader_checks &&
-         a.leaf_visits == b.leaf_visits;
+         a.follower_points == b.follower_points && a.leader_checks == b.leader_checks && a.leaf_visits == b.leaf_visits;
 }
 
 std::string counts(const QueryVisits& v) {
   std::ostringstream s;
-  s << v.top << "/" << v.pruned << "/" << v.leaf_points << "/" << v.follower_points << "/"
-    << v.leader_checks << "/" << v.leaf_visits;
+  s << v.top << "/" << v.pruned << "/" << v.leaf_points << "/" << v.follower_points << "/" << v.leader_checks << "/"
+    << v.leaf_visits;
   return s.str();
 }
 
-std::string describe(std::size_t q, const std::optional<std::string>& diff, const QueryVisits& g,
-                     const QueryVisits& h, bool visits_ok) {
+std::string describe(std::size_t q, const std::optional<std::string>& diff, const QueryVisits& g, const QueryVisits& h,
+                     bool visits_ok) {
   std::ostringstream s;
   s << "query " << q << ":";
   if (diff) s << " results differ (golden vs accelerator: " << diff->substr(diff->find(':') + 2) << ")";
   if (!visits_ok)
-    s << " visits differ (top/pruned/leaf points/follower points/leader checks/leaf visits: golden "
-      << counts(g) << ", accelerator " << counts(h) << ")";
+    s << " visits differ (top/pruned/leaf points/follower points/leader checks/leaf visits: golden " << counts(g)
+      << ", accelerator " << counts(h) << ")";
   return s.str();
 }
 
@@ -85,8 +84,8 @@ std::string totals(const LeaderTotals& t) {
 }  // namespace
 
 Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
-                             const SearchOutput& golden, const Results& hw_results,
-                             const SearchOutput& hw_visits, std::size_t report_at_most) {
+                             const SearchOutput& golden, const Results& hw_results, const SearchOutput& hw_visits,
+                             std::size_t report_at_most) {
   Verdict v;
   const std::size_t nq = queries.size();
   if (hw_results.num_queries() != nq || hw_visits.per_query.size() != nq) {
@@ -129,8 +128,8 @@ Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, cons
   const LeaderTotals& g = ref.leaders;
   const LeaderTotals& h = hw_visits.leaders;
   if (g.leaders != h.leaders || g.followers != h.followers || g.leader_buffer_full != h.leader_buffer_full)
-    v.first.push_back("leaders/followers/leader-buffer-full differ: golden " + totals(g) +
-                      ", accelerator " + totals(h));
+    v.first.push_back("leaders/followers/leader-buffer-full differ: golden " + totals(g) + ", accelerator " +
+                      totals(h));
   v.match = v.result_mismatches == 0 && v.visit_mismatches == 0 && v.first.empty();
   return v;
 }

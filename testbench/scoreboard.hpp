@@ -48,7 +48,7 @@ struct Verdict {
 // search of `queries` in `tree` with `params`), then replays the recorded schedule through the
 // golden model: every visit must be one its traversal expects and the results must not change.
 Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
-                             const SearchOutput& golden, const Results& hw_results,
-                             const SearchOutput& hw_visits, std::size_t report_at_most = 5);
+                             const SearchOutput& golden, const Results& hw_results, const SearchOutput& hw_visits,
+                             std::size_t report_at_most = 5);
 
 }  // namespace tigris

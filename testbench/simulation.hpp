@@ -29,11 +29,11 @@ struct SimSetup {
   const PointCloud* queries = nullptr;
   std::uint32_t num_points = 0;
   HostJob job;
-  std::string vcd_path;  // waveforms (and a GTKWave save file beside them) when not empty
+  std::string vcd_path;                 // waveforms (and a GTKWave save file beside them) when not empty
   std::vector<std::string> provenance;  // what made the run, for the VCD's $comment and the .gtkw
   std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
-  bool reverse_construction = false;  // tests: RUs and SUs built in reverse id order
-  std::vector<hw::JobObserver*> observers;  // more observers to attach (e.g. a timeline)
+  bool reverse_construction = false;                      // tests: RUs and SUs built in reverse id order
+  std::vector<hw::JobObserver*> observers;                // more observers to attach (e.g. a timeline)
   // Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread
   // (hw/host/threaded_scans.hpp); the figures do not depend on it.
   int sim_threads = default_sim_threads();
@@ -56,7 +56,7 @@ struct SimOutcome {
   SearchOutput visits;  // per-query visit counts and the schedule, as the scoreboard recorded
   // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
   nlohmann::json units, buffers, energy, power_w, area;
-  nlohmann::json latency;  // `latency_cycles`: per query and per BQB wait
+  nlohmann::json latency;       // `latency_cycles`: per query and per BQB wait
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };
 

@@ -33,8 +33,10 @@ class Parser {
     for (skip(); i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-'); skip()) {
       const char op = s_[i_++];
       const std::optional<double> r = product();
-      if (v && r) v = op == '+' ? *v + *r : *v - *r;
-      else v.reset();
+      if (v && r)
+        v = op == '+' ? *v + *r : *v - *r;
+      else
+        v.reset();
     }
     return v;
   }
@@ -44,8 +46,10 @@ class Parser {
     for (skip(); i_ < s_.size() && (s_[i_] == '*' || s_[i_] == '/'); skip()) {
       const char op = s_[i_++];
       const std::optional<double> r = atom();
-      if (v && r) v = op == '*' ? *v * *r : (*r == 0 ? 0.0 : *v / *r);
-      else v.reset();
+      if (v && r)
+        v = op == '*' ? *v * *r : (*r == 0 ? 0.0 : *v / *r);
+      else
+        v.reset();
     }
     return v;
   }
@@ -116,17 +120,14 @@ const std::vector<DerivedStat>& derived_stats() {
       {"units.search_units.queries_per_batch", "ratio", "query-leaf visits served per batch",
        "units.search_units.queries / units.search_units.batches"},
       {"power_w", "W", "mean power over the run", "energy_pj.total * 1e-12 / seconds"},
-      {"lower_bound_cycles", "cycles",
-       "the cycles with every RU or every PE busy all the time: no schedule beats them",
+      {"lower_bound_cycles", "cycles", "the cycles with every RU or every PE busy all the time: no schedule beats them",
        "max(visits.top / config.fe.recursion_units, "
        "visits.leaf_points / (config.be.search_units * config.be.pes_per_su))"},
   };
   return table;
 }
 
-std::optional<double> evaluate(const std::string& formula, const json& stats) {
-  return Parser(formula, stats).run();
-}
+std::optional<double> evaluate(const std::string& formula, const json& stats) { return Parser(formula, stats).run(); }
 
 void add_derived(json& stats) {
   for (const DerivedStat& d : derived_stats())

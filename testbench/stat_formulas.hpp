@@ -12,8 +12,8 @@
 namespace tigris {
 
 struct DerivedStat {
-  std::string path;     // where the value goes: "units.search_units.utilization"
-  std::string unit;     // "fraction", "ratio", "s", "W", "cycles"
+  std::string path;  // where the value goes: "units.search_units.utilization"
+  std::string unit;  // "fraction", "ratio", "s", "W", "cycles"
   std::string meaning;
   std::string formula;  // over dotted paths of the stats JSON: + - * / ( ) max(a, b) and numbers
 };

@@ -18,8 +18,8 @@ using nlohmann::json;
 
 struct Section {
   const char* id;
-  const char* title;    // the heading of its table in docs/stats.md
-  const char* prefix;   // the fields it holds, by path prefix ("" for the run's own)
+  const char* title;   // the heading of its table in docs/stats.md
+  const char* prefix;  // the fields it holds, by path prefix ("" for the run's own)
 };
 
 const std::vector<Section>& sections() {
@@ -59,11 +59,14 @@ const std::vector<Row>& other_fields() {
   static const std::vector<Row> table = {
       {"command", "text", "`run`"},
       {"command_line", "text", "the full command line as typed, so the run can be repeated"},
-      {"commit", "text", "the source tree's commit the binary was built from (`-dirty`: with local changes; "
+      {"commit", "text",
+       "the source tree's commit the binary was built from (`-dirty`: with local changes; "
        "`unknown`: built without git)"},
-      {"config_sha256", "text", "SHA-256 of `config` as JSON: the configuration's digest, also in the VCD's "
+      {"config_sha256", "text",
+       "SHA-256 of `config` as JSON: the configuration's digest, also in the VCD's "
        "`$comment`, the `.gtkw` and the timeline's `otherData.run`"},
-      {"inputs[].role", "text", "what the input is: `cloud` (the tree's points), `queries`, or `config` (the `--config` file)"},
+      {"inputs[].role", "text",
+       "what the input is: `cloud` (the tree's points), `queries`, or `config` (the `--config` file)"},
       {"inputs[].path", "text", "the file's path as given (file inputs only)"},
       {"inputs[].bytes", "bytes", "the file's size (file inputs only)"},
       {"inputs[].sha256", "text", "SHA-256 of the file's contents, hex (file inputs only)"},
@@ -77,16 +80,21 @@ const std::vector<Row>& other_fields() {
       {"verdict", "text", "`match` (every query's results and visit counts equal the golden model's) or `mismatch`"},
       {"mismatches.results", "count", "queries whose results differ from the golden model's"},
       {"mismatches.visits", "count", "queries whose visit counts differ from the golden model's"},
-      {"mismatches.first[]", "text", "descriptions of the first (at most five) mismatching queries, both answers shown"},
+      {"mismatches.first[]", "text",
+       "descriptions of the first (at most five) mismatching queries, both answers shown"},
       {"wall_seconds.golden", "s", "host time of the golden model's exact search of the same queries"},
-      {"wall_seconds.simulation", "s", "host time of the simulation, SystemC elaboration to the last result, statistics included"},
+      {"wall_seconds.simulation", "s",
+       "host time of the simulation, SystemC elaboration to the last result, statistics included"},
       {"visits.top", "count", "top-tree nodes visited (one `dist2` each) by the Recursion Units"},
       {"visits.pruned", "count", "popped far children pruned (`plane2 > bound`)"},
       {"visits.leaf_points", "count", "leaf-set points scanned by the PEs (exact scans)"},
       {"visits.follower_points", "count", "leader-list entries scanned by followers (approximate search; else 0)"},
       {"visits.leader_checks", "count", "query-to-leader distances of the Leader Check (approximate search; else 0)"},
       {"visits.leaf_visits", "count", "non-empty leaf visits (rows of the schedule)"},
-      {"visits.per_query.*.mean", "count", "mean over queries of that per-query count: `top`, `pruned`, `leaf_points`, `follower_points`, `leader_checks`, `leaf_visits`, and `nodes` = top + leaf points + follower points + leader checks (every distance a query costs)"},
+      {"visits.per_query.*.mean", "count",
+       "mean over queries of that per-query count: `top`, `pruned`, `leaf_points`, `follower_points`, `leader_checks`, "
+       "`leaf_visits`, and `nodes` = top + leaf points + follower points + leader checks (every distance a query "
+       "costs)"},
       {"visits.per_query.*.p50", "count", "median (nearest-rank) of that per-query count"},
       {"visits.per_query.*.p99", "count", "99th percentile (nearest-rank) of that per-query count"},
       {"visits.per_query.*.max", "count", "largest per-query value"},
@@ -124,47 +132,59 @@ const std::vector<Row>& other_fields() {
       {"area_mm2.by_block.sram.fqq", "mm2", "FE Query Queue (one bank)"},
       {"area_mm2.by_block.sram.bqb", "mm2", "all SUs' BE Query Buffers (`be.bqb_entries` x `be.bqb_entry_bytes` each)"},
       {"area_mm2.by_block.sram.node_cache", "mm2", "Node Cache (one bank per SU; 0 when `node_cache.bytes` is 0)"},
-      {"area_mm2.by_block.sram.leader_buffer", "mm2", "Leader Buffer (2^top height x `leader.capacity_per_leaf` x 12 bytes; 0 for the canonical tree)"},
-      {"area_mm2.by_block.sram.top_level_replicas", "mm2", "every RU's registers for `fe.top_levels_replicated` levels (0 by default)"},
+      {"area_mm2.by_block.sram.leader_buffer", "mm2",
+       "Leader Buffer (2^top height x `leader.capacity_per_leaf` x 12 bytes; 0 for the canonical tree)"},
+      {"area_mm2.by_block.sram.top_level_replicas", "mm2",
+       "every RU's registers for `fe.top_levels_replicated` levels (0 by default)"},
       {"area_mm2.by_block.logic.recursion_units", "mm2", "RUs x `area.ru_mm2`"},
       {"area_mm2.by_block.logic.pes", "mm2", "SUs x PEs per SU x `area.pe_mm2`"},
       {"area_mm2.by_block.logic.issue_logic", "mm2", "SUs x `area.issue_logic_mm2`"},
       {"latency_cycles.query.count", "count", "queries measured (all)"},
-      {"latency_cycles.query.mean", "cycles", "mean query latency: from admission (a Query Stack slot taken) to its last results entering the write-back stream"},
+      {"latency_cycles.query.mean", "cycles",
+       "mean query latency: from admission (a Query Stack slot taken) to its last results entering the write-back "
+       "stream"},
       {"latency_cycles.query.p50", "cycles", "median query latency"},
       {"latency_cycles.query.p99", "cycles", "99th percentile query latency"},
       {"latency_cycles.query.max", "cycles", "longest query latency"},
       {"latency_cycles.bqb_wait.count", "count", "leaf visits measured"},
-      {"latency_cycles.bqb_wait.mean", "cycles", "mean wait of a leaf visit from its arrival in a BE Query Buffer to the start of its batch"},
+      {"latency_cycles.bqb_wait.mean", "cycles",
+       "mean wait of a leaf visit from its arrival in a BE Query Buffer to the start of its batch"},
       {"latency_cycles.bqb_wait.p50", "cycles", "median BQB wait"},
       {"latency_cycles.bqb_wait.p99", "cycles", "99th percentile BQB wait"},
       {"latency_cycles.bqb_wait.max", "cycles", "longest BQB wait"},
       {"bottleneck.bound", "text", "`front-end`, `back-end` or `result write-back`"},
       {"bottleneck.unit", "text", "the bounding unit kind: `recursion_units` or `search_units`"},
-      {"bottleneck.occupancy", "fraction", "the share of that kind's unit-cycles busy or stalled on its own (busy_cycles + stall cycles; "
-                                                 "`pi_rs_dependency` not added again; `bqb_full` and `result_writeback` waits on other blocks left out)"},
-      {"bottleneck.cause", "text", "the largest part of that occupancy: `busy` or one of its own stall causes (`sram stall`, `issue_search stall`, ...; `result_writeback stall` when write-back bound)"},
+      {"bottleneck.occupancy", "fraction",
+       "the share of that kind's unit-cycles busy or stalled on its own (busy_cycles + stall cycles; "
+       "`pi_rs_dependency` not added again; `bqb_full` and `result_writeback` waits on other blocks left out)"},
+      {"bottleneck.cause", "text",
+       "the largest part of that occupancy: `busy` or one of its own stall causes (`sram stall`, `issue_search stall`, "
+       "...; `result_writeback stall` when write-back bound)"},
       {"bottleneck.share", "fraction", "that part's share of the kind's unit-cycles"},
       {"bottleneck.runner_up.unit", "text", "the other unit kind"},
       {"bottleneck.runner_up.occupancy", "fraction", "its occupancy"},
       {"bottleneck.runner_up.cause", "text", "the largest part of its occupancy"},
       {"bottleneck.runner_up.share", "fraction", "that part's share"},
       {"bottleneck.cycles_over_lower_bound", "ratio", "cycles / `lower_bound_cycles`"},
-      {"bottleneck.sram_hot_spot.buffer", "text", "when the bounding kind's `sram stall` is 10% of its cycles or more: "
+      {"bottleneck.sram_hot_spot.buffer", "text",
+       "when the bounding kind's `sram stall` is 10% of its cycles or more: "
        "the buffer it waits for (the most `conflict_cycles` among the kind's buffers: `points`, `queries`, "
        "`query_stack`, `results`)"},
       {"bottleneck.sram_hot_spot.title", "text", "that buffer's name in the paper, e.g. `Point Buffer`"},
       {"bottleneck.sram_hot_spot.conflict_cycles", "cycles", "its `conflict_cycles`"},
       {"bottleneck.sram_hot_spot.banks", "count", "its banks"},
-      {"bottleneck.sram_hot_spot.hottest_banks[].bank", "index", "a bank with at least twice a fair share of the "
+      {"bottleneck.sram_hot_spot.hottest_banks[].bank", "index",
+       "a bank with at least twice a fair share of the "
        "buffer's conflict cycles (at most three, hottest first; no `hottest_banks` when none has)"},
       {"bottleneck.sram_hot_spot.hottest_banks[].conflict_cycles", "cycles", "its `banks.conflict_cycles` entry"},
       {"bottleneck.sram_hot_spot.hottest_banks[].share", "fraction", "its share of the buffer's conflict cycles"},
-      {"bottleneck.sram_hot_spot.hottest_banks[].holds", "text", "Point Buffer: what most walks read there: its "
+      {"bottleneck.sram_hot_spot.hottest_banks[].holds", "text",
+       "Point Buffer: what most walks read there: its "
        "first top-tree node below `fe.top_levels_replicated` (`the top tree's root`, `the top tree's level L, "
        "node N`) or `leaf sets`"},
-      {"bottleneck.summary", "text", "the printed line, e.g. `front-end (RU) bound: RUs 94% occupied: sram stall 49%, busy 45%; "
-                                               "waiting on other blocks 1%: bqb_full stall 1%; ...`"},
+      {"bottleneck.summary", "text",
+       "the printed line, e.g. `front-end (RU) bound: RUs 94% occupied: sram stall 49%, busy 45%; "
+       "waiting on other blocks 1%: bqb_full stall 1%; ...`"},
       {"leaders.leaders", "count", "exact scans that joined the Leader Buffer"},
       {"leaders.followers", "count", "follower visits"},
       {"leaders.leader_buffer_full", "count", "exact scans that found their leaf's leaders full"},
@@ -193,7 +213,9 @@ const std::vector<Row>& other_fields() {
       {"config.search.max_nn", "count", "radius search only: hits kept per query (0: all)"},
       {"config.approx.enabled", "bool", "approximate (leader/follower) search on"},
       {"config.approx.thd", "m", "approximate search only: the leader threshold"},
-      {"config.approx.leader_result_width", "count", "approximate search only: the leader result width R in effect (`--leader-width`, 0 meaning k; used by nn and knn)"},
+      {"config.approx.leader_result_width", "count",
+       "approximate search only: the leader result width R in effect (`--leader-width`, 0 meaning k; used by nn and "
+       "knn)"},
   };
   return table;
 }
@@ -255,8 +277,8 @@ std::vector<StatField> stats_schema() {
           add(at + ".per_unit[]." + c->name(), c->unit(), "per unit, in id order: " + c->description(), "", kPerUnit);
       }
       for (const hw::CounterArray* a : g->arrays())
-        add(at + "." + a->name() + "[]", a->unit(), title + a->description() + (by_name ? "" : "; summed over the units"),
-            "", kCounter);
+        add(at + "." + a->name() + "[]", a->unit(),
+            title + a->description() + (by_name ? "" : "; summed over the units"), "", kCounter);
       if (!by_name) break;  // the groups of a kind share their counters
     }
   }
@@ -264,13 +286,13 @@ std::vector<StatField> stats_schema() {
   for (const DerivedStat& d : derived_stats()) add(d.path, d.unit, d.meaning, d.formula, kDerived);
   for (const config::Key& k : config::keys<hw::AcceleratorConfig>()) {
     std::string unit = k.spec.unit;
-    if (unit == "-")
-      unit = k.type == config::Type::Bool ? "bool" : k.type == config::Type::Enum ? "text" : "number";
+    if (unit == "-") unit = k.type == config::Type::Bool ? "bool" : k.type == config::Type::Enum ? "text" : "number";
     add("config." + k.name, unit, k.spec.doc, "", kOther);
   }
   for (Keyed& k : rows) k.block = block_of(k.f.path);
   std::stable_sort(rows.begin(), rows.end(), [](const Keyed& a, const Keyed& b) {
-    return std::make_tuple(a.section, a.block, a.origin, a.order) < std::make_tuple(b.section, b.block, b.origin, b.order);
+    return std::make_tuple(a.section, a.block, a.origin, a.order) <
+           std::make_tuple(b.section, b.block, b.origin, b.order);
   });
   std::vector<StatField> out;
   for (Keyed& k : rows) out.push_back(std::move(k.f));

@@ -57,13 +57,20 @@ void TimelineRecorder::name_track(int pid, std::uint64_t tid, const std::string&
   named_[key] = true;
   const std::string shown = stride_ > 1 ? name + " (sampled 1/" + std::to_string(stride_) + ")" : name;
   events_.push_back({{"ph", "M"}, {"name", "thread_name"}, {"pid", pid}, {"tid", tid}, {"args", {{"name", shown}}}});
-  events_.push_back({{"ph", "M"}, {"name", "thread_sort_index"}, {"pid", pid}, {"tid", tid}, {"args", {{"sort_index", tid}}}});
+  events_.push_back(
+      {{"ph", "M"}, {"name", "thread_sort_index"}, {"pid", pid}, {"tid", tid}, {"args", {{"sort_index", tid}}}});
 }
 
 void TimelineRecorder::slice(int pid, std::uint64_t tid, const std::string& name, std::uint64_t begin,
                              std::uint64_t end, json args) {
-  events_.push_back({{"ph", "X"}, {"name", name}, {"cat", "work"}, {"pid", pid}, {"tid", tid}, {"ts", us(begin)},
-                     {"dur", us(end - begin)}, {"args", std::move(args)}});
+  events_.push_back({{"ph", "X"},
+                     {"name", name},
+                     {"cat", "work"},
+                     {"pid", pid},
+                     {"tid", tid},
+                     {"ts", us(begin)},
+                     {"dur", us(end - begin)},
+                     {"args", std::move(args)}});
 }
 
 void TimelineRecorder::hop(std::uint32_t query, int pid, std::uint64_t tid, std::uint64_t begin) {
@@ -71,10 +78,16 @@ void TimelineRecorder::hop(std::uint32_t query, int pid, std::uint64_t tid, std:
   if (l.any) {
     const std::uint64_t id = ++flow_id_;
     const std::string name = "query " + std::to_string(query);
-    events_.push_back({{"ph", "s"}, {"name", name}, {"cat", "query"}, {"id", id}, {"pid", l.pid}, {"tid", l.tid},
-                       {"ts", us(l.end)}});
-    events_.push_back({{"ph", "f"}, {"bp", "e"}, {"name", name}, {"cat", "query"}, {"id", id}, {"pid", pid},
-                       {"tid", tid}, {"ts", us(begin)}});
+    events_.push_back(
+        {{"ph", "s"}, {"name", name}, {"cat", "query"}, {"id", id}, {"pid", l.pid}, {"tid", l.tid}, {"ts", us(l.end)}});
+    events_.push_back({{"ph", "f"},
+                       {"bp", "e"},
+                       {"name", name},
+                       {"cat", "query"},
+                       {"id", id},
+                       {"pid", pid},
+                       {"tid", tid},
+                       {"ts", us(begin)}});
   }
 }
 
@@ -122,7 +135,8 @@ void TimelineRecorder::su_batch(std::uint32_t su, std::uint32_t leaf, const hw::
     if (!sampled(q)) continue;
     // The wait in the BE Query Buffer, as an async slice on the SU's process.
     if (issue > tokens[i].ready) {
-      const json common = {{"name", "BQB wait q" + std::to_string(q)}, {"cat", "bqb_wait"}, {"id", q}, {"pid", kBackEnd}};
+      const json common = {
+          {"name", "BQB wait q" + std::to_string(q)}, {"cat", "bqb_wait"}, {"id", q}, {"pid", kBackEnd}};
       json b = common, e = common;
       b["ph"] = "b", b["ts"] = us(tokens[i].ready), b["args"] = {{"su", su}};
       e["ph"] = "e", e["ts"] = us(issue);
@@ -136,7 +150,8 @@ void TimelineRecorder::su_batch(std::uint32_t su, std::uint32_t leaf, const hw::
         {{"leaf", leaf}, {"queries", queries}, {"stream_entries", stream}});
 }
 
-void TimelineRecorder::writeback(std::uint32_t query, std::size_t records, std::uint64_t accept, std::uint64_t drained) {
+void TimelineRecorder::writeback(std::uint32_t query, std::size_t records, std::uint64_t accept,
+                                 std::uint64_t drained) {
   count(kBacklog, accept, drained, static_cast<std::int64_t>(records));
   if (!sampled(query)) return;
   // Chunks overlap in flight (the channel pipelines them): one lane per overlap depth.
@@ -190,17 +205,19 @@ void TimelineRecorder::add_counters(json& events) const {
     const char* name;
     std::vector<std::pair<int, const char*>> series;
   };
-  const Track tracks[] = {
-      {"RUs", {{0, "busy"}, {1, "SRAM stall"}, {2, "BQB-full stall"}, {3, "write-back stall"}}},
-      {"PEs", {{4, "busy"}, {5, "waiting for data"}, {6, "held by write-back"}}},
-      {"BQB occupancy (queries, all SUs)", {{kBqb, "queries"}}},
-      {"write-back backlog (records)", {{kBacklog, "records"}}}};
+  const Track tracks[] = {{"RUs", {{0, "busy"}, {1, "SRAM stall"}, {2, "BQB-full stall"}, {3, "write-back stall"}}},
+                          {"PEs", {{4, "busy"}, {5, "waiting for data"}, {6, "held by write-back"}}},
+                          {"BQB occupancy (queries, all SUs)", {{kBqb, "queries"}}},
+                          {"write-back backlog (records)", {{kBacklog, "records"}}}};
   for (const Track& tr : tracks) {
     const std::string name = std::string(tr.name) + ", mean per " + std::to_string(width) + "-cycle bin";
     for (std::uint64_t b = 0; b <= bins; ++b) {
       json args = json::object();
       for (const auto& [s, label] : tr.series) args[label] = b < bins ? round3(mean[s][b]) : 0.0;
-      events.push_back({{"ph", "C"}, {"name", name}, {"pid", kMachine}, {"ts", us(std::min(b * width, last))},
+      events.push_back({{"ph", "C"},
+                        {"name", name},
+                        {"pid", kMachine},
+                        {"ts", us(std::min(b * width, last))},
                         {"args", std::move(args)}});
     }
   }

@@ -31,8 +31,8 @@ class TimelineRecorder final : public hw::JobObserver {
   void ru_walk(std::uint32_t ru, std::uint32_t query, std::uint64_t begin, std::uint64_t end) override;
   void ru_blocked(std::uint32_t ru, std::uint32_t query, std::uint64_t begin, std::uint64_t end) override;
   void qdn_hop(std::uint32_t su, std::uint32_t query, std::uint64_t send, std::uint64_t arrive) override;
-  void su_batch(std::uint32_t su, std::uint32_t leaf, const hw::QueryToken* tokens, std::size_t n,
-                std::uint64_t issue, std::uint64_t end, std::uint64_t stream) override;
+  void su_batch(std::uint32_t su, std::uint32_t leaf, const hw::QueryToken* tokens, std::size_t n, std::uint64_t issue,
+                std::uint64_t end, std::uint64_t stream) override;
   void writeback(std::uint32_t query, std::size_t records, std::uint64_t accept, std::uint64_t drained) override;
   void activity(Activity what, std::uint32_t count, std::uint64_t begin, std::uint64_t end) override;
 
@@ -81,7 +81,7 @@ class TimelineRecorder final : public hw::JobObserver {
   std::vector<std::vector<std::uint64_t>> lanes_;  // per SU: each lane's busy-until cycle
   std::vector<std::uint64_t> writeback_lanes_;
   std::vector<std::vector<std::uint64_t>> qdn_lanes_;
-  std::vector<bool> named_;                        // tracks named so far (by a packed key)
+  std::vector<bool> named_;  // tracks named so far (by a packed key)
   std::uint64_t flow_id_ = 0;
   // Per series: (cycle, change) of its level, over every query.
   std::vector<std::pair<std::uint64_t, std::int64_t>> deltas_[kSeries];

@@ -50,14 +50,14 @@ std::string sci(double x) {
 }  // namespace
 
 void check_work(const WorkEstimate& e, const WorkLimits& limits, std::size_t num_queries) {
-  const std::string sample = " (a sample of " + std::to_string(e.sampled) + " of the " +
-                             std::to_string(num_queries) + " queries: ";
+  const std::string sample =
+      " (a sample of " + std::to_string(e.sampled) + " of the " + std::to_string(num_queries) + " queries: ";
   if (limits.max_work > 0 && e.slot_words > 0 && e.visits + e.slot_words > limits.max_work)
     throw std::invalid_argument(
         "the run would compute about " + sci(e.visits) + " distances and move about " + sci(e.slot_words) +
         " Result Buffer words through its k-wide result slots" + sample + sci(e.leaf_visits_per_query) +
-        " leaf visits per query, each reading and writing the whole slot), above --max-work " +
-        sci(limits.max_work) + "; use a smaller k (k beyond the cloud's points returns the whole cloud), or raise "
+        " leaf visits per query, each reading and writing the whole slot), above --max-work " + sci(limits.max_work) +
+        "; use a smaller k (k beyond the cloud's points returns the whole cloud), or raise "
         "--max-work (0: no limit) if the run is meant to be that large");
   if (limits.max_work > 0 && e.visits > limits.max_work)
     throw std::invalid_argument(

@@ -20,9 +20,9 @@ struct WorkLimits {
 };
 
 struct WorkEstimate {
-  std::uint64_t sampled = 0;      // queries searched for the estimate
-  double visits_per_query = 0.0;  // top-tree nodes + leaf points + leader-list entries
-  double hits_per_query = 0.0;    // neighbours found (radius: before --max-nn, as the stream is)
+  std::uint64_t sampled = 0;        // queries searched for the estimate
+  double visits_per_query = 0.0;    // top-tree nodes + leaf points + leader-list entries
+  double hits_per_query = 0.0;      // neighbours found (radius: before --max-nn, as the stream is)
   double visits = 0.0, hits = 0.0;  // extrapolated to every query
   double leaf_visits_per_query = 0.0;
   // tigris run, NN/kNN: the Result Buffer words its result slots move. An RU walk and an SU

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "sw_ref/search.hpp"
 #include "testbench/scoreboard.hpp"
 #include "testbench/simulation.hpp"
-#include "sw_ref/search.hpp"
 
 namespace tigris::test {
 
@@ -18,13 +18,13 @@ struct Case {
   std::string name;
   hw::AcceleratorConfig config;
   SearchParams params;
-  const PointCloud* cloud = nullptr;    // this case's own workload, when not the shared one
+  const PointCloud* cloud = nullptr;  // this case's own workload, when not the shared one
   const PointCloud* queries = nullptr;
 };
 
 // Simulates every case on (cloud, queries) in one run; checks each against the golden model.
 inline std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, const PointCloud& shared_queries,
-                                      const std::vector<Case>& cases) {
+                                             const std::vector<Case>& cases) {
   std::vector<KdTree> trees;
   std::vector<tlm_if::TreeImage> images;
   trees.reserve(cases.size());

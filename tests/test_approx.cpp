@@ -4,8 +4,8 @@
 
 #include "sw_ref/brute_force.hpp"
 #include "sw_ref/search.hpp"
-#include "workloads/synthetic.hpp"
 #include "test_util.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -42,8 +42,8 @@ std::uint64_t checked(const SearchOutput& o) {
 }
 
 std::size_t visit_rows(const Schedule& s) {
-  return static_cast<std::size_t>(std::count_if(
-      s.begin(), s.end(), [](const ScheduleEntry& e) { return e.event == ScheduleEntry::Event::Visit; }));
+  return static_cast<std::size_t>(
+      std::count_if(s.begin(), s.end(), [](const ScheduleEntry& e) { return e.event == ScheduleEntry::Event::Visit; }));
 }
 
 void require_same(const SearchOutput& a, const SearchOutput& b) {
@@ -64,30 +64,30 @@ TEST_CASE("approximate search with threshold 0 equals exact search", "[approx]")
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 4000, 21);
   const PointCloud queries = make_queries(cloud, 600, 21);
   for (const Variant& variant : kVariants)
-  for (Mode mode : {Mode::NN, Mode::KNN, Mode::Radius}) {
-    for (int h : {0, 3, 7}) {
-      INFO(variant.name << " mode=" << to_string(mode) << " h=" << h);
-      const KdTree tree = build_kdtree(cloud, h);
-      SearchParams exact = approx(mode, 0.0f);
-      exact.approximate = false;
-      const SearchOutput e = search(tree, queries, exact);
-      const SearchOutput a = search(tree, queries, approx(mode, 0.0f, variant));
-      const auto diff = first_difference(e.results, a.results);
-      if (diff) FAIL(*diff);
-      CHECK(a.visits.top == e.visits.top);
-      CHECK(a.visits.pruned == e.visits.pruned);
-      CHECK(a.visits.leaf_points == e.visits.leaf_points);
-      CHECK(a.visits.follower_points == 0);
-      CHECK(a.leaders.followers == 0);
-      CHECK(a.visits.leader_checks > 0);  // leaders are still checked, none is close enough
-      if (variant.scope == LeaderScope::EveryLeaf)  // every leaf visit is a check
-        CHECK(a.leaders.leaders + a.leaders.leader_buffer_full == a.visits.leaf_visits);
-      else if (variant.in_flight == LeaderInFlight::Wait)  // one check per query, at its first leaf
-        CHECK(a.leaders.leaders + a.leaders.leader_buffer_full == checked(a));
-      else  // finished_only: a leader with no leaf-set point among its results has no record
-        CHECK(a.leaders.leaders + a.leaders.leader_buffer_full <= checked(a));
+    for (Mode mode : {Mode::NN, Mode::KNN, Mode::Radius}) {
+      for (int h : {0, 3, 7}) {
+        INFO(variant.name << " mode=" << to_string(mode) << " h=" << h);
+        const KdTree tree = build_kdtree(cloud, h);
+        SearchParams exact = approx(mode, 0.0f);
+        exact.approximate = false;
+        const SearchOutput e = search(tree, queries, exact);
+        const SearchOutput a = search(tree, queries, approx(mode, 0.0f, variant));
+        const auto diff = first_difference(e.results, a.results);
+        if (diff) FAIL(*diff);
+        CHECK(a.visits.top == e.visits.top);
+        CHECK(a.visits.pruned == e.visits.pruned);
+        CHECK(a.visits.leaf_points == e.visits.leaf_points);
+        CHECK(a.visits.follower_points == 0);
+        CHECK(a.leaders.followers == 0);
+        CHECK(a.visits.leader_checks > 0);            // leaders are still checked, none is close enough
+        if (variant.scope == LeaderScope::EveryLeaf)  // every leaf visit is a check
+          CHECK(a.leaders.leaders + a.leaders.leader_buffer_full == a.visits.leaf_visits);
+        else if (variant.in_flight == LeaderInFlight::Wait)  // one check per query, at its first leaf
+          CHECK(a.leaders.leaders + a.leaders.leader_buffer_full == checked(a));
+        else  // finished_only: a leader with no leaf-set point among its results has no record
+          CHECK(a.leaders.leaders + a.leaders.leader_buffer_full <= checked(a));
+      }
     }
-  }
 }
 
 TEST_CASE("Algorithm 1 on a hand-built leaf: leader, follower, capacity", "[approx]") {
@@ -194,7 +194,8 @@ TEST_CASE("first_leaf: a replay in another order of whole queries changes the le
     // Whole queries, last first: legal while every query keeps its role, else the replay names
     // the row whose visit the query's traversal does not expect.
     Schedule reversed;
-    for (std::size_t q = queries.size(); q-- > 0;) reversed.insert(reversed.end(), per_query[q].begin(), per_query[q].end());
+    for (std::size_t q = queries.size(); q-- > 0;)
+      reversed.insert(reversed.end(), per_query[q].begin(), per_query[q].end());
     try {
       const SearchOutput r = search(tree, queries, p, &reversed);
       CHECK(r.leaders.leaders + r.leaders.followers + r.leaders.leader_buffer_full == checked(r));
@@ -209,43 +210,42 @@ TEST_CASE("approximate search cuts work on the synthetic pair and replays bit fo
   PointCloud queries(pair.frame1.begin(), pair.frame1.begin() + 20000);
   const KdTree tree = build_kdtree(pair.frame0, 10);
   for (const Variant& variant : kVariants)
-  for (Mode mode : {Mode::NN, Mode::Radius}) {
-    SearchParams p;
-    p.mode = mode;
-    p.radius = 0.30f;
-    const SearchOutput exact = search(tree, queries, p);
-    p.approximate = true;
-    p.approx_thd = default_approx_thd(p);
-    p.leader_scope = variant.scope;
-    p.leader_in_flight = variant.in_flight;
-    const SearchOutput a = search(tree, queries, p);
-    INFO(variant.name << " mode " << to_string(mode));
-    CHECK(a.leaders.followers > 0);
-    CHECK(a.visits.leaf_points + a.visits.follower_points + a.visits.leader_checks <
-          exact.visits.leaf_points);
-    CHECK(visit_rows(a.schedule) == a.visits.leaf_visits);
+    for (Mode mode : {Mode::NN, Mode::Radius}) {
+      SearchParams p;
+      p.mode = mode;
+      p.radius = 0.30f;
+      const SearchOutput exact = search(tree, queries, p);
+      p.approximate = true;
+      p.approx_thd = default_approx_thd(p);
+      p.leader_scope = variant.scope;
+      p.leader_in_flight = variant.in_flight;
+      const SearchOutput a = search(tree, queries, p);
+      INFO(variant.name << " mode " << to_string(mode));
+      CHECK(a.leaders.followers > 0);
+      CHECK(a.visits.leaf_points + a.visits.follower_points + a.visits.leader_checks < exact.visits.leaf_points);
+      CHECK(visit_rows(a.schedule) == a.visits.leaf_visits);
 
-    // Replaying the recorded schedule reproduces everything.
-    const SearchOutput replay = search(tree, queries, p, &a.schedule);
-    require_same(a, replay);
+      // Replaying the recorded schedule reproduces everything.
+      const SearchOutput replay = search(tree, queries, p, &a.schedule);
+      require_same(a, replay);
 
-    // Another order of the same exact-search visits: round-robin over queries (last first),
-    // one leaf visit each. Exact search has no order dependence, so nothing may change.
-    // (With leaders, a query's later leaf visits depend on the order, so a recorded schedule
-    // is only valid in its own order; the hardware records its own.)
-    std::vector<Schedule> per_query(queries.size());
-    for (const ScheduleEntry& e : exact.schedule) per_query[e.query].push_back(e);
-    Schedule interleaved;
-    for (std::size_t round = 0; interleaved.size() < exact.schedule.size(); ++round)
-      for (std::size_t q = queries.size(); q-- > 0;)
-        if (round < per_query[q].size()) interleaved.push_back(per_query[q][round]);
-    SearchParams e = p;
-    e.approximate = false;
-    const SearchOutput exact_replay = search(tree, queries, e, &interleaved);
-    require_same(exact, exact_replay);
-    CHECK(exact_replay.schedule == interleaved);
-    CHECK_FALSE(interleaved == exact.schedule);
-  }
+      // Another order of the same exact-search visits: round-robin over queries (last first),
+      // one leaf visit each. Exact search has no order dependence, so nothing may change.
+      // (With leaders, a query's later leaf visits depend on the order, so a recorded schedule
+      // is only valid in its own order; the hardware records its own.)
+      std::vector<Schedule> per_query(queries.size());
+      for (const ScheduleEntry& e : exact.schedule) per_query[e.query].push_back(e);
+      Schedule interleaved;
+      for (std::size_t round = 0; interleaved.size() < exact.schedule.size(); ++round)
+        for (std::size_t q = queries.size(); q-- > 0;)
+          if (round < per_query[q].size()) interleaved.push_back(per_query[q][round]);
+      SearchParams e = p;
+      e.approximate = false;
+      const SearchOutput exact_replay = search(tree, queries, e, &interleaved);
+      require_same(exact, exact_replay);
+      CHECK(exact_replay.schedule == interleaved);
+      CHECK_FALSE(interleaved == exact.schedule);
+    }
 }
 
 TEST_CASE("a schedule that does not match the traversal is an error, not a silent skip", "[approx]") {
@@ -306,28 +306,28 @@ TEST_CASE("Searcher, one query at a time, returns what search() returns in the s
   const PointCloud queries = make_queries(cloud, 300, 31);
   const KdTree tree = build_kdtree(cloud, 6);
   for (const Variant& variant : kVariants)
-  for (bool approximate : {false, true})
-    for (Mode mode : {Mode::NN, Mode::KNN, Mode::Radius}) {
-      SearchParams p = approx(mode, 1.0f, variant);
-      p.approximate = approximate;
-      INFO(variant.name << " " << to_string(mode) << (approximate ? " approximate" : " exact"));
-      const SearchOutput batch = search(tree, queries, p);
-      Searcher one(tree, p);
-      Results got;
-      std::vector<Neighbor> n;
-      for (const Point3& q : queries) {
-        one.search(q, n);
-        got.append_query(n.data(), n.data() + n.size());
+    for (bool approximate : {false, true})
+      for (Mode mode : {Mode::NN, Mode::KNN, Mode::Radius}) {
+        SearchParams p = approx(mode, 1.0f, variant);
+        p.approximate = approximate;
+        INFO(variant.name << " " << to_string(mode) << (approximate ? " approximate" : " exact"));
+        const SearchOutput batch = search(tree, queries, p);
+        Searcher one(tree, p);
+        Results got;
+        std::vector<Neighbor> n;
+        for (const Point3& q : queries) {
+          one.search(q, n);
+          got.append_query(n.data(), n.data() + n.size());
+        }
+        const auto diff = first_difference(batch.results, got);
+        if (diff) FAIL(*diff);
+        CHECK(one.queries() == queries.size());
+        CHECK(one.visits().top == batch.visits.top);
+        CHECK(one.visits().leaf_points == batch.visits.leaf_points);
+        CHECK(one.visits().follower_points == batch.visits.follower_points);
+        CHECK(one.visits().leader_checks == batch.visits.leader_checks);
+        CHECK(one.leaders().followers == batch.leaders.followers);
+        CHECK(one.leaders().leaders == batch.leaders.leaders);
+        if (approximate) CHECK(one.leaders().followers > 0);
       }
-      const auto diff = first_difference(batch.results, got);
-      if (diff) FAIL(*diff);
-      CHECK(one.queries() == queries.size());
-      CHECK(one.visits().top == batch.visits.top);
-      CHECK(one.visits().leaf_points == batch.visits.leaf_points);
-      CHECK(one.visits().follower_points == batch.visits.follower_points);
-      CHECK(one.visits().leader_checks == batch.visits.leader_checks);
-      CHECK(one.leaders().followers == batch.leaders.followers);
-      CHECK(one.leaders().leaders == batch.leaders.leaders);
-      if (approximate) CHECK(one.leaders().followers > 0);
-    }
 }

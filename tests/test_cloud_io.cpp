@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "traces/results_csv.hpp"
 #include "workloads/io/cloud_io.hpp"
 #include "workloads/io/lzf.hpp"
-#include "traces/results_csv.hpp"
 #include "workloads/synthetic.hpp"
 
 namespace {
@@ -35,8 +35,8 @@ class TempDir {
     std::random_device rd;
     const auto now = std::chrono::steady_clock::now().time_since_epoch().count();
     for (int attempt = 0; attempt < 100; ++attempt) {
-      const std::string name = "tigris_test_io_" + std::to_string(rd()) + "_" +
-                               std::to_string(now) + "_" + std::to_string(attempt);
+      const std::string name =
+          "tigris_test_io_" + std::to_string(rd()) + "_" + std::to_string(now) + "_" + std::to_string(attempt);
       path_ = fs::temp_directory_path() / name;
       if (fs::create_directory(path_)) return;
     }
@@ -86,9 +86,7 @@ std::uint32_t bits(float f) {
 bool same_bits(const PointCloud& a, const PointCloud& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) ||
-        bits(a[i].z) != bits(b[i].z))
-      return false;
+    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) || bits(a[i].z) != bits(b[i].z)) return false;
   return true;
 }
 
@@ -121,8 +119,7 @@ PointCloud awkward_cloud() {
 // Small valid .pcd / .ply files for the corruption tests.
 std::string valid_file(const TempDir& dir, const std::string& name) {
   PointCloud cloud;
-  for (int i = 0; i < 200; ++i)
-    cloud.push_back(Point3{0.5f * i, 1.0f - 0.25f * i, 0.125f * (i % 7)});
+  for (int i = 0; i < 200; ++i) cloud.push_back(Point3{0.5f * i, 1.0f - 0.25f * i, 0.125f * (i % 7)});
   const std::string path = dir.file(name);
   tigris::save_cloud(path, cloud);
   return path;
@@ -190,8 +187,8 @@ TEST_CASE("cloud_io: NaN, Inf and empty clouds are rejected", "[io]") {
               "ply\nformat ascii 1.0\nelement vertex 4\nproperty list uint float e\nproperty float x\n"
               "property float y\nproperty float z\nend_header\n3 7 7 7 1 2 3\n1 7 10 20 30\n1 7 -5 -6 -7\n"
               "1 7 100 0 0\n");
-  CHECK(same_bits(tigris::load_cloud(list_ply), {Point3{1, 2, 3}, Point3{10, 20, 30},
-                                                 Point3{-5, -6, -7}, Point3{100, 0, 0}}));
+  CHECK(same_bits(tigris::load_cloud(list_ply),
+                  {Point3{1, 2, 3}, Point3{10, 20, 30}, Point3{-5, -6, -7}, Point3{100, 0, 0}}));
   // Lists in other elements (faces) are fine: the vertices read exactly.
   const std::string face_ply = dir.file("face.ply");
   write_bytes(face_ply,
@@ -288,9 +285,7 @@ TEST_CASE("cloud_io: other .pcd and .ply layouts", "[io]") {
   // Other spellings of NaN and Inf reach validate_cloud as such.
   for (const char* value : {"inf", "-inf", "-nan", "NaN", "1e999"}) {
     const std::string path = dir.file(std::string("value") + value + ".pcd");
-    write_bytes(path,
-                std::string("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 ") +
-                    value + " 3\n");
+    write_bytes(path, std::string("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 ") + value + " 3\n");
     require_input_error(path, "non-finite coordinate");
   }
   // NaN outside x, y, z (normals, say) is fine.
@@ -313,9 +308,8 @@ TEST_CASE("cloud_io: truncated and corrupt .pcd and .ply files give InputError",
     // Cut inside the header, right after it, and inside the data.
     const std::size_t header_end =
         bytes.find(ext == ".pcd" ? "DATA binary\n" : "end_header\n") + (ext == ".pcd" ? 12 : 11);
-    for (std::size_t cut :
-         {std::size_t{0}, std::size_t{3}, header_end / 2, header_end - 1, header_end,
-          header_end + 7, (header_end + bytes.size()) / 2, bytes.size() - 1}) {
+    for (std::size_t cut : {std::size_t{0}, std::size_t{3}, header_end / 2, header_end - 1, header_end, header_end + 7,
+                            (header_end + bytes.size()) / 2, bytes.size() - 1}) {
       const std::string cut_path = dir.file("cut" + std::to_string(cut) + ext);
       write_bytes(cut_path, bytes.substr(0, cut));
       require_input_error(cut_path);
@@ -371,8 +365,7 @@ TEST_CASE("cloud_io: randomly damaged files never crash the reader", "[io]") {
       if (trial % 3 == 0) {
         damaged.resize(rng() % bytes.size());
       } else {
-        const std::size_t span =
-            trial % 3 == 1 ? std::min<std::size_t>(bytes.size(), 250) : bytes.size();
+        const std::size_t span = trial % 3 == 1 ? std::min<std::size_t>(bytes.size(), 250) : bytes.size();
         for (int k = 1 + static_cast<int>(rng() % 6); k > 0; --k)
           damaged[rng() % span] = static_cast<char>(rng() & 0xFF);
       }
@@ -451,12 +444,10 @@ void require_parse_error(const std::string& name, const std::string& bytes, cons
   }
 }
 
-const PointCloud kIssuePoints = {Point3{1, 2, 3}, Point3{10, 20, 30}, Point3{-5, -6, -7},
-                                 Point3{100, 0, 0}};
+const PointCloud kIssuePoints = {Point3{1, 2, 3}, Point3{10, 20, 30}, Point3{-5, -6, -7}, Point3{100, 0, 0}};
 
 std::string ply_header(const std::string& format, std::uint64_t n, const std::string& props) {
-  return "ply\nformat " + format + " 1.0\nelement vertex " + std::to_string(n) + "\n" + props +
-         "end_header\n";
+  return "ply\nformat " + format + " 1.0\nelement vertex " + std::to_string(n) + "\n" + props + "end_header\n";
 }
 
 // LZF data of literal runs only (valid input for any LZF decompressor).
@@ -524,13 +515,13 @@ TEST_CASE("ply: element order, every scalar type, comments, CRLF", "[io]") {
   CHECK(same_bits(parse("order.ply", header + b.bytes),
                   {Point3{-128, 65535, -2147483648.0f}, Point3{127, 0, 16777216.0f}}));
   // The other type names, in ASCII: uint rounds to the nearest float32, double too.
-  const std::string types = ply_header("ascii", 2, "property uint x\nproperty double y\nproperty float32 z\n"
-                                                   "property uchar r\nproperty short s\nproperty ushort t\n"
-                                                   "property char u\nproperty float64 v\nproperty int16 w\n") +
+  const std::string types = ply_header("ascii", 2,
+                                       "property uint x\nproperty double y\nproperty float32 z\n"
+                                       "property uchar r\nproperty short s\nproperty ushort t\n"
+                                       "property char u\nproperty float64 v\nproperty int16 w\n") +
                             "4294967295 0.1 +1.5 255 -32768 65535 -128 1e308 32767\n"
                             "0 -0.3 -2.5e-3 0 0 0 0 -inf 0\n";
-  CHECK(same_bits(parse("types.ply", types),
-                  {Point3{4294967296.0f, 0.1f, 1.5f}, Point3{0, -0.3f, -2.5e-3f}}));
+  CHECK(same_bits(parse("types.ply", types), {Point3{4294967296.0f, 0.1f, 1.5f}, Point3{0, -0.3f, -2.5e-3f}}));
   // CRLF: the header of a binary file (its data starts after the LF of end_header; the first
   // data byte here is a CR) and every line of an ASCII file.
   Body crlf;
@@ -538,11 +529,14 @@ TEST_CASE("ply: element order, every scalar type, comments, CRLF", "[io]") {
   float x0;
   const std::uint32_t x0_bits = 0x3F80000Du;
   std::memcpy(&x0, &x0_bits, 4);
-  std::string crlf_header = ply_header("binary_little_endian", 2, "property float x\nproperty float y\nproperty float z\n");
-  for (std::size_t at = 0; (at = crlf_header.find('\n', at)) != std::string::npos; at += 2) crlf_header.insert(at, "\r");
+  std::string crlf_header =
+      ply_header("binary_little_endian", 2, "property float x\nproperty float y\nproperty float z\n");
+  for (std::size_t at = 0; (at = crlf_header.find('\n', at)) != std::string::npos; at += 2)
+    crlf_header.insert(at, "\r");
   CHECK(same_bits(parse("crlf.ply", crlf_header + crlf.bytes), {Point3{x0, 2, 3}, Point3{4, 5, 6}}));
-  const std::string crlf_ascii = "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty float x\r\n"
-                                 "property float y\r\nproperty float z\r\nend_header\r\n1 2 3\r\n\r\n4 5 6\r\n";
+  const std::string crlf_ascii =
+      "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty float x\r\n"
+      "property float y\r\nproperty float z\r\nend_header\r\n1 2 3\r\n\r\n4 5 6\r\n";
   CHECK(same_bits(parse("crlf_ascii.ply", crlf_ascii), {Point3{1, 2, 3}, Point3{4, 5, 6}}));
 }
 
@@ -560,34 +554,48 @@ TEST_CASE("ply: bad files name the file and the line, element or byte offset", "
       {ply_header(le, 1, xyz) + two, "12 bytes after the last element (from byte offset"},
       {ply_header("ascii", 3, xyz) + "1 2 3\n4 5 6\n", "the data ends after 2 of 3 entries of element 'vertex'"},
       {ply_header("ascii", 1, xyz) + "1 2 3\n4 5 6\n", ":9: corrupt PLY data: a line after the last element"},
-      {ply_header("ascii", 1, xyz) + "1 2 3 4\n", ":8: corrupt PLY data: element 'vertex' 0 has 4 values on its line, 3 expected"},
-      {ply_header("ascii", 1, xyz) + "1 2\n", ":8: corrupt PLY data: the line ends before element 'vertex' 0, property 'z'"},
-      {ply_header("ascii", 1, xyz) + "1 2 abc\n", ":8: corrupt PLY data: element 'vertex' 0, property 'z': 'abc' is not a valid float32"},
+      {ply_header("ascii", 1, xyz) + "1 2 3 4\n",
+       ":8: corrupt PLY data: element 'vertex' 0 has 4 values on its line, 3 expected"},
+      {ply_header("ascii", 1, xyz) + "1 2\n",
+       ":8: corrupt PLY data: the line ends before element 'vertex' 0, property 'z'"},
+      {ply_header("ascii", 1, xyz) + "1 2 abc\n",
+       ":8: corrupt PLY data: element 'vertex' 0, property 'z': 'abc' is not a valid float32"},
       {ply_header("ascii", 1, "property uchar x\nproperty float y\nproperty float z\n") + "256 2 3\n",
        "'256' is not a valid uint8"},
       {ply_header(le, 1, "property list int float e\n" + xyz) + Body{}.put<std::int32_t>(-1).xyz(1, 2, 3).bytes,
        "list 'e' has a negative count (-1) at byte offset"},
-      {ply_header("ascii", 1, "property list int float e\n" + xyz) + "-1 1 2 3\n", "list count '-1' is not a int32 count"},
-      {ply_header("ascii", 1, "property list uchar float e\n" + xyz) + "5 1 2 3\n", "a list of 5 items but the line holds 3 more values"},
-      {ply_header(le, 1, "property list uint float e\n" + xyz) + Body{}.put<std::uint32_t>(0xFFFFFFFFu).xyz(1, 2, 3).bytes,
+      {ply_header("ascii", 1, "property list int float e\n" + xyz) + "-1 1 2 3\n",
+       "list count '-1' is not a int32 count"},
+      {ply_header("ascii", 1, "property list uchar float e\n" + xyz) + "5 1 2 3\n",
+       "a list of 5 items but the line holds 3 more values"},
+      {ply_header(le, 1, "property list uint float e\n" + xyz) +
+           Body{}.put<std::uint32_t>(0xFFFFFFFFu).xyz(1, 2, 3).bytes,
        "property 'e' needs 17179869180 bytes"},
       {ply_header("ascii", 1, "property list float float e\n" + xyz) + "0 1 2 3\n",
        ":4: corrupt PLY header: a list count must be of an integer type, not 'float'"},
-      {ply_header("ascii", 1, "property float16 x\n") + "1\n", ":4: corrupt PLY header: unknown property type 'float16'"},
+      {ply_header("ascii", 1, "property float16 x\n") + "1\n",
+       ":4: corrupt PLY header: unknown property type 'float16'"},
       {ply_header("ascii", 1, "property double x\nproperty double y\nproperty double z\n") + "1 1e300 3\n",
        ":8: vertex 0 'y' = 1.0000000000000001e+300 is beyond the float32 range"},
-      {ply_header(le, 1, "property double x\nproperty double y\nproperty double z\n") + Body{}.put(1.0).put(-1e39).put(3.0).bytes,
+      {ply_header(le, 1, "property double x\nproperty double y\nproperty double z\n") +
+           Body{}.put(1.0).put(-1e39).put(3.0).bytes,
        "vertex 0 (byte offset 126): 'y' = -9.9999999999999994e+38 is beyond the float32 range"},
       {ply_header("ascii", 1, "property list uchar float x\nproperty float y\nproperty float z\n") + "1 1 2 3\n",
        ":3: the vertex property 'x' is a list"},
-      {ply_header("ascii", 1, "property float x\nproperty float y\n") + "1 2\n", ":3: the vertex element has no 'z' property"},
-      {ply_header("ascii", 1, xyz + "property float x\n") + "1 2 3 4\n", ":7: corrupt PLY header: property 'x' appears twice in element 'vertex'"},
+      {ply_header("ascii", 1, "property float x\nproperty float y\n") + "1 2\n",
+       ":3: the vertex element has no 'z' property"},
+      {ply_header("ascii", 1, xyz + "property float x\n") + "1 2 3 4\n",
+       ":7: corrupt PLY header: property 'x' appears twice in element 'vertex'"},
       {"ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + "element vertex 1\n" + xyz + "end_header\n1 2 3\n1 2 3\n",
        ":7: corrupt PLY header: a second element 'vertex'"},
-      {"ply\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n", ":2: corrupt PLY header: an element before the format line"},
-      {"ply\nformat ascii 2.0\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n", ":2: corrupt PLY header: expected 'format ascii|"},
-      {"ply\nformat ascii 1.0\n\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n", ":3: corrupt PLY header: an empty line"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + "end_header now\n1 2 3\n", ":7: corrupt PLY header: words after end_header"},
+      {"ply\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n",
+       ":2: corrupt PLY header: an element before the format line"},
+      {"ply\nformat ascii 2.0\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n",
+       ":2: corrupt PLY header: expected 'format ascii|"},
+      {"ply\nformat ascii 1.0\n\nelement vertex 1\n" + xyz + "end_header\n1 2 3\n",
+       ":3: corrupt PLY header: an empty line"},
+      {"ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + "end_header now\n1 2 3\n",
+       ":7: corrupt PLY header: words after end_header"},
       {"ply\nformat ascii 1.0\nelement face 1\nproperty int a\nend_header\n1\n", "the PLY file has no vertex element"},
       {"ply\nformat ascii 1.0\nelement vertex 1\n" + xyz, "no end_header line"},
       {"PLY\n", "not a PLY file"},
@@ -612,8 +620,9 @@ TEST_CASE("pcd: versions, field types and counts, organized clouds, every DATA k
                                           Point3{-0.0f, -32768, 0}, Point3{1e-45f, 0, 16777216.0f}}));
   // The same points as binary (little-endian records) and binary_compressed (field after
   // field, LZF), POINTS only, VERSION 0.7 in another keyword order, CRLF header.
-  const std::string header = "VERSION 0.7\r\nFIELDS n x _ y z _\r\nSIZE 4 8 1 2 4 1\r\nTYPE F F U I U U\r\n"
-                             "COUNT 3 1 1 1 1 2\r\nVIEWPOINT 0 0 0 1 0 0 0\r\nPOINTS 4\r\nDATA ";
+  const std::string header =
+      "VERSION 0.7\r\nFIELDS n x _ y z _\r\nSIZE 4 8 1 2 4 1\r\nTYPE F F U I U U\r\n"
+      "COUNT 3 1 1 1 1 2\r\nVIEWPOINT 0 0 0 1 0 0 0\r\nPOINTS 4\r\nDATA ";
   const double xs[4] = {1.5, 0.1, -0.0, 1e-45};
   const std::int16_t ys[4] = {-2, 32767, -32768, 0};
   const std::uint32_t zs[4] = {3, 4294967295u, 0, 16777217};
@@ -634,8 +643,9 @@ TEST_CASE("pcd: versions, field types and counts, organized clouds, every DATA k
                                  u32_le(static_cast<std::uint32_t>(cols.bytes.size())) + packed;
   CHECK(same_bits(parse("compressed.pcd", compressed), expected));
   // WIDTH alone (HEIGHT 1), no VERSION, no COUNT, comments.
-  CHECK(same_bits(parse("width.pcd", "# hi\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n# there\nWIDTH 1\nDATA ascii\n1 2 3\n"),
-                  {Point3{1, 2, 3}}));
+  CHECK(
+      same_bits(parse("width.pcd", "# hi\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n# there\nWIDTH 1\nDATA ascii\n1 2 3\n"),
+                {Point3{1, 2, 3}}));
 }
 
 TEST_CASE("pcd: bad files name the file and the line or byte offset", "[io]") {
@@ -647,38 +657,48 @@ TEST_CASE("pcd: bad files name the file and the line or byte offset", "[io]") {
     std::string bytes, detail;
   };
   const Case cases[] = {
-      {head + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", ":6: corrupt PCD header: WIDTH x HEIGHT (2 x 2) differs from POINTS (3)"},
+      {head + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n",
+       ":6: corrupt PCD header: WIDTH x HEIGHT (2 x 2) differs from POINTS (3)"},
       {head + "HEIGHT 2\nPOINTS 2\nDATA ascii\n", ":4: corrupt PCD header: HEIGHT without WIDTH"},
       {head + "DATA ascii\n1 2 3\n", ":4: corrupt PCD header: neither WIDTH nor POINTS given"},
       {head + "POINTS 1\nDATA binary\n" + two, "12 bytes after the last point (from byte offset 68)"},
-      {head + "POINTS 3\nDATA binary\n" + two, "truncated PCD file: 3 points of 12 bytes need 36 bytes of binary data from byte offset 56"},
+      {head + "POINTS 3\nDATA binary\n" + two,
+       "truncated PCD file: 3 points of 12 bytes need 36 bytes of binary data from byte offset 56"},
       {head + "POINTS 1\nDATA ascii\n1 2 3\n4 5 6\n", ":7: corrupt PCD data: a line after the last point"},
       {head + "POINTS 2\nDATA ascii\n1 2 3\n", "truncated PCD file: the data ends after 1 of 2 points"},
       {head + "POINTS 1\nDATA ascii\n1 2\n", ":6: corrupt PCD data: point 0 has 2 values, the header announces 3"},
-      {head + "POINTS 1\nDATA ascii\n1 0x2 3\n", ":6: corrupt PCD data: point 0, field 'y': '0x2' is not a valid float32"},
-      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 3 1 1\nPOINTS 1\nDATA ascii\n1 1 1 2 3\n", ":4: field 'x' has COUNT 3"},
+      {head + "POINTS 1\nDATA ascii\n1 0x2 3\n",
+       ":6: corrupt PCD data: point 0, field 'y': '0x2' is not a valid float32"},
+      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 3 1 1\nPOINTS 1\nDATA ascii\n1 1 1 2 3\n",
+       ":4: field 'x' has COUNT 3"},
       {"FIELDS x y w\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", ":1: the file has no 'z' field"},
-      {"FIELDS x y z x\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 1\nDATA ascii\n1 2 3 4\n", ":1: corrupt PCD header: field 'x' appears twice"},
-      {"FIELDS x y z\nSIZE 4 3 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", ":2: corrupt PCD header: SIZE '3' of field 'y'"},
-      {"FIELDS x y z\nSIZE 4 2 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", ":3: corrupt PCD header: TYPE 'F' of field 'y' with SIZE 2"},
-      {"FIELDS x y z\nSIZE 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", ":2: corrupt PCD header: SIZE lists 2 values for 3 fields"},
-      {"SIZE 4 4 4\nFIELDS x y z\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", ":1: corrupt PCD header: SIZE before FIELDS"},
+      {"FIELDS x y z x\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 1\nDATA ascii\n1 2 3 4\n",
+       ":1: corrupt PCD header: field 'x' appears twice"},
+      {"FIELDS x y z\nSIZE 4 3 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n",
+       ":2: corrupt PCD header: SIZE '3' of field 'y'"},
+      {"FIELDS x y z\nSIZE 4 2 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n",
+       ":3: corrupt PCD header: TYPE 'F' of field 'y' with SIZE 2"},
+      {"FIELDS x y z\nSIZE 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n",
+       ":2: corrupt PCD header: SIZE lists 2 values for 3 fields"},
+      {"SIZE 4 4 4\nFIELDS x y z\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n",
+       ":1: corrupt PCD header: SIZE before FIELDS"},
       {head + "FIELDS x y z\nPOINTS 1\nDATA ascii\n1 2 3\n", ":4: corrupt PCD header: a second FIELDS line"},
       {"VERSION 0.8\n" + head + "POINTS 1\nDATA ascii\n1 2 3\n", ":1: unsupported PCD VERSION"},
-      {head + "POINTS 1\nDATA text\n1 2 3\n", ":5: corrupt PCD header: DATA must be ascii, binary or binary_compressed"},
-      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2" + std::string(1, '\0') + " 3\n", ":6: corrupt PCD data: a control character"},
-      {"FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 1e300 3\n", "point 0 (line 6): 'y' = 1.0000000000000001e+300 is beyond the float32 range"},
+      {head + "POINTS 1\nDATA text\n1 2 3\n",
+       ":5: corrupt PCD header: DATA must be ascii, binary or binary_compressed"},
+      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2" + std::string(1, '\0') + " 3\n",
+       ":6: corrupt PCD data: a control character"},
+      {"FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 1e300 3\n",
+       "point 0 (line 6): 'y' = 1.0000000000000001e+300 is beyond the float32 range"},
       {compressed_head + u32_le(static_cast<std::uint32_t>(good_block.size())) + u32_le(20) + good_block,
        "the compressed block decompresses to 20 bytes, but 2 points of 12 bytes take 24"},
       {compressed_head + u32_le(1000) + u32_le(24) + good_block, "passes the end of the file"},
       {compressed_head + u32_le(static_cast<std::uint32_t>(good_block.size())) + u32_le(24) + good_block + "xx",
        "2 bytes after the compressed block"},
-      {compressed_head + u32_le(3) + u32_le(24) + std::string("\x00\x01\x20\x05", 3),
-       "is corrupt"},
+      {compressed_head + u32_le(3) + u32_le(24) + std::string("\x00\x01\x20\x05", 3), "is corrupt"},
       {compressed_head + u32_le(4) + u32_le(24) + std::string("\x00\x01\x20\x05", 4),
        "the LZF data at byte offset 75 is corrupt"},  // a reference before the output's start
-      {compressed_head + u32_le(2) + u32_le(24) + std::string("\x00\x01", 2),
-       "decompresses to 1 bytes, not 24"},
+      {compressed_head + u32_le(2) + u32_le(24) + std::string("\x00\x01", 2), "decompresses to 1 bytes, not 24"},
       {compressed_head + u32_le(0) + u32_le(24), "0 compressed bytes cannot hold 24 bytes"},
       {compressed_head + "\x01\x00", "needs 8 bytes of sizes"},
       {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 0\nDATA ascii\n", "the point cloud is empty (POINTS 0)"},
@@ -693,22 +713,59 @@ TEST_CASE("pcd: bad files name the file and the line or byte offset", "[io]") {
 TEST_CASE("lzf: decompression checks every bound", "[io]") {
   auto run = [](const std::string& in, std::size_t capacity) {
     std::vector<unsigned char> out(capacity + 1, 0xEE);
-    const long n = tigris::lzf_decompress(reinterpret_cast<const unsigned char*>(in.data()), in.size(),
-                                          out.data(), capacity);
+    const long n =
+        tigris::lzf_decompress(reinterpret_cast<const unsigned char*>(in.data()), in.size(), out.data(), capacity);
     CHECK(out[capacity] == 0xEE);  // never past the capacity
     return n < 0 ? std::string("error") : std::string(out.begin(), out.begin() + n);
   };
-  CHECK(run(std::string("\x02" "abc", 4), 3) == "abc");
-  CHECK(run(std::string("\x01" "ab" "\x20\x01", 5), 5) == "ababa");  // an overlapping reference
+  CHECK(run(std::string("\x02"
+                        "abc",
+                        4),
+            3) == "abc");
+  CHECK(run(std::string("\x01"
+                        "ab"
+                        "\x20\x01",
+                        5),
+            5) == "ababa");  // an overlapping reference
   // A long reference: length 7 + 3 + 2 = 12 bytes, one back.
-  CHECK(run(std::string("\x00" "z" "\xE0\x03\x00", 5), 13) == std::string(13, 'z'));
-  CHECK(run(std::string("\x02" "abc", 4), 2) == "error");            // output full
-  CHECK(run(std::string("\x05" "ab", 3), 10) == "error");            // literal run past the input
-  CHECK(run(std::string("\x00" "a" "\x20", 3), 10) == "error");      // reference cut off
-  CHECK(run(std::string("\x00" "a" "\xE0", 3), 10) == "error");      // long reference cut off
-  CHECK(run(std::string("\x00" "a" "\xE0\x01", 4), 10) == "error");  // ... after its length byte
-  CHECK(run(std::string("\x00" "a" "\x20\x01", 4), 10) == "error");  // two back from one byte
-  CHECK(run(std::string("\x00" "a" "\x20\x00", 4), 3) == "error");   // 3 more bytes do not fit
+  CHECK(run(std::string("\x00"
+                        "z"
+                        "\xE0\x03\x00",
+                        5),
+            13) == std::string(13, 'z'));
+  CHECK(run(std::string("\x02"
+                        "abc",
+                        4),
+            2) == "error");  // output full
+  CHECK(run(std::string("\x05"
+                        "ab",
+                        3),
+            10) == "error");  // literal run past the input
+  CHECK(run(std::string("\x00"
+                        "a"
+                        "\x20",
+                        3),
+            10) == "error");  // reference cut off
+  CHECK(run(std::string("\x00"
+                        "a"
+                        "\xE0",
+                        3),
+            10) == "error");  // long reference cut off
+  CHECK(run(std::string("\x00"
+                        "a"
+                        "\xE0\x01",
+                        4),
+            10) == "error");  // ... after its length byte
+  CHECK(run(std::string("\x00"
+                        "a"
+                        "\x20\x01",
+                        4),
+            10) == "error");  // two back from one byte
+  CHECK(run(std::string("\x00"
+                        "a"
+                        "\x20\x00",
+                        4),
+            3) == "error");  // 3 more bytes do not fit
   CHECK(run("", 10).empty());
 }
 

@@ -8,6 +8,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <unistd.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
@@ -15,7 +16,6 @@
 #include <filesystem>
 #include <random>
 #include <string>
-#include <unistd.h>
 
 #include "workloads/io/cloud_io.hpp"
 
@@ -44,12 +44,9 @@ struct TempDir {
 // Random but ordinary values: uniform, a few exact and tiny ones, negative zero.
 float value(std::mt19937& rng, int i) {
   switch (i % 7) {
-    case 0:
-      return -0.0f;
-    case 1:
-      return 1e-3f * static_cast<float>(static_cast<int>(rng() % 2001) - 1000);
-    default:
-      return std::uniform_real_distribution<float>(-120.0f, 120.0f)(rng);
+    case 0: return -0.0f;
+    case 1: return 1e-3f * static_cast<float>(static_cast<int>(rng() % 2001) - 1000);
+    default: return std::uniform_real_distribution<float>(-120.0f, 120.0f)(rng);
   }
 }
 
@@ -79,8 +76,8 @@ pcl::PointCloud<P> make_cloud(std::size_t width, std::size_t height, unsigned se
 void check_same(const std::string& path) {
   INFO(path);
   pcl::PointCloud<pcl::PointXYZ> theirs;
-  const int status = fs::path(path).extension() == ".pcd" ? pcl::io::loadPCDFile(path, theirs)
-                                                          : pcl::io::loadPLYFile(path, theirs);
+  const int status =
+      fs::path(path).extension() == ".pcd" ? pcl::io::loadPCDFile(path, theirs) : pcl::io::loadPLYFile(path, theirs);
   REQUIRE(status >= 0);
   const PointCloud ours = tigris::load_cloud(path);
   REQUIRE(ours.size() == theirs.size());

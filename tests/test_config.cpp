@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "testbench/config.hpp"
 #include "hw/job.hpp"
+#include "testbench/config.hpp"
 
 using nlohmann::json;
 using tigris::hw::AcceleratorConfig;
@@ -71,16 +71,14 @@ bool same(const AcceleratorConfig& a, const AcceleratorConfig& b) {
 struct TempFile {
   fs::path path;
   TempFile(const std::string& name, const std::string& text)
-      : path(fs::temp_directory_path() /
-             ("tigris_cfg_" + std::to_string(::getpid()) + "_" + name)) {
+      : path(fs::temp_directory_path() / ("tigris_cfg_" + std::to_string(::getpid()) + "_" + name)) {
     std::ofstream(path) << text;
   }
   ~TempFile() { fs::remove(path); }
 };
 
 std::string paper_json() {
-  return (fs::path(__FILE__).parent_path().parent_path() / "testbench" / "configs" / "paper.json")
-      .string();
+  return (fs::path(__FILE__).parent_path().parent_path() / "testbench" / "configs" / "paper.json").string();
 }
 
 AcceleratorConfig applied(const json& j) {
@@ -91,8 +89,7 @@ AcceleratorConfig applied(const json& j) {
 
 }  // namespace
 
-TEST_CASE("config: every key is a scalar of config_to_json and the defaults round-trip",
-          "[config]") {
+TEST_CASE("config: every key is a scalar of config_to_json and the defaults round-trip", "[config]") {
   const AcceleratorConfig defaults;
   const json j = tigris::config_to_json(defaults);
   const auto keys = tigris::config_keys();
@@ -129,7 +126,7 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
     else if (v.is_number_integer())
       v = key == "tree.top_height" ? 12 : key == "fe.top_levels_replicated" ? 3 : v.get<int>() + i;
     else if (v.is_number_float())
-      v = key == "result_buffer.slot_fraction" ? 0.25
+      v = key == "result_buffer.slot_fraction"     ? 0.25
           : key == "result_buffer.leader_fraction" ? 0.125
           : key == "stall.rate"                    ? 0.375
           : key == "energy.sram_size_exponent"     ? 1.5
@@ -191,35 +188,28 @@ TEST_CASE("config: a partial file changes only its keys and // members are comme
 TEST_CASE("config: unknown keys are errors naming the source, with a suggestion", "[config]") {
   AcceleratorConfig cfg;
   CHECK(error_of([&] {
-          tigris::apply_config_json(cfg, json::parse(R"({"fe": {"recursion_unit": 32}})"),
-                                    "my.json");
+          tigris::apply_config_json(cfg, json::parse(R"({"fe": {"recursion_unit": 32}})"), "my.json");
         }) == "my.json: unknown key 'fe.recursion_unit' (did you mean 'fe.recursion_units'?)");
   CHECK(error_of([&] {
-          tigris::apply_config_json(cfg, json::parse(R"({"sram": {"pointz": {"bytes": 1}}})"),
-                                    "a.json");
+          tigris::apply_config_json(cfg, json::parse(R"({"sram": {"pointz": {"bytes": 1}}})"), "a.json");
         }) == "a.json: unknown key 'sram.pointz' (did you mean 'sram.points'?)");
-  CHECK(error_of([&] {
-          tigris::apply_config_json(cfg, json::parse(R"({"recursion_units": 32})"), "a.json");
-        }) == "a.json: unknown key 'recursion_units' (did you mean 'fe.recursion_units'?)");
-  const std::string far = error_of(
-      [&] { tigris::apply_config_json(cfg, json::parse(R"({"zzzzzzzzzz": 1})"), "a.json"); });
+  CHECK(error_of([&] { tigris::apply_config_json(cfg, json::parse(R"({"recursion_units": 32})"), "a.json"); }) ==
+        "a.json: unknown key 'recursion_units' (did you mean 'fe.recursion_units'?)");
+  const std::string far =
+      error_of([&] { tigris::apply_config_json(cfg, json::parse(R"({"zzzzzzzzzz": 1})"), "a.json"); });
   CHECK(far == "a.json: unknown key 'zzzzzzzzzz' (tigris run --list-config lists every key)");
   CHECK(same(cfg, AcceleratorConfig{}));
 }
 
 TEST_CASE("config: wrong JSON types are errors naming the key", "[config]") {
   const auto err = [](const char* text) { return error_of([&] { applied(json::parse(text)); }); };
-  CHECK(err(R"({"fe": {"recursion_units": 1.5}})") ==
-        "test.json: 'fe.recursion_units' must be an integer, got 1.5");
+  CHECK(err(R"({"fe": {"recursion_units": 1.5}})") == "test.json: 'fe.recursion_units' must be an integer, got 1.5");
   CHECK(err(R"({"fe": {"recursion_units": "32"}})") ==
         "test.json: 'fe.recursion_units' must be an integer, got \"32\"");
-  CHECK(err(R"({"fe": {"forwarding": 1}})") ==
-        "test.json: 'fe.forwarding' must be true or false, got 1");
+  CHECK(err(R"({"fe": {"forwarding": 1}})") == "test.json: 'fe.forwarding' must be true or false, got 1");
   CHECK(err(R"({"clock_mhz": "500"})") == "test.json: 'clock_mhz' must be a number, got \"500\"");
-  CHECK(err(R"({"clock_mhz": {"x": 1}})") ==
-        "test.json: 'clock_mhz' must be a number, got an object");
-  CHECK(err(R"({"node_cache": {"bytes": 1.5}})") ==
-        "test.json: 'node_cache.bytes' must be an integer, got 1.5");
+  CHECK(err(R"({"clock_mhz": {"x": 1}})") == "test.json: 'clock_mhz' must be a number, got an object");
+  CHECK(err(R"({"node_cache": {"bytes": 1.5}})") == "test.json: 'node_cache.bytes' must be an integer, got 1.5");
   CHECK(err(R"({"tree": {"top_height": null}})") ==
         "test.json: 'tree.top_height' must be an integer or \"full\", got null");
   CHECK(err(R"({"be": {"issue_policy": 1}})") ==
@@ -227,50 +217,39 @@ TEST_CASE("config: wrong JSON types are errors naming the key", "[config]") {
   CHECK(err(R"({"fe": 3})") ==
         "test.json: 'fe' is a block and must be a JSON object of its keys (e.g. "
         "'fe.recursion_units'), got 3");
-  CHECK(err(R"([1, 2])") ==
-        "test.json: a configuration must be a JSON object nested by block, got an array");
+  CHECK(err(R"([1, 2])") == "test.json: a configuration must be a JSON object nested by block, got an array");
   // A whole number is a fine value for a number key.
   CHECK(applied(json::parse(R"({"clock_mhz": 2})")).clock_mhz == 2.0);
-  CHECK(applied(json::parse(R"({"dram": {"bytes_per_cycle": 51.2}})")).dram.bytes_per_cycle ==
-        51.2);
+  CHECK(applied(json::parse(R"({"dram": {"bytes_per_cycle": 51.2}})")).dram.bytes_per_cycle == 51.2);
 }
 
 TEST_CASE("config: out-of-range values and bad enum values are errors naming the key", "[config]") {
   const auto err = [](const char* text) { return error_of([&] { applied(json::parse(text)); }); };
-  CHECK(err(R"({"fe": {"recursion_units": 0}})") ==
-        "test.json: 'fe.recursion_units' = 0 is out of range (1..4096)");
-  CHECK(err(R"({"clock_mhz": 0})") ==
-        "test.json: 'clock_mhz' = 0 is out of range (1..100000)");
-  CHECK(err(R"({"clock_mhz": -5.5})") ==
-        "test.json: 'clock_mhz' = -5.5 is out of range (1..100000)");
+  CHECK(err(R"({"fe": {"recursion_units": 0}})") == "test.json: 'fe.recursion_units' = 0 is out of range (1..4096)");
+  CHECK(err(R"({"clock_mhz": 0})") == "test.json: 'clock_mhz' = 0 is out of range (1..100000)");
+  CHECK(err(R"({"clock_mhz": -5.5})") == "test.json: 'clock_mhz' = -5.5 is out of range (1..100000)");
   CHECK(err(R"({"tree": {"top_height": 31}})") ==
         "test.json: 'tree.top_height' = 31 is out of range (`full` (-1), -1..30)");
-  CHECK(err(R"({"tree": {"top_height": -2}})").find("'tree.top_height' = -2 is out of range") !=
-        std::string::npos);
-  CHECK(err(R"({"node_cache": {"bytes": -1}})") ==
-        "test.json: 'node_cache.bytes' = -1 is out of range (>= 0)");
+  CHECK(err(R"({"tree": {"top_height": -2}})").find("'tree.top_height' = -2 is out of range") != std::string::npos);
+  CHECK(err(R"({"node_cache": {"bytes": -1}})") == "test.json: 'node_cache.bytes' = -1 is out of range (>= 0)");
   CHECK(err(R"({"sram": {"points": {"bytes": 0}}})") ==
         "test.json: 'sram.points.bytes' = 0 is out of range (1..268435456)");
   CHECK(err(R"({"sram": {"queries": {"banks": 0}}})") ==
         "test.json: 'sram.queries.banks' = 0 is out of range (1..4096)");
-  CHECK(err(R"({"cost": {"ru_node": 0}})") ==
-        "test.json: 'cost.ru_node' = 0 is out of range (1..1000000)");
-  CHECK(err(R"({"cost": {"ru_drain": -1}})") ==
-        "test.json: 'cost.ru_drain' = -1 is out of range (0..1000000)");
+  CHECK(err(R"({"cost": {"ru_node": 0}})") == "test.json: 'cost.ru_node' = 0 is out of range (1..1000000)");
+  CHECK(err(R"({"cost": {"ru_drain": -1}})") == "test.json: 'cost.ru_drain' = -1 is out of range (0..1000000)");
   CHECK(err(R"({"energy": {"dram_pj_per_byte": -0.5}})") ==
         "test.json: 'energy.dram_pj_per_byte' = -0.5 is out of range (0..1000000)");
-  CHECK(err(R"({"area": {"sram_bank_mm2": -1}})") ==
-        "test.json: 'area.sram_bank_mm2' = -1 is out of range (0..10000)");
-  CHECK(err(R"({"be": {"pes_per_su": 99999999999}})")
-            .find("'be.pes_per_su' = 99999999999 is out of range") != std::string::npos);
+  CHECK(err(R"({"area": {"sram_bank_mm2": -1}})") == "test.json: 'area.sram_bank_mm2' = -1 is out of range (0..10000)");
+  CHECK(err(R"({"be": {"pes_per_su": 99999999999}})").find("'be.pes_per_su' = 99999999999 is out of range") !=
+        std::string::npos);
   CHECK(err(R"({"be": {"issue_policy": "MQSN"}})") ==
         "test.json: 'be.issue_policy' must be one of " + issue_names() + ", got \"MQSN\"");
   CHECK(err(R"({"tree": {"split_axis": "x"}})") ==
         "test.json: 'tree.split_axis' must be one of `widest`, `round-robin`, got \"x\"");
   // The edges are fine.
   CHECK(applied(json::parse(R"({"node_cache": {"bytes": 0}})")).node_cache.bytes == 0);
-  CHECK(applied(json::parse(R"({"leader": {"capacity_per_leaf": 0}})")).leader.capacity_per_leaf ==
-        0);
+  CHECK(applied(json::parse(R"({"leader": {"capacity_per_leaf": 0}})")).leader.capacity_per_leaf == 0);
   CHECK(applied(json::parse(R"({"tree": {"top_height": 0}})")).tree.top_height == 0);
   CHECK(applied(json::parse(R"({"tree": {"top_height": 30}})")).tree.top_height == 30);
 }
@@ -337,12 +316,8 @@ TEST_CASE("config: --set parses the value per the key's type", "[config]") {
   CHECK(cfg.tree.split_axis == tigris::SplitRule::RoundRobin);
   CHECK(cfg.cost.ru_pi_rs_stall == 5);
 
-  for (const auto& [text, value] : std::vector<std::pair<std::string, bool>>{{"true", true},
-                                                                             {"false", false},
-                                                                             {"1", true},
-                                                                             {"0", false},
-                                                                             {"on", true},
-                                                                             {"off", false}}) {
+  for (const auto& [text, value] : std::vector<std::pair<std::string, bool>>{
+           {"true", true}, {"false", false}, {"1", true}, {"0", false}, {"on", true}, {"off", false}}) {
     tigris::apply_setting(cfg, "fe.bypassing=" + text);
     CHECK(cfg.fe.bypassing == value);
     tigris::apply_setting(cfg, "fe.forwarding=" + text);
@@ -352,14 +327,10 @@ TEST_CASE("config: --set parses the value per the key's type", "[config]") {
 
 TEST_CASE("config: bad --set forms are errors naming the --set text", "[config]") {
   AcceleratorConfig cfg;
-  const auto err = [&](const std::string& text) {
-    return error_of([&] { tigris::apply_setting(cfg, text); });
-  };
-  CHECK(err("fe.recursion_units") ==
-        "--set 'fe.recursion_units': expected key=value, e.g. fe.recursion_units=32");
+  const auto err = [&](const std::string& text) { return error_of([&] { tigris::apply_setting(cfg, text); }); };
+  CHECK(err("fe.recursion_units") == "--set 'fe.recursion_units': expected key=value, e.g. fe.recursion_units=32");
   CHECK(err("=3") == "--set '=3': missing key before '='");
-  CHECK(err("fe.recursion_units=") ==
-        "--set 'fe.recursion_units=': missing value for 'fe.recursion_units'");
+  CHECK(err("fe.recursion_units=") == "--set 'fe.recursion_units=': missing value for 'fe.recursion_units'");
   CHECK(err("fe.recursion_units=abc") ==
         "--set 'fe.recursion_units=abc': 'fe.recursion_units' must be an integer, got 'abc'");
   CHECK(err("fe.recursion_units=3x") ==
@@ -368,8 +339,7 @@ TEST_CASE("config: bad --set forms are errors naming the --set text", "[config]"
         "--set 'fe.recursion_units=1.5': 'fe.recursion_units' must be an integer, got '1.5'");
   CHECK(err("fe.recursion_units=0") ==
         "--set 'fe.recursion_units=0': 'fe.recursion_units' = 0 is out of range (1..4096)");
-  CHECK(err("fe=3") ==
-        "--set 'fe=3': 'fe' is a block, not a key; set its keys, e.g. 'fe.recursion_units'");
+  CHECK(err("fe=3") == "--set 'fe=3': 'fe' is a block, not a key; set its keys, e.g. 'fe.recursion_units'");
   CHECK(err("sram.points=3") ==
         "--set 'sram.points=3': 'sram.points' is a block, not a key; set its keys, e.g. "
         "'sram.points.bytes'");
@@ -378,30 +348,28 @@ TEST_CASE("config: bad --set forms are errors naming the --set text", "[config]"
         "'fe.recursion_units'?)");
   CHECK(err("fe.forwarding=yes") ==
         "--set 'fe.forwarding=yes': 'fe.forwarding' must be true/false/1/0/on/off, got 'yes'");
-  CHECK(err("clock_mhz=fast") ==
-        "--set 'clock_mhz=fast': 'clock_mhz' must be a decimal number, got 'fast'");
+  CHECK(err("clock_mhz=fast") == "--set 'clock_mhz=fast': 'clock_mhz' must be a decimal number, got 'fast'");
   CHECK(err("clock_mhz= 5") == "--set 'clock_mhz= 5': 'clock_mhz' must be a decimal number, got ' 5'");
-  CHECK(err("clock_mhz=nan") ==
-        "--set 'clock_mhz=nan': 'clock_mhz' must be a decimal number, got 'nan'");
-  CHECK(
-      err("node_cache.bytes=-1") ==
-      "--set 'node_cache.bytes=-1': 'node_cache.bytes' must be a whole number of bytes, got '-1'");
+  CHECK(err("clock_mhz=nan") == "--set 'clock_mhz=nan': 'clock_mhz' must be a decimal number, got 'nan'");
+  CHECK(err("node_cache.bytes=-1") ==
+        "--set 'node_cache.bytes=-1': 'node_cache.bytes' must be a whole number of bytes, got '-1'");
   CHECK(err("be.pes_per_su=99999999999999999999") ==
         "--set 'be.pes_per_su=99999999999999999999': 'be.pes_per_su' = 99999999999999999999 is out "
         "of range (1..4096)");
   CHECK(err("be.pes_per_su=9999999999") ==
         "--set 'be.pes_per_su=9999999999': 'be.pes_per_su' = 9999999999 is out of range (1..4096)");
-  CHECK(err("be.issue_policy=MQMN") ==
-        "--set 'be.issue_policy=MQMN': 'be.issue_policy' must be one of " + issue_names() + ", got "
-        "\"MQMN\"");
-  CHECK(err("node_cache.policy=MQMN") ==
-        "--set 'node_cache.policy=MQMN': 'node_cache.policy' must be one of " + replacement_names() + ", got "
-        "\"MQMN\"");
+  CHECK(err("be.issue_policy=MQMN") == "--set 'be.issue_policy=MQMN': 'be.issue_policy' must be one of " +
+                                           issue_names() +
+                                           ", got "
+                                           "\"MQMN\"");
+  CHECK(err("node_cache.policy=MQMN") == "--set 'node_cache.policy=MQMN': 'node_cache.policy' must be one of " +
+                                             replacement_names() +
+                                             ", got "
+                                             "\"MQMN\"");
   CHECK(same(cfg, AcceleratorConfig{}));  // a failed --set changes nothing
 }
 
-TEST_CASE("config: node_cache.policy is lru by default, takes fifo, rejects anything else",
-          "[config]") {
+TEST_CASE("config: node_cache.policy is lru by default, takes fifo, rejects anything else", "[config]") {
   AcceleratorConfig cfg;
   CHECK(cfg.node_cache.policy == std::string("lru"));
   CHECK(tigris::config_to_json(cfg)["node_cache"]["policy"] == "lru");
@@ -412,23 +380,20 @@ TEST_CASE("config: node_cache.policy is lru by default, takes fifo, rejects anyt
   CHECK(same(cfg, AcceleratorConfig{}));
 
   CHECK(error_of([&] { tigris::apply_setting(cfg, "node_cache.policy=foo"); }) ==
-        "--set 'node_cache.policy=foo': 'node_cache.policy' must be one of " + replacement_names() + ", got "
-        "\"foo\"");
+        "--set 'node_cache.policy=foo': 'node_cache.policy' must be one of " + replacement_names() +
+            ", got "
+            "\"foo\"");
   CHECK(error_of([&] {
-          tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": "random"}})"),
-                                    "c.json");
+          tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": "random"}})"), "c.json");
         }) == "c.json: 'node_cache.policy' must be one of " + replacement_names() + ", got \"random\"");
-  CHECK(error_of([&] {
-          tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": 0}})"),
-                                    "c.json");
-        }) == "c.json: 'node_cache.policy' must be one of " + replacement_names() + ", got 0");
+  CHECK(error_of([&] { tigris::apply_config_json(cfg, json::parse(R"({"node_cache": {"policy": 0}})"), "c.json"); }) ==
+        "c.json: 'node_cache.policy' must be one of " + replacement_names() + ", got 0");
   CHECK(same(cfg, AcceleratorConfig{}));  // rejected values change nothing
   CHECK(tigris::config_reference().find("| `node_cache.policy` | lru | - | " + replacement_names() + " |") !=
         std::string::npos);
 }
 
-TEST_CASE("config: validate_config checks ranges and cross-field rules, naming the key",
-          "[config]") {
+TEST_CASE("config: validate_config checks ranges and cross-field rules, naming the key", "[config]") {
   const auto err = [](const std::function<void(AcceleratorConfig&)>& change) {
     AcceleratorConfig cfg;
     change(cfg);
@@ -436,38 +401,29 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
   };
   CHECK(err([](auto& c) { c.clock_mhz = 0; }) ==
         "invalid configuration: 'clock_mhz' = 0.0 is out of range (1..100000)");
-  CHECK(err([](auto& c) {
-          c.clock_mhz = std::nan("");
-        }).find("'clock_mhz' must be a finite number") != std::string::npos);
-  CHECK(err([](auto& c) { c.be.search_units = 0; }).find("'be.search_units' = 0 is out of range") !=
+  CHECK(err([](auto& c) { c.clock_mhz = std::nan(""); }).find("'clock_mhz' must be a finite number") !=
         std::string::npos);
-  CHECK(err([](auto& c) {
-          c.sram.results.ports = 0;
-        }).find("'sram.results.ports' = 0 is out of range") != std::string::npos);
-  CHECK(err([](auto& c) {
-          c.sram.queries.bytes = 0;
-        }).find("'sram.queries.bytes' = 0 is out of range") != std::string::npos);
-  CHECK(err([](auto& c) {
-          c.tree.top_height = -2;
-        }).find("'tree.top_height' = -2 is out of range") != std::string::npos);
-  CHECK(err([](auto& c) {
-          c.energy.sram_ref_pj_per_byte = -1;
-        }).find("'energy.sram_ref_pj_per_byte'") != std::string::npos);
+  CHECK(err([](auto& c) { c.be.search_units = 0; }).find("'be.search_units' = 0 is out of range") != std::string::npos);
+  CHECK(err([](auto& c) { c.sram.results.ports = 0; }).find("'sram.results.ports' = 0 is out of range") !=
+        std::string::npos);
+  CHECK(err([](auto& c) { c.sram.queries.bytes = 0; }).find("'sram.queries.bytes' = 0 is out of range") !=
+        std::string::npos);
+  CHECK(err([](auto& c) { c.tree.top_height = -2; }).find("'tree.top_height' = -2 is out of range") !=
+        std::string::npos);
+  CHECK(err([](auto& c) { c.energy.sram_ref_pj_per_byte = -1; }).find("'energy.sram_ref_pj_per_byte'") !=
+        std::string::npos);
   CHECK(err([](auto& c) {
           c.energy.sram_size_exponent = -0.5;
         }).find("'energy.sram_size_exponent' = -0.5 is out of range") != std::string::npos);
-  CHECK(err([](auto& c) { c.area.pe_mm2 = -0.1; }).find("'area.pe_mm2' = -0.1 is out of range") !=
-        std::string::npos);
+  CHECK(err([](auto& c) { c.area.pe_mm2 = -0.1; }).find("'area.pe_mm2' = -0.1 is out of range") != std::string::npos);
   CHECK(err([](auto& c) {
           c.area.sram_mm2_per_mib = std::nan("");
         }).find("'area.sram_mm2_per_mib' must be a finite number") != std::string::npos);
   CHECK(err([](auto& c) { c.be.bqb_entry_bytes = 0; }).find("'be.bqb_entry_bytes' = 0 is out of range") !=
         std::string::npos);
-  CHECK(err([](auto& c) { c.cost.ru_node = 0; }).find("'cost.ru_node' = 0 is out of range") !=
+  CHECK(err([](auto& c) { c.cost.ru_node = 0; }).find("'cost.ru_node' = 0 is out of range") != std::string::npos);
+  CHECK(err([](auto& c) { c.cost.issue_cycle = -1; }).find("'cost.issue_cycle' = -1 is out of range") !=
         std::string::npos);
-  CHECK(err([](auto& c) {
-          c.cost.issue_cycle = -1;
-        }).find("'cost.issue_cycle' = -1 is out of range") != std::string::npos);
   // Cross-field rules.
   CHECK(err([](auto& c) { c.sram.points.bytes = 8; }) ==
         "invalid configuration: 'sram.points.bytes' holds no word of sram.points.word_bytes");
@@ -487,8 +443,9 @@ TEST_CASE("config: validate_config checks ranges and cross-field rules, naming t
   // first_leaf kNN slots carry the results' coordinates too: k = 100,000 fits the default slot
   // area (1.5 MB) as 8 + 8k bytes but not as 8 + 20k.
   CHECK(tigris::hw::job_fit_error(AcceleratorConfig{}, 1024, 10, 10, tigris::tlm_if::SearchMode::KNN, 100000).empty());
-  CHECK_THAT(tigris::hw::job_fit_error(AcceleratorConfig{}, 1024, 10, 10, tigris::tlm_if::SearchMode::KNN, 100000, true),
-             Catch::Contains("100000 results with their coordinates (approximate, leader.scope first_leaf)"));
+  CHECK_THAT(
+      tigris::hw::job_fit_error(AcceleratorConfig{}, 1024, 10, 10, tigris::tlm_if::SearchMode::KNN, 100000, true),
+      Catch::Contains("100000 results with their coordinates (approximate, leader.scope first_leaf)"));
   // Edges that are fine: cache off, no leaders, full height with a small stack (the tree decides).
   AcceleratorConfig ok;
   ok.node_cache.bytes = 0;
@@ -512,8 +469,7 @@ TEST_CASE("config: the reference table lists every key of config_to_json", "[con
   CHECK(ref.find("| `sram.points.bytes` | 2097152 (2 MiB) | bytes | 1..268435456 |") != std::string::npos);
 }
 
-TEST_CASE("config: every key has a unit and a doc, and the reference lists every key",
-          "[config]") {
+TEST_CASE("config: every key has a unit and a doc, and the reference lists every key", "[config]") {
   AcceleratorConfig cfg;
   std::vector<std::string> visited;
   cfg.visit([&](const std::string& name, auto&, const tigris::hw::Spec& spec) {

@@ -8,9 +8,9 @@
 
 #include "hw/area_model.hpp"
 #include "hw/energy_meter.hpp"
-#include "testbench/simulation.hpp"
 #include "sw_ref/search.hpp"
 #include "test_util.hpp"
+#include "testbench/simulation.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -103,10 +103,14 @@ TEST_CASE("area: doubling a count or size key grows its own block by what it add
   c = d, c.area.pe_mm2 *= 2;
   check_delta(c, {{"pes", 1024 * t.pe_mm2}});
   c = d, c.area.sram_bank_mm2 *= 2;
-  check_delta(c, {{"points", 128 * t.sram_bank_mm2}, {"queries", 8 * t.sram_bank_mm2},
-                  {"query_stack", 64 * t.sram_bank_mm2}, {"results", 64 * t.sram_bank_mm2},
-                  {"fqq", t.sram_bank_mm2}, {"bqb", 32 * t.sram_bank_mm2},
-                  {"node_cache", 32 * t.sram_bank_mm2}, {"leader_buffer", 32 * t.sram_bank_mm2}});
+  check_delta(c, {{"points", 128 * t.sram_bank_mm2},
+                  {"queries", 8 * t.sram_bank_mm2},
+                  {"query_stack", 64 * t.sram_bank_mm2},
+                  {"results", 64 * t.sram_bank_mm2},
+                  {"fqq", t.sram_bank_mm2},
+                  {"bqb", 32 * t.sram_bank_mm2},
+                  {"node_cache", 32 * t.sram_bank_mm2},
+                  {"leader_buffer", 32 * t.sram_bank_mm2}});
   // Off or absent: no Node Cache, no Leader Buffer for a canonical tree.
   c = d, c.node_cache.bytes = 0;
   CHECK(hw::area_of(c).of("node_cache") == 0.0);
@@ -145,11 +149,11 @@ TEST_CASE("energy: a tiny job's energy is its counts x the table's prices, plus 
   hw::EnergyTable& e = cfg.energy;
   e.distance_pj = 2, e.ru_node_pj = 3, e.sram_ref_pj_per_byte = 1, e.sram_ref_bank_bytes = 4096;
   e.sram_write_factor = 1.5, e.dram_pj_per_byte = 10, e.leakage_pj_per_mm2_cycle = 0.5;
-  cfg.sram.points.bytes = 2097152, cfg.sram.points.banks = 128;       // 16 KB banks: 2 pJ/B
-  cfg.sram.queries.bytes = 1048576, cfg.sram.queries.banks = 16;      // 64 KB: 4 pJ/B
+  cfg.sram.points.bytes = 2097152, cfg.sram.points.banks = 128;           // 16 KB banks: 2 pJ/B
+  cfg.sram.queries.bytes = 1048576, cfg.sram.queries.banks = 16;          // 64 KB: 4 pJ/B
   cfg.sram.query_stack.bytes = 1048576, cfg.sram.query_stack.banks = 64;  // 16 KB: 2 pJ/B
-  cfg.sram.results.bytes = 3145728, cfg.sram.results.banks = 48;      // 64 KB: 4 pJ/B
-  cfg.node_cache.bytes = 131072;                                       // 2 SU banks of 64 KB: 4
+  cfg.sram.results.bytes = 3145728, cfg.sram.results.banks = 48;          // 64 KB: 4 pJ/B
+  cfg.node_cache.bytes = 131072;                                          // 2 SU banks of 64 KB: 4
   SearchParams p;
   p.mode = Mode::KNN, p.k = 3;
 
@@ -163,9 +167,7 @@ TEST_CASE("energy: a tiny job's energy is its counts x the table's prices, plus 
   REQUIRE(o.finished);
 
   const auto& b = o.buffers;
-  const auto bytes = [&](const char* buffer, const char* counter) {
-    return b.at(buffer).at(counter).get<double>();
-  };
+  const auto bytes = [&](const char* buffer, const char* counter) { return b.at(buffer).at(counter).get<double>(); };
   const double cycles = static_cast<double>(o.cycles);
   REQUIRE(o.visits.visits.leaf_points > 0);
   REQUIRE(bytes("dram", "write_bytes") > 0);

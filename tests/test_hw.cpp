@@ -10,17 +10,17 @@
 
 #include <sys/resource.h>
 
-#include "hw/be/replacement_policy.hpp"
 #include "hw/area_model.hpp"
-#include "hw/mem/banked_sram.hpp"
 #include "hw/be/pe_array.hpp"
+#include "hw/be/replacement_policy.hpp"
+#include "hw/mem/banked_sram.hpp"
+#include "hw_cases.hpp"
+#include "sw_ref/search.hpp"
+#include "test_util.hpp"
 #include "testbench/scoreboard.hpp"
 #include "testbench/simulation.hpp"
-#include "sw_ref/search.hpp"
-#include "workloads/synthetic.hpp"
-#include "hw_cases.hpp"
-#include "test_util.hpp"
 #include "testbench/timeline.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -37,9 +37,10 @@ TEST_CASE("accelerator is bit-exact on random clouds across configurations and m
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 5);
   const PointCloud queries = make_queries(cloud, 300, 5);
   std::vector<Case> cases;
-  const std::vector<std::pair<std::string, SearchParams>> modes = {
-      {"nn", mode(Mode::NN)}, {"knn5", mode(Mode::KNN, 5)}, {"r1.0", mode(Mode::Radius, 1, 1.0f)},
-      {"r1.5max3", mode(Mode::Radius, 1, 1.5f, 3)}};
+  const std::vector<std::pair<std::string, SearchParams>> modes = {{"nn", mode(Mode::NN)},
+                                                                   {"knn5", mode(Mode::KNN, 5)},
+                                                                   {"r1.0", mode(Mode::Radius, 1, 1.0f)},
+                                                                   {"r1.5max3", mode(Mode::Radius, 1, 1.5f, 3)}};
   for (const auto& [mname, p] : modes) {
     for (int h : {1, 3, 8, -1}) {
       cases.push_back({mname + " 1/1/1 h" + std::to_string(h), units(1, 1, 1, h), p});
@@ -79,7 +80,12 @@ TEST_CASE("accelerator is bit-exact on the synthetic LiDAR pair for top heights 
   for (int h : {1, 5, 10, 14, -1}) cases.push_back({"nn h" + std::to_string(h), units(64, 32, 32, h), mode(Mode::NN)});
   cases.push_back({"knn10 h10", units(64, 32, 32, 10), mode(Mode::KNN, 10)});
   cases.push_back({"r0.30 h10", units(64, 32, 32, 10), mode(Mode::Radius, 1, 0.30f)});
-  cases.push_back({"r0.75 h12 mqmn", [] { auto c = units(16, 8, 16, 12); c.be.issue_policy = "mqmn"; return c; }(),
+  cases.push_back({"r0.75 h12 mqmn",
+                   [] {
+                     auto c = units(16, 8, 16, 12);
+                     c.be.issue_policy = "mqmn";
+                     return c;
+                   }(),
                    mode(Mode::Radius, 1, 0.75f)});
   run_and_check(pair.frame0, queries, cases);
 }
@@ -111,21 +117,24 @@ TEST_CASE("edge cases: one point, k larger than the cloud, radius with no hits",
   const PointCloud one = {{1.0f, 2.0f, 3.0f}};
   const PointCloud queries = {{1.0f, 2.0f, 3.0f}, {-4.0f, 0.5f, 9.0f}, {100.0f, 0.0f, 0.0f}};
   const PointCloud few = make_cloud(CloudKind::Uniform, 9, 3);
-  run_and_check(one, queries, {{"nn h0", units(2, 2, 2, 0), mode(Mode::NN)},
-                               {"knn5 h1", units(2, 2, 2, 1), mode(Mode::KNN, 5)},
-                               {"radius h1", units(2, 2, 2, 1), mode(Mode::Radius, 1, 0.5f)},
-                               {"knn 20 of 9", units(3, 2, 4, 2), mode(Mode::KNN, 20), &few},
-                               {"radius none", units(3, 2, 4, -1), mode(Mode::Radius, 1, 1e-3f), &few}});
+  run_and_check(one, queries,
+                {{"nn h0", units(2, 2, 2, 0), mode(Mode::NN)},
+                 {"knn5 h1", units(2, 2, 2, 1), mode(Mode::KNN, 5)},
+                 {"radius h1", units(2, 2, 2, 1), mode(Mode::Radius, 1, 0.5f)},
+                 {"knn 20 of 9", units(3, 2, 4, 2), mode(Mode::KNN, 20), &few},
+                 {"radius none", units(3, 2, 4, -1), mode(Mode::Radius, 1, 1e-3f), &few}});
 }
 
 TEST_CASE("a large k: heap-ordered slots stay bit-exact (k = 300 of 700 points, and k = all)", "[hw]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 700, 4);
   const PointCloud queries = make_queries(cloud, 60, 4);
-  run_and_check(cloud, queries, {{"knn300 default", units(64, 32, 32, 5), mode(Mode::KNN, 300)},
-                                 {"knn700 1/1/1", units(1, 1, 1, 3), mode(Mode::KNN, 700)}});
+  run_and_check(cloud, queries,
+                {{"knn300 default", units(64, 32, 32, 5), mode(Mode::KNN, 300)},
+                 {"knn700 1/1/1", units(1, 1, 1, 3), mode(Mode::KNN, 700)}});
 }
 
-TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypassing 2 per pruned node", "[hw][timing]") {
+TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypassing 2 per pruned node",
+          "[hw][timing]") {
   // One query on the canonical tree and one RU: the whole job is one top-tree walk.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 1000, 3);
   const PointCloud queries = {{0.3f, -0.2f, 0.5f}};
@@ -143,9 +152,9 @@ TEST_CASE("RU timing: forwarding saves the 3 PI->RS stall cycles per node, bypas
   const auto& cost = hw::CostTable{};
   // With forwarding and bypassing the RU retires one node per cycle and drops a pruned one in two.
   const auto& ru = out[0].units["recursion_units"];
-  CHECK(ru["busy_cycles"].get<std::uint64_t>() ==
-        cost.ru_fetch_query + top * cost.ru_node + pruned * cost.ru_prune_at_rn + cost.ru_drain +
-            cost.result_writeback);
+  CHECK(ru["busy_cycles"].get<std::uint64_t>() == cost.ru_fetch_query + top * cost.ru_node +
+                                                      pruned * cost.ru_prune_at_rn + cost.ru_drain +
+                                                      cost.result_writeback);
   CHECK(out[2].cycles - out[0].cycles == 3 * top);     // forwarding off
   CHECK(out[1].cycles - out[0].cycles == 2 * pruned);  // bypassing off
   CHECK(out[3].cycles - out[0].cycles == 3 * top + 2 * pruned);
@@ -198,26 +207,26 @@ TEST_CASE("SRAM banks: bursts spread over banks, overlapping accesses queue, por
   const hw::Clock clock{sc_core::sc_time(2, sc_core::SC_NS)};
   hw::BankedSram sram("sram", c, clock, meter);
   tlm_if::AccessProfile burst;
-  burst.bytes = 128;  // 8 words of 16 bytes
-  CHECK(sram.charge(10, burst) == 10 + 2 + 2);         // 2 words per bank, then the latency
-  CHECK(sram.charge(10, burst) == 10 + 4 + 2);         // the same banks are busy until 12
+  burst.bytes = 128;                            // 8 words of 16 bytes
+  CHECK(sram.charge(10, burst) == 10 + 2 + 2);  // 2 words per bank, then the latency
+  CHECK(sram.charge(10, burst) == 10 + 4 + 2);  // the same banks are busy until 12
   CHECK(sram.stats().counters_json()["conflict_cycles"] == 2);
   const std::uint64_t same_bank[] = {0, 64, 128, 192};  // all in bank 0
   tlm_if::AccessProfile scatter;
   scatter.scatter = same_bank, scatter.scatter_count = 4, scatter.scatter_size = 16;
-  CHECK(sram.charge(100, scatter) == 100 + 4 + 2);     // serialised on one bank
-  scatter.scatter_size = 32;                            // two words each: banks 0 and 1
+  CHECK(sram.charge(100, scatter) == 100 + 4 + 2);  // serialised on one bank
+  scatter.scatter_size = 32;                        // two words each: banks 0 and 1
   CHECK(sram.charge(200, scatter) == 200 + 4 + 2);
   CHECK(sram.stats().counters_json()["reads"] == 8 + 8 + 4 + 8);
   // An in-order pipeline: the second access waits a cycle for bank 0, and so does every later one.
   const tlm_if::PipelineAccess walk[] = {{0, 16, 0}, {64, 16, 0}, {16, 4, 1}};
   tlm_if::AccessProfile ordered;
   ordered.pipeline = walk, ordered.pipeline_count = 3, ordered.bytes = 36;
-  CHECK(sram.charge(300, ordered) == 300 + 1 + 1 + 1 + 2);  // offset 1, stalled 1, then the latency
+  CHECK(sram.charge(300, ordered) == 300 + 1 + 1 + 1 + 2);                  // offset 1, stalled 1, then the latency
   CHECK(sram.stats().counters_json()["conflict_cycles"] == 2 + 3 + 2 + 1);  // + the stall
   hw::SramConfig narrow{4096, 4, 1, 0, 16};
   hw::BankedSram port("port", narrow, clock, meter);
-  CHECK(port.charge(0, burst) == 8);                    // one port: a word per cycle
+  CHECK(port.charge(0, burst) == 8);  // one port: a word per cycle
   // Ports are shared across requests (units): two single-word reads of different banks in the
   // same cycle take the two ports of a 2-port buffer; a third waits a cycle.
   hw::SramConfig two_ports{4096, 4, 2, 0, 16};
@@ -279,7 +288,8 @@ void check_repeatable(const SearchParams& params) {
   }
   const auto& units = out.runs[0].stats["units"];
   CHECK(units["recursion_units"]["stall_cycles"]["result_writeback"].get<std::uint64_t>() +
-            units["search_units"]["stall_cycles"]["result_writeback"].get<std::uint64_t>() > 0);
+            units["search_units"]["stall_cycles"]["result_writeback"].get<std::uint64_t>() >
+        0);
 }
 
 }  // namespace
@@ -298,8 +308,9 @@ TEST_CASE("Result Buffer words follow sram.results.word_bytes", "[hw][timing]") 
   const PointCloud queries = make_queries(cloud, 120, 8);
   hw::AcceleratorConfig wide = units(4, 2, 4, 5);
   wide.sram.results.word_bytes = 16;
-  const auto out = run_and_check(cloud, queries, {{"8-byte words", units(4, 2, 4, 5), mode(Mode::KNN, 1)},
-                                                  {"16-byte words", wide, mode(Mode::KNN, 1)}});
+  const auto out = run_and_check(
+      cloud, queries,
+      {{"8-byte words", units(4, 2, 4, 5), mode(Mode::KNN, 1)}, {"16-byte words", wide, mode(Mode::KNN, 1)}});
   const auto& narrow_r = out[0].buffers["results"];
   const auto& wide_r = out[1].buffers["results"];
   CHECK(narrow_r["reads"].get<std::uint64_t>() == 2 * wide_r["reads"].get<std::uint64_t>());
@@ -329,10 +340,10 @@ std::vector<std::uint32_t> victims(hw::ReplacementPolicy& p, const std::vector<s
 }  // namespace
 
 TEST_CASE("Node Cache replacement: LRU evicts the least recently read, FIFO the oldest fill", "[hw][node_cache]") {
-  const std::vector<std::string> script = {"1", "2", "3", "h1", "e",      // LRU 2, FIFO 1
-                                           "4", "h3", "e", "e",           // LRU 1 4, FIFO 2 3
-                                           "5", "h3", "h5", "h3", "e", "e",  // LRU 5 3, FIFO 4 5
-                                           "reset", "7", "8", "h7", "e", "e"};  // LRU 8 7, FIFO 7 8
+  const std::vector<std::string> script = {"1",     "2",  "3",  "h1", "e",        // LRU 2, FIFO 1
+                                           "4",     "h3", "e",  "e",              // LRU 1 4, FIFO 2 3
+                                           "5",     "h3", "h5", "h3", "e", "e",   // LRU 5 3, FIFO 4 5
+                                           "reset", "7",  "8",  "h7", "e", "e"};  // LRU 8 7, FIFO 7 8
   const std::vector<std::uint32_t> lru = {2, 1, 4, 5, 3, 8, 7}, fifo = {1, 2, 3, 4, 5, 7, 8};
   // The factory follows node_cache.policy, by the names the policies registered.
   const auto make = [](const char* name) {
@@ -391,7 +402,8 @@ CacheCounts replay_cache(const KdTree& tree, const Schedule& schedule, std::uint
 
 }  // namespace
 
-TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each policy's own evictions", "[hw][node_cache]") {
+TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each policy's own evictions",
+          "[hw][node_cache]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 21);
   const PointCloud queries = make_queries(cloud, 300, 21);
   const int height = 5;
@@ -426,7 +438,7 @@ TEST_CASE("a Node Cache of four Node Sets under lru and fifo: bit-exact, each po
     CHECK(distinct.size() > 4);
     CHECK(got.hits > 0);
     CHECK(got.evictions > 0);
-    CHECK(got.misses > distinct.size());  // Node Sets were evicted and read again
+    CHECK(got.misses > distinct.size());     // Node Sets were evicted and read again
     CHECK(got.misses - got.evictions <= 4);  // what is left in the cache at the end
     // The cache behaves exactly as its policy says on this lookup order, and not as the other
     // policy would: the workload tells the two apart.
@@ -476,8 +488,8 @@ TEST_CASE("a stuck machine is reported with its state, not hung or half-judged",
 namespace {
 
 // Runs one setup with a timeline attached; returns the trace.
-nlohmann::json timeline_of(const PointCloud& cloud, const PointCloud& queries, int height,
-                           hw::AcceleratorConfig config, std::uint32_t shown) {
+nlohmann::json timeline_of(const PointCloud& cloud, const PointCloud& queries, int height, hw::AcceleratorConfig config,
+                           std::uint32_t shown) {
   const KdTree tree = build_kdtree(cloud, height);
   const tlm_if::TreeImage image = tlm_if::encode_tree_image(tree);
   config.tree.top_height = height;
@@ -531,7 +543,8 @@ TEST_CASE("timeline: trace-event JSON, sampled queries, slices ordered per track
   }
 }
 
-TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as the cost table says", "[hw][timeline]") {
+TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as the cost table says",
+          "[hw][timeline]") {
   {
     const PointCloud cloud = make_cloud(CloudKind::Uniform, 200, 64);
     const PointCloud one = {{0.5f, 0.5f, 0.5f}};
@@ -542,7 +555,9 @@ TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as 
       if (e["ph"] == "X") x.push_back(e);
       flow_starts += e["ph"] == "s";
     }
-    std::sort(x.begin(), x.end(), [](const nlohmann::json& a, const nlohmann::json& b) { return a["ts"].get<double>() < b["ts"].get<double>(); });
+    std::sort(x.begin(), x.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+      return a["ts"].get<double>() < b["ts"].get<double>();
+    });
     REQUIRE(x.size() == 5);  // walk, QDN hop, batch, final walk, write-back
     CHECK(x[0]["name"] == "walk q0");
     CHECK(x[1]["pid"] == 2);
@@ -550,7 +565,7 @@ TEST_CASE("timeline: one query, brute force, 1 RU / 1 SU / 1 PE, every slice as 
     CHECK(x[3]["name"] == "walk q0");
     CHECK(x[4]["pid"] == 4);
     CHECK(flow_starts == 4);  // walk -> hop -> batch -> walk -> write-back
-    const double ns = 2.0;  // 500 MHz
+    const double ns = 2.0;    // 500 MHz
     // QDN: cost.qdn_latency 1 cycle; batch: associative search 1 + issue 1, then 200 + 1 - 1 + 3.
     CHECK(x[1]["dur"].get<double>() * 1000 == Approx(1 * ns));
     CHECK(x[2]["dur"].get<double>() * 1000 == Approx((2 + 203) * ns));
@@ -596,7 +611,7 @@ TEST_CASE("top-level replicas: bit-exact, their node reads leave the Point Buffe
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 66);
   const PointCloud queries = make_queries(cloud, 400, 66);
   std::vector<Case> cases;
-  for (int n : {0, 2, 4, 20}) {  // 20: more levels than the tree has, the whole top tree
+  for (int n : {0, 2, 4, 20}) {                   // 20: more levels than the tree has, the whole top tree
     hw::AcceleratorConfig c = units(8, 4, 1, 6);  // one PE: Node Set reads do not depend on timing
     c.node_cache.bytes = 0;
     c.fe.top_levels_replicated = std::min(n, 16);
@@ -626,7 +641,8 @@ TEST_CASE("top-level replicas: bit-exact, their node reads leave the Point Buffe
   CHECK(hw::area_of(cases[0].config).of("top_level_replicas") == 0.0);
 }
 
-TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not grow with the distance", "[hw][timing]") {
+TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not grow with the distance",
+          "[hw][timing]") {
   // A node costing a million cycles puts every RU's wake-up tens of millions of cycles ahead,
   // far past the scheduler's ring of near cycles (hw/scheduler.hpp): they wait in its heap.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 3000, 67);
@@ -635,7 +651,8 @@ TEST_CASE("wake-ups far ahead: bit-exact, and the event loop's memory does not g
   slow.cost.ru_node = 1000000;
   rusage before{};
   getrusage(RUSAGE_SELF, &before);
-  const auto out = run_and_check(cloud, queries, {{"slow nodes", slow, mode(Mode::KNN, 4)}, {"default", fast, mode(Mode::KNN, 4)}});
+  const auto out =
+      run_and_check(cloud, queries, {{"slow nodes", slow, mode(Mode::KNN, 4)}, {"default", fast, mode(Mode::KNN, 4)}});
   rusage after{};
   getrusage(RUSAGE_SELF, &after);
   CHECK(out[0].cycles > 1000000 * out[0].visits.visits.top / 8);  // the RUs' walks alone
@@ -697,15 +714,14 @@ TEST_CASE("every unit's busy and stall cycles fit in the job's cycles", "[hw][st
   std::vector<SimSetup> setups;
   std::vector<std::string> labels;
   for (const auto policy : {"mqsn", "mqmn"})
-    for (const SearchParams& params : {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.5f),
-                                       approximate(mode(Mode::NN), 0.6f),
-                                       approximate(mode(Mode::Radius, 1, 1.5f), 0.6f)}) {
+    for (const SearchParams& params :
+         {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.5f), approximate(mode(Mode::NN), 0.6f),
+          approximate(mode(Mode::Radius, 1, 1.5f), 0.6f)}) {
       setups.push_back(one_setup(image, queries, cloud.size(), units(4, 4, 8, 6), params));
       setups.back().config.be.issue_policy = policy;
       setups.back().config.sram.results.bytes = 4096;  // a small stream area drained slowly
       setups.back().config.dram.bytes_per_cycle = 0.5;
-      labels.push_back(std::string(policy) + " " + to_string(params.mode) +
-                       (params.approximate ? " approx" : ""));
+      labels.push_back(std::string(policy) + " " + to_string(params.mode) + (params.approximate ? " approx" : ""));
     }
   const std::vector<SimOutcome> outs = simulate(setups);
   std::uint64_t writeback_seen = 0;
@@ -731,9 +747,10 @@ TEST_CASE("every unit's busy and stall cycles fit in the job's cycles", "[hw][st
 TEST_CASE("every registered issue and replacement policy is bit-exact", "[hw][policies]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 2500, 31);
   const PointCloud queries = make_queries(cloud, 300, 31);
-  const std::vector<std::pair<std::string, SearchParams>> modes = {
-      {"nn", mode(Mode::NN)}, {"knn4", mode(Mode::KNN, 4)}, {"r1.2", mode(Mode::Radius, 1, 1.2f)},
-      {"approx nn", approximate(mode(Mode::NN), 0.6f)}};
+  const std::vector<std::pair<std::string, SearchParams>> modes = {{"nn", mode(Mode::NN)},
+                                                                   {"knn4", mode(Mode::KNN, 4)},
+                                                                   {"r1.2", mode(Mode::Radius, 1, 1.2f)},
+                                                                   {"approx nn", approximate(mode(Mode::NN), 0.6f)}};
   std::vector<Case> cases;
   for (const auto& issue : hw::IssuePolicies::entries())
     for (const auto& replacement : hw::ReplacementPolicies::entries())

@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "hw_cases.hpp"
-#include "workloads/synthetic.hpp"
 #include "test_util.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -48,7 +48,12 @@ TEST_CASE("approximate search is bit-exact with schedule replay: machines, polic
   const std::vector<std::pair<std::string, SearchParams>> modes = {
       {"nn", approximate(mode(Mode::NN), 1.2f)},
       {"knn5", approximate(mode(Mode::KNN, 5), 1.2f)},
-      {"knn5 R2", [] { auto p = approximate(mode(Mode::KNN, 5), 1.0f); p.leader_width = 2; return p; }()},
+      {"knn5 R2",
+       [] {
+         auto p = approximate(mode(Mode::KNN, 5), 1.0f);
+         p.leader_width = 2;
+         return p;
+       }()},
       {"r1.0", approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)},
       {"r1.5 max_nn 3", approximate(mode(Mode::Radius, 1, 1.5f, 3), 0.6f)}};
   std::vector<Case> cases;
@@ -95,7 +100,8 @@ TEST_CASE("approximate search with thd 0 returns the exact results and visits", 
   const std::vector<SearchParams> exact = {mode(Mode::NN), mode(Mode::KNN, 4), mode(Mode::Radius, 1, 1.0f)};
   for (const char* r : kReadings)
     for (const SearchParams& p : exact)
-      cases.push_back({std::string(r) + " " + to_string(p.mode) + " thd 0", units(8, 4, 8, 6), reading(approximate(p, 0.0f), r)});
+      cases.push_back(
+          {std::string(r) + " " + to_string(p.mode) + " thd 0", units(8, 4, 8, 6), reading(approximate(p, 0.0f), r)});
   const auto out = run_and_check(cloud, queries, cases);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].name);
@@ -117,8 +123,8 @@ TEST_CASE("a huge thd makes every later query at a leaf follow its first leader"
   std::vector<Case> cases;
   for (const char* r : {"wait", "every_leaf"}) {
     cases.push_back({std::string(r) + " nn", units(8, 4, 8, 4), reading(approximate(mode(Mode::NN), 1e6f), r)});
-    cases.push_back({std::string(r) + " radius", units(8, 4, 8, 4),
-                     reading(approximate(mode(Mode::Radius, 1, 1.0f), 1e6f), r)});
+    cases.push_back(
+        {std::string(r) + " radius", units(8, 4, 8, 4), reading(approximate(mode(Mode::Radius, 1, 1.0f), 1e6f), r)});
   }
   const auto out = run_and_check(cloud, queries, cases);
   for (std::size_t i = 0; i < cases.size(); ++i) {
@@ -167,7 +173,8 @@ TEST_CASE("leader lists that find the Result Buffer's list area full live in DRA
   CHECK(out[0].results.neighbors.size() == out[1].results.neighbors.size());
 }
 
-TEST_CASE("Leader Check cost (every_leaf): leaders stream past the PEs, then one decision cycle", "[hw][approx][timing]") {
+TEST_CASE("Leader Check cost (every_leaf): leaders stream past the PEs, then one decision cycle",
+          "[hw][approx][timing]") {
   // Brute force (h = 0, one leaf), 1 SU with 1 PE: every batch is one query. Query 0 leads
   // (no check), the other two are within thd and follow it after one check each.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 200, 25);
@@ -178,8 +185,8 @@ TEST_CASE("Leader Check cost (every_leaf): leaders stream past the PEs, then one
   const SimOutcome& o = out[0];
   REQUIRE(leaders(o) == 1);
   REQUIRE(followers(o) == 2);
-  const std::uint64_t depth = 3, check = 1, list = 1;  // a NN leader's list: R = k = 1 entry
-  const std::uint64_t leader_batch = 200 + 1 - 1 + depth;                      // Node Set past 1 PE
+  const std::uint64_t depth = 3, check = 1, list = 1;      // a NN leader's list: R = k = 1 entry
+  const std::uint64_t leader_batch = 200 + 1 - 1 + depth;  // Node Set past 1 PE
   const std::uint64_t follower_batch = (1 + 1 - 1 + depth) + check + (list + 1 - 1 + depth);
   CHECK(o.units["search_units"]["busy_cycles"].get<std::uint64_t>() == leader_batch + 2 * follower_batch);
   // Leader Buffer traffic: one 12-byte leader written, read once by each follower's check.

@@ -39,8 +39,8 @@ TEST_CASE("full height is ceil(log2(n+1))", "[kdtree]") {
 }
 
 TEST_CASE("canonical tree: every point once, median split in (coordinate, index) order", "[kdtree]") {
-  for (auto kind : {CloudKind::Uniform, CloudKind::Duplicates, CloudKind::AllEqual,
-                    CloudKind::Collinear, CloudKind::Grid}) {
+  for (auto kind :
+       {CloudKind::Uniform, CloudKind::Duplicates, CloudKind::AllEqual, CloudKind::Collinear, CloudKind::Grid}) {
     for (std::size_t n : {1u, 2u, 3u, 10u, 257u, 1000u}) {
       for (auto rule : {SplitRule::WidestExtent, SplitRule::RoundRobin}) {
         INFO(name(kind) << " n=" << n << " split=" << to_string(rule));
@@ -118,8 +118,8 @@ TEST_CASE("two-stage tree: top-tree is the canonical tree's first h levels, leaf
       total += got.size();
     }
     REQUIRE(total + (t.top.size() - static_cast<std::size_t>(std::count_if(
-                                         t.top.begin(), t.top.end(),
-                                         [](const TopNode& x) { return x.empty(); }))) == c.size());
+                                        t.top.begin(), t.top.end(), [](const TopNode& x) { return x.empty(); }))) ==
+            c.size());
   }
 }
 

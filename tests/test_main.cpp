@@ -6,4 +6,3 @@
 // stacks ("Tracer caught signal 11"), so leak checking is off there (ASan and UBSan stay on).
 extern "C" const char* __asan_default_options() { return "detect_leaks=0"; }
 #endif
-

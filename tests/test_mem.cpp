@@ -47,9 +47,7 @@ TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy c
       const std::uint64_t at = now + rng() % (seed % 2 ? 300 : 9000);
       INFO("seed " << seed << " op " << op << " bank " << bank << " at " << at);
       switch (rng() % 6) {
-        case 0:
-          REQUIRE(cal.reserve(bank, at, now) == ref.reserve(bank, at));
-          break;
+        case 0: REQUIRE(cal.reserve(bank, at, now) == ref.reserve(bank, at)); break;
         case 4: {  // one word in each of `count` banks from `bank` on, wrapping
           const auto count = static_cast<std::uint32_t>(1 + rng() % banks);
           std::uint64_t finish = at + 1;
@@ -76,9 +74,7 @@ TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy c
           REQUIRE(cal.reserve_n(bank, at, m, now) == last);
           break;
         }
-        case 2:
-          REQUIRE(cal.next_free(bank, at, now) == ref.next_free(bank, at));
-          break;
+        case 2: REQUIRE(cal.next_free(bank, at, now) == ref.next_free(bank, at)); break;
         default: {
           const std::uint64_t c = ref.next_free(bank, at);
           cal.book(bank, cal.next_free(bank, at, now), now);
@@ -89,7 +85,8 @@ TEST_CASE("bank calendar books what one-at-a-time reservation on a set of busy c
   }
 }
 
-TEST_CASE("Result Buffer slots: the k best in canonical order, bound = k-th best, for small and large k", "[hw][memory]") {
+TEST_CASE("Result Buffer slots: the k best in canonical order, bound = k-th best, for small and large k",
+          "[hw][memory]") {
   for (std::uint32_t k : {1u, 2u, 5u, 64u, 1000u}) {
     std::mt19937 rng(k);
     const std::uint32_t slots = 3;

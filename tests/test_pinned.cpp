@@ -13,9 +13,9 @@
 #include <memory>
 #include <string>
 
+#include "sw_ref/search.hpp"
 #include "testbench/scoreboard.hpp"
 #include "testbench/simulation.hpp"
-#include "sw_ref/search.hpp"
 #include "workloads/synthetic.hpp"
 
 using namespace tigris;
@@ -79,9 +79,9 @@ std::vector<Pin> pins() {
   hw::AcceleratorConfig finished_only, every_leaf;
   finished_only.leader.in_flight = LeaderInFlight::FinishedOnly;
   every_leaf.leader.scope = LeaderScope::EveryLeaf;
-  for (const auto& [name, cfg] : {std::pair{"approx-first-leaf", hw::AcceleratorConfig{}},
-                                  std::pair{"approx-finished-only", finished_only},
-                                  std::pair{"approx-every-leaf", every_leaf}})
+  for (const auto& [name, cfg] :
+       {std::pair{"approx-first-leaf", hw::AcceleratorConfig{}}, std::pair{"approx-finished-only", finished_only},
+        std::pair{"approx-every-leaf", every_leaf}})
     for (const char* mode : {"nn", "knn", "radius"})
       for (int h : {3, 10}) out.push_back({name, cfg, mode, h, true});
   return out;
@@ -111,8 +111,7 @@ std::map<std::string, std::uint64_t> figures(const SimOutcome& o, bool approxima
   for (const char* s : {"pi_rs_dependency", "sram", "bqb_full", "result_writeback"})
     f[std::string("ru.stall.") + s] = ru["stall_cycles"][s];
   const json& su = o.units["search_units"];
-  for (const char* n : {"batches", "queries", "busy_cycles", "bqb_max_occupancy"})
-    f[std::string("su.") + n] = su[n];
+  for (const char* n : {"batches", "queries", "busy_cycles", "bqb_max_occupancy"}) f[std::string("su.") + n] = su[n];
   for (const char* s : {"issue_search", "sram", "result_writeback"})
     f[std::string("su.stall.") + s] = su["stall_cycles"][s];
   f["qdn.port_wait_cycles"] = o.units["qdn"]["port_wait_cycles"];
@@ -195,8 +194,7 @@ const bool kRegistered = [] {
   names.reserve(all.size());
   for (const Pin& p : all) {
     names.push_back("pinned: " + p.config_name + ", " + p.label());
-    regs.push_back(std::make_unique<Catch::AutoReg>(new PinInvoker(p), CATCH_INTERNAL_LINEINFO,
-                                                    Catch::StringRef(),
+    regs.push_back(std::make_unique<Catch::AutoReg>(new PinInvoker(p), CATCH_INTERNAL_LINEINFO, Catch::StringRef(),
                                                     Catch::NameAndTags(names.back(), "[hw][pinned]")));
   }
   return true;

@@ -5,11 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
-#include <map>
 #include <fstream>
+#include <map>
 
-#include "workloads/io/cloud_io.hpp"
 #include "registration/pipeline.hpp"
+#include "workloads/io/cloud_io.hpp"
 #include "workloads/pose.hpp"
 #include "workloads/synthetic.hpp"
 
@@ -63,8 +63,8 @@ TEST_CASE("pipeline: DP4 recovers the synthetic pair's pose, every 3D search on 
   CHECK(e.rotation_deg < 0.05);
   std::vector<std::string> names;
   for (const auto& s : r.stages) names.push_back(s.name);
-  CHECK(names == std::vector<std::string>{"outlier_removal", "normals", "keypoints", "descriptors", "kpce",
-                                          "rejection", "icp"});
+  CHECK(names ==
+        std::vector<std::string>{"outlier_removal", "normals", "keypoints", "descriptors", "kpce", "rejection", "icp"});
   for (const char* searching : {"outlier_removal", "normals", "descriptors", "icp"}) {
     const StageReport& s = stage(r, searching);
     INFO(searching);
@@ -74,7 +74,7 @@ TEST_CASE("pipeline: DP4 recovers the synthetic pair's pose, every 3D search on 
     CHECK(s.kdtree.visits.leaf_points > 0);
     CHECK(s.seconds >= s.kdtree.search_seconds);
   }
-  CHECK(stage(r, "keypoints").search.empty());  // NARF: a range image, no KD-tree
+  CHECK(stage(r, "keypoints").search.empty());   // NARF: a range image, no KD-tree
   CHECK(stage(r, "kpce").kdtree.searches == 0);  // feature space, never the 3D plug-in
   CHECK(stage(r, "normals").kdtree.searches > 2 * 100000);
   CHECK(stage(r, "kpce").info["correspondences"].get<int>() >= 3);
@@ -189,15 +189,17 @@ TEST_CASE("pipeline: the injected shell reaches normal estimation only", "[pipel
 
 TEST_CASE("pipeline config: error injection values are checked, naming the keys", "[pipeline]") {
   PipelineConfig c = preset("dp4");
-  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=0"), Catch::Contains("'inject.rpce_kth' = 0 is out of range (1..100000)"));
-  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=two"), Catch::Contains("'inject.rpce_kth' must be an integer, got 'two'"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=0"),
+                    Catch::Contains("'inject.rpce_kth' = 0 is out of range (1..100000)"));
+  CHECK_THROWS_WITH(apply_set(c, "inject.rpce_kth=two"),
+                    Catch::Contains("'inject.rpce_kth' must be an integer, got 'two'"));
   CHECK_THROWS_WITH(apply_set(c, "inject.normals_shell_inner=-0.1"),
                     Catch::Contains("'inject.normals_shell_inner' = -0.1 is out of range"));
   CHECK_NOTHROW(validate(c, "x"));
   c.inject.normals_shell_inner = 0.35;  // R1 >= r = 0.30
   c.inject.normals_shell_outer = 0.5;
-  CHECK_THROWS_WITH(validate(c, "conf.json"),
-                    Catch::StartsWith("conf.json") && Catch::Contains("'inject.normals_shell_inner' < 'normals.radius'"));
+  CHECK_THROWS_WITH(validate(c, "conf.json"), Catch::StartsWith("conf.json") &&
+                                                  Catch::Contains("'inject.normals_shell_inner' < 'normals.radius'"));
   c.inject.normals_shell_inner = 0.1;
   c.inject.normals_shell_outer = 0.3;  // R2 <= r
   CHECK_THROWS_WITH(validate(c, "x"), Catch::Contains("got 0.1, 0.3, 0.3"));
@@ -229,14 +231,16 @@ TEST_CASE("pipeline config: presets, file and --set errors name the key", "[pipe
   CHECK_THROWS_WITH(apply_set(c, "normals.radius=-1"),
                     Catch::Contains("'normals.radius' = -1.0 is out of range (> 0, <= 100)"));
   CHECK_THROWS_WITH(apply_set(c, "icp.max_iterations=2.5"), Catch::Contains("'icp.max_iterations' must be an integer"));
-  CHECK_THROWS_WITH(apply_set(c, "icp.solver=qr"), Catch::Contains("'icp.solver' must be one of `svd`, `lm`, got \"qr\""));
+  CHECK_THROWS_WITH(apply_set(c, "icp.solver=qr"),
+                    Catch::Contains("'icp.solver' must be one of `svd`, `lm`, got \"qr\""));
   CHECK_THROWS_WITH(apply_set(c, "kpce.reciprocal=maybe"), Catch::Contains("'kpce.reciprocal' must be true"));
   CHECK_THROWS_WITH(apply_set(c, "normals"), Catch::Contains("expected key=value"));
   apply_set(c, "icp.max_iterations=30");
   CHECK(c.icp.max_iterations == 30);
 
   const std::string bad_key = temp_file("bad_key.json", R"({"icp": {"solver": "lm", "max_iter": 3}})");
-  CHECK_THROWS_WITH(apply_file(c, bad_key), Catch::StartsWith(bad_key) && Catch::Contains("unknown key 'icp.max_iter'"));
+  CHECK_THROWS_WITH(apply_file(c, bad_key),
+                    Catch::StartsWith(bad_key) && Catch::Contains("unknown key 'icp.max_iter'"));
   const std::string bad_value = temp_file("bad_value.json", R"({"search": {"top_height": 31}})");
   CHECK_THROWS_WITH(apply_file(c, bad_value), Catch::Contains("'search.top_height' = 31 is out of range"));
   const std::string bad_type = temp_file("bad_type.json", R"({"descriptors": {"radius": "big"}})");
@@ -280,7 +284,8 @@ TEST_CASE("poses: files, KITTI camera poses to the Velodyne frame, relative pose
   CHECK_THROWS_WITH(read_pose_file(temp_file("p5.txt", "1 2 3 4 5")), Catch::Contains("found 5 numbers"));
   CHECK_THROWS_WITH(read_pose_file(temp_file("pnan.txt", "1 0 0 x 0 1 0 0 0 0 1 0")), Catch::Contains("'x' is not"));
   CHECK_THROWS_WITH(read_pose_file(temp_file("pskew.txt", "2 0 0 0 0 1 0 0 0 0 1 0")), Catch::Contains("not a rigid"));
-  CHECK_THROWS_WITH(read_pose_file("/nonexistent/pose.txt"), Catch::Contains("/nonexistent/pose.txt: cannot read the pose file: no such file"));
+  CHECK_THROWS_WITH(read_pose_file("/nonexistent/pose.txt"),
+                    Catch::Contains("/nonexistent/pose.txt: cannot read the pose file: no such file"));
 
   // E = inv(T_gt) * T_est: 2 cm and 0.1 degree off a 1 m move.
   Pose gt = Pose::Identity();
@@ -313,7 +318,7 @@ TEST_CASE("KITTI 00: frame 1 in frame 0 moves about 0.86 m forward, and DP4 regi
     return;
   }
   const Pose gt = kitti_relative_velo_pose(dir + "/poses.txt", 1, 0);
-  CHECK(gt(0, 3) == Approx(0.86).margin(0.01));           // forward
+  CHECK(gt(0, 3) == Approx(0.86).margin(0.01));  // forward
   CHECK(std::abs(gt(1, 3)) < 0.1);
   CHECK(std::abs(gt(2, 3)) < 0.1);
   CHECK(rotation_angle_deg(gt) < 0.5);

@@ -7,8 +7,8 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/registration/correspondence_estimation.h>
 
-#include "sw_ref/arith.hpp"
 #include "registration/search_plugin.hpp"
+#include "sw_ref/arith.hpp"
 #include "test_util.hpp"
 
 using namespace tigris;
@@ -56,7 +56,8 @@ TEST_CASE("plug-in: NormalEstimation gives the normals KdTreeFLANN gives", "[reg
     }
     // The same neighbour sets (in another order: the covariance sums round differently).
     CHECK(std::abs(std::abs(flann[i].normal_x * exact[i].normal_x + flann[i].normal_y * exact[i].normal_y +
-                            flann[i].normal_z * exact[i].normal_z) - 1.0f) < 1e-4f);
+                            flann[i].normal_z * exact[i].normal_z) -
+                   1.0f) < 1e-4f);
     CHECK(exact[i].curvature == Approx(flann[i].curvature).margin(1e-4));
     ++compared;
   }
@@ -88,8 +89,8 @@ TEST_CASE("plug-in: CorrespondenceEstimation pairs equal KdTreeFLANN's, reciproc
     auto counters = std::make_shared<SearchCounters>();
     const auto f = pairs(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(),
                          std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(), reciprocal);
-    const auto g = pairs(plugin<pcl::PointXYZ>(Backend::Exact, counters), plugin<pcl::PointXYZ>(Backend::Exact, counters),
-                         reciprocal);
+    const auto g = pairs(plugin<pcl::PointXYZ>(Backend::Exact, counters),
+                         plugin<pcl::PointXYZ>(Backend::Exact, counters), reciprocal);
     REQUIRE(f.size() == g.size());
     CHECK(f.size() > (reciprocal ? 100u : 799u));
     for (std::size_t i = 0; i < f.size(); ++i) {

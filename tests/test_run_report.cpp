@@ -75,8 +75,7 @@ TEST_CASE("bottleneck: RUs held by full BE Query Buffers are back-pressure, so t
 
 TEST_CASE("bottleneck: a write-back wait above 30% bounds the run whatever is busiest", "[report]") {
   // SUs wait 31% on the write-back; the RUs are the more occupied kind.
-  const json b = tigris::bottleneck_json(
-      stats(800, 0.60, {{"sram", 0.35}}, 0.10, {{"result_writeback", 0.31}}));
+  const json b = tigris::bottleneck_json(stats(800, 0.60, {{"sram", 0.35}}, 0.10, {{"result_writeback", 0.31}}));
   CHECK(b["bound"] == "result write-back");
   CHECK(b["unit"] == "search_units");
   CHECK(b["cause"] == "result_writeback stall");
@@ -106,8 +105,8 @@ TEST_CASE("inputs: SHA-256 of a file is the digest sha256sum prints", "[report]"
 
 TEST_CASE("bottleneck: PI/RS dependency stalls are busy cycles, not added again", "[report]") {
   // Without forwarding: 30% of the RUs' cycles are PI/RS stalls inside their 80% busy.
-  const json b = tigris::bottleneck_json(
-      stats(1000, 0.80, {{"pi_rs_dependency", 0.30}, {"sram", 0.10}}, 0.50, json::object()));
+  const json b =
+      tigris::bottleneck_json(stats(1000, 0.80, {{"pi_rs_dependency", 0.30}, {"sram", 0.10}}, 0.50, json::object()));
   CHECK(b["occupancy"].get<double>() == Approx(0.90));
   CHECK(b["summary"].get<std::string>().find("pi_rs") == std::string::npos);
 }
@@ -130,13 +129,19 @@ TEST_CASE("stat formulas: arithmetic left to right, max, missing fields and divi
 TEST_CASE("stat formulas: every derived field names fields that a run writes", "[stats]") {
   // Each formula parses, and over a stats JSON holding every field it names it gives a value.
   json s = {{"cycles", 1000},
-            {"config", {{"clock_mhz", 500}, {"fe", {{"recursion_units", 4}}}, {"be", {{"search_units", 2}, {"pes_per_su", 8}}}}},
+            {"config",
+             {{"clock_mhz", 500}, {"fe", {{"recursion_units", 4}}}, {"be", {{"search_units", 2}, {"pes_per_su", 8}}}}},
             {"visits", {{"top", 100}, {"leaf_points", 800}}},
             {"energy_pj", {{"total", 5e6}}},
             {"units",
              {{"recursion_units", {{"busy_cycles", 2000}, {"count", 4}}},
-              {"search_units", {{"busy_cycles", 500}, {"pe_busy_cycles", 4000}, {"count", 2}, {"pes_per_su", 8},
-                                {"queries", 30}, {"batches", 10}}}}}};
+              {"search_units",
+               {{"busy_cycles", 500},
+                {"pe_busy_cycles", 4000},
+                {"count", 2},
+                {"pes_per_su", 8},
+                {"queries", 30},
+                {"batches", 10}}}}}};
   tigris::add_derived(s);
   CHECK(s["seconds"].get<double>() == 1000 / 500e6);
   CHECK(s["units"]["recursion_units"]["utilization"].get<double>() == 0.5);

@@ -4,8 +4,8 @@
 
 #include "sw_ref/brute_force.hpp"
 #include "sw_ref/search.hpp"
-#include "workloads/synthetic.hpp"
 #include "test_util.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::test;
@@ -32,8 +32,7 @@ struct RecursiveRef {
   void offer(float d, std::uint32_t i) {
     if (p.mode == Mode::Radius && !(d <= square(p.radius))) return;
     found.insert(std::upper_bound(found.begin(), found.end(), Neighbor{i, d}, closer), Neighbor{i, d});
-    if (p.mode != Mode::Radius && found.size() > static_cast<std::size_t>(p.effective_k()))
-      found.pop_back();
+    if (p.mode != Mode::Radius && found.size() > static_cast<std::size_t>(p.effective_k())) found.pop_back();
   }
   void visit(std::uint32_t node) {
     if (node >= t.top.size()) {
@@ -61,8 +60,8 @@ struct RecursiveRef {
   }
 };
 
-void check_against_references(const PointCloud& cloud, const PointCloud& queries,
-                              const KdTree& tree, const SearchParams& p) {
+void check_against_references(const PointCloud& cloud, const PointCloud& queries, const KdTree& tree,
+                              const SearchParams& p) {
   const SearchOutput out = search(tree, queries, p);
   const Results oracle = brute_force(cloud, queries, p);
   const auto diff = first_difference(oracle, out.results);
@@ -101,8 +100,8 @@ std::vector<SearchParams> all_modes() {
 }  // namespace
 
 TEST_CASE("exact search equals brute force and the recursive reference on random clouds", "[search]") {
-  const auto kind = GENERATE(CloudKind::Uniform, CloudKind::Duplicates, CloudKind::AllEqual,
-                             CloudKind::Collinear, CloudKind::Grid);
+  const auto kind =
+      GENERATE(CloudKind::Uniform, CloudKind::Duplicates, CloudKind::AllEqual, CloudKind::Collinear, CloudKind::Grid);
   const std::size_t n = GENERATE(1u, 2u, 5u, 64u, 500u, 5000u);
   const std::uint64_t seed = GENERATE(1u, 2u);
   const PointCloud cloud = make_cloud(kind, n, seed * 1000 + n);
@@ -113,9 +112,8 @@ TEST_CASE("exact search equals brute force and the recursive reference on random
     for (auto rule : {SplitRule::WidestExtent, SplitRule::RoundRobin}) {
       const KdTree tree = build_kdtree(cloud, h, rule);
       for (const SearchParams& p : all_modes()) {
-        INFO(name(kind) << " n=" << n << " seed=" << seed << " h=" << h << " split="
-                        << to_string(rule) << " mode=" << to_string(p.mode) << " k=" << p.k
-                        << " r=" << p.radius << " max_nn=" << p.max_nn);
+        INFO(name(kind) << " n=" << n << " seed=" << seed << " h=" << h << " split=" << to_string(rule) << " mode="
+                        << to_string(p.mode) << " k=" << p.k << " r=" << p.radius << " max_nn=" << p.max_nn);
         check_against_references(cloud, queries, tree, p);
       }
     }

@@ -27,9 +27,7 @@ std::uint32_t bits(float f) {
 bool same_bits(const PointCloud& a, const PointCloud& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) ||
-        bits(a[i].z) != bits(b[i].z))
-      return false;
+    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) || bits(a[i].z) != bits(b[i].z)) return false;
   return true;
 }
 
@@ -49,8 +47,7 @@ std::uint64_t fingerprint(const PointCloud& cloud) {
 
 // p0 = T * p1, in float32.
 Point3 apply(const Transform& t, const Point3& p) {
-  return Point3{((t[0] * p.x + t[1] * p.y) + t[2] * p.z) + t[3],
-                ((t[4] * p.x + t[5] * p.y) + t[6] * p.z) + t[7],
+  return Point3{((t[0] * p.x + t[1] * p.y) + t[2] * p.z) + t[3], ((t[4] * p.x + t[5] * p.y) + t[6] * p.z) + t[7],
                 ((t[8] * p.x + t[9] * p.y) + t[10] * p.z) + t[11]};
 }
 
@@ -87,16 +84,15 @@ const SyntheticPair& default_pair() {
 TEST_CASE("synthetic: the default scans have an HDL-64E-like point count", "[synthetic]") {
   const auto t0 = std::chrono::steady_clock::now();
   const SyntheticPair pair = tigris::make_synthetic_pair();
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << "synthetic pair (seed 1): frame0 " << pair.frame0.size() << " points, frame1 "
-            << pair.frame1.size() << " points, generated in " << seconds << " s\n";
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "synthetic pair (seed 1): frame0 " << pair.frame0.size() << " points, frame1 " << pair.frame1.size()
+            << " points, generated in " << seconds << " s\n";
   CHECK(pair.frame0.size() >= 100000);
   CHECK(pair.frame0.size() <= 130000);
   CHECK(pair.frame1.size() >= 100000);
   CHECK(pair.frame1.size() <= 130000);
   CHECK(pair.frame0.size() <= 64u * 1800u);  // at most one return per ray
-  CHECK(seconds < 5.0);  // about 0.02 s in Release; generous for sanitizer and Debug builds
+  CHECK(seconds < 5.0);                      // about 0.02 s in Release; generous for sanitizer and Debug builds
 }
 
 TEST_CASE("synthetic: other seeds stay in the point-count range", "[synthetic]") {
@@ -134,17 +130,16 @@ TEST_CASE("synthetic: the seed-1 pair has a fixed fingerprint on every platform"
   // -ffp-contract=off). They change only when the generator itself is changed on purpose:
   // then update them (and say so in the change log, since every synthetic result moves).
   const SyntheticPair& pair = default_pair();
-  INFO("frame0 " << pair.frame0.size() << " points, fingerprint 0x" << std::hex
-                 << fingerprint(pair.frame0) << "; frame1 " << std::dec << pair.frame1.size()
-                 << " points, fingerprint 0x" << std::hex << fingerprint(pair.frame1));
+  INFO("frame0 " << pair.frame0.size() << " points, fingerprint 0x" << std::hex << fingerprint(pair.frame0)
+                 << "; frame1 " << std::dec << pair.frame1.size() << " points, fingerprint 0x" << std::hex
+                 << fingerprint(pair.frame1));
   CHECK(pair.frame0.size() == 115200u);
   CHECK(pair.frame1.size() == 115110u);
   CHECK(fingerprint(pair.frame0) == 0xd25e067ac3ad6b6eull);
   CHECK(fingerprint(pair.frame1) == 0x5508015f82bf4153ull);
 }
 
-TEST_CASE("synthetic: points are finite, within the range limits and above the ground",
-          "[synthetic]") {
+TEST_CASE("synthetic: points are finite, within the range limits and above the ground", "[synthetic]") {
   const SyntheticConfig config;
   const SyntheticPair& pair = default_pair();
   for (const PointCloud* cloud : {&pair.frame0, &pair.frame1}) {
@@ -164,8 +159,7 @@ TEST_CASE("synthetic: points are finite, within the range limits and above the g
   }
 }
 
-TEST_CASE("synthetic: point order is ring-major, highest ring first, azimuth counter-clockwise",
-          "[synthetic]") {
+TEST_CASE("synthetic: point order is ring-major, highest ring first, azimuth counter-clockwise", "[synthetic]") {
   const PointCloud& cloud = default_pair().frame0;
   CHECK(elevation_deg(cloud.front()) == Approx(2.0).margin(1e-3));
   CHECK(elevation_deg(cloud.back()) == Approx(-24.8).margin(1e-3));
@@ -230,8 +224,8 @@ TEST_CASE("synthetic: the ground-truth transform maps frame 1 onto frame 0", "[s
   const std::vector<float> du = nn_distances(unaligned, pair.frame0);
   const float median_a = da[da.size() / 2], median_u = du[du.size() / 2];
   const float p90_a = da[da.size() * 9 / 10], p90_u = du[du.size() * 9 / 10];
-  INFO("NN distance, aligned: median " << median_a << " p90 " << p90_a << "; unaligned: median "
-                                       << median_u << " p90 " << p90_u);
+  INFO("NN distance, aligned: median " << median_a << " p90 " << p90_a << "; unaligned: median " << median_u << " p90 "
+                                       << p90_u);
   CHECK(median_a < 0.1f);  // about 0.03 m: sampling density and 2 cm range noise
   CHECK(p90_a < 0.2f);
   CHECK(median_u > 2.0f * median_a);

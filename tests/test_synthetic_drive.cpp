@@ -88,7 +88,8 @@ TEST_CASE("synthetic drive: the same seed gives the same bits, another seed anot
 TEST_CASE("synthetic drive: a shorter drive is the start of a longer one", "[synthetic]") {
   const SyntheticDrive short_drive(small(5)), long_drive(small(120));
   for (int i = 0; i < 5; ++i) {
-    CHECK(short_drive.frames()[static_cast<std::size_t>(i)].pose == long_drive.frames()[static_cast<std::size_t>(i)].pose);
+    CHECK(short_drive.frames()[static_cast<std::size_t>(i)].pose ==
+          long_drive.frames()[static_cast<std::size_t>(i)].pose);
     CHECK(short_drive.frames()[static_cast<std::size_t>(i)].speed_m_per_s ==
           long_drive.frames()[static_cast<std::size_t>(i)].speed_m_per_s);
   }
@@ -110,7 +111,8 @@ TEST_CASE("synthetic drive: the car drives 0-15 m/s, brakes and accelerates gent
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) {
         double dot = 0.0;
-        for (int k = 0; k < 3; ++k) dot += x.pose[static_cast<std::size_t>(4 * k + r)] * x.pose[static_cast<std::size_t>(4 * k + c)];
+        for (int k = 0; k < 3; ++k)
+          dot += x.pose[static_cast<std::size_t>(4 * k + r)] * x.pose[static_cast<std::size_t>(4 * k + c)];
         CHECK(std::abs(dot - (r == c ? 1.0 : 0.0)) < 1e-12);
       }
     stopped = x.speed_m_per_s == 0.0 ? stopped + 1 : 0;
@@ -125,8 +127,8 @@ TEST_CASE("synthetic drive: the car drives 0-15 m/s, brakes and accelerates gent
     CHECK(moved <= along * 1.002 + 1e-9);  // a chord of the path (the sensor sits above the road)
     CHECK(moved >= along * 0.99 - 1e-9);
   }
-  CHECK(longest_stop >= 10);    // a stop at a crossing, a second or more
-  CHECK(max_yaw_deg > 80.0);    // a turn into a crossing street
+  CHECK(longest_stop >= 10);  // a stop at a crossing, a second or more
+  CHECK(max_yaw_deg > 80.0);  // a turn into a crossing street
   CHECK(f.back().distance_m > 200.0);
   CHECK(drive.summary().max_grade > 0.005);  // the road is not flat
   CHECK(drive.summary().max_grade < 0.1);
@@ -145,9 +147,9 @@ TEST_CASE("synthetic drive: the road under two consecutive scans agrees through 
     INFO("frame " << i << ": own plane " << own[0] << " " << own[1] << " " << own[2] << ", next " << next[0] << " "
                   << next[1] << " " << next[2]);
     CHECK(own[2] == Approx(-1.73).margin(0.01));  // the sensor 1.73 m above the road
-    CHECK(std::abs(own[0] - next[0]) < 3e-5);    // slope along: 0.002 degrees
+    CHECK(std::abs(own[0] - next[0]) < 3e-5);     // slope along: 0.002 degrees
     CHECK(std::abs(own[1] - next[1]) < 3e-5);
-    CHECK(std::abs(own[2] - next[2]) < 3e-4);    // height: 0.3 mm
+    CHECK(std::abs(own[2] - next[2]) < 3e-4);  // height: 0.3 mm
   }
 }
 

@@ -12,8 +12,8 @@
 #include <set>
 
 #include "registration/pipeline.hpp"
-#include "workloads/synthetic.hpp"
 #include "traces/workload_trace.hpp"
+#include "workloads/synthetic.hpp"
 
 using namespace tigris;
 using namespace tigris::registration;
@@ -244,7 +244,8 @@ std::vector<std::uint8_t> forge_meta(const std::vector<std::uint8_t>& bytes, con
   std::vector<std::uint8_t> out(at + 32 + packed.size() + rest);
   std::copy_n(bytes.begin(), at + 32, out.begin());
   std::copy(packed.begin(), packed.end(), out.begin() + static_cast<std::ptrdiff_t>(at + 32));
-  std::copy(bytes.end() - static_cast<std::ptrdiff_t>(rest), bytes.end(), out.end() - static_cast<std::ptrdiff_t>(rest));
+  std::copy(bytes.end() - static_cast<std::ptrdiff_t>(rest), bytes.end(),
+            out.end() - static_cast<std::ptrdiff_t>(rest));
   const std::uint64_t n = packed.size(), check = fnv1a(packed.data(), packed.size());
   std::memcpy(&out[at + 8], &n, 8);
   std::memcpy(&out[at + 24], &check, 8);

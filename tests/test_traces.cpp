@@ -18,8 +18,8 @@ using namespace tigris;
 namespace {
 
 std::string temp_file(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("tigris_traces_" + std::to_string(::getpid()) + "_" + name);
+  const auto path =
+      std::filesystem::temp_directory_path() / ("tigris_traces_" + std::to_string(::getpid()) + "_" + name);
   std::ofstream(path) << text;
   return path.string();
 }
@@ -42,7 +42,10 @@ TEST_CASE("schedule CSV round-trips", "[traces]") {
 }
 
 TEST_CASE("bad schedule files name the file and line", "[traces]") {
-  struct Case { const char* text; const char* message; };
+  struct Case {
+    const char* text;
+    const char* message;
+  };
   const Case cases[] = {
       {"", ":1: expected the header"},
       {"seq,leaf,query\n0,1,2\n", ":1: expected the header"},
@@ -65,8 +68,7 @@ TEST_CASE("bad schedule files name the file and line", "[traces]") {
     CHECK_THROWS_WITH(read_schedule_csv(path), Catch::Contains(path) && Catch::Contains(c.message));
     std::filesystem::remove(path);
   }
-  CHECK_THROWS_WITH(read_schedule_csv("/nonexistent/schedule.csv"),
-                    Catch::Contains("/nonexistent/schedule.csv"));
+  CHECK_THROWS_WITH(read_schedule_csv("/nonexistent/schedule.csv"), Catch::Contains("/nonexistent/schedule.csv"));
 }
 
 TEST_CASE("results CSV prints dist2 so that it round-trips float32", "[results]") {
@@ -119,12 +121,12 @@ TEST_CASE("VcdWriter: booked changes and sums are written in time order", "[trac
   {
     tigris::VcdWriter vcd(path);
     const int a = vcd.add("top.a", 1), sum = vcd.add("top.sum", 8);
-    vcd.change(a, 10, 1);                 // now 10
-    vcd.change_at(a, 30, 0, 10);          // booked for 30
-    vcd.add_at(sum, 50, -2, 10);          // booked out of order
+    vcd.change(a, 10, 1);         // now 10
+    vcd.change_at(a, 30, 0, 10);  // booked for 30
+    vcd.add_at(sum, 50, -2, 10);  // booked out of order
     vcd.add_at(sum, 20, 2, 10);
     vcd.add_at(sum, 40, 1, 10);
-    vcd.change_at(a, 60, 1, 35);          // now 35: 30 may be written
+    vcd.change_at(a, 60, 1, 35);  // now 35: 30 may be written
     vcd.close();
   }
   std::ifstream f(path);

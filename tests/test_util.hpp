@@ -34,9 +34,7 @@ inline PointCloud make_cloud(CloudKind kind, std::size_t n, std::uint64_t seed) 
   c.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     switch (kind) {
-      case CloudKind::Uniform:
-        c.push_back({uniform(rng, -10, 10), uniform(rng, -5, 5), uniform(rng, -1, 2)});
-        break;
+      case CloudKind::Uniform: c.push_back({uniform(rng, -10, 10), uniform(rng, -5, 5), uniform(rng, -1, 2)}); break;
       case CloudKind::Duplicates:  // a few distinct points, each repeated many times
         if (i < 8 || rng() % 3 == 0)
           c.push_back({uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2)});
@@ -50,8 +48,7 @@ inline PointCloud make_cloud(CloudKind kind, std::size_t n, std::uint64_t seed) 
         break;
       }
       case CloudKind::Grid:  // integer lattice: many points lie exactly on split planes
-        c.push_back({static_cast<float>(rng() % 7), static_cast<float>(rng() % 5),
-                     static_cast<float>(rng() % 3)});
+        c.push_back({static_cast<float>(rng() % 7), static_cast<float>(rng() % 5), static_cast<float>(rng() % 3)});
         break;
     }
   }
@@ -68,8 +65,7 @@ inline PointCloud make_queries(const PointCloud& cloud, std::size_t n, std::uint
       case 0: q.push_back({uniform(rng, -12, 12), uniform(rng, -7, 7), uniform(rng, -2, 3)}); break;
       case 1: q.push_back(cloud[rng() % cloud.size()]); break;
       default:
-        q.push_back({static_cast<float>(rng() % 7), static_cast<float>(rng() % 5),
-                     static_cast<float>(rng() % 3)});
+        q.push_back({static_cast<float>(rng() % 7), static_cast<float>(rng() % 5), static_cast<float>(rng() % 3)});
     }
   }
   return q;

@@ -61,9 +61,7 @@ struct AccessProfile : tlm::tlm_extension<AccessProfile> {
   std::uint64_t bytes = 0;  // payload bytes moved, for traffic and energy statistics
 
   tlm::tlm_extension_base* clone() const override { return new AccessProfile(*this); }
-  void copy_from(const tlm::tlm_extension_base& other) override {
-    *this = static_cast<const AccessProfile&>(other);
-  }
+  void copy_from(const tlm::tlm_extension_base& other) override { *this = static_cast<const AccessProfile&>(other); }
 };
 
 }  // namespace tigris::tlm_if

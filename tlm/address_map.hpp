@@ -18,11 +18,11 @@ constexpr std::uint64_t kResultDramSize = 0xF'0000'0000;  // up to 60 GiB of rec
 
 // CSRs: 32-bit registers at these byte offsets in the CSR window.
 enum Csr : std::uint32_t {
-  kCtrl = 0x00,           // write 1: start the job
-  kStatus = 0x04,         // bit 0 busy, bit 1 done, bit 2 error (read); write 0 clears done
-  kMode = 0x08,           // SearchMode
-  kK = 0x0C,              // neighbours kept per query (NN: 1)
-  kRadius2Bits = 0x10,    // r*r as float32 bits (radius mode)
+  kCtrl = 0x00,         // write 1: start the job
+  kStatus = 0x04,       // bit 0 busy, bit 1 done, bit 2 error (read); write 0 clears done
+  kMode = 0x08,         // SearchMode
+  kK = 0x0C,            // neighbours kept per query (NN: 1)
+  kRadius2Bits = 0x10,  // r*r as float32 bits (radius mode)
   kNumPoints = 0x14,
   kNumQueries = 0x18,
   kTopHeight = 0x1C,
@@ -31,12 +31,12 @@ enum Csr : std::uint32_t {
   kLeafDirOffset = 0x28,  // byte offset of the leaf directory in the Point Buffer
   kResultBytesLo = 0x2C,  // bytes of result stream written to DRAM (read after done)
   kResultBytesHi = 0x30,
-  kCyclesLo = 0x34,       // cycles from START to done
+  kCyclesLo = 0x34,  // cycles from START to done
   kCyclesHi = 0x38,
   kErrorCode = 0x3C,
-  kApprox = 0x40,         // approximate search: 0 off, 1 every leaf, 2 first leaf (wait), 3 first leaf (finished only)
-  kApproxThd2Bits = 0x44, // thd*thd as float32 bits: a query this close to a leader follows it
-  kLeaderWidth = 0x48,    // R: entries in a NN/kNN leader's local result list
+  kApprox = 0x40,          // approximate search: 0 off, 1 every leaf, 2 first leaf (wait), 3 first leaf (finished only)
+  kApproxThd2Bits = 0x44,  // thd*thd as float32 bits: a query this close to a leader follows it
+  kLeaderWidth = 0x48,     // R: entries in a NN/kNN leader's local result list
   kCsrCount = 0x4C / 4,
 };
 

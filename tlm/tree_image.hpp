@@ -29,7 +29,7 @@ constexpr int kAxisShift = 30;
 struct TreeImage {
   std::vector<std::uint8_t> bytes;  // Point Buffer contents
   std::uint32_t num_top_nodes = 0;
-  std::uint32_t num_leaves = 0;     // 0: no leaf directory
+  std::uint32_t num_leaves = 0;  // 0: no leaf directory
   std::uint32_t leaf_dir_offset = 0;
   int top_height = 0;
 };

@@ -1,8 +1,8 @@
 #include "results_csv.hpp"
 
 #include <charconv>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <unordered_set>
@@ -35,8 +35,7 @@ bool parse_row(std::string_view line, std::uint64_t (&v)[3], float& d) {
 
 }  // namespace
 
-Results parse_results_csv(const char* data, std::size_t size, const std::string& label,
-                          std::size_t num_queries) {
+Results parse_results_csv(const char* data, std::size_t size, const std::string& label, std::size_t num_queries) {
   // Lines: split at '\n', a '\r' before it dropped.
   std::size_t pos = 0, lineno = 0;
   auto next = [&](std::string_view& line) {
@@ -54,7 +53,7 @@ Results parse_results_csv(const char* data, std::size_t size, const std::string&
   if (!next(line) || line != "query,rank,index,dist2")
     fail_line(label, 1, "expected the header 'query,rank,index,dist2'");
   Results results;
-  std::uint64_t current = 0;  // the query of the previous row
+  std::uint64_t current = 0;                  // the query of the previous row
   std::unordered_set<std::uint64_t> indices;  // the current query's neighbours
   bool any = false;
   while (next(line)) {
@@ -62,36 +61,38 @@ Results parse_results_csv(const char* data, std::size_t size, const std::string&
     std::uint64_t v[3];
     float d = 0.0f;
     if (!parse_row(line, v, d))
-      fail_line(label, lineno, "expected 'query,rank,index,dist2' (three unsigned integers and a "
-                               "number), got '" + printable(line) + "'");
+      fail_line(label, lineno,
+                "expected 'query,rank,index,dist2' (three unsigned integers and a "
+                "number), got '" +
+                    printable(line) + "'");
     const std::uint64_t q = v[0], rank = v[1], index = v[2];
     if (any && q < current)
-      fail_line(label, lineno, "query " + std::to_string(q) + " after query " + std::to_string(current) +
-                                   " (queries must come in index order)");
+      fail_line(label, lineno,
+                "query " + std::to_string(q) + " after query " + std::to_string(current) +
+                    " (queries must come in index order)");
     if (num_queries != 0 && q >= num_queries)
-      fail_line(label, lineno, "query " + std::to_string(q) + " beyond the " +
-                                   std::to_string(num_queries) + " queries");
+      fail_line(label, lineno,
+                "query " + std::to_string(q) + " beyond the " + std::to_string(num_queries) + " queries");
     if (q >= 0xFFFFFFFFu) fail_line(label, lineno, "query " + std::to_string(q) + " out of range");
     // Results keep one offset per query, rows or not: an inferred count is capped (a stray
     // digit must not allocate gigabytes); callers that know more pass num_queries.
     if (num_queries == 0 && q >= kMaxInferredQueries)
-      fail_line(label, lineno, "query " + std::to_string(q) + " beyond " +
-                                   std::to_string(kMaxInferredQueries) +
-                                   " queries (give the query count to read more)");
+      fail_line(label, lineno,
+                "query " + std::to_string(q) + " beyond " + std::to_string(kMaxInferredQueries) +
+                    " queries (give the query count to read more)");
     if (index >= 0xFFFFFFFFu) fail_line(label, lineno, "index " + std::to_string(index) + " out of range");
     if (!std::isfinite(d)) fail_line(label, lineno, "dist2 is not a finite float32");
     const bool same = any && q == current;
     const std::uint64_t expected_rank = same ? results.neighbors.size() - results.offset.back() : 0;
     if (rank != expected_rank)
-      fail_line(label, lineno, "rank " + std::to_string(rank) + " of query " + std::to_string(q) +
-                                   " (expected " + std::to_string(expected_rank) + ")");
+      fail_line(label, lineno,
+                "rank " + std::to_string(rank) + " of query " + std::to_string(q) + " (expected " +
+                    std::to_string(expected_rank) + ")");
     if (!same) indices.clear();
     if (same && !closer(results.neighbors.back(), Neighbor{static_cast<std::uint32_t>(index), d}))
-      fail_line(label, lineno, "neighbours of query " + std::to_string(q) +
-                                   " out of canonical (dist2, index) order");
+      fail_line(label, lineno, "neighbours of query " + std::to_string(q) + " out of canonical (dist2, index) order");
     if (!indices.insert(index).second)
-      fail_line(label, lineno, "index " + std::to_string(index) + " appears twice in query " +
-                                   std::to_string(q));
+      fail_line(label, lineno, "index " + std::to_string(index) + " appears twice in query " + std::to_string(q));
     // Close the queries before q (those without a row have no neighbour).
     while (results.num_queries() + 1 <= q) results.offset.push_back(results.neighbors.size());
     results.neighbors.push_back(Neighbor{static_cast<std::uint32_t>(index), d});

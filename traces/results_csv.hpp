@@ -18,8 +18,7 @@ namespace tigris {
 // row has no neighbour; `num_queries` (0: the last query's number + 1, at most 2^24) sets how
 // many queries the result holds, and a row of a query beyond it is an error. Throws InputError naming `label` and
 // the line.
-Results parse_results_csv(const char* data, std::size_t size, const std::string& label,
-                          std::size_t num_queries = 0);
+Results parse_results_csv(const char* data, std::size_t size, const std::string& label, std::size_t num_queries = 0);
 
 // Reads a results CSV file (as parse_results_csv).
 Results read_results_csv(const std::string& path, std::size_t num_queries = 0);

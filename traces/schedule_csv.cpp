@@ -37,9 +37,12 @@ bool parse_row(const std::string& line, std::uint64_t (&v)[3], ScheduleEntry::Ev
   }
   if (!event) return p == end;
   const std::string rest(p, end);
-  if (rest == ",visit") *event = ScheduleEntry::Event::Visit;
-  else if (rest == ",finish") *event = ScheduleEntry::Event::Finish;
-  else return false;
+  if (rest == ",visit")
+    *event = ScheduleEntry::Event::Visit;
+  else if (rest == ",finish")
+    *event = ScheduleEntry::Event::Finish;
+  else
+    return false;
   return true;
 }
 
@@ -65,8 +68,9 @@ Schedule read_schedule_csv(std::istream& in, const std::string& path) {
     ScheduleEntry::Event event = ScheduleEntry::Event::Visit;
     const std::string where = path + ":" + std::to_string(lineno) + ": ";
     if (!parse_row(line, v, events ? &event : nullptr))
-      throw InputError(where + (events ? "expected 'seq,query,leaf,event': three unsigned integers and visit or finish, got '"
-                                       : "expected 'seq,query,leaf' as three unsigned integers, got '") +
+      throw InputError(where +
+                       (events ? "expected 'seq,query,leaf,event': three unsigned integers and visit or finish, got '"
+                               : "expected 'seq,query,leaf' as three unsigned integers, got '") +
                        line + "'");
     if (v[0] != schedule.size())
       throw InputError(where + "seq " + std::to_string(v[0]) + " out of order (expected " +

@@ -109,8 +109,10 @@ void VcdWriter::write_header() {
   for (std::size_t k = 0; k < open.size(); ++k) out_ << "$upscope $end\n";
   out_ << "$enddefinitions $end\n#0\n$dumpvars\n";
   for (std::size_t i = 0; i < names_.size(); ++i) {
-    if (widths_[i] == 1) out_ << "0" << code(static_cast<int>(i)) << '\n';
-    else out_ << "b0 " << code(static_cast<int>(i)) << '\n';
+    if (widths_[i] == 1)
+      out_ << "0" << code(static_cast<int>(i)) << '\n';
+    else
+      out_ << "b0 " << code(static_cast<int>(i)) << '\n';
     seen_[i] = true;
   }
   out_ << "$end\n";
@@ -134,8 +136,9 @@ void VcdWriter::flush(std::uint64_t until_ps) {
     const Booked b = booked_.top();
     booked_.pop();
     const auto i = static_cast<std::size_t>(b.id);
-    emit(b.id, b.time, b.delta ? static_cast<std::uint64_t>(static_cast<std::int64_t>(last_[i]) + b.value)
-                               : static_cast<std::uint64_t>(b.value));
+    emit(b.id, b.time,
+         b.delta ? static_cast<std::uint64_t>(static_cast<std::int64_t>(last_[i]) + b.value)
+                 : static_cast<std::uint64_t>(b.value));
   }
 }
 
@@ -149,8 +152,10 @@ void VcdWriter::emit(int id, std::uint64_t time_ps, std::uint64_t value) {
     now_ = time_ps;
     time_written_ = true;
   }
-  if (widths_[i] == 1) out_ << (value ? '1' : '0') << code(id) << '\n';
-  else out_ << 'b' << binary(value, widths_[i]) << ' ' << code(id) << '\n';
+  if (widths_[i] == 1)
+    out_ << (value ? '1' : '0') << code(id) << '\n';
+  else
+    out_ << 'b' << binary(value, widths_[i]) << ' ' << code(id) << '\n';
   last_[i] = value;
   seen_[i] = true;
 }
@@ -166,8 +171,8 @@ void VcdWriter::close() {
   commit(tmp_, path_);
 }
 
-void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
-                std::uint64_t start_ps, const std::vector<std::string>& comment) {
+void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd, std::uint64_t start_ps,
+                const std::vector<std::string>& comment) {
   const std::string tmp = temp_beside(path);
   std::ofstream f(tmp);
   if (!f) throw std::runtime_error(path + ": cannot open for writing");
@@ -192,7 +197,8 @@ void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdW
   for (const std::string& line : comment) f << "[*] " << line << "\n";
   std::error_code ec;
   const std::filesystem::path dump = std::filesystem::absolute(vcd_path, ec);
-  f << "[dumpfile] \"" << (ec ? vcd_path : dump.lexically_normal().string()) << "\"\n[timestart] " << start_ps << "\n[size] 1200 800\n[sst_expanded] 1\n";
+  f << "[dumpfile] \"" << (ec ? vcd_path : dump.lexically_normal().string()) << "\"\n[timestart] " << start_ps
+    << "\n[size] 1200 800\n[sst_expanded] 1\n";
   // Wide enough for "tigris.all.writeback_backlog_bytes[31:0]=1234567" beside the waves.
   f << "[signals_width] 420\n[sst_width] 220\n";
   // Zoom to the job's span. Measured with GTKWave 3.3.118 (Debian 12) under Xvfb: zoom -z

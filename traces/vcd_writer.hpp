@@ -70,7 +70,7 @@ class VcdWriter {
 // (the aggregate traces) open, the per-unit groups collapsed below it. The dump is named by its
 // absolute path, so the save file opens it from any working folder; `comment` lines (what made
 // the run) go into its header.
-void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd,
-                std::uint64_t start_ps = 0, const std::vector<std::string>& comment = {});
+void write_gtkw(const std::string& path, const std::string& vcd_path, const VcdWriter& vcd, std::uint64_t start_ps = 0,
+                const std::vector<std::string>& comment = {});
 
 }  // namespace tigris

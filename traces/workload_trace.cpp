@@ -12,12 +12,12 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <set>
 #include <map>
+#include <set>
 #include <stdexcept>
 
-#include "sw_ref/arith.hpp"
 #include "core/visible_text.hpp"
+#include "sw_ref/arith.hpp"
 
 namespace tigris::trace {
 namespace {
@@ -106,15 +106,16 @@ struct In {
     };
     std::vector<std::set<std::string>> keys;  // a key given twice would be kept silently (the last)
     try {
-      return nlohmann::json::parse(t, t + n, [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-        using E = nlohmann::json::parse_event_t;
-        if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth) throw TooDeep{};
-        if (event == E::object_start) keys.emplace_back();
-        if (event == E::object_end && !keys.empty()) keys.pop_back();
-        if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
-          throw Twice{parsed.get<std::string>()};
-        return true;
-      });
+      return nlohmann::json::parse(
+          t, t + n, [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+            using E = nlohmann::json::parse_event_t;
+            if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth) throw TooDeep{};
+            if (event == E::object_start) keys.emplace_back();
+            if (event == E::object_end && !keys.empty()) keys.pop_back();
+            if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
+              throw Twice{parsed.get<std::string>()};
+            return true;
+          });
     } catch (const Twice& e) {
       fail("JSON key '" + visible_text(e.key, 40) + "' given twice in one object");
     } catch (const TooDeep&) {
@@ -125,18 +126,34 @@ struct In {
   }
 };
 
-std::uint64_t zigzag(std::int64_t v) { return (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63); }
+std::uint64_t zigzag(std::int64_t v) {
+  return (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63);
+}
 std::int64_t unzigzag(std::uint64_t v) { return static_cast<std::int64_t>(v >> 1) ^ -static_cast<std::int64_t>(v & 1); }
 
 nlohmann::json job_json(const Job& j) {
-  return {{"stage", j.stage}, {"iteration", j.iteration}, {"backend", j.backend},
-          {"tree", hash_text(j.tree)}, {"queries", hash_text(j.queries)}, {"tree_serial", j.tree_serial},
-          {"top_height", j.top_height}, {"mode", j.mode}, {"k", j.k}, {"radius", j.radius},
-          {"max_nn", j.max_nn}, {"approximate", j.approximate}, {"approx_thd", j.approx_thd},
-          {"leader_capacity", j.leader_capacity}, {"leader_width", j.leader_width},
-          {"leader_scope", j.leader_scope}, {"leader_in_flight", j.leader_in_flight},
-          {"inject_kth", j.inject_kth}, {"shell_inner", j.shell_inner}, {"shell_outer", j.shell_outer},
-          {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}};
+  return {{"stage", j.stage},
+          {"iteration", j.iteration},
+          {"backend", j.backend},
+          {"tree", hash_text(j.tree)},
+          {"queries", hash_text(j.queries)},
+          {"tree_serial", j.tree_serial},
+          {"top_height", j.top_height},
+          {"mode", j.mode},
+          {"k", j.k},
+          {"radius", j.radius},
+          {"max_nn", j.max_nn},
+          {"approximate", j.approximate},
+          {"approx_thd", j.approx_thd},
+          {"leader_capacity", j.leader_capacity},
+          {"leader_width", j.leader_width},
+          {"leader_scope", j.leader_scope},
+          {"leader_in_flight", j.leader_in_flight},
+          {"inject_kth", j.inject_kth},
+          {"shell_inner", j.shell_inner},
+          {"shell_outer", j.shell_outer},
+          {"search_seconds", j.search_seconds},
+          {"build_seconds", j.build_seconds}};
 }
 
 // A JSON integer in T's range, nothing else: nlohmann's get<int>() truncates 1.5, wraps 2^32 + 1
@@ -202,7 +219,8 @@ Job job_from(In& in, const nlohmann::json& j) {
   } catch (const nlohmann::json::exception& e) {
     in.fail(std::string("job header: ") + visible_text(e.what()));
   }
-  if (out.mode != "nn" && out.mode != "knn" && out.mode != "radius") in.fail("unknown mode '" + visible_text(out.mode, 20) + "'");
+  if (out.mode != "nn" && out.mode != "knn" && out.mode != "radius")
+    in.fail("unknown mode '" + visible_text(out.mode, 20) + "'");
   if (out.stage.empty()) in.fail("a job without a stage name");
   if (out.backend != "flann" && out.backend != "exact" && out.backend != "approx")
     in.fail("unknown back-end '" + visible_text(out.backend, 20) + "' (flann, exact or approx)");
@@ -213,13 +231,13 @@ Job job_from(In& in, const nlohmann::json& j) {
   if (out.search_seconds < 0 || out.build_seconds < 0) in.fail("a job with negative seconds");
   // (tree_serial -1 would read as "no tree sent yet" in the replay; the recorder numbers trees from 0)
   if (out.iteration < -1 || out.tree_serial < 0 || out.k < 1 || out.top_height < 0 || out.top_height > 30 ||
-      out.leader_capacity < 0 || out.leader_width < 0 ||
-      out.inject_kth < 1 || !std::isfinite(out.radius) || !std::isfinite(out.approx_thd) ||
-      !std::isfinite(out.shell_inner) || !std::isfinite(out.shell_outer) ||
+      out.leader_capacity < 0 || out.leader_width < 0 || out.inject_kth < 1 || !std::isfinite(out.radius) ||
+      !std::isfinite(out.approx_thd) || !std::isfinite(out.shell_inner) || !std::isfinite(out.shell_outer) ||
       (out.mode == "radius" && !(out.radius > 0.0f)) || !std::isfinite(out.search_seconds) ||
       !std::isfinite(out.build_seconds))
-    in.fail("job parameters out of range (iteration, tree_serial, k, top_height, radius, leader settings, injection "
-            "or seconds)");
+    in.fail(
+        "job parameters out of range (iteration, tree_serial, k, top_height, radius, leader settings, injection "
+        "or seconds)");
   return out;
 }
 
@@ -270,7 +288,8 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
     nlohmann::json m = {{"meta", trace.meta}, {"total_seconds", trace.total_seconds}};
     m["stages"] = nlohmann::json::array();
     for (const Stage& s : trace.stages)
-      m["stages"].push_back({{"name", s.name}, {"seconds", s.seconds},
+      m["stages"].push_back({{"name", s.name},
+                             {"seconds", s.seconds},
                              {"kdtree_search_seconds", s.kdtree_search_seconds},
                              {"kdtree_build_seconds", s.kdtree_build_seconds}});
     Out o;
@@ -322,7 +341,8 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
       const std::uint32_t pad = static_cast<std::uint32_t>(
           std::min<std::uint64_t>(need - std::min<std::uint64_t>(need, z.size() + 8), 0xffffffffu));
       const std::uint32_t magic = 0x184D2A50;  // skippable frame: magic, size, that many bytes
-      z.insert(z.end(), reinterpret_cast<const std::uint8_t*>(&magic), reinterpret_cast<const std::uint8_t*>(&magic) + 4);
+      z.insert(z.end(), reinterpret_cast<const std::uint8_t*>(&magic),
+               reinterpret_cast<const std::uint8_t*>(&magic) + 4);
       z.insert(z.end(), reinterpret_cast<const std::uint8_t*>(&pad), reinterpret_cast<const std::uint8_t*>(&pad) + 4);
       z.resize(z.size() + pad, 0);
     }
@@ -381,9 +401,11 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
     if (kind < kMeta || kind > kJob) fail(at, "unknown section kind " + std::to_string(kind));
     if (reserved != 0) fail(at + 4, "section " + std::to_string(s) + "'s reserved field is not 0");
     if ((s == 0) != (kind == kMeta)) fail(at, "the first section, and only it, must be the metadata");
-    if (zbytes > size - body) fail(body, "truncated: section " + std::to_string(s) + " needs " + std::to_string(zbytes) + " bytes");
+    if (zbytes > size - body)
+      fail(body, "truncated: section " + std::to_string(s) + " needs " + std::to_string(zbytes) + " bytes");
     if (rbytes > zbytes * kMaxExpansion + kMaxRawSlack) fail(at + 16, "corrupt: implausible decompressed size");
-    if (fnv1a(data + body, zbytes) != zcheck) fail(body, "corrupt: section " + std::to_string(s) + "'s checksum does not match");
+    if (fnv1a(data + body, zbytes) != zcheck)
+      fail(body, "corrupt: section " + std::to_string(s) + "'s checksum does not match");
     std::vector<std::uint8_t> raw(rbytes);
     const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), data + body, zbytes);
     if (ZSTD_isError(n) || n != rbytes) fail(body, "corrupt: section " + std::to_string(s) + " does not decompress");
@@ -401,13 +423,15 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
         if (!stages.is_array()) in.fail("metadata: 'stages' is not an array");
         for (const auto& st : stages)
           t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
-                              st.at("kdtree_search_seconds").get<double>(), st.at("kdtree_build_seconds").get<double>()});
+                              st.at("kdtree_search_seconds").get<double>(),
+                              st.at("kdtree_build_seconds").get<double>()});
         // Times are measured: finite and not negative (a forged -5e12 s would print as a speed-up).
         const auto bad = [](double x) { return !std::isfinite(x) || x < 0; };
         if (bad(t.total_seconds)) in.fail("metadata: total_seconds is negative or not finite");
         for (const Stage& st : t.stages)
           if (st.name.empty() || bad(st.seconds) || bad(st.kdtree_search_seconds) || bad(st.kdtree_build_seconds))
-            in.fail("metadata: stage '" + visible_text(st.name, 40) + "' has no name or negative or non-finite seconds");
+            in.fail("metadata: stage '" + visible_text(st.name, 40) +
+                    "' has no name or negative or non-finite seconds");
       } catch (const nlohmann::json::exception& e) {
         in.fail(std::string("metadata: ") + visible_text(e.what()));
       }
@@ -415,10 +439,12 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
       Cloud c;
       c.hash = in.u64();
       const std::uint64_t n_points = in.u64();
-      if (n_points > (in.size - in.pos) / sizeof(Point3)) in.fail("truncated: " + std::to_string(n_points) + " points announced");
+      if (n_points > (in.size - in.pos) / sizeof(Point3))
+        in.fail("truncated: " + std::to_string(n_points) + " points announced");
       c.points.resize(n_points);
       const std::uint8_t* bytes = in.take(n_points * sizeof(Point3));
-      if (n_points > 0) std::memcpy(c.points.data(), bytes, n_points * sizeof(Point3));  // an empty vector's data() may be null
+      if (n_points > 0)
+        std::memcpy(c.points.data(), bytes, n_points * sizeof(Point3));  // an empty vector's data() may be null
       if (content_hash(c.points) != c.hash) in.fail("corrupt: the points do not match their hash " + hash_text(c.hash));
       for (const Point3& p : c.points)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) in.fail("a point is not finite");
@@ -444,7 +470,8 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
       std::uint64_t prev = 0;  // the previous index, < limit: prev + delta is checked without overflowing
       for (auto& i : j.indices) {
         const std::int64_t delta = unzigzag(in.varint());
-        const std::uint64_t step = delta < 0 ? 0 - static_cast<std::uint64_t>(delta) : static_cast<std::uint64_t>(delta);
+        const std::uint64_t step =
+            delta < 0 ? 0 - static_cast<std::uint64_t>(delta) : static_cast<std::uint64_t>(delta);
         if (delta < 0 ? step > prev : step >= limit - prev)
           in.fail("a result index " + std::to_string(prev) + (delta < 0 ? " - " : " + ") + std::to_string(step) +
                   " beyond its cloud of " + std::to_string(points) + " points");

@@ -8,8 +8,8 @@
 
 #include <Eigen/LU>
 
-#include "sw_ref/cloud.hpp"
 #include "core/input_file.hpp"
+#include "sw_ref/cloud.hpp"
 
 namespace tigris {
 namespace fs = std::filesystem;
@@ -81,8 +81,9 @@ KittiSequence read_kitti_sequence(const std::string& dir) {
   }
   if (ec) throw InputError(velo.string() + ": cannot list the folder: " + ec.message());
   if (numbers.empty())
-    throw InputError(velo.string() + ": no scan (NNNNNN.bin) in the folder (a KITTI sequence holds "
-                                     "velodyne/NNNNNN.bin scans)");
+    throw InputError(velo.string() +
+                     ": no scan (NNNNNN.bin) in the folder (a KITTI sequence holds "
+                     "velodyne/NNNNNN.bin scans)");
   std::sort(numbers.begin(), numbers.end());
   for (std::size_t i = 0; i < numbers.size(); ++i) {
     if (numbers[i] != static_cast<long>(i))
@@ -112,7 +113,8 @@ KittiSequence read_kitti_sequence(const std::string& dir) {
     // KITTI 00 has 2 scans and 6 poses); the first poses are the scans'.
     if (cam.size() > s.scans.size())
       s.note = poses.string() + " holds " + std::to_string(cam.size()) + " poses for " +
-               std::to_string(s.scans.size()) + " scans: the first " + std::to_string(s.scans.size()) + " are the scans'";
+               std::to_string(s.scans.size()) + " scans: the first " + std::to_string(s.scans.size()) +
+               " are the scans'";
     const Pose inv_tr = s.velo_to_cam.inverse();
     for (const Pose& p : cam) s.poses.push_back(inv_tr * p * s.velo_to_cam);
   }

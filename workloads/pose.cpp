@@ -7,9 +7,9 @@
 
 #include <Eigen/Geometry>
 
-#include "sw_ref/cloud.hpp"
 #include "core/input_file.hpp"
 #include "core/visible_text.hpp"
+#include "sw_ref/cloud.hpp"
 
 namespace tigris {
 std::vector<double> numbers_of(std::string text, const std::string& label) {
@@ -49,8 +49,9 @@ void check_rigid(const Pose& t, const std::string& label) {
   const double orth = (r.transpose() * r - Eigen::Matrix3d::Identity()).norm();
   if (orth > 1e-3 || std::abs(r.determinant() - 1.0) > 1e-3 ||
       (t.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9)
-    throw InputError(label + ": not a rigid transform (the rotation part is not orthonormal with "
-                             "determinant 1, or the last row is not 0 0 0 1)");
+    throw InputError(label +
+                     ": not a rigid transform (the rotation part is not orthonormal with "
+                     "determinant 1, or the last row is not 0 0 0 1)");
   // Beyond this the error arithmetic overflows; no sensor moves 1,000 km between two frames.
   if (t.topRightCorner<3, 1>().cwiseAbs().maxCoeff() > kMaxTranslation)
     throw InputError(label + ": a translation beyond 1e6 m (1,000 km) is not a registration's ground truth");
@@ -61,8 +62,10 @@ void check_rigid(const Pose& t, const std::string& label) {
 Pose read_pose_file(const std::string& path) {
   const std::vector<double> v = numbers_of(read_text(path), path);
   if (v.size() != 16 && v.size() != 12)
-    throw InputError(path + ": a pose file holds a 4x4 (16 numbers) or a 3x4 (12 numbers) "
-                            "row-major transform, found " + std::to_string(v.size()) + " numbers");
+    throw InputError(path +
+                     ": a pose file holds a 4x4 (16 numbers) or a 3x4 (12 numbers) "
+                     "row-major transform, found " +
+                     std::to_string(v.size()) + " numbers");
   const Pose t = from_rows(v, 0);
   check_rigid(t, path);
   return t;
@@ -107,11 +110,9 @@ Pose kitti_relative_velo_pose(const std::string& poses_path, int source, int tar
   const std::vector<Pose> poses = read_kitti_poses(poses_path);
   const int n = static_cast<int>(poses.size());
   if (source < 0 || source >= n || target < 0 || target >= n)
-    throw InputError(poses_path + ": frames " + std::to_string(source) + " and " +
-                     std::to_string(target) + " requested, the file holds poses 0.." +
-                     std::to_string(n - 1));
-  return kitti_relative_velo_pose(poses[static_cast<std::size_t>(source)],
-                                  poses[static_cast<std::size_t>(target)]);
+    throw InputError(poses_path + ": frames " + std::to_string(source) + " and " + std::to_string(target) +
+                     " requested, the file holds poses 0.." + std::to_string(n - 1));
+  return kitti_relative_velo_pose(poses[static_cast<std::size_t>(source)], poses[static_cast<std::size_t>(target)]);
 }
 
 double rotation_angle_deg(const Pose& t) {

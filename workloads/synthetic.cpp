@@ -57,9 +57,8 @@ struct Scene {
 
 // One side of the street (side = +1: +y, side = -1: -y); `base` is the distance of the
 // building line from the street axis.
-void add_building_row(Scene& scene, Rng& rng, double xa, double xb, int side, double base,
-                      double min_depth, double max_depth, double min_h, double max_h,
-                      double max_setback, bool gaps) {
+void add_building_row(Scene& scene, Rng& rng, double xa, double xb, int side, double base, double min_depth,
+                      double max_depth, double min_h, double max_h, double max_setback, bool gaps) {
   double x = xa;
   while (x < xb - 1.0) {
     double end = std::min(x + rng.uniform(8.0, 25.0), xb);
@@ -80,8 +79,7 @@ void add_building_row(Scene& scene, Rng& rng, double xa, double xb, int side, do
 
 // A car-like box standing on the ground, centred at (cx, cy).
 void add_car(Scene& scene, double cx, double cy, double length, double width, double height) {
-  scene.boxes.push_back(
-      Box{cx - 0.5 * length, cx + 0.5 * length, cy - 0.5 * width, cy + 0.5 * width, 0.0, height});
+  scene.boxes.push_back(Box{cx - 0.5 * length, cx + 0.5 * length, cy - 0.5 * width, cy + 0.5 * width, 0.0, height});
 }
 
 Scene make_scene(std::uint64_t seed) {
@@ -90,8 +88,8 @@ Scene make_scene(std::uint64_t seed) {
 
   const double curb[2] = {rng.uniform(5.5, 7.0), rng.uniform(5.5, 7.0)};      // +y, -y side
   const double sidewalk[2] = {rng.uniform(2.5, 4.0), rng.uniform(2.5, 4.0)};  // curb to facade
-  const double x_front = rng.uniform(55.0, 68.0);  // closing facade ahead
-  const double x_back = -rng.uniform(45.0, 60.0);  // closing facade behind
+  const double x_front = rng.uniform(55.0, 68.0);                             // closing facade ahead
+  const double x_back = -rng.uniform(45.0, 60.0);                             // closing facade behind
   // An open cross street [cross0, cross1], from around the sensor up to 30 m ahead. When the
   // sensor is near the intersection, the upper rings looking down it see nothing within
   // max_range (no return) and the lower ones see far ground.
@@ -146,8 +144,7 @@ Scene make_scene(std::uint64_t seed) {
         const double length = van ? rng.uniform(5.0, 6.0) : rng.uniform(3.9, 4.6);
         const double width = van ? rng.uniform(1.9, 2.0) : rng.uniform(1.7, 1.9);
         const double height = van ? rng.uniform(2.0, 2.4) : rng.uniform(1.4, 1.6);
-        add_car(scene, x + 0.5 * length, side * (curb[k] - 0.25 - 0.5 * width), length, width,
-                height);
+        add_car(scene, x + 0.5 * length, side * (curb[k] - 0.25 - 0.5 * width), length, width, height);
         x += length + rng.uniform(0.8, 3.0);
       } else {
         x += rng.uniform(2.0, 6.0);
@@ -214,9 +211,8 @@ struct Pose {
 
 // Casts one full revolution from `pose`; out[ring * azimuth_steps + j] gets the range of the
 // first surface hit, or a negative value when there is none within max_range.
-void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& rings,
-               const std::vector<double>& az_cos, const std::vector<double>& az_sin,
-               double max_range, std::vector<double>& out) {
+void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& rings, const std::vector<double>& az_cos,
+               const std::vector<double>& az_sin, double max_range, std::vector<double>& out) {
   const std::size_t n_rings = rings.size();
   const std::size_t n_az = az_cos.size();
   out.assign(n_rings * n_az, -1.0);
@@ -289,8 +285,7 @@ void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& ri
     }
     // Nearest first, so the ring loop can stop early. (The order of equal s_in does not matter:
     // the result is the minimum hit distance, whichever primitive provides it.)
-    std::sort(cands.begin(), cands.end(),
-              [](const Candidate& a, const Candidate& b) { return a.s_in < b.s_in; });
+    std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.s_in < b.s_in; });
 
     for (std::size_t r = 0; r < n_rings; ++r) {
       const Ring& ring = rings[r];
@@ -351,8 +346,7 @@ PointCloud make_points(const std::vector<double>& ranges, const std::vector<Ring
       const double noisy = range + n;
       if (noisy < config.min_range_m || noisy > config.max_range_m) continue;
       const double horizontal = noisy * rings[r].cos_e;
-      cloud.push_back(Point3{static_cast<float>(horizontal * az_cos[j]),
-                             static_cast<float>(horizontal * az_sin[j]),
+      cloud.push_back(Point3{static_cast<float>(horizontal * az_cos[j]), static_cast<float>(horizontal * az_sin[j]),
                              static_cast<float>(noisy * rings[r].sin_e)});
     }
   }
@@ -365,8 +359,7 @@ void check_config(const SyntheticConfig& c) {
   if (c.azimuth_steps < 1 || c.azimuth_steps > 100000)
     err << "azimuth_steps must be in 1..100000 (got " << c.azimuth_steps << "); ";
   if (!(c.min_range_m >= 0.0f) || !(c.max_range_m > c.min_range_m) || !std::isfinite(c.max_range_m))
-    err << "need 0 <= min_range_m < max_range_m (got " << c.min_range_m << ", " << c.max_range_m
-        << "); ";
+    err << "need 0 <= min_range_m < max_range_m (got " << c.min_range_m << ", " << c.max_range_m << "); ";
   if (!(c.range_noise_m >= 0.0f) || !std::isfinite(c.range_noise_m))
     err << "range_noise_m must be finite and >= 0 (got " << c.range_noise_m << "); ";
   if (!std::isfinite(c.forward_m) || std::fabs(c.forward_m) > 20.0f)
@@ -393,8 +386,7 @@ SyntheticPair make_synthetic_pair(const SyntheticConfig& config) {
   const std::size_t n_az = static_cast<std::size_t>(config.azimuth_steps);
   std::vector<double> az_cos(n_az), az_sin(n_az);
   for (std::size_t j = 0; j < n_az; ++j)
-    det_sincos(det_radians(360.0 * static_cast<double>(j) / static_cast<double>(n_az)), az_sin[j],
-               az_cos[j]);
+    det_sincos(det_radians(360.0 * static_cast<double>(j) / static_cast<double>(n_az)), az_sin[j], az_cos[j]);
 
   double cos_yaw = 1.0, sin_yaw = 0.0;
   det_sincos(det_radians(static_cast<double>(config.yaw_deg)), sin_yaw, cos_yaw);
@@ -409,8 +401,7 @@ SyntheticPair make_synthetic_pair(const SyntheticConfig& config) {
     pair.frame0 = make_points(ranges, rings, az_cos, az_sin, config, noise);
   }
   {
-    cast_scan(scene, Pose{forward, 0.0, cos_yaw, sin_yaw}, rings, az_cos, az_sin, max_range,
-              ranges);
+    cast_scan(scene, Pose{forward, 0.0, cos_yaw, sin_yaw}, rings, az_cos, az_sin, max_range, ranges);
     Rng noise(config.seed, kNoiseFrame1);
     pair.frame1 = make_points(ranges, rings, az_cos, az_sin, config, noise);
   }

@@ -11,13 +11,13 @@ namespace tigris {
 
 struct SyntheticConfig {
   std::uint64_t seed = 1;
-  int rings = 64;                // laser rings (HDL-64E: 64)
-  int azimuth_steps = 1800;      // firings per revolution (0.2 degree)
-  float max_range_m = 80.0f;     // returns beyond this are dropped
-  float min_range_m = 2.5f;      // the ego car hides closer returns
-  float range_noise_m = 0.02f;   // 1-sigma Gaussian range noise
-  float forward_m = 1.0f;        // second scan: sensor moved this far along +x ...
-  float yaw_deg = 1.0f;          // ... and turned this much about +z
+  int rings = 64;               // laser rings (HDL-64E: 64)
+  int azimuth_steps = 1800;     // firings per revolution (0.2 degree)
+  float max_range_m = 80.0f;    // returns beyond this are dropped
+  float min_range_m = 2.5f;     // the ego car hides closer returns
+  float range_noise_m = 0.02f;  // 1-sigma Gaussian range noise
+  float forward_m = 1.0f;       // second scan: sensor moved this far along +x ...
+  float yaw_deg = 1.0f;         // ... and turned this much about +z
 };
 
 // Row-major 4x4 rigid transform.

@@ -2,18 +2,16 @@
 
 #include <stdexcept>
 
-#include "workloads/io/cloud_io.hpp"
 #include "synthetic.hpp"
+#include "workloads/io/cloud_io.hpp"
 
 namespace tigris {
 
-Workload load_workload(const std::string& cloud_path, const std::string& queries_path,
-                       std::uint64_t seed) {
+Workload load_workload(const std::string& cloud_path, const std::string& queries_path, std::uint64_t seed) {
   // Queries without a cloud would search the user's points in the synthetic street: nonsense
   // that still MATCHes, so it is refused.
   if (cloud_path.empty() && !queries_path.empty())
-    throw std::invalid_argument("--queries " + queries_path +
-                                " needs --cloud (the cloud its points are searched in)");
+    throw std::invalid_argument("--queries " + queries_path + " needs --cloud (the cloud its points are searched in)");
   Workload w;
   if (cloud_path.empty()) {
     SyntheticConfig config;

@@ -17,7 +17,6 @@ struct Workload {
 // Both paths empty: the synthetic frames of `seed`, frame 0 as cloud and frame 1 as queries.
 // A cloud alone is searched in itself; queries without a cloud are refused
 // (std::invalid_argument).
-Workload load_workload(const std::string& cloud_path, const std::string& queries_path,
-                       std::uint64_t seed);
+Workload load_workload(const std::string& cloud_path, const std::string& queries_path, std::uint64_t seed);
 
 }  // namespace tigris

@@ -23,7 +23,8 @@ CommandRegistration::CommandRegistration(CommandInfo info) {
 std::vector<const CommandInfo*> commands() {
   std::vector<const CommandInfo*> out;
   for (const CommandInfo& c : registry()) out.push_back(&c);
-  std::stable_sort(out.begin(), out.end(), [](const CommandInfo* a, const CommandInfo* b) { return a->order < b->order; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const CommandInfo* a, const CommandInfo* b) { return a->order < b->order; });
   return out;
 }
 

@@ -55,8 +55,8 @@ class OptionsCommand final : public Command {
 };
 
 template <class Options>
-CommandInfo options_command(std::string name, std::string summary, int order,
-                            typename OptionsCommand<Options>::Add add, typename OptionsCommand<Options>::Run run) {
+CommandInfo options_command(std::string name, std::string summary, int order, typename OptionsCommand<Options>::Add add,
+                            typename OptionsCommand<Options>::Run run) {
   return {std::move(name), std::move(summary), order,
           [add, run] { return std::make_unique<OptionsCommand<Options>>(add, run); }};
 }

@@ -6,21 +6,21 @@
 #include <CLI/CLI.hpp>
 #include <systemc>
 
+#include <unistd.h>
 #include <cstdlib>
 #include <cstring>
-#include <unistd.h>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "core/build_info.hpp"
+#include "command.hpp"
 #include "core/arg_checks.hpp"
+#include "core/build_info.hpp"
 #include "core/children.hpp"
 #include "core/out_folder.hpp"
-#include "core/visible_text.hpp"
 #include "core/slurm_array.hpp"
-#include "command.hpp"
+#include "core/visible_text.hpp"
 #include "options.hpp"
 #include "python_tools.hpp"
 
@@ -29,7 +29,6 @@
 // stacks ("Tracer caught signal 11"), so leak checking is off there (ASan and UBSan stay on).
 extern "C" const char* __asan_default_options() { return "detect_leaks=0"; }
 #endif
-
 
 namespace {
 
@@ -83,7 +82,8 @@ int main(int argc, char** argv) {
   // `tigris COMMAND --list-flags`: before parsing, so a command's required flags need not be given.
   for (auto& [sub, command] : subcommands)
     if (command)
-      sub->add_flag("--list-flags", "Print this command's flags as JSON (flag, type, default, meaning) for tools, and exit");
+      sub->add_flag("--list-flags",
+                    "Print this command's flags as JSON (flag, type, default, meaning) for tools, and exit");
   if (argc == 3 && std::string(argv[2]) == "--list-flags")
     for (auto& [sub, command] : subcommands)
       if (command && sub->get_name() == argv[1]) {
@@ -105,7 +105,8 @@ int main(int argc, char** argv) {
     if (hints.rfind("'", 0) == 0)  // an unknown command: CLI11 would only say one is required
       std::cerr << "tigris: error: " << tigris::visible_message(hints);
     else if (!hints.empty())  // the project's words first, CLI11's after them
-      std::cerr << "tigris: error: " << tigris::visible_message(hints) << "(" << tigris::visible_message(e.what()) << ")\n";
+      std::cerr << "tigris: error: " << tigris::visible_message(hints) << "(" << tigris::visible_message(e.what())
+                << ")\n";
     else
       std::cerr << "tigris: error: " << tigris::visible_message(e.what()) << '\n';
     std::cerr << "Run with --help for more information (tigris COMMAND --help for a command's flags).\n";

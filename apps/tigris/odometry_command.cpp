@@ -1,8 +1,8 @@
 #include "odometry_command.hpp"
 #include "command.hpp"
 
-#include <sys/wait.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,17 +25,17 @@
 
 #include "core/arg_checks.hpp"
 #include "core/children.hpp"
-#include "core/out_folder.hpp"
-#include "testbench/run_inputs.hpp"
 #include "core/json_file.hpp"
-#include "python_tools.hpp"
-#include "testbench/report.hpp"
+#include "core/out_folder.hpp"
 #include "core/slurm_array.hpp"
-#include "synth_command.hpp"
-#include "workloads/kitti_sequence.hpp"
-#include "registration/odometry_metrics.hpp"
-#include "workloads/pose.hpp"
 #include "core/timer.hpp"
+#include "python_tools.hpp"
+#include "registration/odometry_metrics.hpp"
+#include "synth_command.hpp"
+#include "testbench/report.hpp"
+#include "testbench/run_inputs.hpp"
+#include "workloads/kitti_sequence.hpp"
+#include "workloads/pose.hpp"
 
 namespace tigris {
 namespace {
@@ -95,10 +95,10 @@ nlohmann::json config_inputs(const OdometryOptions& o) {
 
 std::vector<std::string> odometry_outputs(bool compare) {
   if (compare)
-    return {"comparison.json", "flann/", "exact/", "approx/", "accel/", "sequence/", "flann-repeat-*/",
-            "exact-repeat-*/", "approx-repeat-*/"};
-  return {"poses.txt", "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png", "errors.png",
-          "pairs/",    "slurm/",         "sequence/"};
+    return {"comparison.json", "flann/",          "exact/",          "approx/",         "accel/",
+            "sequence/",       "flann-repeat-*/", "exact-repeat-*/", "approx-repeat-*/"};
+  return {"poses.txt",  "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png",
+          "errors.png", "pairs/",         "slurm/",    "sequence/"};
 }
 
 std::string last_line(const std::string& path) {
@@ -117,7 +117,8 @@ bool read_pair(const std::string& path, ordered_json& out) {
   out = parse_json_text(read_input(path, "a pair's registration report", kMaxSettingsBytes), path);
   const auto need = [&](bool ok, const std::string& what) {
     if (!ok)
-      throw std::invalid_argument(path + ": " + what + "; not a whole tigris register report (remove the pair's "
+      throw std::invalid_argument(path + ": " + what +
+                                  "; not a whole tigris register report (remove the pair's "
                                   "folder to register it again)");
   };
   need(out.is_object(), "not a JSON object");
@@ -135,8 +136,9 @@ bool read_pair(const std::string& path, ordered_json& out) {
   if (out["transform"].is_array()) {
     bool ok = out["transform"].size() == 4;
     for (const auto& row : out["transform"])
-      ok = ok && row.is_array() && row.size() == 4 &&
-           std::all_of(row.begin(), row.end(), [](const ordered_json& x) { return x.is_number() && std::isfinite(x.get<double>()); });
+      ok = ok && row.is_array() && row.size() == 4 && std::all_of(row.begin(), row.end(), [](const ordered_json& x) {
+             return x.is_number() && std::isfinite(x.get<double>());
+           });
     need(ok, "'transform' is not a 4x4 matrix of finite numbers");
   }
   return true;
@@ -145,7 +147,8 @@ bool read_pair(const std::string& path, ordered_json& out) {
 Pose pose_of(const ordered_json& m) {
   Pose t;
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) t(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
+    for (int c = 0; c < 4; ++c)
+      t(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
   return t;
 }
 
@@ -161,12 +164,14 @@ ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : orde
 }  // namespace
 
 void add_odometry_options(CLI::App& app, OdometryOptions& o) {
-  CLI::Option* seq = app.add_option(
-      "--sequence", o.sequence, "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)");
-  CLI::Option* syn = app.add_option("--synthetic", o.synthetic,
-                                    "Instead of --sequence: a synthetic drive of N frames with exact poses (tigris synth), "
-                                    "written to OUT/sequence first")
-                         ->check(CLI::Range(2, 20000));
+  CLI::Option* seq =
+      app.add_option("--sequence", o.sequence,
+                     "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)");
+  CLI::Option* syn =
+      app.add_option("--synthetic", o.synthetic,
+                     "Instead of --sequence: a synthetic drive of N frames with exact poses (tigris synth), "
+                     "written to OUT/sequence first")
+          ->check(CLI::Range(2, 20000));
   seq->excludes(syn);
   app.add_option("--seed", o.seed, "With --synthetic: the drive's seed (0 .. 2^64-1)")
       ->check(uint64_text())
@@ -180,8 +185,7 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
   app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)");
-  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")
-      ->allow_extra_args(false);
+  app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")->allow_extra_args(false);
   app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
       ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
@@ -215,7 +219,8 @@ void check_odometry_flags(const CLI::App& app, const OdometryOptions& o) {
   if (o.compare)
     for (const char* flag : {"--search", "--no-wait"})
       if (app.count(flag))
-        throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs flann, exact, approx and "
+        throw std::invalid_argument(std::string(flag) +
+                                    " does not go with --compare (it runs flann, exact, approx and "
                                     "accel one after the other)");
   // Every flag the pairs get is checked by `tigris register` itself before anything is written.
   if (o.compare)
@@ -227,10 +232,17 @@ void check_odometry_flags(const CLI::App& app, const OdometryOptions& o) {
 // --synthetic: claims OUT and writes the drive to OUT/sequence, which then is the sequence (o.sequence).
 std::unique_ptr<OutFolder> write_synthetic(OdometryOptions& o, const std::vector<std::string>& flags) {
   // The drive is an output (OUT/sequence, written by the synth core): the settings decide it.
-  FolderSpec spec{"odometry", {}, nlohmann::json({{"synthetic", o.synthetic}, {"seed", o.seed},
-                                                      {"frames", o.frames}, {"register_flags", flags},
-                                                      {"compare", o.compare}}),
-                  config_inputs(o), odometry_outputs(o.compare), true, {}};
+  FolderSpec spec{"odometry",
+                  {},
+                  nlohmann::json({{"synthetic", o.synthetic},
+                                  {"seed", o.seed},
+                                  {"frames", o.frames},
+                                  {"register_flags", flags},
+                                  {"compare", o.compare}}),
+                  config_inputs(o),
+                  odometry_outputs(o.compare),
+                  true,
+                  {}};
   auto folder = std::make_unique<OutFolder>(o.out, spec);
   DriveConfig drive;
   drive.frames = o.synthetic;
@@ -245,10 +257,16 @@ std::unique_ptr<OutFolder> write_synthetic(OdometryOptions& o, const std::vector
 // --compare: claims OUT (unless the synthetic drive did) and runs each back-end's odometry into it.
 int run_compare(const OdometryOptions& o, const std::vector<std::string>& flags, std::unique_ptr<OutFolder> folder) {
   if (!folder) {  // each back-end's odometry checks (and records) the sequence's files itself
-    FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
-                                                          {"frames", o.frames}, {"register_flags", flags},
-                                                          {"compare", true}}),
-                    config_inputs(o), odometry_outputs(true), true, {}};
+    FolderSpec spec{"odometry",
+                    {},
+                    nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                    {"frames", o.frames},
+                                    {"register_flags", flags},
+                                    {"compare", true}}),
+                    config_inputs(o),
+                    odometry_outputs(true),
+                    true,
+                    {}};
     folder = std::make_unique<OutFolder>(o.out, spec);
   }
   const int code = run_odometry_compare(o);
@@ -269,11 +287,11 @@ struct OdometryRun {
   std::vector<std::string> flags;     // each pair's `tigris register` flags
   std::unique_ptr<OutFolder> folder;  // null until claimed (the synthetic drive claims it first)
   KittiSequence seq;
-  std::size_t first = 0, last = 0, pairs = 0;    // the frames registered, pairs = last - first
-  std::vector<ordered_json> regs;                // each pair's registration.json
-  std::vector<std::size_t> todo;                 // the pairs still to register
-  std::vector<Pose> est, gt;                     // chained, and ground truth from frame first (empty: none)
-  bool accel = false;                            // --search accel*: the accelerator's modeled figures too
+  std::size_t first = 0, last = 0, pairs = 0;  // the frames registered, pairs = last - first
+  std::vector<ordered_json> regs;              // each pair's registration.json
+  std::vector<std::size_t> todo;               // the pairs still to register
+  std::vector<Pose> est, gt;                   // chained, and ground truth from frame first (empty: none)
+  bool accel = false;                          // --search accel*: the accelerator's modeled figures too
   PairTotals sum;
   ordered_json stages = ordered_json::object();  // per stage: sums over the pairs, then means
   ordered_json m;                                // metrics.json
@@ -328,9 +346,15 @@ void OdometryRun::claim_folder() {
       std::error_code ec;
       if (fs::exists(fs::symlink_status(path, ec))) inputs.push_back(input_file(name, path));
     }
-    FolderSpec spec{"odometry", {}, nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
-                                                          {"frames", {first, last}}, {"register_flags", flags}}),
-                    inputs, odometry_outputs(false), true, {}};
+    FolderSpec spec{"odometry",
+                    {},
+                    nlohmann::json({{"sequence", fs::absolute(o.sequence).lexically_normal().string()},
+                                    {"frames", {first, last}},
+                                    {"register_flags", flags}}),
+                    inputs,
+                    odometry_outputs(false),
+                    true,
+                    {}};
     folder = std::make_unique<OutFolder>(o.out, spec);
   }
   fs::create_directories(o.out + "/pairs");
@@ -373,8 +397,9 @@ bool OdometryRun::run_on_slurm(SteadyClock::time_point t0, std::string& failure)
     const std::string dir = fs::absolute(o.out + "/pairs/" + frame_tag(first + k)).lexically_normal().string();
     fs::create_directories(dir);
     ArrayCommand c;
-    c.argv = {self, "register", "--source", fs::absolute(seq.scans[first + k + 1]).string(), "--target",
-              fs::absolute(seq.scans[first + k]).string()};
+    c.argv = {self,       "register",
+              "--source", fs::absolute(seq.scans[first + k + 1]).string(),
+              "--target", fs::absolute(seq.scans[first + k]).string()};
     c.argv.insert(c.argv.end(), flags.begin(), flags.end());
     c.argv.insert(c.argv.end(), {"--out", dir});
     c.log = dir + "/log.txt";
@@ -414,8 +439,8 @@ void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) 
         const std::size_t k = todo[i];
         const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
         fs::create_directories(dir);
-        std::vector<std::string> args{"/proc/self/exe", "register", "--source", seq.scans[first + k + 1], "--target",
-                                      seq.scans[first + k]};
+        std::vector<std::string> args{"/proc/self/exe",         "register", "--source",
+                                      seq.scans[first + k + 1], "--target", seq.scans[first + k]};
         args.insert(args.end(), flags.begin(), flags.end());
         args.insert(args.end(), {"--out", dir});
         return start_child(args, dir + "/log.txt", "log.txt");
@@ -496,8 +521,7 @@ void OdometryRun::add_pair(std::size_t k, std::ostringstream& csv) {
   char line[512];
   double rpe_t = NAN, rpe_r = NAN;
   if (!gt.empty()) {
-    const PoseError e =
-        pose_error(gt[k].inverse() * gt[k + 1], est[k].inverse() * est[k + 1]);
+    const PoseError e = pose_error(gt[k].inverse() * gt[k + 1], est[k].inverse() * est[k + 1]);
     rpe_t = e.translation_m;
     rpe_r = e.rotation_deg;
   }
@@ -508,7 +532,8 @@ void OdometryRun::add_pair(std::size_t k, std::ostringstream& csv) {
   if (accel) {
     const ordered_json& a = r.at("accelerator");
     if (!a.at("fallback_searches").is_number_unsigned())  // a count: a negative or fractional one is no report's
-      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json: "
+      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) +
+                                  "/registration.json: "
                                   "accelerator.fallback_searches is not a count; not a whole tigris register report "
                                   "(remove the pair's folder to register it again)");
     sum.modeled_kd += a.at("modeled_kdtree_seconds").get<double>();
@@ -549,33 +574,40 @@ void OdometryRun::add_kitti_metrics(bool synthetic) {
   const registration::OdometryMetrics x = registration::odometry_metrics(gt, est);
   ordered_json lengths = ordered_json::array();
   for (const auto& l : x.per_length)
-    lengths.push_back({{"length_m", l.length_m}, {"segments", l.segments},
-                       {"t_err_percent", number(l.t_err_percent)}, {"r_err_deg_per_m", number(l.r_err_deg_per_m)}});
+    lengths.push_back({{"length_m", l.length_m},
+                       {"segments", l.segments},
+                       {"t_err_percent", number(l.t_err_percent)},
+                       {"r_err_deg_per_m", number(l.r_err_deg_per_m)}});
   m["kitti"] = {{"t_err_percent", number(x.t_err_percent)},
                 {"r_err_deg_per_m", number(x.r_err_deg_per_m)},
                 {"segments", x.segments},
                 {"trajectory_length_m", x.trajectory_length_m},
                 {"too_short", x.too_short},
                 {"per_length", lengths},
-                {"how", "the KITTI odometry devkit: segments of 100..800 m of ground-truth path starting every "
-                        "10 frames; translational error in % and rotational error in deg/m, averaged over every "
-                        "segment"}};
+                {"how",
+                 "the KITTI odometry devkit: segments of 100..800 m of ground-truth path starting every "
+                 "10 frames; translational error in % and rotational error in deg/m, averaged over every "
+                 "segment"}};
   if (x.too_short)
-    m["kitti"]["note"] = "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
-                         "(null, not 0)";
+    m["kitti"]["note"] =
+        "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
+        "(null, not 0)";
   ordered_json segs = ordered_json::array();  // every devkit segment, for the plots
   for (const registration::SegmentError& e : registration::sequence_errors(gt, est))
-    segs.push_back({{"first_frame", first + e.first_frame}, {"length_m", e.length_m},
-                    {"speed_m_per_s", e.speed_m_per_s}, {"t_err_percent", 100.0 * e.t_err_per_m},
+    segs.push_back({{"first_frame", first + e.first_frame},
+                    {"length_m", e.length_m},
+                    {"speed_m_per_s", e.speed_m_per_s},
+                    {"t_err_percent", 100.0 * e.t_err_per_m},
                     {"r_err_deg_per_m", e.r_err_rad_per_m * 180.0 / M_PI}});
   m["kitti"]["segment_list"] = segs;
-  m["ate"] = {{"rmse_m", number(x.ate_rmse_m)}, {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
+  m["ate"] = {{"rmse_m", number(x.ate_rmse_m)},
+              {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
               {"unaligned_max_m", number(x.ate_max_m)}};
   m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
               {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
   // On every ground-truth pose from frame A, also those past the scans the folder holds.
-  const std::size_t steps = equal_steps(
-      std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
+  const std::size_t steps =
+      equal_steps(std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
   if (steps >= kEqualStepsWarn && !synthetic) {
     m["ground_truth_warning"] = equal_steps_warning(steps);
     note = equal_steps_warning(steps);
@@ -598,15 +630,17 @@ void OdometryRun::write_metrics() {
   m["pairs"] = pairs;
   m["register_flags"] = flags;
   m["not_converged_pairs"] = sum.not_converged;
-  m["totals"] = {{"seconds", sum.seconds}, {"kdtree_search_seconds", sum.kd},
+  m["totals"] = {{"seconds", sum.seconds},
+                 {"kdtree_search_seconds", sum.kd},
                  {"kdtree_share", sum.seconds > 0 ? sum.kd / sum.seconds : 0.0}};
   if (accel)
     m["accelerator"] = {{"modeled_kdtree_seconds", sum.modeled_kd},
                         {"modeled_end_to_end_seconds", sum.modeled_e2e},
                         {"kdtree_energy_pj", sum.energy},
-                        {"per_pair_mean", {{"modeled_kdtree_seconds", sum.modeled_kd / pairs},
-                                           {"modeled_end_to_end_seconds", sum.modeled_e2e / pairs},
-                                           {"kdtree_energy_pj", sum.energy / pairs}}}};
+                        {"per_pair_mean",
+                         {{"modeled_kdtree_seconds", sum.modeled_kd / pairs},
+                          {"modeled_end_to_end_seconds", sum.modeled_e2e / pairs},
+                          {"kdtree_energy_pj", sum.energy / pairs}}}};
   // Per stage: the mean over the pairs (with accel, a stage's seconds and KD-tree search seconds
   // hold the simulation's wall time; its modeled figures are the accelerator's).
   for (auto& [name, acc] : stages.items()) {
@@ -656,10 +690,11 @@ int OdometryRun::print_summary() {
   const int plotted = run_python_module("odometry_plots", {o.out}, why);
   if (plotted != 0)
     std::fprintf(stderr, "tigris odometry: warning: the plots were not drawn (%s)\n",
-                 plotted < 0 || !why.empty() ? why.c_str()
-                                             : ("python3 -m sweep.odometry_plots exit " + std::to_string(plotted)).c_str());
-  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n",
-              o.out.c_str(), plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
+                 plotted < 0 || !why.empty()
+                     ? why.c_str()
+                     : ("python3 -m sweep.odometry_plots exit " + std::to_string(plotted)).c_str());
+  std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n", o.out.c_str(),
+              plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
   folder->finish(sum.not_converged > 0 ? "not converged" : "done");
   return sum.not_converged > 0 ? 1 : 0;
 }
@@ -677,17 +712,13 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
   return odometry.run();
 }
 
-}  // namespace tigris
-
-namespace tigris {
 namespace {
 
 const CommandRegistration kRegistration{options_command<OdometryOptions>(
-    "odometry", "Register each frame of a KITTI-layout sequence into the previous one (tigris register per "
-        "pair, --jobs at a time), chain the poses, KITTI's error metrics", 40,
-    [](CLI::App& app, OdometryOptions& o) {
-      add_odometry_options(app, o);
-    },
+    "odometry",
+    "Register each frame of a KITTI-layout sequence into the previous one (tigris register per "
+    "pair, --jobs at a time), chain the poses, KITTI's error metrics",
+    40, [](CLI::App& app, OdometryOptions& o) { add_odometry_options(app, o); },
     [](const CLI::App& app, OdometryOptions& o, const CommandLine& line) {
       o.command_line = line.text;
       o.argv = line.argv;

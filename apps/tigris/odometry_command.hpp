@@ -20,19 +20,19 @@
 namespace tigris {
 
 struct OdometryOptions {
-  std::string sequence;     // a KITTI-layout folder, or:
-  int synthetic = 0;        // frames of a synthetic drive, written to OUT/sequence
-  std::uint64_t seed = 1;   // its seed
-  std::string frames;       // "A:B", first and last frame (default: all)
+  std::string sequence;    // a KITTI-layout folder, or:
+  int synthetic = 0;       // frames of a synthetic drive, written to OUT/sequence
+  std::uint64_t seed = 1;  // its seed
+  std::string frames;      // "A:B", first and last frame (default: all)
   int jobs = 1;
   std::string out = "tigris-odometry";
   // Forwarded to each pair's `tigris register` as given.
   std::string preset = "dp4", config, search, height, approx_thd, accel_config;
   std::vector<std::string> sets, accel_sets;
   double max_work = 1e10;
-  SlurmOptions slurm;  // --slurm: the pairs as one job array
-  bool compare = false;  // --compare: flann, exact, approx and accel side by side (odometry_compare.cpp)
-  int repeat = 3;        // --compare: runs of each CPU back-end (cpu_baseline.hpp)
+  SlurmOptions slurm;             // --slurm: the pairs as one job array
+  bool compare = false;           // --compare: flann, exact, approx and accel side by side (odometry_compare.cpp)
+  int repeat = 3;                 // --compare: runs of each CPU back-end (cpu_baseline.hpp)
   std::vector<std::string> argv;  // as given (set by main)
   std::string command_line;
 };

@@ -16,9 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/children.hpp"
-#include "testbench/cpu_baseline.hpp"
 #include "core/json_file.hpp"
 #include "odometry_command.hpp"
+#include "testbench/cpu_baseline.hpp"
 #include "testbench/report.hpp"
 
 namespace tigris {
@@ -95,10 +95,10 @@ Runs run_backends(const OdometryOptions& o) {
       std::vector<std::string> drop{"--out", "--search", "--sequence", "--synthetic", "--seed", "--repeat"};
       if (search != "approx") drop.push_back("--approx-thd");
       if (search != "accel") drop.insert(drop.end(), {"--accel-config", "--accel-set"});
-      std::fprintf(stderr, "tigris odometry --compare: %s%s (--search %s --out %s)\n", b.label,
-                   b.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str()
-                                         : "",
-                   b.search, out.c_str());
+      std::fprintf(
+          stderr, "tigris odometry --compare: %s%s (--search %s --out %s)\n", b.label,
+          b.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str() : "",
+          b.search, out.c_str());
       const int code = wait_child(start_child(
           rerun_args(o.argv, {"--compare"}, drop, {"--sequence", o.sequence, "--search", search, "--out", out})));
       if (code != 0 && code != 1)
@@ -196,17 +196,19 @@ ordered_json comparison_doc(const OdometryOptions& o, const Machine& machine,
   doc["approx_vs_exact"] = {{"t_err_percent_points", diff("t_err_percent")},
                             {"r_err_deg_per_m", diff("r_err_deg_per_m")},
                             {"ate_rmse_m", diff("ate_rmse_m")},
-                            {"paper", "DP4: approximate search leaves the translational error unchanged and adds "
-                                      "0.05 deg/m of rotational error"}};
-  doc["notes"] = {"sums over every pair of the sequence; KD-tree time: the 3D KD-tree searches (tree builds stay on "
-                  "the CPU in every row, measured)",
-                  "accelerator: end to end = the run's CPU time without its KD-tree searches + the modeled search and "
-                  "host-transfer time + searches that could not be batched at their CPU time",
-                  "CPU energy is not modeled: the energy column is the accelerator's only",
-                  "CPU rows: the median of --repeat runs, interleaved with the other back-ends; *_spread gives min, "
-                  "max and every sample; a speed-up's range is base min / row max .. base max / row min",
-                  "each row is its own run: the CPU parts differ by measurement noise, and by the other work on the "
-                  "machine when pairs run side by side (--jobs)"};
+                            {"paper",
+                             "DP4: approximate search leaves the translational error unchanged and adds "
+                             "0.05 deg/m of rotational error"}};
+  doc["notes"] = {
+      "sums over every pair of the sequence; KD-tree time: the 3D KD-tree searches (tree builds stay on "
+      "the CPU in every row, measured)",
+      "accelerator: end to end = the run's CPU time without its KD-tree searches + the modeled search and "
+      "host-transfer time + searches that could not be batched at their CPU time",
+      "CPU energy is not modeled: the energy column is the accelerator's only",
+      "CPU rows: the median of --repeat runs, interleaved with the other back-ends; *_spread gives min, "
+      "max and every sample; a speed-up's range is base min / row max .. base max / row min",
+      "each row is its own run: the CPU parts differ by measurement noise, and by the other work on the "
+      "machine when pairs run side by side (--jobs)"};
   return doc;
 }
 
@@ -215,8 +217,8 @@ ordered_json comparison_doc(const OdometryOptions& o, const Machine& machine,
 void print_table(const OdometryOptions& o, const Machine& machine, const ordered_json& rows,
                  const std::vector<std::pair<Spread, Spread>>& times, const ordered_json& doc) {
   std::printf("tigris odometry --compare: %s, %s\n", o.sequence.c_str(), o.preset.c_str());
-  std::printf("  %-32s %-22s %-18s %-22s %-20s %10s %8s %10s %8s\n", "back-end", "KD-tree s [min-max]",
-              "KD x [range]", "end2end s [min-max]", "vs FLANN [range]", "KD energy", "t_err %", "r_err d/m", "ATE m");
+  std::printf("  %-32s %-22s %-18s %-22s %-20s %10s %8s %10s %8s\n", "back-end", "KD-tree s [min-max]", "KD x [range]",
+              "end2end s [min-max]", "vs FLANN [range]", "KD energy", "t_err %", "r_err d/m", "ATE m");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
     const double e = r["kdtree_energy_pj"].is_null() ? NAN : r["kdtree_energy_pj"].get<double>() * 1e-6;
@@ -233,21 +235,26 @@ void print_table(const OdometryOptions& o, const Machine& machine, const ordered
     }
     std::printf("  %-32s %-22s %-18s %-22s %-20s %10s %8s %10s %8s\n", r["label"].get<std::string>().c_str(),
                 sp(times[i].first, "%.3g").c_str(),
-                i == 0 ? "base" : speedup.is_null() ? "-" : (range_cell(speedup, "%.3g") + "x").c_str(),
+                i == 0              ? "base"
+                : speedup.is_null() ? "-"
+                                    : (range_cell(speedup, "%.3g") + "x").c_str(),
                 sp(times[i].second, "%.3g").c_str(),
-                i == 0 ? "base" : vs.is_null() ? "-" : (range_cell(vs, "%+.1f") + "%").c_str(),
+                i == 0         ? "base"
+                : vs.is_null() ? "-"
+                               : (range_cell(vs, "%+.1f") + "%").c_str(),
                 std::isfinite(e) ? (cell(e, "%.0f") + " uJ").c_str() : "n/a (CPU)",
-                cell(v("t_err_percent"), "%.3f").c_str(),
-                cell(v("r_err_deg_per_m"), "%.5f").c_str(), cell(v("ate_rmse_m"), "%.3f").c_str());
+                cell(v("t_err_percent"), "%.3f").c_str(), cell(v("r_err_deg_per_m"), "%.5f").c_str(),
+                cell(v("ate_rmse_m"), "%.3f").c_str());
   }
   std::printf("  CPU rows: median [min-max] of %d runs, measured; accelerator: modeled, run once\n  machine: %s\n",
               o.repeat, machine_line(machine).c_str());
   const ordered_json& ave = doc["approx_vs_exact"];
   const double d_t = ave["t_err_percent_points"].is_null() ? NAN : ave["t_err_percent_points"].get<double>(),
                d_r = ave["r_err_deg_per_m"].is_null() ? NAN : ave["r_err_deg_per_m"].get<double>();
-  std::printf("  approximate against exact: translation %s points, rotation %s deg/m "
-              "(the paper, DP4: unchanged, +0.05)\n",
-              cell(d_t, "%+.3f").c_str(), cell(d_r, "%+.5f").c_str());
+  std::printf(
+      "  approximate against exact: translation %s points, rotation %s deg/m "
+      "(the paper, DP4: unchanged, +0.05)\n",
+      cell(d_t, "%+.3f").c_str(), cell(d_r, "%+.5f").c_str());
   std::printf("  wrote %s/comparison.json (runs in %s/{flann,exact,approx,accel}/%s)\n", o.out.c_str(), o.out.c_str(),
               o.repeat > 1 ? " and <back-end>-repeat-k/" : "");
   for (const auto& w : doc["warnings"])
@@ -269,14 +276,14 @@ int run_odometry_compare(const OdometryOptions& o) {
   {
     const std::string path = o.out + "/accel/metrics.json";
     ordered_json m = parse_json_text(read_input(path, "the accelerator run's metrics", kMaxSettingsBytes), path);
-    m["compared_with_cpu"] = {{"comparison", o.out + "/comparison.json"},
-                              {"flann_kdtree_seconds", rows[0]["kdtree_seconds"]},
-                              {"flann_end_to_end_seconds", rows[0]["end_to_end_seconds"]},
-                              {"exact_kdtree_seconds", rows[1]["kdtree_seconds"]},
-                              {"kdtree_speedup_vs_flann", rows[3]["kdtree_speedup_vs_flann"]},
-                              {"end_to_end_reduction_vs_flann_percent",
-                               rows[3]["end_to_end_reduction_vs_flann_percent"]},
-                              {"approx_vs_exact", doc["approx_vs_exact"]}};
+    m["compared_with_cpu"] = {
+        {"comparison", o.out + "/comparison.json"},
+        {"flann_kdtree_seconds", rows[0]["kdtree_seconds"]},
+        {"flann_end_to_end_seconds", rows[0]["end_to_end_seconds"]},
+        {"exact_kdtree_seconds", rows[1]["kdtree_seconds"]},
+        {"kdtree_speedup_vs_flann", rows[3]["kdtree_speedup_vs_flann"]},
+        {"end_to_end_reduction_vs_flann_percent", rows[3]["end_to_end_reduction_vs_flann_percent"]},
+        {"approx_vs_exact", doc["approx_vs_exact"]}};
     write_file(path,
                [&](std::ostream& f) { f << m.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
   }

@@ -28,11 +28,9 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--radius", o.radius, "Radius in metres for --mode radius")
       ->check(finite_range(0.0, 1e30))
       ->capture_default_str();
-  app.add_option("--max-nn", o.max_nn,
-                 "Radius search keeps only the max-nn nearest (0: all); visits are unchanged")
+  app.add_option("--max-nn", o.max_nn, "Radius search keeps only the max-nn nearest (0: all); visits are unchanged")
       ->capture_default_str();
-  app.add_option("--height", o.height,
-                 "Top-tree height h: 0 (brute force) .. full; 'full' is the canonical KD-tree")
+  app.add_option("--height", o.height, "Top-tree height h: 0 (brute force) .. full; 'full' is the canonical KD-tree")
       ->capture_default_str();
   app.add_option("--split-axis", o.split_axis, "Split axis rule: widest (extent) or round-robin")
       ->check(CLI::IsMember({"widest", "round-robin"}))
@@ -57,8 +55,7 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--leader-width", o.leader_width,
                  "Leader result width R for nn/knn (approximate search, every_leaf; 0: k)")
       ->capture_default_str();
-  app.add_option("--dump-results", o.dump_results,
-                 "Write the results as CSV query,rank,index,dist2 (canonical order)");
+  app.add_option("--dump-results", o.dump_results, "Write the results as CSV query,rank,index,dist2 (canonical order)");
   app.add_option("--dump-schedule", o.dump_schedule,
                  "Write the leaf-visit schedule as CSV seq,query,leaf,event (event: visit, or a "
                  "first_leaf leader's finish)");
@@ -122,8 +119,7 @@ int parse_height(const std::string& text) {
     used = 0;
   }
   if (used != text.size() || h < 0 || h > 30)
-    throw std::invalid_argument("--height must be 'full' or a whole number from 0 to 30, got '" +
-                                text + "'");
+    throw std::invalid_argument("--height must be 'full' or a whole number from 0 to 30, got '" + text + "'");
   return h;
 }
 
@@ -156,15 +152,18 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderSc
     }
   } else if (app.count("--leader-capacity") || app.count("--leader-width") || app.count("--leader-scope") ||
              app.count("--leader-in-flight")) {
-    throw std::invalid_argument("--leader-scope, --leader-in-flight, --leader-capacity and --leader-width need --approx-thd");
+    throw std::invalid_argument(
+        "--leader-scope, --leader-in-flight, --leader-capacity and --leader-width need --approx-thd");
   }
   p.leader_scope = app.count("--leader-scope") ? parse_leader_scope(o.leader_scope) : scope;
   p.leader_in_flight = app.count("--leader-in-flight") ? parse_leader_in_flight(o.leader_in_flight) : in_flight;
   if (app.count("--leader-in-flight") && p.leader_scope != LeaderScope::FirstLeaf)
-    throw std::invalid_argument("--leader-in-flight applies to leader scope first_leaf (--leader-scope or leader.scope)");
+    throw std::invalid_argument(
+        "--leader-in-flight applies to leader scope first_leaf (--leader-scope or leader.scope)");
   if (app.count("--leader-width") && p.leader_scope == LeaderScope::FirstLeaf)
-    throw std::invalid_argument("--leader-width applies to leader scope every_leaf (--leader-scope or leader.scope; "
-                                "first_leaf leaders keep their final results)");
+    throw std::invalid_argument(
+        "--leader-width applies to leader scope every_leaf (--leader-scope or leader.scope; "
+        "first_leaf leaders keep their final results)");
   p.leader_capacity = o.leader_capacity;
   p.leader_width = o.leader_width;
   validate(p);

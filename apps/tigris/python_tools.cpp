@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/build_info.hpp"
 #include "command.hpp"
+#include "core/build_info.hpp"
 #include "core/children.hpp"
 
 namespace tigris {

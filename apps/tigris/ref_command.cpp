@@ -10,12 +10,12 @@
 
 #include "core/arg_checks.hpp"
 #include "core/progress.hpp"
-#include "testbench/report.hpp"
+#include "core/timer.hpp"
 #include "sw_ref/classic_tree.hpp"
 #include "sw_ref/stats.hpp"
+#include "testbench/report.hpp"
 #include "traces/schedule_csv.hpp"
 #include "workloads/workload.hpp"
-#include "core/timer.hpp"
 
 namespace tigris {
 
@@ -51,15 +51,17 @@ nlohmann::json redundancy_json(const KdTree& tree, const SearchOutput& out, cons
   const double ratio_model = canon > 0 ? two_stage / canon : 0.0;
   const double ratio_authors = o.dist > 0 ? static_cast<double>(b.dist) / static_cast<double>(o.dist) : 0.0;
   return {{"model",
-           {{"convention", "nodes visited (top-tree nodes + leaf-set points) of this two-stage tree against the "
-                           "canonical tree (a point in every node)"},
+           {{"convention",
+             "nodes visited (top-tree nodes + leaf-set points) of this two-stage tree against the "
+             "canonical tree (a point in every node)"},
             {"two_stage_per_query", two_stage},
             {"canonical_per_query", canon},
             {"ratio", ratio_model}}},
           {"authors",
-           {{"convention", "distance computations of the classic tree (points only in leaves, bounding-box "
-                           "pruning; horizon-research/PointCloud-pipeline kdtree.h) with leaves of at most "
-                           "leaf_max points against leaves of one point"},
+           {{"convention",
+             "distance computations of the classic tree (points only in leaves, bounding-box "
+             "pruning; horizon-research/PointCloud-pipeline kdtree.h) with leaves of at most "
+             "leaf_max points against leaves of one point"},
             {"leaf_max", leaf_max},
             {"leaves", big.num_leaves},
             {"leaf_mean", big.num_leaves ? static_cast<double>(w.cloud.size()) / big.num_leaves : 0.0},
@@ -128,9 +130,10 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
     stats["wall_seconds"]["redundancy"] = seconds_since(t0);
   }
   const std::string stats_path = o.out + "/stats.json";
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
-  if (!o.dump_results.empty())
-    write_file(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
+  write_file(stats_path, [&](std::ostream& f) {
+    f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  });
+  if (!o.dump_results.empty()) write_file(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
   if (!o.dump_schedule.empty())
     write_file(o.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, out.schedule); });
 
@@ -139,43 +142,37 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   std::printf("tigris ref: %s%s search of %zu queries in %zu points\n", to_string(params.mode),
               params.approximate ? " (approximate)" : "", w.queries.size(), w.cloud.size());
   std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
-  std::printf("  tree    top height %d of %d (%s split), %u leaves, mean leaf set %.1f\n",
-              tree.top_height, tree.full_height, to_string(split), tree.num_leaves(),
-              stats["tree"]["leaf_set_mean"].get<double>());
+  std::printf("  tree    top height %d of %d (%s split), %u leaves, mean leaf set %.1f\n", tree.top_height,
+              tree.full_height, to_string(split), tree.num_leaves(), stats["tree"]["leaf_set_mean"].get<double>());
   std::printf("  time    build %.3f s, search %.3f s (%.0f queries/s)\n", build_s, search_s,
               search_s > 0 ? nq / search_s : 0.0);
   std::printf("  visits  top %llu, pruned %llu, leaf points %llu (per query %.1f / %.1f / %.1f)\n",
               static_cast<unsigned long long>(v.top), static_cast<unsigned long long>(v.pruned),
-              static_cast<unsigned long long>(v.leaf_points), v.top / nq, v.pruned / nq,
-              v.leaf_points / nq);
+              static_cast<unsigned long long>(v.leaf_points), v.top / nq, v.pruned / nq, v.leaf_points / nq);
   if (params.approximate)
-    std::printf("  approx  thd %.3g m: %llu leaders, %llu followers, %llu buffer-full; "
-                "leader checks %llu, follower points %llu\n",
-                static_cast<double>(params.approx_thd),
-                static_cast<unsigned long long>(out.leaders.leaders),
-                static_cast<unsigned long long>(out.leaders.followers),
-                static_cast<unsigned long long>(out.leaders.leader_buffer_full),
-                static_cast<unsigned long long>(v.leader_checks),
-                static_cast<unsigned long long>(v.follower_points));
+    std::printf(
+        "  approx  thd %.3g m: %llu leaders, %llu followers, %llu buffer-full; "
+        "leader checks %llu, follower points %llu\n",
+        static_cast<double>(params.approx_thd), static_cast<unsigned long long>(out.leaders.leaders),
+        static_cast<unsigned long long>(out.leaders.followers),
+        static_cast<unsigned long long>(out.leaders.leader_buffer_full),
+        static_cast<unsigned long long>(v.leader_checks), static_cast<unsigned long long>(v.follower_points));
   if (o.redundancy) {
     const auto& r = stats["redundancy"];
-    std::printf("  redundancy  model's convention %.2fx (%.1f nodes/query, canonical tree %.1f); authors' "
-                "convention %.2fx (classic tree, leaves of at most %u points: %.1f distances/query, leaves of one "
-                "point %.1f); all answers equal the golden model's\n",
-                r["model"]["ratio"].get<double>(), r["model"]["two_stage_per_query"].get<double>(),
-                r["model"]["canonical_per_query"].get<double>(), r["authors"]["ratio"].get<double>(),
-                r["authors"]["leaf_max"].get<unsigned>(), r["authors"]["per_query"].get<double>(),
-                r["authors"]["leaf_one_per_query"].get<double>());
+    std::printf(
+        "  redundancy  model's convention %.2fx (%.1f nodes/query, canonical tree %.1f); authors' "
+        "convention %.2fx (classic tree, leaves of at most %u points: %.1f distances/query, leaves of one "
+        "point %.1f); all answers equal the golden model's\n",
+        r["model"]["ratio"].get<double>(), r["model"]["two_stage_per_query"].get<double>(),
+        r["model"]["canonical_per_query"].get<double>(), r["authors"]["ratio"].get<double>(),
+        r["authors"]["leaf_max"].get<unsigned>(), r["authors"]["per_query"].get<double>(),
+        r["authors"]["leaf_one_per_query"].get<double>());
   }
-  std::printf("  results %zu neighbours\n  stats   %s\n", out.results.neighbors.size(),
-              stats_path.c_str());
+  std::printf("  results %zu neighbours\n  stats   %s\n", out.results.neighbors.size(), stats_path.c_str());
   folder.finish();
   return 0;
 }
 
-}  // namespace tigris
-
-namespace tigris {
 namespace {
 
 const CommandRegistration kRegistration{options_command<SearchOptions>(

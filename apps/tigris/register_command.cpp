@@ -8,21 +8,21 @@
 #include <optional>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
 #include <pcl/console/print.h>
+#include <nlohmann/json.hpp>
 
-#include "testbench/accel_in_loop.hpp"
 #include "core/arg_checks.hpp"
-#include "testbench/config.hpp"
 #include "options.hpp"
-#include "testbench/simulation.hpp"
+#include "registration/pipeline.hpp"
+#include "testbench/accel_in_loop.hpp"
+#include "testbench/config.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
+#include "testbench/simulation.hpp"
+#include "traces/workload_trace.hpp"
 #include "workloads/io/cloud_io.hpp"
-#include "registration/pipeline.hpp"
 #include "workloads/pose.hpp"
 #include "workloads/synthetic.hpp"
-#include "traces/workload_trace.hpp"
 
 namespace tigris {
 namespace {
@@ -83,12 +83,13 @@ ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
                           {"modeled_kdtree_seconds", modeled_kdtree_seconds(k)},
                           {"modeled_stage_seconds", s.seconds - k.search_seconds + modeled_kdtree_seconds(k)},
                           {"energy_pj", a.energy_pj},
-                          {"visits", {{"top", a.visits.top},
-                                      {"pruned", a.visits.pruned},
-                                      {"leaf_visits", a.visits.leaf_visits},
-                                      {"leaf_points", a.visits.leaf_points},
-                                      {"follower_points", a.visits.follower_points},
-                                      {"leader_checks", a.visits.leader_checks}}}};
+                          {"visits",
+                           {{"top", a.visits.top},
+                            {"pruned", a.visits.pruned},
+                            {"leaf_visits", a.visits.leaf_visits},
+                            {"leaf_points", a.visits.leaf_points},
+                            {"follower_points", a.visits.follower_points},
+                            {"leader_checks", a.visits.leader_checks}}}};
     }
   } else {
     j["search"] = "none";
@@ -169,10 +170,8 @@ std::pair<double, double> parse_shell(const std::string& text, double r) {
 }  // namespace
 
 void add_register_options(CLI::App& app, RegisterOptions& o) {
-  app.add_option("--source", o.source,
-                 "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
-  app.add_option("--target", o.target,
-                 "Target (earlier) frame, same formats (default: synthetic frame 0)");
+  app.add_option("--source", o.source, "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
+  app.add_option("--target", o.target, "Target (earlier) frame, same formats (default: synthetic frame 0)");
   app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair (0 .. 2^64-1)")
       ->capture_default_str()
       ->check(uint64_text());
@@ -204,8 +203,7 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file");
   app.add_option("--kitti-poses", o.kitti_poses,
                  "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)");
-  app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")
-      ->capture_default_str();
+  app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")->capture_default_str();
   app.add_option("--max-work", o.max_work,
                  "Stop the registration when its KD-tree searches have computed and returned more than "
                  "this many distances and neighbours (a KITTI pair takes 4e8 with dp4, 1.3e9 with dp7); 0: no limit")
@@ -234,8 +232,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
   app.add_flag("--list-stages", o.list_stages,
                "Print the pipeline's stages in order as JSON (registration.json's key, the paper's title, the "
                "paper's parts of a stage), for tools, and exit");
-  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, default, range or names, "
-                                 "meaning), for tools");
+  app.add_flag("--json", o.json,
+               "With --list-config: print the keys as JSON (type, default, range or names, "
+               "meaning), for tools");
   app.add_option("--out", o.out, "Output folder for registration.json")->capture_default_str();
   app.add_flag("--check-flags", o.check_flags,
                "Check every flag and configuration, then exit 0 without reading a file or running "
@@ -258,8 +257,9 @@ registration::PipelineConfig pipeline_config(const RegisterOptions& o, bool in_l
     throw std::invalid_argument(std::string(o.accel_config.empty() ? "--accel-set" : "--accel-config") +
                                 " configures the accelerator in the loop: it needs --search accel or accel-approx");
   if (in_loop && !o.record_trace.empty())
-    throw std::invalid_argument("--record-trace records the CPU's searches: use --search flann, exact or approx "
-                                "(then tigris run --trace replays them on the accelerator)");
+    throw std::invalid_argument(
+        "--record-trace records the CPU's searches: use --search flann, exact or approx "
+        "(then tigris run --trace replays them on the accelerator)");
   if (!o.height.empty()) {
     const int h = parse_height(o.height);
     config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
@@ -284,7 +284,8 @@ registration::PipelineConfig pipeline_config(const RegisterOptions& o, bool in_l
   if (injecting && config.search.backend == registration::Backend::Approx)
     throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
                                 " needs --search exact, flann or accel (error injection measures exact search; "
-                                "got search " + (in_loop ? o.search : std::string("approx")) + ")");
+                                "got search " +
+                                (in_loop ? o.search : std::string("approx")) + ")");
   registration::validate(config, "tigris register");
   return config;
 }
@@ -296,17 +297,21 @@ hw::AcceleratorConfig check_register_flags(const CLI::App& app, const RegisterOp
   if (!o.ground_truth.empty() && !o.kitti_poses.empty())
     throw std::invalid_argument("give --ground-truth or --kitti-poses, not both");
   if (app.count("--kitti-frames") && o.kitti_poses.empty())
-    throw std::invalid_argument("--kitti-frames " + o.kitti_frames + " picks lines of --kitti-poses, which is not given");
+    throw std::invalid_argument("--kitti-frames " + o.kitti_frames +
+                                " picks lines of --kitti-poses, which is not given");
   // The accelerator in the loop: its configuration checked before any work.
   hw::AcceleratorConfig accel_cfg;
   if (!o.accel_config.empty()) apply_config_file(accel_cfg, o.accel_config);
   for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s, "--accel-set '" + s + "'");
   if (in_loop) validate_config(accel_cfg);
-  check_distinct_paths({{"--source", o.source}, {"--target", o.target}, {"--config", o.config},
-                        {"--ground-truth", o.ground_truth}, {"--kitti-poses", o.kitti_poses},
-                        {"--accel-config", o.accel_config}},
-                       {{"--out (registration.json)", o.out + "/registration.json"},
-                        {"--record-trace", o.record_trace}});
+  check_distinct_paths(
+      {{"--source", o.source},
+       {"--target", o.target},
+       {"--config", o.config},
+       {"--ground-truth", o.ground_truth},
+       {"--kitti-poses", o.kitti_poses},
+       {"--accel-config", o.accel_config}},
+      {{"--out (registration.json)", o.out + "/registration.json"}, {"--record-trace", o.record_trace}});
   return accel_cfg;
 }
 
@@ -373,7 +378,9 @@ std::string injection_text(const registration::PipelineConfig& config) {
 ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep,
                            const std::string& stage) {
   const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
-  std::fprintf(stderr, "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %.3g ms modeled, %.1f s simulated\n",
+  std::fprintf(stderr,
+               "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %.3g ms modeled, %.1f s "
+               "simulated\n",
                stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
                job.points->size(), rep.value("verdict", "?").c_str(), 1e3 * modeled, rep.value("wall_seconds", 0.0));
   ordered_json j;
@@ -422,9 +429,10 @@ ordered_json accelerator_json(const registration::RegistrationResult& r, const h
           {"kdtree_energy_pj", f.energy_pj},
           {"modeled_end_to_end_seconds", f.modeled_e2e},
           {"wall_seconds", r.total_seconds},
-          {"how", "modeled end to end = the stages' CPU time without their KD-tree searches + the accelerator's "
-                  "modeled search and host-transfer time + the CPU time of the searches it could not batch (golden "
-                  "model); tree builds stay on the CPU; wall_seconds includes simulating the jobs"},
+          {"how",
+           "modeled end to end = the stages' CPU time without their KD-tree searches + the accelerator's "
+           "modeled search and host-transfer time + the CPU time of the searches it could not batch (golden "
+           "model); tree builds stay on the CPU; wall_seconds includes simulating the jobs"},
           {"every_job", "checked against the golden model, bit for bit"},
           {"config", ordered_json::parse(config_to_json(accel_cfg).dump())},
           {"job_list", accel_jobs}};
@@ -434,7 +442,9 @@ ordered_json accelerator_json(const registration::RegistrationResult& r, const h
 ordered_json write_trace(const RegisterOptions& o, registration::TraceRecorder& recorder, const ordered_json& doc,
                          const registration::RegistrationResult& r) {
   trace::Trace t = recorder.finish();
-  t.meta = nlohmann::json::parse(doc.dump(-1, ' ', false, ordered_json::error_handler_t::replace));  // the registration's report, without its stages' details
+  t.meta = nlohmann::json::parse(
+      doc.dump(-1, ' ', false,
+               ordered_json::error_handler_t::replace));  // the registration's report, without its stages' details
   t.meta.erase("stages");
   t.meta["command_line"] = o.command_line;
   t.total_seconds = r.total_seconds;
@@ -467,10 +477,10 @@ ordered_json registration_doc(const RegisterOptions& o, const registration::Pipe
   doc["search"] = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
   // The injected error (also in config.inject): null when none.
   doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
-                      {"normals_shell", config.inject.normals_shell_outer > 0
-                                            ? ordered_json::array({config.inject.normals_shell_inner,
-                                                                   config.inject.normals_shell_outer})
-                                            : ordered_json()},
+                      {"normals_shell",
+                       config.inject.normals_shell_outer > 0
+                           ? ordered_json::array({config.inject.normals_shell_inner, config.inject.normals_shell_outer})
+                           : ordered_json()},
                       {"normals_radius", config.normals.radius}};
   doc["status"] = r.status;
   if (!r.problem.empty()) doc["problem"] = r.problem;
@@ -520,16 +530,16 @@ void print_registration(const RegisterOptions& o, const registration::PipelineCo
   }
   if (in_loop) {
     std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
-    std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles",
-                "kd s", "stage s", "energy uJ");
+    std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles", "kd s",
+                "stage s", "energy uJ");
     for (const auto& s : r.stages) {
       if (s.search.empty()) continue;
       const auto& a = s.kdtree.accel;
       std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
                   static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
                   static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
-                  modeled_kdtree_seconds(s.kdtree), s.seconds - s.kdtree.search_seconds + modeled_kdtree_seconds(s.kdtree),
-                  a.energy_pj * 1e-6);
+                  modeled_kdtree_seconds(s.kdtree),
+                  s.seconds - s.kdtree.search_seconds + modeled_kdtree_seconds(s.kdtree), a.energy_pj * 1e-6);
     }
     const LoopFigures l = loop_figures(r);
     std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
@@ -549,8 +559,10 @@ void print_registration(const RegisterOptions& o, const registration::PipelineCo
                 err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
                 err->travelled_m);
   else if (err)
-    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
-                "does not move)\n", err->translation_m, err->rotation_deg);
+    std::printf(
+        "  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
+        "does not move)\n",
+        err->translation_m, err->rotation_deg);
   if (err && !f.truth_warning.empty()) std::printf("  warning: %s\n", f.truth_warning.c_str());
   std::printf("  wrote %s\n", path.c_str());
 }
@@ -580,9 +592,12 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   if (o.check_flags) return 0;
 
   nlohmann::json inputs = nlohmann::json::array();
-  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
-                                  {"config", o.config}, {"ground truth", o.ground_truth},
-                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
+                                   {"target", o.target},
+                                   {"config", o.config},
+                                   {"ground truth", o.ground_truth},
+                                   {"KITTI poses", o.kitti_poses},
+                                   {"accelerator config", o.accel_config}})
     if (!path.empty()) inputs.push_back(input_file(role, path));
   FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}, false, {}};
   spec.also_written = {o.record_trace};
@@ -639,7 +654,9 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                       in_loop ? accelerator_json(r, accel_cfg, accel_jobs) : ordered_json(), err);
   if (hooks.recorder) doc["trace"] = write_trace(o, *hooks.recorder, doc, r);
   const std::string path = o.out + "/registration.json";
-  write_file(path, [&](std::ostream& out) { out << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });  // paths: any bytes
+  write_file(path, [&](std::ostream& out) {
+    out << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
+  });  // paths: any bytes
   print_registration(o, config, in_loop, f, r, injection, err, path);
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
@@ -652,15 +669,14 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   return 0;
 }
 
-}  // namespace tigris
-
-namespace tigris {
 namespace {
 
 const CommandRegistration kRegistration{options_command<RegisterOptions>(
-    "register", "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
-        "KPCE, rejection, ICP) with its KD-tree searches on the golden model, FLANN or the accelerator "
-        "model in the loop; --compare: the four side by side", 30,
+    "register",
+    "Run the registration pipeline (outlier removal, normals, key points, descriptors, "
+    "KPCE, rejection, ICP) with its KD-tree searches on the golden model, FLANN or the accelerator "
+    "model in the loop; --compare: the four side by side",
+    30,
     [](CLI::App& app, RegisterOptions& o) {
       o.out = "tigris-out/register";
       add_register_options(app, o);

@@ -20,24 +20,24 @@ struct RegisterOptions {
   std::string preset = "dp4";
   std::string config;
   std::vector<std::string> sets;
-  std::string search;      // empty: the configuration's search.backend (exact by default)
-  std::string height;      // empty: search.top_height
-  std::string approx_thd;  // empty: search.nn_thd / search.radius_thd
+  std::string search;        // empty: the configuration's search.backend (exact by default)
+  std::string height;        // empty: search.top_height
+  std::string approx_thd;    // empty: search.nn_thd / search.radius_thd
   std::string inject_kth;    // empty: inject.rpce_kth
   std::string inject_shell;  // "R1,R2"; empty: inject.normals_shell_inner/_outer
   std::string ground_truth, kitti_poses, kitti_frames = "1,0";
   bool list_config = false;
-  bool json = false;  // --list-config as JSON
+  bool json = false;         // --list-config as JSON
   bool list_stages = false;  // the pipeline's stages as JSON, for the tools
   double max_work = 1e10;
-  std::string record_trace;  // workload trace of every 3D search (traces/README.md)
+  std::string record_trace;             // workload trace of every 3D search (traces/README.md)
   std::string accel_config;             // --search accel*: the accelerator's configuration file
   std::vector<std::string> accel_sets;  // --search accel*: its KEY=VALUE settings
-  bool check_flags = false;  // --check-flags: validate, then exit 0
-  bool compare = false;     // --compare: the four back-ends side by side (register_compare.cpp)
-  int repeat = 3;           // --compare: timed runs of each CPU back-end (cpu_baseline.hpp)
-  std::string command_line;  // as typed, for the trace's record (set by main)
-  std::vector<std::string> argv;  // as given (set by main; --compare re-runs the command)
+  bool check_flags = false;             // --check-flags: validate, then exit 0
+  bool compare = false;                 // --compare: the four back-ends side by side (register_compare.cpp)
+  int repeat = 3;                       // --compare: timed runs of each CPU back-end (cpu_baseline.hpp)
+  std::string command_line;             // as typed, for the trace's record (set by main)
+  std::vector<std::string> argv;        // as given (set by main; --compare re-runs the command)
   std::string out = "tigris-out";
 };
 

@@ -16,11 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/children.hpp"
-#include "testbench/cpu_baseline.hpp"
-#include "testbench/run_inputs.hpp"
 #include "core/json_file.hpp"
 #include "register_command.hpp"
+#include "testbench/cpu_baseline.hpp"
 #include "testbench/report.hpp"
+#include "testbench/run_inputs.hpp"
 
 namespace tigris {
 namespace {
@@ -76,9 +76,12 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                                   " back-end (its message is above); nothing was run");
   }
   nlohmann::json inputs = nlohmann::json::array();
-  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source}, {"target", o.target},
-                                  {"config", o.config}, {"ground truth", o.ground_truth},
-                                  {"KITTI poses", o.kitti_poses}, {"accelerator config", o.accel_config}})
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
+                                   {"target", o.target},
+                                   {"config", o.config},
+                                   {"ground truth", o.ground_truth},
+                                   {"KITTI poses", o.kitti_poses},
+                                   {"accelerator config", o.accel_config}})
     if (!path.empty()) inputs.push_back(input_file(role, path));
   std::vector<std::string> outputs{"comparison.json"};
   for (const Variant& v : kVariants) {
@@ -95,9 +98,10 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       const Variant& v = kVariants[i];
       if (k > 1 && !v.cpu) continue;
       const std::string out = run_dir(o.out, v, k);
-      std::fprintf(stderr, "tigris register --compare: %s%s (--search %s --out %s)\n", v.label,
-                   v.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str() : "",
-                   v.search, out.c_str());
+      std::fprintf(
+          stderr, "tigris register --compare: %s%s (--search %s --out %s)\n", v.label,
+          v.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str() : "",
+          v.search, out.c_str());
       const int code = wait_child(start_child(variant_args(o.argv, v, out)));
       if (code != 0 && code != 1)
         throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +
@@ -109,7 +113,8 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       // The CPU back-ends are deterministic: a repeat that registers differently is a bug, not noise.
       if (regs[i].back()["transform"] != regs[i].front()["transform"])
         throw std::runtime_error(std::string("--compare: the ") + v.search + " back-end's run " + std::to_string(k) +
-                                 " found another transform than its run 1 (" + path + "): the registration is not "
+                                 " found another transform than its run 1 (" + path +
+                                 "): the registration is not "
                                  "deterministic");
     }
   machine_after(machine);
@@ -141,7 +146,8 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                           : "measured on this CPU: the median of the runs";
     row["kdtree_energy_pj"] = accel ? reg["accelerator"]["kdtree_energy_pj"] : ordered_json();
     row["tree_build_seconds"] = 0.0;
-    for (const auto& [name, st] : reg["stages"].items()) row["tree_build_seconds"] = row["tree_build_seconds"].get<double>() + st.value("build_seconds", 0.0);
+    for (const auto& [name, st] : reg["stages"].items())
+      row["tree_build_seconds"] = row["tree_build_seconds"].get<double>() + st.value("build_seconds", 0.0);
     row["error"] = reg.contains("error") ? ordered_json{{"translation_m", reg["error"]["translation_m"]},
                                                         {"rotation_deg", reg["error"]["rotation_deg"]}}
                                          : ordered_json();
@@ -199,9 +205,11 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                 spread_cell(times[i].second, "%.3f").c_str(), i == 0 ? "base" : (range_cell(vs, "%+.1f") + "%").c_str(),
                 energy, err_m, err_deg, row["status"] == "converged" ? "" : "  (not converged)");
   }
-  std::printf("  KD-tree: searches only (tree builds stay on the CPU); CPU rows: median [min-max] of %d runs, measured;\n"
-              "  accelerator rows: modeled, run once; CPU energy is not modeled.\n"
-              "  machine: %s\n  Table: %s/comparison.json\n", o.repeat, machine_line(machine).c_str(), o.out.c_str());
+  std::printf(
+      "  KD-tree: searches only (tree builds stay on the CPU); CPU rows: median [min-max] of %d runs, measured;\n"
+      "  accelerator rows: modeled, run once; CPU energy is not modeled.\n"
+      "  machine: %s\n  Table: %s/comparison.json\n",
+      o.repeat, machine_line(machine).c_str(), o.out.c_str());
   for (const std::string& w : warnings) std::fprintf(stderr, "tigris register --compare: warning: %s\n", w.c_str());
   folder.finish();
   return worst;

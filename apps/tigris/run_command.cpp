@@ -2,38 +2,36 @@
 #include "command.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <exception>
+#include <iostream>
 #include <optional>
 #include <thread>
-#include <cstdio>
-#include <iostream>
 
 #include "core/arg_checks.hpp"
-#include "testbench/bottleneck.hpp"
-#include "testbench/run_inputs.hpp"
-#include "testbench/config.hpp"
+#include "core/progress.hpp"
+#include "core/timer.hpp"
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "testbench/accel_job.hpp"
-#include "testbench/simulation.hpp"
-#include "testbench/timeline.hpp"
-#include "trace_replay.hpp"
-#include "traces/schedule_csv.hpp"
-#include "core/progress.hpp"
+#include "testbench/bottleneck.hpp"
+#include "testbench/config.hpp"
 #include "testbench/report.hpp"
+#include "testbench/run_inputs.hpp"
 #include "testbench/run_report.hpp"
 #include "testbench/scoreboard.hpp"
+#include "testbench/simulation.hpp"
 #include "testbench/stat_formulas.hpp"
 #include "testbench/stats_schema.hpp"
+#include "testbench/timeline.hpp"
 #include "tlm/tree_image.hpp"
+#include "trace_replay.hpp"
+#include "traces/schedule_csv.hpp"
 #include "workloads/workload.hpp"
-#include "core/timer.hpp"
 
 namespace tigris {
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void add_run_options(CLI::App& app, RunOptions& o) {
   add_search_options(app, o.search);
@@ -65,15 +63,17 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                  "end-to-end time with the accelerator");
   app.add_option("--trace-stages", o.trace_stages,
                  "With --trace: replay only these stages, comma-separated (e.g. normals,icp; default: all)");
-  app.add_option("--jobs", o.jobs, "With --trace: jobs simulated at a time, each in a process of its own (the "
-                                   "figures do not depend on it)")
+  app.add_option("--jobs", o.jobs,
+                 "With --trace: jobs simulated at a time, each in a process of its own (the "
+                 "figures do not depend on it)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_flag("--list-config", o.list_config,
                "Print every configuration key with its default, unit, allowed values and meaning as a Markdown "
                "table, and exit");
-  app.add_flag("--json", o.json, "With --list-config: print the keys as JSON (type, unit, default, range or names, "
-                                 "meaning), for tools");
+  app.add_flag("--json", o.json,
+               "With --list-config: print the keys as JSON (type, unit, default, range or names, "
+               "meaning), for tools");
   app.add_flag("--stats-schema", o.stats_schema,
                "Print the schema of stats.json as JSON (every field's path, unit and meaning; derived fields with "
                "their formula) and exit");
@@ -123,7 +123,8 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   note_k_above_cloud("tigris run", r.params, w.cloud.size(), w.cloud_name);
   r.inputs = search_inputs(o.search.cloud, o.search.queries, w.cloud_name, w.queries_name, o.config_file);
   // The default top height only: one from --height, --set or --config stays as asked.
-  const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+  const bool height_chosen =
+      app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
   cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
   r.p = prepare_job(w.cloud, w.queries, r.params, cfg, o.search.limits,
                     w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): ");
@@ -158,11 +159,12 @@ std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, 
     const double sampled = static_cast<double>(queries) / stride;
     const double bytes = TimelineRecorder::estimated_bytes(sampled, r.p.estimate.leaf_visits_per_query);
     if (bytes > 100e6)
-      std::fprintf(stderr,
-                   "tigris run: note: the timeline of %.0f queries (--timeline-queries %u) will be about %.0f MB of JSON "
-                   "(about 1 KB per leaf visit) and takes minutes to write and to open; --timeline-queries 2000 "
-                   "samples the slices (the whole-machine counters stay exact)\n",
-                   sampled, o.timeline_queries, bytes * 1e-6);
+      std::fprintf(
+          stderr,
+          "tigris run: note: the timeline of %.0f queries (--timeline-queries %u) will be about %.0f MB of JSON "
+          "(about 1 KB per leaf visit) and takes minutes to write and to open; --timeline-queries 2000 "
+          "samples the slices (the whole-machine counters stay exact)\n",
+          sampled, o.timeline_queries, bytes * 1e-6);
   }
   ProgressReporter progress("tigris run: queries finished");
   extras.progress = [&](std::uint32_t done, std::uint32_t total) { progress(done, total); };
@@ -186,8 +188,8 @@ nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptio
   stats["cycles"] = m.sim.cycles;
   stats["queries"] = r.w.queries.size();
   stats["verdict"] = m.verdict.match ? "match" : "mismatch";
-  stats["mismatches"] = {{"results", m.verdict.result_mismatches}, {"visits", m.verdict.visit_mismatches},
-                         {"first", m.verdict.first}};
+  stats["mismatches"] = {
+      {"results", m.verdict.result_mismatches}, {"visits", m.verdict.visit_mismatches}, {"first", m.verdict.first}};
   stats["visits"] = visits_json(hw_view);
   if (r.params.approximate) {
     accuracy = measure_accuracy(r.params.mode, m.golden.results, m.sim.results);
@@ -221,16 +223,15 @@ void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions
   const SearchParams& params = r.params;
   const SearchOutput& hw_view = m.sim.visits;
   const auto& u = stats["units"];
-  std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode),
-              r.w.queries.size(), r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
+  std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode), r.w.queries.size(),
+              r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
   std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
   std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
-              cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(),
-              r.p.tree.top_height, r.p.tree.full_height, cfg.clock_mhz);
-  std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n",
-              static_cast<unsigned long long>(m.sim.cycles), stats["seconds"].get<double>() * 1e3, cfg.clock_mhz,
-              stats["lower_bound_cycles"].get<double>());
+              cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(), r.p.tree.top_height,
+              r.p.tree.full_height, cfg.clock_mhz);
+  std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n", static_cast<unsigned long long>(m.sim.cycles),
+              stats["seconds"].get<double>() * 1e3, cfg.clock_mhz, stats["lower_bound_cycles"].get<double>());
   std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
   std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
               100 * u["recursion_units"]["utilization"].get<double>(),
@@ -241,23 +242,25 @@ void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions
               static_cast<unsigned long long>(hw_view.visits.pruned),
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
   const auto& lat = m.sim.latency;
-  std::printf("  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
-              lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
-              lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
-              lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
-              lat["bqb_wait"]["max"].get<unsigned long long>());
+  std::printf(
+      "  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
+      lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
+      lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
+      lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
+      lat["bqb_wait"]["max"].get<unsigned long long>());
   if (params.approximate) {
-    std::printf("  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
-                "leader checks %llu, follower points %llu\n",
-                static_cast<double>(params.approx_thd), params.leader_capacity,
-                static_cast<unsigned long long>(hw_view.leaders.leaders),
-                static_cast<unsigned long long>(hw_view.leaders.followers),
-                static_cast<unsigned long long>(hw_view.leaders.leader_buffer_full),
-                static_cast<unsigned long long>(hw_view.visits.leader_checks),
-                static_cast<unsigned long long>(hw_view.visits.follower_points));
+    std::printf(
+        "  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
+        "leader checks %llu, follower points %llu\n",
+        static_cast<double>(params.approx_thd), params.leader_capacity,
+        static_cast<unsigned long long>(hw_view.leaders.leaders),
+        static_cast<unsigned long long>(hw_view.leaders.followers),
+        static_cast<unsigned long long>(hw_view.leaders.leader_buffer_full),
+        static_cast<unsigned long long>(hw_view.visits.leader_checks),
+        static_cast<unsigned long long>(hw_view.visits.follower_points));
     if (params.mode == Mode::Radius)
-      std::printf("  accuracy vs exact: recall %.4f, precision %.4f, %.1f%% of queries exact\n",
-                  accuracy.recall(), accuracy.precision(), 100 * accuracy.exact_match_fraction());
+      std::printf("  accuracy vs exact: recall %.4f, precision %.4f, %.1f%% of queries exact\n", accuracy.recall(),
+                  accuracy.precision(), 100 * accuracy.exact_match_fraction());
     else
       std::printf("  accuracy vs exact: %.1f%% of queries exact, extra distance mean %.4f m, max %.3f m\n",
                   100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
@@ -288,9 +291,13 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     throw std::invalid_argument(std::string(app.count("--jobs") ? "--jobs" : "--trace-stages") + " goes with --trace");
 
   const RunSetup r = configure_run(app, o);
-  FolderSpec spec{"run", {}, nlohmann::json::object(),
+  FolderSpec spec{"run",
+                  {},
+                  nlohmann::json::object(),
                   search_inputs(o.search.cloud, o.search.queries, r.w.cloud_name, r.w.queries_name, o.config_file),
-                  {"stats.json"}, false, {}};
+                  {"stats.json"},
+                  false,
+                  {}};
   spec.also_written = {o.vcd, o.vcd.empty() ? "" : gtkw_path(o.vcd), o.timeline, o.search.dump_results,
                        o.search.dump_schedule};
   OutFolder folder(o.search.out, spec);
@@ -308,7 +315,9 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   Accuracy accuracy;
   const nlohmann::json stats = run_stats(r, *m, o, accuracy);
   const std::string stats_path = o.search.out + "/stats.json";
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n'; });
+  write_file(stats_path, [&](std::ostream& f) {
+    f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  });
   if (!o.timeline.empty())
     write_file(o.timeline, [&](std::ostream& f) {
       nlohmann::json trace = timeline.trace();
@@ -331,14 +340,13 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   return 0;
 }
 
-}  // namespace tigris
-
-namespace tigris {
 namespace {
 
 const CommandRegistration kRegistration{options_command<RunOptions>(
-    "run", "Run the accelerator model; every query is checked against the golden model "
-        "(exit 0 only when all match, 1 on a mismatch or deadlock)", 20,
+    "run",
+    "Run the accelerator model; every query is checked against the golden model "
+    "(exit 0 only when all match, 1 on a mismatch or deadlock)",
+    20,
     [](CLI::App& app, RunOptions& o) {
       o.search.out = "tigris-out/run";
       add_run_options(app, o);

@@ -18,7 +18,7 @@ struct RunOptions {
   bool json = false;          // --list-config as JSON
   bool stats_schema = false;  // print the stats.json schema
   std::string vcd;
-  std::string timeline;                 // Chrome trace-event JSON
+  std::string timeline;                   // Chrome trace-event JSON
   std::uint32_t timeline_queries = 2000;  // about this many queries appear in it
   int sim_threads = 0;                    // 0: default_sim_threads()
   std::string trace;                      // replay a registration's workload trace

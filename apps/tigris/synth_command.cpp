@@ -15,11 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
+#include "core/timer.hpp"
 #include "testbench/report.hpp"
 #include "workloads/io/kitti_bin.hpp"
 #include "workloads/kitti_sequence.hpp"
 #include "workloads/pose.hpp"
-#include "core/timer.hpp"
 
 namespace tigris {
 namespace {
@@ -38,15 +38,20 @@ ordered_json settings_of(const DriveConfig& c) {
   return {{"generator", "tigris synth (workloads/synthetic/drive.hpp), version 1"},
           {"seed", c.seed},
           {"frames", c.frames},
-          {"scanner", {{"rings", c.rings}, {"azimuth_steps", c.azimuth_steps}, {"min_range_m", c.min_range_m},
-                       {"max_range_m", c.max_range_m}, {"range_noise_m", c.range_noise_m}}}};
+          {"scanner",
+           {{"rings", c.rings},
+            {"azimuth_steps", c.azimuth_steps},
+            {"min_range_m", c.min_range_m},
+            {"max_range_m", c.max_range_m},
+            {"range_noise_m", c.range_noise_m}}}};
 }
 
 // KITTI calib.txt: P0..P3 (3x4 camera matrices) and Tr (Velodyne -> cam0), 12 numbers a line.
 void write_calib(std::ostream& f) {
-  const char* p = "7.188560000000e+02 0.000000000000e+00 6.071928000000e+02 0.000000000000e+00 "
-                  "0.000000000000e+00 7.188560000000e+02 1.852157000000e+02 0.000000000000e+00 "
-                  "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00";
+  const char* p =
+      "7.188560000000e+02 0.000000000000e+00 6.071928000000e+02 0.000000000000e+00 "
+      "0.000000000000e+00 7.188560000000e+02 1.852157000000e+02 0.000000000000e+00 "
+      "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00";
   for (int i = 0; i < 4; ++i) f << 'P' << i << ": " << p << '\n';
   const Pose tr = kitti_velo_to_cam();
   char b[64];
@@ -66,10 +71,17 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   const std::string meta = dir + "/drive.json";
   // The folder's manifest is the claim: an interrupted run is completed by the next one with the
   // same settings; a folder holding anything else (a user's calib.txt) is refused.
-  FolderSpec spec{"synth", {}, nlohmann::json(settings), nlohmann::json::array(),
-                  {"velodyne/", "poses.txt", "calib.txt", "times.txt", "drive.json"}, true, {}};
+  FolderSpec spec{"synth",
+                  {},
+                  nlohmann::json(settings),
+                  nlohmann::json::array(),
+                  {"velodyne/", "poses.txt", "calib.txt", "times.txt", "drive.json"},
+                  true,
+                  {}};
   OutFolder folder(dir, spec);
-  write_file(meta, [&](std::ostream& f) { f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n'; });
+  write_file(meta, [&](std::ostream& f) {
+    f << ordered_json{{"settings", settings}, {"complete", false}}.dump(1) << '\n';
+  });
   const auto t0 = std::chrono::steady_clock::now();
   const SyntheticDrive drive(config);
   fs::create_directories(dir + "/velodyne");
@@ -92,8 +104,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
         std::lock_guard<std::mutex> g(lock);
         const std::size_t n = ++done;
         if (!quiet && (n == todo.size() || n % 10 == 0))
-          std::fprintf(stderr, "tigris synth: %zu/%zu scans (%.0f s)\n", n, todo.size(),
-                       seconds_since(t0));
+          std::fprintf(stderr, "tigris synth: %zu/%zu scans (%.0f s)\n", n, todo.size(), seconds_since(t0));
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> g(lock);
         if (error.empty()) error = e.what();
@@ -117,8 +128,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
       for (int c = 0; c < 4; ++c) p(r, c) = f.pose[static_cast<std::size_t>(4 * r + c)];
     poses.push_back(p);
   }
-  write_file(dir + "/poses.txt",
-             [&](std::ostream& f) { write_kitti_poses(f, poses, kitti_velo_to_cam()); });
+  write_file(dir + "/poses.txt", [&](std::ostream& f) { write_kitti_poses(f, poses, kitti_velo_to_cam()); });
   write_file(dir + "/calib.txt", write_calib);
   write_file(dir + "/times.txt", [&](std::ostream& f) {
     char b[32];
@@ -148,8 +158,7 @@ void write_synthetic_drive(const DriveConfig& config, const std::string& dir, in
   folder.finish();
   if (!quiet)
     std::fprintf(stderr, "tigris synth: %s: %d frames (%zu scans cast now), %.0f m of route, %.0f s\n", dir.c_str(),
-                 config.frames, todo.size(), s.route_length_m,
-                 seconds_since(t0));
+                 config.frames, todo.size(), s.route_length_m, seconds_since(t0));
 }
 
 void add_synth_options(CLI::App& app, SynthOptions& o) {
@@ -168,27 +177,21 @@ int run_synth_command(const CLI::App&, const SynthOptions& o) {
   c.seed = o.seed;
   write_synthetic_drive(c, o.out, o.jobs, false);
   const KittiSequence check = read_kitti_sequence(o.out);  // reads back as KITTI
-  std::printf("tigris synth: wrote %s: velodyne/000000.bin .. %s, poses.txt, calib.txt, times.txt, drive.json "
-              "(%zu frames, seed %llu)\n",
-              o.out.c_str(), frame_name(o.frames - 1).c_str(), check.scans.size(),
-              static_cast<unsigned long long>(o.seed));
+  std::printf(
+      "tigris synth: wrote %s: velodyne/000000.bin .. %s, poses.txt, calib.txt, times.txt, drive.json "
+      "(%zu frames, seed %llu)\n",
+      o.out.c_str(), frame_name(o.frames - 1).c_str(), check.scans.size(), static_cast<unsigned long long>(o.seed));
   return 0;
 }
 
-}  // namespace tigris
-
-namespace tigris {
 namespace {
 
 const CommandRegistration kRegistration{options_command<SynthOptions>(
-    "synth", "Write a synthetic drive (seeded town, 10 Hz trajectory, HDL-64E-like scans, exact poses) in "
-        "KITTI's odometry layout", 50,
-    [](CLI::App& app, SynthOptions& o) {
-      add_synth_options(app, o);
-    },
-    [](const CLI::App& app, SynthOptions& o, const CommandLine& /*line*/) {
-      return run_synth_command(app, o);
-    })};
+    "synth",
+    "Write a synthetic drive (seeded town, 10 Hz trajectory, HDL-64E-like scans, exact poses) in "
+    "KITTI's odometry layout",
+    50, [](CLI::App& app, SynthOptions& o) { add_synth_options(app, o); },
+    [](const CLI::App& app, SynthOptions& o, const CommandLine& /*line*/) { return run_synth_command(app, o); })};
 
 }  // namespace
 }  // namespace tigris

@@ -9,8 +9,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <fstream>
 #include <iostream>
@@ -18,17 +18,17 @@
 #include <set>
 #include <sstream>
 
-#include "testbench/accel_job.hpp"
+#include "core/arg_checks.hpp"
 #include "core/children.hpp"
 #include "core/json_file.hpp"
-#include "core/arg_checks.hpp"
+#include "core/timer.hpp"
+#include "sw_ref/accuracy.hpp"
+#include "testbench/accel_job.hpp"
 #include "testbench/config.hpp"
 #include "testbench/report.hpp"
 #include "testbench/simulation.hpp"
-#include "sw_ref/accuracy.hpp"
-#include "traces/workload_trace.hpp"
 #include "testbench/work_guard.hpp"
-#include "core/timer.hpp"
+#include "traces/workload_trace.hpp"
 
 namespace tigris {
 namespace {
@@ -84,10 +84,18 @@ json replay_job(const trace::Trace& t, const trace::Job& j, const JobPlan& plan,
                 bool height_chosen, const WorkLimits& limits, int sim_threads, int& code) {
   const PointCloud& cloud = t.cloud(j.tree).points;
   const PointCloud& queries = t.cloud(j.queries).points;
-  json r = {{"job", plan.index}, {"stage", j.stage}, {"iteration", j.iteration}, {"mode", j.mode},
-            {"k", j.k}, {"radius", j.radius}, {"max_nn", j.max_nn}, {"approximate", j.approximate},
-            {"queries", queries.size()}, {"points", cloud.size()},
-            {"cpu", {{"backend", j.backend}, {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}}}};
+  json r = {
+      {"job", plan.index},
+      {"stage", j.stage},
+      {"iteration", j.iteration},
+      {"mode", j.mode},
+      {"k", j.k},
+      {"radius", j.radius},
+      {"max_nn", j.max_nn},
+      {"approximate", j.approximate},
+      {"queries", queries.size()},
+      {"points", cloud.size()},
+      {"cpu", {{"backend", j.backend}, {"search_seconds", j.search_seconds}, {"build_seconds", j.build_seconds}}}};
   ModelJob mj;
   mj.points = &cloud;
   mj.queries = &queries;
@@ -177,12 +185,12 @@ Collected collect_jobs(const trace::Trace& t, const RunOptions& o, const std::ve
       const std::string path = job_path(o.search.out, plan[k].index);
       r = parse_json_text(read_input(path, "a job's report", kMaxSettingsBytes), path);
     } catch (const std::exception&) {
-      r = {{"job", plan[k].index}, {"error", "the job's process ended without a report (exit code " +
-                                                 std::to_string(codes[k]) + ")"}};
+      r = {{"job", plan[k].index},
+           {"error", "the job's process ended without a report (exit code " + std::to_string(codes[k]) + ")"}};
     }
     if (r.contains("error") && first_error.empty())
-      first_error = "job " + std::to_string(plan[k].index) + " (" + t.jobs[plan[k].index].stage + "): " +
-                    r["error"].get<std::string>();
+      first_error = "job " + std::to_string(plan[k].index) + " (" + t.jobs[plan[k].index].stage +
+                    "): " + r["error"].get<std::string>();
     if (r.value("verdict", "") != "match") c.all_match = false;
     if (!r.contains("error")) {
       accumulate(c.per_stage[r["stage"].get<std::string>()], r);
@@ -200,7 +208,8 @@ void print_replay(const trace::Trace& t, const RunOptions& o, std::size_t replay
                   const json& end_to_end, const std::string& stats_path) {
   const json& per_stage = c.per_stage;
   const json& total = c.total;
-  const double e2e_cpu = end_to_end["cpu_seconds"].get<double>(), cpu_kd = end_to_end["cpu_kdtree_search_seconds"].get<double>(),
+  const double e2e_cpu = end_to_end["cpu_seconds"].get<double>(),
+               cpu_kd = end_to_end["cpu_kdtree_search_seconds"].get<double>(),
                e2e_accel = end_to_end["accelerated_seconds"].get<double>();
   std::printf("tigris run --trace %s: %zu of %zu jobs replayed: %s\n", o.trace.c_str(), replayed, t.jobs.size(),
               c.all_match ? "MATCH (every query of every job bit-exact)" : "MISMATCH");
@@ -211,16 +220,17 @@ void print_replay(const trace::Trace& t, const RunOptions& o, std::size_t replay
                 s["queries"].get<double>(), s["cycles"].get<double>(), s["cpu_search_seconds"].get<double>(),
                 s["modeled_search_seconds"].get<double>(), s["modeled_host_seconds"].get<double>(),
                 s["energy_pj"].get<double>() * 1e-6,
-                s["cpu_search_seconds"].get<double>() /
-                    std::max(1e-12, s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>()));
+                s["cpu_search_seconds"].get<double>() / std::max(1e-12, s["modeled_search_seconds"].get<double>() +
+                                                                            s["modeled_host_seconds"].get<double>()));
   };
   for (const trace::Stage& st : t.stages)  // in the pipeline's order
     if (per_stage.contains(st.name)) row(st.name, per_stage[st.name]);
   if (!total.empty()) row("total", total);
-  std::printf("  end to end: CPU %.3f s (KD-tree search %.3f s on %s) -> %.3f s with the accelerator: %.2fx, %.1f%% less "
-              "(tree builds stay on the CPU)\n",
-              e2e_cpu, cpu_kd, end_to_end["cpu_backend"].get<std::string>().c_str(), e2e_accel,
-              end_to_end["speedup"].get<double>(), end_to_end["reduction_percent"].get<double>());
+  std::printf(
+      "  end to end: CPU %.3f s (KD-tree search %.3f s on %s) -> %.3f s with the accelerator: %.2fx, %.1f%% less "
+      "(tree builds stay on the CPU)\n",
+      e2e_cpu, cpu_kd, end_to_end["cpu_backend"].get<std::string>().c_str(), e2e_accel,
+      end_to_end["speedup"].get<double>(), end_to_end["reduction_percent"].get<double>());
   if (total.value("queries_differing_from_recorded", 0.0) > 0)
     std::printf("  %.0f queries differ from the recorded results (see jobs[].vs_recorded)\n",
                 total["queries_differing_from_recorded"].get<double>());
@@ -233,14 +243,16 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   for (const char* flag : {"--cloud", "--queries", "--mode", "--k", "--radius", "--max-nn", "--approx-thd",
                            "--leader-width", "--dump-results", "--dump-schedule", "--vcd", "--timeline", "--seed"})
     if (app.count(flag))
-      throw std::invalid_argument(std::string(flag) + " does not go with --trace: the trace's jobs say what is searched");
+      throw std::invalid_argument(std::string(flag) +
+                                  " does not go with --trace: the trace's jobs say what is searched");
   hw::AcceleratorConfig cfg;
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
   for (const std::string& s : o.settings) apply_setting(cfg, s);
   if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
   if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   validate_config(cfg);
-  const bool height_chosen = app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+  const bool height_chosen =
+      app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
 
   const trace::Trace t = trace::read_trace(o.trace);
   const std::vector<JobPlan> plan = plan_replay(t, o);
@@ -270,7 +282,8 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
             code = 2;
           }
           try {
-            write_file(job_path(o.search.out, plan[k].index), [&](std::ostream& f) { f << r.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
+            write_file(job_path(o.search.out, plan[k].index),
+                       [&](std::ostream& f) { f << r.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
           } catch (const std::exception& e) {
             std::fprintf(stderr, "tigris run: %s\n", e.what());
             code = 2;
@@ -284,7 +297,11 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                      plan.size(), plan[k].index, j.stage.c_str(),
                      j.iteration >= 0 ? (" it " + std::to_string(j.iteration)).c_str() : "", j.mode.c_str(),
                      t.cloud(j.queries).points.size(),
-                     code == 0 ? "match" : code == 1 ? "MISMATCH" : code == 2 ? "error" : "crashed", seconds_since(t0));
+                     code == 0   ? "match"
+                     : code == 1 ? "MISMATCH"
+                     : code == 2 ? "error"
+                                 : "crashed",
+                     seconds_since(t0));
         return true;
       });
 
@@ -300,27 +317,32 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   for (auto& [name, s] : per_stage.items()) {
     cpu_kd += s["cpu_search_seconds"].get<double>();
     modeled += s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>();
-    s["kdtree_speedup"] = s["cpu_search_seconds"].get<double>() /
-                          std::max(1e-12, s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>());
+    s["kdtree_speedup"] =
+        s["cpu_search_seconds"].get<double>() /
+        std::max(1e-12, s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>());
   }
   const double e2e_cpu = t.total_seconds, e2e_accel = t.total_seconds - cpu_kd + modeled;
-  json end_to_end = {{"cpu_seconds", e2e_cpu},
-                     {"cpu_kdtree_search_seconds", cpu_kd},
-                     {"accelerator_kdtree_seconds", modeled},
-                     {"accelerated_seconds", e2e_accel},
-                     {"speedup", e2e_cpu / std::max(1e-12, e2e_accel)},
-                     {"reduction_percent", 100.0 * (1.0 - e2e_accel / std::max(1e-12, e2e_cpu))},
-                     {"kdtree_speedup", cpu_kd / std::max(1e-12, modeled)},
-                     {"tree_builds", "on the CPU, as recorded (not modeled on the accelerator)"},
-                     {"cpu_backend", t.meta.contains("search") && t.meta["search"].is_string()
-                                         ? t.meta["search"].get<std::string>()
-                                         : t.jobs.empty() ? std::string() : t.jobs.front().backend}};
+  json end_to_end = {
+      {"cpu_seconds", e2e_cpu},
+      {"cpu_kdtree_search_seconds", cpu_kd},
+      {"accelerator_kdtree_seconds", modeled},
+      {"accelerated_seconds", e2e_accel},
+      {"speedup", e2e_cpu / std::max(1e-12, e2e_accel)},
+      {"reduction_percent", 100.0 * (1.0 - e2e_accel / std::max(1e-12, e2e_cpu))},
+      {"kdtree_speedup", cpu_kd / std::max(1e-12, modeled)},
+      {"tree_builds", "on the CPU, as recorded (not modeled on the accelerator)"},
+      {"cpu_backend", t.meta.contains("search") && t.meta["search"].is_string() ? t.meta["search"].get<std::string>()
+                      : t.jobs.empty()                                          ? std::string()
+                                                                                : t.jobs.front().backend}};
   json stats;
   stats["command"] = "run --trace";
   stats["command_line"] = o.search.command_line;
   stats["inputs"] = inputs;
-  stats["trace"] = {{"path", o.trace}, {"jobs", t.jobs.size()}, {"replayed", plan.size()},
-                    {"stages", o.trace_stages.empty() ? "all" : o.trace_stages}, {"recorded", t.meta}};
+  stats["trace"] = {{"path", o.trace},
+                    {"jobs", t.jobs.size()},
+                    {"replayed", plan.size()},
+                    {"stages", o.trace_stages.empty() ? "all" : o.trace_stages},
+                    {"recorded", t.meta}};
   stats["verdict"] = all_match ? "match" : "mismatch";
   stats["config"] = config_to_json(cfg);
   stats["stages"] = per_stage;
@@ -328,7 +350,8 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   stats["jobs"] = jobs;
   stats["end_to_end"] = end_to_end;
   stats["wall_seconds"] = seconds_since(t0);
-  write_file(stats_path, [&](std::ostream& f) { f << stats.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
+  write_file(stats_path,
+             [&](std::ostream& f) { f << stats.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
 
   print_replay(t, o, plan.size(), c, end_to_end, stats_path);
   if (!all_match) {

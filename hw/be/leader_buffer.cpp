@@ -7,8 +7,7 @@ namespace tigris::hw {
 
 LeaderBuffer::LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter)
     : su_(su), sus_(static_cast<std::uint32_t>(config.be.search_units)),
-      capacity_(static_cast<std::uint32_t>(config.leader.capacity_per_leaf)),
-      stats_("leader_buffer", "leader_buffer"),
+      capacity_(static_cast<std::uint32_t>(config.leader.capacity_per_leaf)), stats_("leader_buffer", "leader_buffer"),
       read_energy_(meter.line("leader_buffer.read_bytes", EnergyMeter::Component::LeaderBuffer,
                               meter.table().leader_buffer_pj_per_byte)),
       write_energy_(meter.line("leader_buffer.write_bytes", EnergyMeter::Component::LeaderBuffer,
@@ -26,8 +25,7 @@ void LeaderBuffer::start(const JobDescriptor& job, std::uint8_t* result_buffer) 
   dram_.clear();
 }
 
-std::size_t LeaderBuffer::append(std::uint32_t leaf, const Point3& point,
-                                 const std::vector<tlm_if::PointEntry>& list) {
+std::size_t LeaderBuffer::append(std::uint32_t leaf, const Point3& point, const std::vector<tlm_if::PointEntry>& list) {
   const std::size_t i = reserve(leaf, point);
   fill(leaf, i, list);
   return i;

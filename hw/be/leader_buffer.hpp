@@ -29,8 +29,8 @@ class LeaderBuffer {
     std::uint64_t list_address = 0;  // byte address in the Result Buffer, or in the DRAM spill
     std::uint32_t list_length = 0;   // entries
     bool in_dram = false;
-    std::uint64_t ready = 0;  // cycle the list is written and followers may read it
-    bool pending = false;     // first_leaf, wait: reserved at its check, still searching
+    std::uint64_t ready = 0;          // cycle the list is written and followers may read it
+    bool pending = false;             // first_leaf, wait: reserved at its check, still searching
     std::vector<QueryToken> waiters;  // wait: followers parked until its list is written
   };
 
@@ -67,9 +67,11 @@ class LeaderBuffer {
   std::uint64_t area_base_ = 0, area_bytes_ = 0, area_used_ = 0;
   std::vector<tlm_if::PointEntry> dram_;  // lists kept in DRAM
   StatGroup stats_;
-  Counter read_bytes_{stats_, "read_bytes", "bytes", "Leader Buffer bytes read by the Leader Checks (12 bytes a leader)"};
+  Counter read_bytes_{stats_, "read_bytes", "bytes",
+                      "Leader Buffer bytes read by the Leader Checks (12 bytes a leader)"};
   Counter write_bytes_{stats_, "write_bytes", "bytes", "Leader Buffer bytes written (new leaders' points)"};
-  Counter list_bytes_{stats_, "list_bytes", "bytes", "leaders' local result lists written (16-byte entries), wherever they live"};
+  Counter list_bytes_{stats_, "list_bytes", "bytes",
+                      "leaders' local result lists written (16-byte entries), wherever they live"};
   Counter dram_lists_{stats_, "dram_lists", "count",
                       "lists that found their SU's share of the Result Buffer full and were kept in DRAM"};
   Counter max_leaders_{stats_, "max_leaders_per_leaf", "count", "most leaders any leaf held", Counter::Merge::Max};

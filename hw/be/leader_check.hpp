@@ -9,8 +9,8 @@
 
 #include <cstdint>
 
-#include "leader_buffer.hpp"
 #include "hw/observer.hpp"
+#include "leader_buffer.hpp"
 
 namespace tigris::hw {
 

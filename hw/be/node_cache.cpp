@@ -5,8 +5,7 @@
 namespace tigris::hw {
 
 NodeCache::NodeCache(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter)
-    : sc_module(name), capacity_(config.node_cache.bytes),
-      policy_(make_replacement_policy(config)),
+    : sc_module(name), capacity_(config.node_cache.bytes), policy_(make_replacement_policy(config)),
       // Priced by the SRAM rule at its bank size; a fill is charged as a read (equal by default).
       energy_(meter.line("node_cache.bytes", EnergyMeter::Component::NodeCache,
                          meter.table().sram_price(config.node_cache.bytes, per_su_banks(config), false))) {}

@@ -10,11 +10,11 @@
 
 #include <systemc>
 
-#include "issue_policy.hpp"
-#include "replacement_policy.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/stats.hpp"
+#include "issue_policy.hpp"
+#include "replacement_policy.hpp"
 
 namespace tigris::hw {
 
@@ -36,7 +36,8 @@ class NodeCache : public sc_core::sc_module, public NodeCacheView {
   std::unique_ptr<ReplacementPolicy> policy_;
   StatGroup stats_{"node_cache", "node_cache"};
   Counter hits_{stats_, "hits", "count", "Node Sets served from the Node Cache"};
-  Counter misses_{stats_, "misses", "count", "Node Sets read from the Point Buffer (and filled, unless larger than the cache)"};
+  Counter misses_{stats_, "misses", "count",
+                  "Node Sets read from the Point Buffer (and filled, unless larger than the cache)"};
   Counter evictions_{stats_, "evictions", "count", "Node Sets evicted to make room"};
   Counter read_bytes_{stats_, "read_bytes", "bytes", "bytes streamed from the Node Cache on hits"};
   Counter fill_bytes_{stats_, "fill_bytes", "bytes", "bytes written into the Node Cache on misses"};

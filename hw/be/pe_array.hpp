@@ -33,16 +33,15 @@ class PeArray {
   }
 
   // A job starts: the Node Sets and result slots as this SU's ports see them.
-  void start(const JobDescriptor& job, TreeView tree, ResultSlots slots) {
-    job_ = &job, tree_ = tree, slots_ = slots;
-  }
+  void start(const JobDescriptor& job, TreeView tree, ResultSlots slots) { job_ = &job, tree_ = tree, slots_ = slots; }
   const ResultSlots& slots() const { return slots_; }
   // `token`'s search has ended here (a first_leaf follower): its NN/kNN list, closest first,
   // as records for the write-back stream.
   void finish(const QueryToken& token, std::vector<tlm_if::ResultRecord>& out) {
     slots_.finish(token.slot);
     const Neighbor* e = slots_.entries(token.slot);
-    for (std::uint32_t i = 0, n = slots_.count(token.slot); i < n; ++i) out.push_back({token.query, e[i].index, e[i].dist2});
+    for (std::uint32_t i = 0, n = slots_.count(token.slot); i < n; ++i)
+      out.push_back({token.query, e[i].index, e[i].dist2});
   }
   // The distance a point must not exceed to enter `slot`'s list (its k-th best so far).
   float bound(std::uint32_t slot) const { return slots_.bound(slot); }
@@ -95,6 +94,7 @@ class PeArray {
       if (d <= bound && slots_.insert(token.slot, {set[i].tag, d})) bound = slots_.bound(token.slot);
     }
   }
+
  private:
   // NN/kNN for a new leader: also keeps its job.leader_width best as its local list.
   void scan_leader(const QueryToken& token, const tlm_if::PointEntry* set, std::uint32_t count,

@@ -15,8 +15,8 @@ class ReplacementPolicy {
   virtual ~ReplacementPolicy() = default;
   virtual void reset() = 0;
   virtual void inserted(std::uint32_t leaf, std::uint64_t bytes) = 0;  // a Node Set of `bytes` was filled
-  virtual void hit(std::uint32_t leaf) = 0;       // a cached Node Set was read
-  virtual std::uint32_t evict() = 0;              // chooses and forgets a victim (cache not empty)
+  virtual void hit(std::uint32_t leaf) = 0;                            // a cached Node Set was read
+  virtual std::uint32_t evict() = 0;                                   // chooses and forgets a victim (cache not empty)
 };
 
 // The policy node_cache.policy names.

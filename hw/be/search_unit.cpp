@@ -11,13 +11,13 @@
 
 namespace tigris::hw {
 
-SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id,
-                       const AcceleratorConfig& config, const JobDescriptor& job, Links links)
-    : sc_module(name), Scheduler::Client(Scheduler::kSearchUnit, id), points("points"), results("results"), id_(id), config_(config), job_(job),
-      links_(links), clock_{config.period()},
+SearchUnit::SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
+                       const JobDescriptor& job, Links links)
+    : sc_module(name), Scheduler::Client(Scheduler::kSearchUnit, id), points("points"), results("results"), id_(id),
+      config_(config), job_(job), links_(links), clock_{config.period()},
       capacity_(static_cast<std::size_t>(config.be.bqb_entries)),
-      pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_),
-      policy_(make_issue_policy(config)), leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
+      pes_(static_cast<std::uint32_t>(config.be.pes_per_su)), free_pes_(pes_), policy_(make_issue_policy(config)),
+      leader_buffer_(id, config, links.meter), stats_(basename(), "search_unit"),
       distance_energy_(links.meter.line("pe.distance", EnergyMeter::Component::Pe, links.meter.table().distance_pj)),
       leader_check_(stats_, links.meter), stall_(config.stall, "su" + std::to_string(id), stats_) {
   stats_.add(leader_buffer_.stats());
@@ -147,8 +147,8 @@ void SearchUnit::step() {
   for (std::size_t b = 0; b < active_; ++b) next = std::min(next, running_[b].end);
   // Queries arrive in order (the QDN port to this SU serialises them): the first one still on
   // its way arrives next.
-  const auto on_way = std::upper_bound(bqb_.begin(), bqb_.end(), now,
-                                       [](std::uint64_t c, const QueryToken& t) { return c < t.ready; });
+  const auto on_way =
+      std::upper_bound(bqb_.begin(), bqb_.end(), now, [](std::uint64_t c, const QueryToken& t) { return c < t.ready; });
   if (on_way != bqb_.end()) next = std::min(next, on_way->ready);
   if (!arrivals_.empty()) next = std::min(next, std::max(arrivals_.front().ready, now + 1));
   if (next != std::numeric_limits<std::uint64_t>::max()) links_.scheduler.at(*this, next);
@@ -167,8 +167,8 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   const std::uint32_t leaf = tokens.front().leaf;
   for (const QueryToken& t : tokens)  // one Node Set streams past the batch's PEs
     if (t.leaf != leaf)
-      throw std::logic_error("issue policy " + config_.be.issue_policy +
-                             " put queries of leaves " + std::to_string(leaf) + " and " + std::to_string(t.leaf) +
+      throw std::logic_error("issue policy " + config_.be.issue_policy + " put queries of leaves " +
+                             std::to_string(leaf) + " and " + std::to_string(t.leaf) +
                              " in one batch (a batch streams one Node Set)");
   const std::uint64_t n = tree_.leaf_size(leaf);
   const std::uint64_t b = tokens.size();
@@ -187,7 +187,8 @@ void SearchUnit::issue(Batch& batch, std::uint64_t now, std::uint64_t setup) {
   // array (a PE computes on its own group's entries only).
   std::uint64_t check_end = start;
   if (plan.max_checks > 0)
-    check_end += PeArray::stream_cycles(plan.max_checks, b, depth) + static_cast<std::uint64_t>(config_.cost.leader_check);
+    check_end +=
+        PeArray::stream_cycles(plan.max_checks, b, depth) + static_cast<std::uint64_t>(config_.cost.leader_check);
   std::uint64_t data_ready = start, stream = 0;
   if (plan.exact > 0) {
     // Node Set: from the Node Cache on a hit, else one burst from the Point Buffer.
@@ -262,8 +263,8 @@ void SearchUnit::stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t no
   batch.end = end;
 }
 
-void SearchUnit::exact_scan(const QueryToken& t, std::uint32_t leaf, const tlm_if::PointEntry* set,
-                            std::uint32_t n, std::vector<tlm_if::ResultRecord>& hits) {
+void SearchUnit::exact_scan(const QueryToken& t, std::uint32_t leaf, const tlm_if::PointEntry* set, std::uint32_t n,
+                            std::vector<tlm_if::ResultRecord>& hits) {
   if (!job_.radius())  // the slot is next read by the query's next walk (which waits for it)
     links_.scans.scan(pe_array_, t, leaf, set, n);
   else if (job_.first_leaf && t.first_leaf != kNoLeaf)  // a first_leaf leader stages its list

@@ -10,11 +10,6 @@
 
 #include <systemc>
 
-#include "issue_policy.hpp"
-#include "leader_buffer.hpp"
-#include "leader_check.hpp"
-#include "node_cache.hpp"
-#include "pe_array.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -27,6 +22,11 @@
 #include "hw/scheduler.hpp"
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
+#include "issue_policy.hpp"
+#include "leader_buffer.hpp"
+#include "leader_check.hpp"
+#include "node_cache.hpp"
+#include "pe_array.hpp"
 
 namespace tigris::hw {
 
@@ -49,8 +49,8 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
     Scheduler& scheduler;
     ScanService& scans;  // the host's side of the NN/kNN scans (deferred results) and leaf boxes
   };
-  SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config,
-             const JobDescriptor& job, Links links);
+  SearchUnit(sc_core::sc_module_name name, std::uint32_t id, const AcceleratorConfig& config, const JobDescriptor& job,
+             Links links);
 
   void start();  // a job starts: empty buffers, all PEs free, views onto the new job's data
   void finish() { ledger_.settle(clock_.now()); }  // the job has ended: its last cycles counted
@@ -88,20 +88,20 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Batch& add_batch();  // a cleared batch at the end of the running ones (storage reused)
   // How a batch is served: its exact scans, the leaders it followed and the ones it appended.
   struct Plan {
-    std::uint64_t exact = 0;       // queries scanning the Node Set
-    std::uint64_t max_checks = 0;  // leaders the last Leader Check compared against
+    std::uint64_t exact = 0;                         // queries scanning the Node Set
+    std::uint64_t max_checks = 0;                    // leaders the last Leader Check compared against
     std::vector<std::size_t> followed, new_leaders;  // leader indices at the batch's leaf
   };
   Plan serve(std::vector<QueryToken>& tokens, std::uint32_t leaf, std::uint64_t now,
              std::vector<tlm_if::ResultRecord>& hits);
   void exact_scan(const QueryToken& t, std::uint32_t leaf, const tlm_if::PointEntry* set, std::uint32_t n,
                   std::vector<tlm_if::ResultRecord>& hits);
-  void apply_leader_records(std::uint64_t now);  // records that have arrived join (or find L full)
+  void apply_leader_records(std::uint64_t now);           // records that have arrived join (or find L full)
   void issue_followers(Batch& batch, std::uint64_t now);  // parked followers of one leader, now ready
   // The batch's stream from `start` (after its checks, at `check_end`), `stream` entries whose
   // last arrives at `data_ready`: its end, busy and stall cycles.
-  void stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t now, std::uint64_t start,
-                    std::uint64_t check_end, std::uint64_t data_ready, std::uint64_t stream);
+  void stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t now, std::uint64_t start, std::uint64_t check_end,
+                    std::uint64_t data_ready, std::uint64_t stream);
   // A leader's list written (at its leader's scan end) or read, from cycle `at`; returns when done.
   std::uint64_t list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write);
   std::uint64_t retire(Batch& batch);  // returns the cycle the queries may leave
@@ -122,10 +122,10 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   IssueDecision decision_;
   PeArray pe_array_;
   LeaderBuffer leader_buffer_;
-  std::vector<tlm_if::PointEntry> local_;       // a new leader's local result list
-  std::deque<LeaderRecord> arrivals_;           // first_leaf leaders' records on their way (ready order)
-  std::deque<QueryToken> ready_followers_;      // wait: parked followers whose leader's list is written
-  std::vector<char> taken_;                     // BQB positions issued this step
+  std::vector<tlm_if::PointEntry> local_;   // a new leader's local result list
+  std::deque<LeaderRecord> arrivals_;       // first_leaf leaders' records on their way (ready order)
+  std::deque<QueryToken> ready_followers_;  // wait: parked followers whose leader's list is written
+  std::vector<char> taken_;                 // BQB positions issued this step
   TreeView tree_;
   std::vector<std::uint64_t> slot_addrs_;
   StatGroup stats_;
@@ -142,7 +142,8 @@ class SearchUnit : public sc_core::sc_module, private Scheduler::Client {
   Counter writeback_stall_{stats_, "stall_cycles.result_writeback", "cycles",
                            "radius hits waiting for the write-back stream, when no PE computes and no stream waits "
                            "for data"};
-  Counter pe_busy_cycles_{stats_, "pe_busy_cycles", "cycles", "sum over PEs of the cycles each holds a query in a stream"};
+  Counter pe_busy_cycles_{stats_, "pe_busy_cycles", "cycles",
+                          "sum over PEs of the cycles each holds a query in a stream"};
   Counter bqb_max_{stats_, "bqb_max_occupancy", "count", "largest BE Query Buffer occupancy", Counter::Merge::Max};
   // Busy and stall cycles of the unit, each cycle once (batches of MQMN overlap).
   enum State : std::size_t { kBusy, kSram, kWriteback, kIssue };

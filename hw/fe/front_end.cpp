@@ -2,15 +2,13 @@
 
 #include <string>
 
-
 namespace tigris::hw {
 
-FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                   const JobDescriptor& job, DistributionNetwork& qdn, ResultBuffer& result_buffer,
-                   EnergyMeter& meter, JobObserver& observer, Scheduler& scheduler, ScanService& scans,
-                   bool reverse_construction)
-    : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job), observer_(observer),
-      clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
+FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
+                   DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter, JobObserver& observer,
+                   Scheduler& scheduler, ScanService& scans, bool reverse_construction)
+    : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job),
+      observer_(observer), clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
   const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler, walk_log_, scans};
   const int n = config.fe.recursion_units;
   rus.resize(static_cast<std::size_t>(n));

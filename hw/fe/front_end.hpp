@@ -12,13 +12,13 @@
 
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
-#include "recursion_unit.hpp"
 #include "hw/host/fifo_ring.hpp"
 #include "hw/job.hpp"
 #include "hw/probe.hpp"
 #include "hw/scheduler.hpp"
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
+#include "recursion_unit.hpp"
 
 namespace tigris::hw {
 
@@ -29,8 +29,8 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   // Builds the Recursion Units (in reverse id order when `reverse_construction`: a test that
   // the figures do not depend on it); their links point at this front-end.
   FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config, const JobDescriptor& job,
-           DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter,
-           JobObserver& observer, Scheduler& scheduler, ScanService& scans, bool reverse_construction = false);
+           DistributionNetwork& qdn, ResultBuffer& result_buffer, EnergyMeter& meter, JobObserver& observer,
+           Scheduler& scheduler, ScanService& scans, bool reverse_construction = false);
 
   // Starts a job: admits the first queries. `on_all_done(cycle)` fires once all finished.
   void start(std::function<void(std::uint64_t)> on_all_done);

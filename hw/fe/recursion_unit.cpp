@@ -10,9 +10,9 @@ namespace tigris::hw {
 
 RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                              const JobDescriptor& job, Links links)
-    : sc_module(name), Scheduler::Client(Scheduler::kRecursionUnit, static_cast<std::uint32_t>(id)),
-      points("points"), queries("queries"), stacks("stacks"), results("results"), id_(id), config_(config), cost_(config.cost), job_(job), links_(links),
-      clock_{config.period()}, stats_(basename(), "recursion_unit"),
+    : sc_module(name), Scheduler::Client(Scheduler::kRecursionUnit, static_cast<std::uint32_t>(id)), points("points"),
+      queries("queries"), stacks("stacks"), results("results"), id_(id), config_(config), cost_(config.cost), job_(job),
+      links_(links), clock_{config.period()}, stats_(basename(), "recursion_unit"),
       node_energy_(links.meter.line("ru.node", EnergyMeter::Component::Ru, links.meter.table().ru_node_pj)),
       replica_bytes_(links.meter.line("ru.top_level_replica_bytes", EnergyMeter::Component::Ru,
                                       links.meter.table().register_pj_per_byte)),
@@ -80,8 +80,7 @@ void RecursionUnit::start(const QueryToken& token) {
     for (std::uint32_t i = 0, n = slots_.count(token_.slot); i < n; ++i)
       hits_.push_back({token_.query, e[i].index, e[i].dist2});
   }
-  if (finished_ && token_.first_leaf != kNoLeaf &&
-      (!job_.wait_for_leaders || token_.leader_entry != kNoLeaf))
+  if (finished_ && token_.first_leaf != kNoLeaf && (!job_.wait_for_leaders || token_.leader_entry != kNoLeaf))
     take_leader_record();
   links_.scheduler.at(*this, done);
 }

@@ -68,8 +68,8 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     WalkLog& log;
     ScanService& scans;  // the query's slot may still be written by its last scan (deferred results)
   };
-  RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
-                const JobDescriptor& job, Links links);
+  RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config, const JobDescriptor& job,
+                Links links);
 
   int id() const { return id_; }
   void start_job();                     // views onto the new job's data through the ports
@@ -134,9 +134,9 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
                            "stream"};
   Counter prune_cycles_{stats_, "prune_cycles", "cycles", "the part of `busy_cycles` spent on pruned nodes"};
   Counter& node_energy_;
-  Counter& replica_bytes_;             // node reads from the RU's own top-level copy
+  Counter& replica_bytes_;              // node reads from the RU's own top-level copy
   std::uint32_t replicated_nodes_ = 0;  // heap nodes below this id are in the copy
-  StallInjector stall_;  // the hand-off to the QDN (or the finish)
+  StallInjector stall_;                 // the hand-off to the QDN (or the finish)
   // busy: the pipeline cycles (busy_cycles); then a stall, each cause its own wave.
   Probe busy_wave_, sram_wave_, stalled_wave_, writeback_wave_, query_wave_;
   std::vector<tlm_if::ResultRecord> hits_;  // radius hits found at top nodes

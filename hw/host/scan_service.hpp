@@ -17,10 +17,10 @@
 #include <memory>
 #include <vector>
 
-#include "leaf_bounds.hpp"
-#include "prefetch.hpp"
 #include "hw/job.hpp"
 #include "hw/tree_view.hpp"
+#include "leaf_bounds.hpp"
+#include "prefetch.hpp"
 
 namespace tigris::hw {
 

@@ -57,7 +57,7 @@ void ThreadedScans::wait(std::uint64_t ticket) {
 }
 
 void ThreadedScans::wake() {
-  if (wake_.exchange(true)) return;  // asked already: one notification per sleep
+  if (wake_.exchange(true)) return;              // asked already: one notification per sleep
   { std::lock_guard<std::mutex> lock(mutex_); }  // the worker is in cv_.wait or sees wake_ before it
   cv_.notify_one();
 }

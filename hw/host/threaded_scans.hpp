@@ -49,7 +49,7 @@ class ThreadedScans final : public ScanService {
     const LeafBounds::Box* box;
     std::uint32_t count;
   };
-  static constexpr std::size_t kRing = 4096;      // jobs in flight at most (a power of two)
+  static constexpr std::size_t kRing = 4096;        // jobs in flight at most (a power of two)
   static constexpr std::uint64_t kWakeBatch = 256;  // pending jobs that wake a sleeping worker
   void wait(std::uint64_t ticket);
   void wake();

@@ -214,7 +214,7 @@ class BankCalendar {
   }
   static constexpr std::uint64_t kNoRow = ~std::uint64_t{0};
   std::uint32_t banks_;
-  std::uint64_t last_id_ = kNoRow;    // the row word() looked up last ...
+  std::uint64_t last_id_ = kNoRow;      // the row word() looked up last ...
   std::uint64_t* last_bits_ = nullptr;  // ... and its busy bits
   std::vector<Row> rows_;
   std::vector<std::uint64_t> busy_;  // rows_.size() x banks_

@@ -20,15 +20,13 @@ std::string title(const std::string& name) {
 
 }  // namespace
 
-
-BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock,
-                       EnergyMeter& meter, const AcceleratorConfig::Stall& stall)
+BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter,
+                       const AcceleratorConfig::Stall& stall)
     : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
       word_bytes_(static_cast<std::uint64_t>(config.word_bytes)), num_banks_(static_cast<std::uint64_t>(config.banks)),
       word_shift_((word_bytes_ & (word_bytes_ - 1)) == 0 ? __builtin_ctzll(word_bytes_) : -1),
       bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0), word_div_(word_bytes_),
-      bank_div_(num_banks_),
-      lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
+      bank_div_(num_banks_), lanes_(static_cast<std::uint64_t>(std::min(config.banks, config.ports))),
       lanes_shift_((lanes_ & (lanes_ - 1)) == 0 ? __builtin_ctzll(lanes_) : -1),
       banks_(static_cast<std::uint32_t>(config.banks)), ports_bind_(config.ports < config.banks),
       word_in_row_(!ports_bind_ && word_shift_ >= 0 && bank_mask_ != 0),
@@ -37,10 +35,10 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
       reference_(word_bytes_, num_banks_, static_cast<std::uint64_t>(config.ports)),
 #endif
       stats_(basename(), "buffer", title(basename())),
-      read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes",
-                              EnergyMeter::Component::SramRead, meter.table().sram_price(config.bytes, config.banks, false))),
-      write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes",
-                               EnergyMeter::Component::SramWrite, meter.table().sram_price(config.bytes, config.banks, true))),
+      read_energy_(meter.line(std::string("sram.") + basename() + ".read_bytes", EnergyMeter::Component::SramRead,
+                              meter.table().sram_price(config.bytes, config.banks, false))),
+      write_energy_(meter.line(std::string("sram.") + basename() + ".write_bytes", EnergyMeter::Component::SramWrite,
+                               meter.table().sram_price(config.bytes, config.banks, true))),
       stall_(stall, basename(), stats_) {
   socket.register_b_transport(this, &BankedSram::b_transport);
   socket.register_get_direct_mem_ptr(this, &BankedSram::get_direct_mem_ptr);
@@ -68,7 +66,8 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
   }
   check(start, a, now, finish);
   if (n == 0) return start;
-  const std::uint64_t ideal = start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
+  const std::uint64_t ideal =
+      start + (lanes_shift_ >= 0 ? (n + lanes_ - 1) >> lanes_shift_ : (n + lanes_ - 1) / lanes_);
   conflict_cycles_ += finish - ideal;
   bank_conflicts_[critical] += finish - ideal;
   count(a.write, n, a.bytes);
@@ -76,7 +75,7 @@ std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfil
 }
 
 std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle,
-                                         std::uint64_t now, std::uint32_t& critical) {
+                                        std::uint64_t now, std::uint32_t& critical) {
   critical = words ? bank_of(first) : 0;
   // Word i is in bank (first + i) mod banks, so bank i's share is every banks-th word.
   if (!ports_bind_ && words <= 4 && words <= num_banks_) {
@@ -118,7 +117,7 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   std::uint64_t stall = 0, last = start, n = 0;
   // Accesses within one word (a walk's nodes and stack entries) take a short path that books
   // most of them in the calendar's current row.
-  for (const tlm_if::PipelineAccess* p = a.pipeline, *end = p + a.pipeline_count; p != end; ++p) {
+  for (const tlm_if::PipelineAccess *p = a.pipeline, *end = p + a.pipeline_count; p != end; ++p) {
     // The access's words issue together; the pipeline goes on once the last one is served.
     const std::uint64_t t = start + p->issue_offset + stall;
     const std::uint32_t size = p->bytes;
@@ -161,8 +160,11 @@ void BankedSram::check([[maybe_unused]] std::uint64_t start, [[maybe_unused]] co
                "TIGRIS_CHECK_SRAM: %s: an access from cycle %llu (%s, %s, %llu bytes) was served by cycle %llu; "
                "one-at-a-time booking serves it by cycle %llu\n",
                name(), static_cast<unsigned long long>(start), a.write ? "write" : "read",
-               a.pipeline ? "pipeline" : a.scatter ? "scatter" : "burst", static_cast<unsigned long long>(a.bytes),
-               static_cast<unsigned long long>(served), static_cast<unsigned long long>(want));
+               a.pipeline  ? "pipeline"
+               : a.scatter ? "scatter"
+                           : "burst",
+               static_cast<unsigned long long>(a.bytes), static_cast<unsigned long long>(served),
+               static_cast<unsigned long long>(want));
   std::abort();
 #endif
 }
@@ -223,8 +225,8 @@ bool BankedSram::get_direct_mem_ptr(int, tlm::tlm_generic_payload& trans, tlm::t
 unsigned int BankedSram::transport_dbg(int, tlm::tlm_generic_payload& trans) {
   const std::uint64_t addr = trans.get_address();
   if (addr >= data_.size()) return 0;
-  const unsigned int len = static_cast<unsigned int>(
-      std::min<std::uint64_t>(trans.get_data_length(), data_.size() - addr));
+  const unsigned int len =
+      static_cast<unsigned int>(std::min<std::uint64_t>(trans.get_data_length(), data_.size() - addr));
   if (trans.get_command() == tlm::TLM_WRITE_COMMAND)
     std::memcpy(data_.data() + addr, trans.get_data_ptr(), len);
   else if (trans.get_command() == tlm::TLM_READ_COMMAND)

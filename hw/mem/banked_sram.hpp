@@ -11,15 +11,15 @@
 #include <utility>
 #include <vector>
 
+#include <tlm_utils/multi_passthrough_target_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/multi_passthrough_target_socket.h>
 
+#include "bank_calendar.hpp"
+#include "fast_divider.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
-#include "bank_calendar.hpp"
-#include "fast_divider.hpp"
 #include "port_calendar.hpp"
 #ifdef TIGRIS_CHECK_SRAM
 #include "sram_reference.hpp"
@@ -88,7 +88,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   }
   // Word and bank arithmetic with shifts and masks when the sizes are powers of two (the
   // defaults), else by multiplications (hw/mem/fast_divider.hpp).
-  std::uint64_t word_index(std::uint64_t byte) const { return word_shift_ >= 0 ? byte >> word_shift_ : word_div_(byte); }
+  std::uint64_t word_index(std::uint64_t byte) const {
+    return word_shift_ >= 0 ? byte >> word_shift_ : word_div_(byte);
+  }
   std::uint32_t bank_of(std::uint64_t word) const {
     return static_cast<std::uint32_t>(bank_mask_ ? word & bank_mask_ : word - bank_div_(word) * num_banks_);
   }
@@ -100,11 +102,11 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   Clock clock_;
   std::vector<std::uint8_t> data_;
   std::uint64_t word_bytes_, num_banks_;
-  int word_shift_;          // log2(word_bytes_), or -1
+  int word_shift_;           // log2(word_bytes_), or -1
   std::uint64_t bank_mask_;  // num_banks_ - 1 for a power of two, else 0
   FastDivider word_div_, bank_div_;
-  std::uint64_t lanes_;      // words served a cycle at best: min(banks, ports)
-  int lanes_shift_;          // log2(lanes_), or -1
+  std::uint64_t lanes_;  // words served a cycle at best: min(banks, ports)
+  int lanes_shift_;      // log2(lanes_), or -1
   BankCalendar banks_;
   bool ports_bind_;
   // Words and banks (two or more) are powers of two and ports never bind: a pipeline access
@@ -117,10 +119,12 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   StatGroup stats_;
   // Words count accesses (`word_bytes` each: an access of a few bytes is one word).
   Counter reads_{stats_, "reads", "count", "words read"};
-  Counter writes_{stats_, "writes", "count", "words written during the job (the host's loads before START are not counted)"};
+  Counter writes_{stats_, "writes", "count",
+                  "words written during the job (the host's loads before START are not counted)"};
   Counter read_bytes_{stats_, "read_bytes", "bytes", "bytes read"};
   Counter write_bytes_{stats_, "write_bytes", "bytes", "bytes written during the job"};
-  Counter conflict_cycles_{stats_, "conflict_cycles", "cycles", "cycles accesses waited for a busy bank or port beyond the ideal"};
+  Counter conflict_cycles_{stats_, "conflict_cycles", "cycles",
+                           "cycles accesses waited for a busy bank or port beyond the ideal"};
   // Per bank (bank i holds words i, i + banks, ...): where the traffic and the waiting are.
   CounterArray bank_accesses_{stats_, "banks.accesses", "count",
                               "words read or written in each bank, in bank order (sums to reads + writes)",

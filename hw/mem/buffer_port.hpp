@@ -5,9 +5,9 @@
 
 #include <cstdint>
 
+#include <tlm_utils/simple_initiator_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_initiator_socket.h>
 
 #include "hw/clock.hpp"
 #include "tlm/access_profile.hpp"
@@ -44,8 +44,7 @@ class BufferPort {
   void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr; }
 
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
-  std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access,
-                       const sc_core::sc_time& period) {
+  std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access, const sc_core::sc_time& period) {
     if (access.bytes == 0 && access.scatter_count == 0 && access.pipeline_count == 0) return start;  // nothing
     if (timing_) return timing_->charge(start, access);
     profile_ = access;

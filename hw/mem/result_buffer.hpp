@@ -9,9 +9,9 @@
 
 #include <systemc>
 
+#include "banked_sram.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
-#include "banked_sram.hpp"
 #include "leader_staging.hpp"
 #include "result_writeback.hpp"
 
@@ -19,8 +19,7 @@ namespace tigris::hw {
 
 class ResultBuffer : public sc_core::sc_module {
  public:
-  ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter,
-               JobObserver& observer)
+  ResultBuffer(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter, JobObserver& observer)
       : sc_module(name), sram_("results", config.sram.results, Clock{config.period()}, meter, config.stall),
         writeback_("writeback", config, meter, observer) {}
 

@@ -32,9 +32,7 @@ class ResultSlots {
     return reinterpret_cast<const Neighbor*>(at(slot) + kHeaderBytes);
   }
   // The pruning bound: the k-th best dist2, +inf while fewer than k are held.
-  float bound(std::uint32_t slot) const {
-    return count(slot) < k_ ? kInfinity : entries(slot)[0].dist2;
-  }
+  float bound(std::uint32_t slot) const { return count(slot) < k_ ? kInfinity : entries(slot)[0].dist2; }
   // Inserts n if it is among the k best so far; returns whether it was.
   bool insert(std::uint32_t slot, Neighbor n) {
     Neighbor* e = mutable_entries(slot);

@@ -6,8 +6,8 @@
 
 namespace tigris::hw {
 
-ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                                 EnergyMeter& meter, JobObserver& observer)
+ResultWriteback::ResultWriteback(sc_core::sc_module_name name, const AcceleratorConfig& config, EnergyMeter& meter,
+                                 JobObserver& observer)
     : sc_module(name), socket("socket"), config_(config.dram),
       host_bytes_per_cycle_(config.cost.host_link_bytes_per_cycle), clock_{config.period()},
       dram_energy_(meter.line("dram.write_bytes", EnergyMeter::Component::Dram, meter.table().dram_pj_per_byte)),
@@ -35,7 +35,8 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
     accept = std::max(accept, drain_free_ + room_needed / bw);
   const auto accept_cycle = static_cast<std::uint64_t>(std::ceil(accept));
   drain_free_ = std::max(drain_free_, static_cast<double>(accept_cycle)) + bytes / bw;
-  if (backlog_wave_) backlog_wave_->set(static_cast<std::uint64_t>((drain_free_ - static_cast<double>(accept_cycle)) * bw));
+  if (backlog_wave_)
+    backlog_wave_->set(static_cast<std::uint64_t>((drain_free_ - static_cast<double>(accept_cycle)) * bw));
   const std::size_t old = region_.size();
   region_.resize(old + bytes_n);
   std::memcpy(region_.data() + old, records, bytes_n);
@@ -44,7 +45,8 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
   dram_energy_ += bytes_n;
   if (n > 0)
     observer_.writeback(records[0].query, n, origin_ + accept_cycle,
-                        origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + static_cast<std::uint64_t>(config_.latency_cycles));
+                        origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) +
+                            static_cast<std::uint64_t>(config_.latency_cycles));
   return origin_ + accept_cycle;
 }
 
@@ -53,7 +55,8 @@ std::uint64_t ResultWriteback::transfer(std::uint64_t now, std::uint64_t bytes, 
   drain_free_ = begin + static_cast<double>(bytes) / config_.bytes_per_cycle;
   (write ? list_writes_ : list_reads_) += bytes;
   (write ? dram_energy_ : dram_read_energy_) += bytes;
-  return origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + static_cast<std::uint64_t>(config_.latency_cycles);
+  return origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) +
+         static_cast<std::uint64_t>(config_.latency_cycles);
 }
 
 std::uint64_t ResultWriteback::drained_cycle() const {

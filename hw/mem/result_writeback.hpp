@@ -8,16 +8,16 @@
 #include <cstdint>
 #include <vector>
 
+#include <tlm_utils/simple_target_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_target_socket.h>
 
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "hw/observer.hpp"
-#include "hw/stall_injector.hpp"
 #include "hw/probe.hpp"
+#include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 #include "tlm/address_map.hpp"
 

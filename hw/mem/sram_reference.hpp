@@ -47,7 +47,8 @@ class SramReference {
     }
     std::uint64_t finish = start;
     if (a.scatter)
-      for (std::uint32_t i = 0; i < a.scatter_count; ++i) finish = std::max(finish, burst(a.scatter[i], a.scatter_size, start));
+      for (std::uint32_t i = 0; i < a.scatter_count; ++i)
+        finish = std::max(finish, burst(a.scatter[i], a.scatter_size, start));
     else
       finish = std::max(finish, burst(a.first_byte, a.bytes, start));
     return finish;

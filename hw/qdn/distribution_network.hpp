@@ -11,9 +11,9 @@
 
 #include "hw/be/search_unit.hpp"
 #include "hw/config.hpp"
+#include "hw/job.hpp"
 #include "hw/observer.hpp"
 #include "hw/stall_injector.hpp"
-#include "hw/job.hpp"
 #include "hw/stats.hpp"
 
 namespace tigris::hw {

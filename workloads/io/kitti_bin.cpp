@@ -12,8 +12,7 @@ namespace {
 // Assembled byte by byte: independent of the host's byte order.
 float float_from_le(const unsigned char* b) {
   const std::uint32_t u = static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) |
-                          (static_cast<std::uint32_t>(b[2]) << 16) |
-                          (static_cast<std::uint32_t>(b[3]) << 24);
+                          (static_cast<std::uint32_t>(b[2]) << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
   float f;
   std::memcpy(&f, &u, sizeof f);
   return f;

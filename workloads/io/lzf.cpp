@@ -6,8 +6,7 @@ namespace tigris {
 // reference: length (c >> 5) + 2, or when c >> 5 == 7, 7 + next byte + 2; offset
 // ((c & 31) << 8) + next byte + 1 bytes back from the current output position. A reference may
 // overlap the bytes it produces (copied byte by byte).
-long lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out,
-                    std::size_t out_capacity) {
+long lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_capacity) {
   std::size_t ip = 0, op = 0;
   while (ip < in_size) {
     const unsigned int ctrl = in[ip++];

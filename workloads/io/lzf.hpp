@@ -9,7 +9,6 @@ namespace tigris {
 // written, or -1 on corrupt input: a back reference before the start of the output, a run that
 // passes the end of the input, or output that would not fit. Never reads or writes out of
 // bounds.
-long lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out,
-                    std::size_t out_capacity);
+long lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_capacity);
 
 }  // namespace tigris

@@ -16,14 +16,14 @@ namespace {
 
 using io_detail::fail;
 using io_detail::fail_line;
+using io_detail::kMaxPoints;
 using io_detail::Line;
 using io_detail::LineReader;
-using io_detail::kMaxPoints;
 using io_detail::printable;
 using io_detail::Scalar;
 using io_detail::Value;
 
-constexpr std::uint64_t kMaxCount = 0xFFFFFFFFu;   // COUNT of one field
+constexpr std::uint64_t kMaxCount = 0xFFFFFFFFu;  // COUNT of one field
 
 struct Field {
   std::string name;
@@ -51,14 +51,10 @@ Scalar scalar_of(char type, std::uint64_t size) {
   if (type == 'F') return size == 4 ? Scalar::F32 : Scalar::F64;
   const bool u = type == 'U';
   switch (size) {
-    case 1:
-      return u ? Scalar::U8 : Scalar::I8;
-    case 2:
-      return u ? Scalar::U16 : Scalar::I16;
-    case 4:
-      return u ? Scalar::U32 : Scalar::I32;
-    default:
-      return u ? Scalar::U64 : Scalar::I64;
+    case 1: return u ? Scalar::U8 : Scalar::I8;
+    case 2: return u ? Scalar::U16 : Scalar::I16;
+    case 4: return u ? Scalar::U32 : Scalar::I32;
+    default: return u ? Scalar::U64 : Scalar::I64;
   }
 }
 
@@ -94,19 +90,19 @@ int header_key(const Line& line, bool any_key, const std::string& label) {
 void read_field_values(HeaderScan& s, int k, const std::vector<std::string_view>& args, std::size_t n,
                        const std::string& label) {
   Header& h = s.h;
-  if (!s.seen[kFields])
-    fail_line(label, n, "corrupt PCD header: " + std::string(kKeys[k]) + " before FIELDS");
+  if (!s.seen[kFields]) fail_line(label, n, "corrupt PCD header: " + std::string(kKeys[k]) + " before FIELDS");
   if (args.size() != h.fields.size())
-    fail_line(label, n, "corrupt PCD header: " + std::string(kKeys[k]) + " lists " +
-                            std::to_string(args.size()) + " values for " +
-                            std::to_string(h.fields.size()) + " fields");
+    fail_line(label, n,
+              "corrupt PCD header: " + std::string(kKeys[k]) + " lists " + std::to_string(args.size()) +
+                  " values for " + std::to_string(h.fields.size()) + " fields");
   switch (k) {
     case kSize:
       for (std::size_t i = 0; i < args.size(); ++i) {
         std::uint64_t v = 0;
         if (!io_detail::parse_count(args[i], 8, v) || (v != 1 && v != 2 && v != 4 && v != 8))
-          fail_line(label, n, "corrupt PCD header: SIZE '" + printable(args[i]) + "' of field '" +
-                                  printable(h.fields[i].name) + "' (expected 1, 2, 4 or 8)");
+          fail_line(label, n,
+                    "corrupt PCD header: SIZE '" + printable(args[i]) + "' of field '" + printable(h.fields[i].name) +
+                        "' (expected 1, 2, 4 or 8)");
         h.fields[i].size = v;
       }
       break;
@@ -114,13 +110,11 @@ void read_field_values(HeaderScan& s, int k, const std::vector<std::string_view>
       if (!s.seen[kSize]) fail_line(label, n, "corrupt PCD header: TYPE before SIZE");
       for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string_view t = args[i];
-        const bool ok = (t == "F" && (h.fields[i].size == 4 || h.fields[i].size == 8)) ||
-                        t == "I" || t == "U";
+        const bool ok = (t == "F" && (h.fields[i].size == 4 || h.fields[i].size == 8)) || t == "I" || t == "U";
         if (!ok)
-          fail_line(label, n, "corrupt PCD header: TYPE '" + printable(t) + "' of field '" +
-                                  printable(h.fields[i].name) + "' with SIZE " +
-                                  std::to_string(h.fields[i].size) +
-                                  " (expected F with SIZE 4 or 8, I or U)");
+          fail_line(label, n,
+                    "corrupt PCD header: TYPE '" + printable(t) + "' of field '" + printable(h.fields[i].name) +
+                        "' with SIZE " + std::to_string(h.fields[i].size) + " (expected F with SIZE 4 or 8, I or U)");
         h.fields[i].type = t[0];
       }
       break;
@@ -128,8 +122,9 @@ void read_field_values(HeaderScan& s, int k, const std::vector<std::string_view>
       for (std::size_t i = 0; i < args.size(); ++i) {
         std::uint64_t v = 0;
         if (!io_detail::parse_count(args[i], kMaxCount, v) || v == 0)
-          fail_line(label, n, "corrupt PCD header: COUNT '" + printable(args[i]) + "' of field '" +
-                                  printable(h.fields[i].name) + "' (expected 1 or more)");
+          fail_line(label, n,
+                    "corrupt PCD header: COUNT '" + printable(args[i]) + "' of field '" + printable(h.fields[i].name) +
+                        "' (expected 1 or more)");
         h.fields[i].count = v;
       }
       break;
@@ -145,8 +140,7 @@ void read_header_line(HeaderScan& s, int k, const std::vector<std::string_view>&
       static const char* const kVersions[] = {"0.7", ".7", "0.6", ".6", "0.5", ".5"};
       bool ok = args.size() == 1;
       if (ok) ok = std::find(std::begin(kVersions), std::end(kVersions), args[0]) != std::end(kVersions);
-      if (!ok)
-        fail_line(label, n, "unsupported PCD VERSION (expected 0.7, 0.6 or 0.5)");
+      if (!ok) fail_line(label, n, "unsupported PCD VERSION (expected 0.7, 0.6 or 0.5)");
       break;
     }
     case kFields:
@@ -159,9 +153,7 @@ void read_header_line(HeaderScan& s, int k, const std::vector<std::string_view>&
       break;
     case kSize:
     case kType:
-    case kCount:
-      read_field_values(s, k, args, n, label);
-      break;
+    case kCount: read_field_values(s, k, args, n, label); break;
     case kWidth:
     case kHeight:
     case kPoints: {
@@ -207,13 +199,12 @@ void settle_points(HeaderScan& s, std::size_t data_line, const std::string& labe
     std::uint64_t wh = 0;
     if (io_detail::mul_overflows(s.width, s.height, wh) || (seen[kPoints] && wh != h.points))
       fail_line(label, seen[kPoints] ? seen[kPoints] : seen[kWidth],
-                "corrupt PCD header: WIDTH x HEIGHT (" + std::to_string(s.width) + " x " +
-                    std::to_string(s.height) + ") differs from POINTS (" + std::to_string(h.points) + ")");
+                "corrupt PCD header: WIDTH x HEIGHT (" + std::to_string(s.width) + " x " + std::to_string(s.height) +
+                    ") differs from POINTS (" + std::to_string(h.points) + ")");
     h.points = wh;
   }
   if (h.points == 0) fail(label, "the point cloud is empty (POINTS 0)");
-  if (h.points > kMaxPoints)
-    fail(label, "too many points (" + std::to_string(h.points) + "; at most 2^32 - 2)");
+  if (h.points > kMaxPoints) fail(label, "too many points (" + std::to_string(h.points) + "; at most 2^32 - 2)");
 }
 
 // Each field's scalar type and offset in a record, the record's size, and which fields are x, y, z.
@@ -233,8 +224,9 @@ void lay_out_fields(HeaderScan& s, const std::string& label) {
       if (h.xyz[a] >= 0)
         fail_line(label, s.seen[kFields], std::string("corrupt PCD header: field '") + kAxes[a] + "' appears twice");
       if (f.count != 1)
-        fail_line(label, s.seen[kCount], std::string("field '") + kAxes[a] + "' has COUNT " +
-                                             std::to_string(f.count) + "; x, y, z must be single values");
+        fail_line(label, s.seen[kCount],
+                  std::string("field '") + kAxes[a] + "' has COUNT " + std::to_string(f.count) +
+                      "; x, y, z must be single values");
       h.xyz[a] = static_cast<int>(i);
     }
   }
@@ -279,8 +271,7 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
 
 // A coordinate as float32; `where` (called only on an error) says where the value lies.
 template <class Where>
-float coordinate(const Value& v, const std::string& label, const char* axis, std::uint64_t point,
-                 Where where) {
+float coordinate(const Value& v, const std::string& label, const char* axis, std::uint64_t point, Where where) {
   bool fits = true;
   const float f = io_detail::to_coordinate(v, fits);
   if (!fits) not_float32(label + ": point " + std::to_string(point) + " (" + where() + "): '" + axis + "'", v);
@@ -301,14 +292,14 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
   cloud.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(h.points, (size - h.data_start) / 2 + 1)));
   for (std::uint64_t i = 0; i < h.points; ++i) {
     if (!next_line())
-      fail(label, "truncated PCD file: the data ends after " + std::to_string(i) + " of " +
-                      std::to_string(h.points) + " points (line " + std::to_string(lines.line()) + ")");
+      fail(label, "truncated PCD file: the data ends after " + std::to_string(i) + " of " + std::to_string(h.points) +
+                      " points (line " + std::to_string(lines.line()) + ")");
     const std::size_t n = line.number;
     if (line.control) fail_line(label, n, "corrupt PCD data: a control character");
     if (line.words.size() != h.values)
-      fail_line(label, n, "corrupt PCD data: point " + std::to_string(i) + " has " +
-                              std::to_string(line.words.size()) + " values, the header announces " +
-                              std::to_string(h.values));
+      fail_line(label, n,
+                "corrupt PCD data: point " + std::to_string(i) + " has " + std::to_string(line.words.size()) +
+                    " values, the header announces " + std::to_string(h.values));
     std::size_t w = 0;
     float xyz[3] = {0.0f, 0.0f, 0.0f};
     for (std::size_t fi = 0; fi < h.fields.size(); ++fi) {
@@ -316,9 +307,9 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
       for (std::uint64_t c = 0; c < f.count; ++c, ++w) {
         Value v;
         if (!io_detail::parse_scalar(line.words[w], f.scalar, v))
-          fail_line(label, n, "corrupt PCD data: point " + std::to_string(i) + ", field '" +
-                                  printable(f.name) + "': '" + printable(line.words[w]) +
-                                  "' is not a valid " + io_detail::scalar_name(f.scalar));
+          fail_line(label, n,
+                    "corrupt PCD data: point " + std::to_string(i) + ", field '" + printable(f.name) + "': '" +
+                        printable(line.words[w]) + "' is not a valid " + io_detail::scalar_name(f.scalar));
         for (int a = 0; a < 3; ++a)
           if (h.xyz[a] == static_cast<int>(fi))
             xyz[a] = coordinate(v, label, kAxisNames[a], i, [&] { return "line " + std::to_string(n); });
@@ -349,8 +340,7 @@ PointCloud read_records(const Header& h, const unsigned char* base, bool by_fiel
       const std::uint64_t at = by_field ? field_start[a] + i * f.size : i * h.step + f.offset;
       const Value v = io_detail::load_scalar(base + at, f.scalar, false);
       xyz[a] = coordinate(v, label, kAxisNames[a], i, [&] {
-        return by_field ? "uncompressed byte " + std::to_string(at)
-                        : "byte offset " + std::to_string(base_offset + at);
+        return by_field ? "uncompressed byte " + std::to_string(at) : "byte offset " + std::to_string(base_offset + at);
       });
     }
     cloud[static_cast<std::size_t>(i)] = Point3{xyz[0], xyz[1], xyz[2]};
@@ -370,8 +360,8 @@ PointCloud read_binary(const Header& h, const char* data, std::size_t size, cons
   if (needed > body) {
     std::ostringstream msg;
     msg << "truncated PCD file: " << h.points << " points of " << h.step << " bytes need " << needed
-        << " bytes of binary data from byte offset " << h.data_start << " but the file holds " << body
-        << " (" << body / h.step << " points)";
+        << " bytes of binary data from byte offset " << h.data_start << " but the file holds " << body << " ("
+        << body / h.step << " points)";
     fail(label, msg.str());
   }
   if (needed < body) {
@@ -380,8 +370,7 @@ PointCloud read_binary(const Header& h, const char* data, std::size_t size, cons
         << h.data_start + needed << "); the header announces fewer points than the file holds";
     fail(label, msg.str());
   }
-  return read_records(h, reinterpret_cast<const unsigned char*>(data) + h.data_start, false,
-                      h.data_start, label);
+  return read_records(h, reinterpret_cast<const unsigned char*>(data) + h.data_start, false, h.data_start, label);
 }
 
 PointCloud read_compressed(const Header& h, const char* data, std::size_t size, const std::string& label) {
@@ -397,9 +386,9 @@ PointCloud read_compressed(const Header& h, const char* data, std::size_t size, 
                     " bytes, but " + std::to_string(h.points) + " points of " + std::to_string(h.step) +
                     " bytes take " + (needed == 0 && h.step != 0 ? std::string("more") : std::to_string(needed)));
   if (compressed > body - 8)
-    fail(label, "truncated PCD file: the compressed block of " + std::to_string(compressed) +
-                    " bytes at byte offset " + std::to_string(h.data_start + 8) + " passes the end of the file (" +
-                    std::to_string(body - 8) + " bytes left)");
+    fail(label, "truncated PCD file: the compressed block of " + std::to_string(compressed) + " bytes at byte offset " +
+                    std::to_string(h.data_start + 8) + " passes the end of the file (" + std::to_string(body - 8) +
+                    " bytes left)");
   if (compressed < body - 8)
     fail(label, "corrupt PCD file: " + std::to_string(body - 8 - compressed) +
                     " bytes after the compressed block (from byte offset " +
@@ -412,9 +401,10 @@ PointCloud read_compressed(const Header& h, const char* data, std::size_t size, 
   std::vector<unsigned char> out(static_cast<std::size_t>(uncompressed));
   const long got = lzf_decompress(p + 8, static_cast<std::size_t>(compressed), out.data(), out.size());
   if (got < 0 || static_cast<std::uint64_t>(got) != uncompressed)
-    fail(label, "corrupt PCD file: the LZF data at byte offset " + std::to_string(h.data_start + 8) +
-                    (got < 0 ? " is corrupt" : " decompresses to " + std::to_string(got) + " bytes, not " +
-                                                  std::to_string(uncompressed)));
+    fail(label,
+         "corrupt PCD file: the LZF data at byte offset " + std::to_string(h.data_start + 8) +
+             (got < 0 ? " is corrupt"
+                      : " decompresses to " + std::to_string(got) + " bytes, not " + std::to_string(uncompressed)));
   return read_records(h, out.data(), true, 0, label);
 }
 
@@ -423,12 +413,9 @@ PointCloud read_compressed(const Header& h, const char* data, std::size_t size, 
 PointCloud parse_pcd(const char* data, std::size_t size, const std::string& label) {
   const Header h = read_header(data, size, label);
   switch (h.data) {
-    case Data::Ascii:
-      return read_ascii(h, data, size, label);
-    case Data::Binary:
-      return read_binary(h, data, size, label);
-    case Data::Compressed:
-      return read_compressed(h, data, size, label);
+    case Data::Ascii: return read_ascii(h, data, size, label);
+    case Data::Binary: return read_binary(h, data, size, label);
+    case Data::Compressed: return read_compressed(h, data, size, label);
   }
   return {};
 }
@@ -437,8 +424,8 @@ std::string pcd_bytes(const PointCloud& cloud) {
   const std::string n = std::to_string(cloud.size());
   std::string out =
       "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
-      "TYPE F F F\nCOUNT 1 1 1\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n +
-      "\nDATA binary\n";
+      "TYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+      n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
   io_detail::append_xyz_le32(out, cloud);
   return out;
 }

@@ -15,9 +15,9 @@ namespace {
 
 using io_detail::fail;
 using io_detail::fail_line;
+using io_detail::kMaxPoints;
 using io_detail::Line;
 using io_detail::LineReader;
-using io_detail::kMaxPoints;
 using io_detail::printable;
 using io_detail::Scalar;
 using io_detail::scalar_name;
@@ -28,12 +28,10 @@ bool ply_type(std::string_view name, Scalar& t) {
   static const struct {
     const char* name;
     Scalar type;
-  } kTypes[] = {{"char", Scalar::I8},     {"uchar", Scalar::U8},    {"short", Scalar::I16},
-                {"ushort", Scalar::U16},  {"int", Scalar::I32},     {"uint", Scalar::U32},
-                {"float", Scalar::F32},   {"double", Scalar::F64},  {"int8", Scalar::I8},
-                {"uint8", Scalar::U8},    {"int16", Scalar::I16},   {"uint16", Scalar::U16},
-                {"int32", Scalar::I32},   {"uint32", Scalar::U32},  {"float32", Scalar::F32},
-                {"float64", Scalar::F64}};
+  } kTypes[] = {{"char", Scalar::I8},   {"uchar", Scalar::U8},   {"short", Scalar::I16},   {"ushort", Scalar::U16},
+                {"int", Scalar::I32},   {"uint", Scalar::U32},   {"float", Scalar::F32},   {"double", Scalar::F64},
+                {"int8", Scalar::I8},   {"uint8", Scalar::U8},   {"int16", Scalar::I16},   {"uint16", Scalar::U16},
+                {"int32", Scalar::I32}, {"uint32", Scalar::U32}, {"float32", Scalar::F32}, {"float64", Scalar::F64}};
   for (const auto& k : kTypes)
     if (name == k.name) {
       t = k.type;
@@ -45,17 +43,17 @@ bool ply_type(std::string_view name, Scalar& t) {
 struct Property {
   std::string name;
   bool list = false;
-  Scalar type = Scalar::F32;        // scalar: its type; list: the item type
-  Scalar count_type = Scalar::U8;   // list only
+  Scalar type = Scalar::F32;       // scalar: its type; list: the item type
+  Scalar count_type = Scalar::U8;  // list only
 };
 
 struct Element {
   std::string name;
   std::uint64_t count = 0;
   std::vector<Property> props;
-  std::size_t line = 0;      // header line of its "element" line
+  std::size_t line = 0;  // header line of its "element" line
   bool has_list = false;
-  std::uint64_t bytes = 0;   // binary bytes of one element without lists (lists: counts only)
+  std::uint64_t bytes = 0;  // binary bytes of one element without lists (lists: counts only)
 };
 
 enum class Format { Ascii, BinaryLE, BinaryBE };
@@ -63,7 +61,7 @@ enum class Format { Ascii, BinaryLE, BinaryBE };
 struct Header {
   Format format = Format::Ascii;
   std::vector<Element> elements;
-  std::size_t vertex = 0;    // index of the vertex element
+  std::size_t vertex = 0;     // index of the vertex element
   int xyz[3] = {-1, -1, -1};  // property indices of x, y, z in it
   std::size_t data_start = 0;
   std::size_t data_line = 0;  // the line number of end_header
@@ -73,8 +71,7 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
   Header h;
   LineReader lines(data, size);
   Line line;
-  if (!lines.next(line) || line.words.size() != 1 || line.words[0] != "ply" || line.control ||
-      !line.terminated)
+  if (!lines.next(line) || line.words.size() != 1 || line.words[0] != "ply" || line.control || !line.terminated)
     fail(label, "not a PLY file (it does not start with a 'ply' line)");
   bool have_format = false, have_end = false;
   // Names seen (hash sets: a header of a million elements or properties stays linear).
@@ -102,15 +99,15 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
       } else if (f == "binary_big_endian") {
         h.format = Format::BinaryBE;
       } else {
-        fail_line(label, n, "corrupt PLY header: unknown format '" + printable(f) +
-                                "' (expected ascii, binary_little_endian or binary_big_endian)");
+        fail_line(label, n,
+                  "corrupt PLY header: unknown format '" + printable(f) +
+                      "' (expected ascii, binary_little_endian or binary_big_endian)");
       }
       have_format = true;
     } else if (key == "element") {
       if (!have_format) fail_line(label, n, "corrupt PLY header: an element before the format line");
       Element e;
-      if (nw != 3 || !io_detail::parse_count(line.words[2], std::numeric_limits<std::uint64_t>::max(),
-                                             e.count))
+      if (nw != 3 || !io_detail::parse_count(line.words[2], std::numeric_limits<std::uint64_t>::max(), e.count))
         fail_line(label, n, "corrupt PLY header: expected 'element NAME COUNT' (COUNT a whole number)");
       e.name = std::string(line.words[1]);
       e.line = n;
@@ -132,20 +129,23 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
         if (!ply_type(line.words[2], p.count_type))
           fail_line(label, n, "corrupt PLY header: unknown list count type '" + printable(line.words[2]) + "'");
         if (io_detail::scalar_is_float(p.count_type))
-          fail_line(label, n, "corrupt PLY header: a list count must be of an integer type, not '" +
-                                  printable(line.words[2]) + "'");
+          fail_line(
+              label, n,
+              "corrupt PLY header: a list count must be of an integer type, not '" + printable(line.words[2]) + "'");
         if (!ply_type(line.words[3], p.type))
           fail_line(label, n, "corrupt PLY header: unknown list item type '" + printable(line.words[3]) + "'");
         p.name = std::string(line.words[4]);
         e.has_list = true;
         e.bytes += static_cast<std::uint64_t>(scalar_size(p.count_type));
       } else {
-        fail_line(label, n, "corrupt PLY header: expected 'property TYPE NAME' or 'property list "
-                            "COUNT_TYPE ITEM_TYPE NAME'");
+        fail_line(label, n,
+                  "corrupt PLY header: expected 'property TYPE NAME' or 'property list "
+                  "COUNT_TYPE ITEM_TYPE NAME'");
       }
       if (!property_names.insert(p.name).second)
-        fail_line(label, n, "corrupt PLY header: property '" + printable(p.name) +
-                                "' appears twice in element '" + printable(e.name) + "'");
+        fail_line(label, n,
+                  "corrupt PLY header: property '" + printable(p.name) + "' appears twice in element '" +
+                      printable(e.name) + "'");
       e.props.push_back(std::move(p));
     } else if (key == "end_header") {
       if (nw != 1) fail_line(label, n, "corrupt PLY header: words after end_header");
@@ -172,11 +172,10 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
   for (int a = 0; a < 3; ++a) {
     for (std::size_t p = 0; p < v.props.size(); ++p)
       if (v.props[p].name == kAxes[a]) h.xyz[a] = static_cast<int>(p);
-    if (h.xyz[a] < 0)
-      fail_line(label, v.line, std::string("the vertex element has no '") + kAxes[a] + "' property");
+    if (h.xyz[a] < 0) fail_line(label, v.line, std::string("the vertex element has no '") + kAxes[a] + "' property");
     if (v.props[static_cast<std::size_t>(h.xyz[a])].list)
-      fail_line(label, v.line, std::string("the vertex property '") + kAxes[a] +
-                                   "' is a list; x, y, z must be scalars");
+      fail_line(label, v.line,
+                std::string("the vertex property '") + kAxes[a] + "' is a list; x, y, z must be scalars");
   }
   if (v.count == 0) fail_line(label, v.line, "the point cloud is empty (element vertex 0)");
   if (v.count > kMaxPoints)
@@ -203,18 +202,16 @@ int axis_of(const Header& h, std::size_t p) {
 
 class BinaryBody {
  public:
-  BinaryBody(const unsigned char* data, std::size_t size, std::size_t pos, bool big_endian,
-             const std::string& label)
+  BinaryBody(const unsigned char* data, std::size_t size, std::size_t pos, bool big_endian, const std::string& label)
       : data_(data), size_(size), pos_(pos), big_(big_endian), label_(label) {}
 
   // The bytes of one value of type t; the error names what was being read.
-  const unsigned char* take(std::uint64_t bytes, const Element& e, std::uint64_t index,
-                            const Property& p) {
+  const unsigned char* take(std::uint64_t bytes, const Element& e, std::uint64_t index, const Property& p) {
     if (bytes > size_ - pos_) {
       std::ostringstream msg;
-      msg << "truncated PLY file: element '" << printable(e.name) << "' " << index << " of "
-          << e.count << ", property '" << printable(p.name) << "' needs " << bytes
-          << " bytes at byte offset " << pos_ << " but the file ends at " << size_;
+      msg << "truncated PLY file: element '" << printable(e.name) << "' " << index << " of " << e.count
+          << ", property '" << printable(p.name) << "' needs " << bytes << " bytes at byte offset " << pos_
+          << " but the file ends at " << size_;
       fail(label_, msg.str());
     }
     const unsigned char* p_ = data_ + pos_;
@@ -230,8 +227,8 @@ class BinaryBody {
     std::uint64_t n = 0;
     if (!io_detail::to_count(c, n)) {
       std::ostringstream msg;
-      msg << "corrupt PLY file: element '" << printable(e.name) << "' " << index << ", list '"
-          << printable(p.name) << "' has a negative count (" << c.i << ") at byte offset " << at;
+      msg << "corrupt PLY file: element '" << printable(e.name) << "' " << index << ", list '" << printable(p.name)
+          << "' has a negative count (" << c.i << ") at byte offset " << at;
       fail(label_, msg.str());
     }
     return n;
@@ -241,10 +238,9 @@ class BinaryBody {
     std::uint64_t bytes = 0;
     if (io_detail::mul_overflows(e.count, e.bytes, bytes) || bytes > size_ - pos_) {
       std::ostringstream msg;
-      msg << "truncated PLY file: element '" << printable(e.name) << "' announces " << e.count
-          << " entries of " << e.bytes << " bytes from byte offset " << pos_
-          << " but the file ends at " << size_ << " (holds " << (size_ - pos_) / e.bytes
-          << " entries)";
+      msg << "truncated PLY file: element '" << printable(e.name) << "' announces " << e.count << " entries of "
+          << e.bytes << " bytes from byte offset " << pos_ << " but the file ends at " << size_ << " (holds "
+          << (size_ - pos_) / e.bytes << " entries)";
       fail(label_, msg.str());
     }
     pos_ += static_cast<std::size_t>(bytes);
@@ -261,8 +257,8 @@ class BinaryBody {
 };
 
 PointCloud read_binary(const Header& h, const char* data, std::size_t size, const std::string& label) {
-  BinaryBody body(reinterpret_cast<const unsigned char*>(data), size, h.data_start,
-                  h.format == Format::BinaryBE, label);
+  BinaryBody body(reinterpret_cast<const unsigned char*>(data), size, h.data_start, h.format == Format::BinaryBE,
+                  label);
   PointCloud cloud;
   for (std::size_t ei = 0; ei < h.elements.size(); ++ei) {
     const Element& e = h.elements[ei];
@@ -271,7 +267,8 @@ PointCloud read_binary(const Header& h, const char* data, std::size_t size, cons
       if (e.bytes > 0) body.skip_fixed(e);
       continue;
     }
-    if (vertex) cloud.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(e.count, body.remaining() / e.bytes + 1)));
+    if (vertex)
+      cloud.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(e.count, body.remaining() / e.bytes + 1)));
     for (std::uint64_t i = 0; i < e.count; ++i) {
       float xyz[3] = {0.0f, 0.0f, 0.0f};
       for (std::size_t pi = 0; pi < e.props.size(); ++pi) {
@@ -294,9 +291,9 @@ PointCloud read_binary(const Header& h, const char* data, std::size_t size, cons
         bool fits = true;
         xyz[a] = io_detail::to_coordinate(v, fits);
         if (!fits)
-          not_float32(label + ": vertex " + std::to_string(i) + " (byte offset " + std::to_string(at) +
-                          "): '" + p.name + "'",
-                      v);
+          not_float32(
+              label + ": vertex " + std::to_string(i) + " (byte offset " + std::to_string(at) + "): '" + p.name + "'",
+              v);
       }
       if (vertex) cloud.push_back(Point3{xyz[0], xyz[1], xyz[2]});
     }
@@ -326,18 +323,18 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
     const Element& e = h.elements[ei];
     if (e.props.empty()) continue;  // nothing to read, however many
     const bool vertex = ei == h.vertex;
-    if (vertex) cloud.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(e.count, (size - h.data_start) / 2 + 1)));
+    if (vertex)
+      cloud.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(e.count, (size - h.data_start) / 2 + 1)));
     for (std::uint64_t i = 0; i < e.count; ++i) {
       if (!next_line()) {
         std::ostringstream msg;
-        msg << "truncated PLY file: the data ends after " << i << " of " << e.count
-            << " entries of element '" << printable(e.name) << "' (line " << lines.line() << ")";
+        msg << "truncated PLY file: the data ends after " << i << " of " << e.count << " entries of element '"
+            << printable(e.name) << "' (line " << lines.line() << ")";
         fail(label, msg.str());
       }
       const std::size_t n = line.number;
       const auto where = [&](const Property& p) {
-        return "element '" + printable(e.name) + "' " + std::to_string(i) + ", property '" +
-               printable(p.name) + "'";
+        return "element '" + printable(e.name) + "' " + std::to_string(i) + ", property '" + printable(p.name) + "'";
       };
       if (line.control) fail_line(label, n, "corrupt PLY data: a control character");
       std::size_t w = 0;
@@ -346,8 +343,9 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
         const Property& p = e.props[pi];
         const auto word = [&]() -> std::string_view {
           if (w >= line.words.size())
-            fail_line(label, n, "corrupt PLY data: the line ends before " + where(p) + " (" +
-                                    std::to_string(line.words.size()) + " values on the line)");
+            fail_line(label, n,
+                      "corrupt PLY data: the line ends before " + where(p) + " (" + std::to_string(line.words.size()) +
+                          " values on the line)");
           return line.words[w++];
         };
         Value v;
@@ -355,35 +353,39 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
           const std::string_view cw = word();
           std::uint64_t count = 0;
           if (!io_detail::parse_scalar(cw, p.count_type, v) || !io_detail::to_count(v, count))
-            fail_line(label, n, "corrupt PLY data: " + where(p) + ": list count '" + printable(cw) +
-                                    "' is not a " + scalar_name(p.count_type) + " count");
+            fail_line(label, n,
+                      "corrupt PLY data: " + where(p) + ": list count '" + printable(cw) + "' is not a " +
+                          scalar_name(p.count_type) + " count");
           if (count > line.words.size() - w)
-            fail_line(label, n, "corrupt PLY data: " + where(p) + ": a list of " + std::to_string(count) +
-                                    " items but the line holds " + std::to_string(line.words.size() - w) +
-                                    " more values");
+            fail_line(label, n,
+                      "corrupt PLY data: " + where(p) + ": a list of " + std::to_string(count) +
+                          " items but the line holds " + std::to_string(line.words.size() - w) + " more values");
           for (std::uint64_t k = 0; k < count; ++k) {
             const std::string_view iw = word();
             if (!io_detail::parse_scalar(iw, p.type, v))
-              fail_line(label, n, "corrupt PLY data: " + where(p) + ": item '" + printable(iw) +
-                                      "' is not a valid " + scalar_name(p.type));
+              fail_line(label, n,
+                        "corrupt PLY data: " + where(p) + ": item '" + printable(iw) + "' is not a valid " +
+                            scalar_name(p.type));
           }
           continue;
         }
         const std::string_view sw = word();
         if (!io_detail::parse_scalar(sw, p.type, v))
-          fail_line(label, n, "corrupt PLY data: " + where(p) + ": '" + printable(sw) +
-                                  "' is not a valid " + scalar_name(p.type));
+          fail_line(
+              label, n,
+              "corrupt PLY data: " + where(p) + ": '" + printable(sw) + "' is not a valid " + scalar_name(p.type));
         const int a = vertex ? axis_of(h, pi) : -1;
         if (a >= 0) {
           bool fits = true;
           xyz[a] = io_detail::to_coordinate(v, fits);
-          if (!fits) not_float32(label + ":" + std::to_string(n) + ": vertex " + std::to_string(i) + " '" + p.name + "'", v);
+          if (!fits)
+            not_float32(label + ":" + std::to_string(n) + ": vertex " + std::to_string(i) + " '" + p.name + "'", v);
         }
       }
       if (w != line.words.size())
-        fail_line(label, n, "corrupt PLY data: element '" + printable(e.name) + "' " + std::to_string(i) +
-                                " has " + std::to_string(line.words.size()) + " values on its line, " +
-                                std::to_string(w) + " expected");
+        fail_line(label, n,
+                  "corrupt PLY data: element '" + printable(e.name) + "' " + std::to_string(i) + " has " +
+                      std::to_string(line.words.size()) + " values on its line, " + std::to_string(w) + " expected");
       if (vertex) cloud.push_back(Point3{xyz[0], xyz[1], xyz[2]});
     }
   }
@@ -398,8 +400,7 @@ PointCloud read_ascii(const Header& h, const char* data, std::size_t size, const
 
 PointCloud parse_ply(const char* data, std::size_t size, const std::string& label) {
   const Header h = read_header(data, size, label);
-  return h.format == Format::Ascii ? read_ascii(h, data, size, label)
-                                   : read_binary(h, data, size, label);
+  return h.format == Format::Ascii ? read_ascii(h, data, size, label) : read_binary(h, data, size, label);
 }
 
 std::string ply_bytes(const PointCloud& cloud) {

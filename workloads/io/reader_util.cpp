@@ -9,9 +9,7 @@
 
 namespace tigris::io_detail {
 
-void fail(const std::string& label, const std::string& what) {
-  throw InputError(label + ": " + what);
-}
+void fail(const std::string& label, const std::string& what) { throw InputError(label + ": " + what); }
 
 void fail_line(const std::string& label, std::size_t line, const std::string& what) {
   throw InputError(label + ":" + std::to_string(line) + ": " + what);
@@ -35,8 +33,7 @@ bool LineReader::next(Line& out) {
   out.control = false;
   out.number = ++line_;
   const void* nl_ptr = std::memchr(data_ + pos_, '\n', size_ - pos_);
-  const std::size_t nl =
-      nl_ptr ? static_cast<std::size_t>(static_cast<const char*>(nl_ptr) - data_) : size_;
+  const std::size_t nl = nl_ptr ? static_cast<std::size_t>(static_cast<const char*>(nl_ptr) - data_) : size_;
   out.terminated = nl_ptr != nullptr;
   std::size_t end = nl;
   if (out.terminated && end > pos_ && data_[end - 1] == '\r') --end;  // CRLF
@@ -133,19 +130,15 @@ bool parse_double(std::string_view s, double& value) { return parse_real(s, valu
 int scalar_size(Scalar t) {
   switch (t) {
     case Scalar::I8:
-    case Scalar::U8:
-      return 1;
+    case Scalar::U8: return 1;
     case Scalar::I16:
-    case Scalar::U16:
-      return 2;
+    case Scalar::U16: return 2;
     case Scalar::I32:
     case Scalar::U32:
-    case Scalar::F32:
-      return 4;
+    case Scalar::F32: return 4;
     case Scalar::I64:
     case Scalar::U64:
-    case Scalar::F64:
-      return 8;
+    case Scalar::F64: return 8;
   }
   return 0;
 }
@@ -153,7 +146,7 @@ int scalar_size(Scalar t) {
 bool scalar_is_float(Scalar t) { return t == Scalar::F32 || t == Scalar::F64; }
 
 const char* scalar_name(Scalar t) {
-  static const char* const kNames[] = {"int8",  "uint8", "int16", "uint16",  "int32",
+  static const char* const kNames[] = {"int8",   "uint8", "int16",  "uint16",  "int32",
                                        "uint32", "int64", "uint64", "float32", "float64"};
   return kNames[static_cast<int>(t)];
 }
@@ -168,32 +161,20 @@ Value load_scalar(const unsigned char* p, Scalar t, bool big_endian) {
   Value v;
   v.type = t;
   switch (t) {
-    case Scalar::I8:
-      v.i = static_cast<std::int8_t>(static_cast<std::uint8_t>(bits));
-      break;
-    case Scalar::I16:
-      v.i = static_cast<std::int16_t>(static_cast<std::uint16_t>(bits));
-      break;
-    case Scalar::I32:
-      v.i = static_cast<std::int32_t>(static_cast<std::uint32_t>(bits));
-      break;
-    case Scalar::I64:
-      v.i = static_cast<std::int64_t>(bits);
-      break;
+    case Scalar::I8: v.i = static_cast<std::int8_t>(static_cast<std::uint8_t>(bits)); break;
+    case Scalar::I16: v.i = static_cast<std::int16_t>(static_cast<std::uint16_t>(bits)); break;
+    case Scalar::I32: v.i = static_cast<std::int32_t>(static_cast<std::uint32_t>(bits)); break;
+    case Scalar::I64: v.i = static_cast<std::int64_t>(bits); break;
     case Scalar::U8:
     case Scalar::U16:
     case Scalar::U32:
-    case Scalar::U64:
-      v.u = bits;
-      break;
+    case Scalar::U64: v.u = bits; break;
     case Scalar::F32: {
       const std::uint32_t b32 = static_cast<std::uint32_t>(bits);
       std::memcpy(&v.f, &b32, 4);
       break;
     }
-    case Scalar::F64:
-      std::memcpy(&v.d, &bits, 8);
-      break;
+    case Scalar::F64: std::memcpy(&v.d, &bits, 8); break;
   }
   return v;
 }
@@ -202,10 +183,8 @@ bool parse_scalar(std::string_view s, Scalar t, Value& value) {
   value = Value{};
   value.type = t;
   switch (t) {
-    case Scalar::F32:
-      return parse_float(s, value.f);
-    case Scalar::F64:
-      return parse_double(s, value.d);
+    case Scalar::F32: return parse_float(s, value.f);
+    case Scalar::F64: return parse_double(s, value.d);
     case Scalar::U8:
     case Scalar::U16:
     case Scalar::U32:
@@ -231,13 +210,12 @@ bool parse_scalar(std::string_view s, Scalar t, Value& value) {
 float to_coordinate(const Value& v, bool& fits) {
   fits = true;
   switch (v.type) {
-    case Scalar::F32:
-      return v.f;
+    case Scalar::F32: return v.f;
     case Scalar::F64: {
       const double d = v.d;
       if (std::isnan(d)) return std::numeric_limits<float>::quiet_NaN();
-      if (std::isinf(d)) return d > 0 ? std::numeric_limits<float>::infinity()
-                                      : -std::numeric_limits<float>::infinity();
+      if (std::isinf(d))
+        return d > 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity();
       // Beyond the largest float32 (and the half ulp that still rounds down to it).
       if (std::fabs(d) >= 0x1.ffffffp127) {
         fits = false;
@@ -248,13 +226,11 @@ float to_coordinate(const Value& v, bool& fits) {
     case Scalar::I8:
     case Scalar::I16:
     case Scalar::I32:
-    case Scalar::I64:
-      return static_cast<float>(v.i);
+    case Scalar::I64: return static_cast<float>(v.i);
     case Scalar::U8:
     case Scalar::U16:
     case Scalar::U32:
-    case Scalar::U64:
-      return static_cast<float>(v.u);
+    case Scalar::U64: return static_cast<float>(v.u);
   }
   return 0.0f;
 }
@@ -271,11 +247,8 @@ bool to_count(const Value& v, std::uint64_t& count) {
     case Scalar::U8:
     case Scalar::U16:
     case Scalar::U32:
-    case Scalar::U64:
-      count = v.u;
-      return true;
-    default:
-      return false;
+    case Scalar::U64: count = v.u; return true;
+    default: return false;
   }
 }
 

@@ -35,9 +35,9 @@ std::string printable(std::string_view word);
 
 struct Line {
   std::vector<std::string_view> words;
-  std::size_t number = 0;    // 1-based line number in the file
-  bool control = false;      // holds a control character other than tab (or a lone '\r')
-  bool terminated = false;   // ended with '\n' (false: the file ended inside it)
+  std::size_t number = 0;   // 1-based line number in the file
+  bool control = false;     // holds a control character other than tab (or a lone '\r')
+  bool terminated = false;  // ended with '\n' (false: the file ended inside it)
 };
 
 // Walks the lines of [data, data + size) from `pos`, counting line numbers from `line`.

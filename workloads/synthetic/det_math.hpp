@@ -150,11 +150,9 @@ inline std::vector<double> hdl64e_elevations_deg(int rings) {
   if (rings == 64) {
     // HDL-64E: upper block +2.0 .. -8.33 in 1/3 degree steps; lower block -8.83 .. -24.8.
     for (int i = 0; i < 32; ++i) e[static_cast<std::size_t>(i)] = 2.0 - i / 3.0;
-    for (int i = 0; i < 32; ++i)
-      e[static_cast<std::size_t>(32 + i)] = -8.83 - i * ((24.8 - 8.83) / 31.0);
+    for (int i = 0; i < 32; ++i) e[static_cast<std::size_t>(32 + i)] = -8.83 - i * ((24.8 - 8.83) / 31.0);
   } else {
-    for (int i = 0; i < rings; ++i)
-      e[static_cast<std::size_t>(i)] = rings == 1 ? 0.0 : 2.0 - i * (26.8 / (rings - 1));
+    for (int i = 0; i < rings; ++i) e[static_cast<std::size_t>(i)] = rings == 1 ? 0.0 : 2.0 - i * (26.8 / (rings - 1));
   }
   return e;
 }

@@ -93,7 +93,8 @@ SyntheticDrive::SyntheticDrive(const DriveConfig& config) : config_(config), imp
     f.time_s = 0.1 * static_cast<double>(i);
     f.speed_m_per_s = profile[i].speed;
     f.distance_m = profile[i].s;
-    f.pose = i == 0 ? synth::Pose34{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0} : relative(impl_->world.front(), impl_->world.back());
+    f.pose = i == 0 ? synth::Pose34{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}
+                    : relative(impl_->world.front(), impl_->world.back());
     frames_.push_back(f);
   }
   // The town the sensor can see: every block within reach of the path driven (sampled every 5 m).
@@ -103,7 +104,8 @@ SyntheticDrive::SyntheticDrive(const DriveConfig& config) : config_(config), imp
     route.at(std::min(s, driven), x, y, hx, hy);
     path.push_back(x);
     path.push_back(y);
-    summary_.max_grade = std::max(summary_.max_grade, std::sqrt(ground.dx(x, y) * ground.dx(x, y) + ground.dy(x, y) * ground.dy(x, y)));
+    summary_.max_grade =
+        std::max(summary_.max_grade, std::sqrt(ground.dx(x, y) * ground.dx(x, y) + ground.dy(x, y) * ground.dy(x, y)));
     if (s >= driven) break;
   }
   impl_->town = synth::make_town(config.seed, grid, path, config.max_range_m + 20.0);

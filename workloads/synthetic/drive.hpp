@@ -23,8 +23,8 @@ namespace tigris {
 
 struct DriveConfig {
   std::uint64_t seed = 1;
-  int frames = 100;              // at 10 Hz
-  int rings = 64;                // the scanner, as in SyntheticConfig
+  int frames = 100;  // at 10 Hz
+  int rings = 64;    // the scanner, as in SyntheticConfig
   int azimuth_steps = 1800;
   float max_range_m = 80.0f;
   float min_range_m = 2.5f;
@@ -41,7 +41,7 @@ struct DriveFrame {
 };
 
 struct DriveSummary {
-  double route_length_m = 0;  // of the frames driven
+  double route_length_m = 0;                // of the frames driven
   int crossings = 0, turns = 0, stops = 0;  // on the way driven, frame 0 to the last frame
   std::size_t buildings_and_cars = 0, poles_and_trunks = 0, tree_crowns = 0;
   double max_grade = 0;  // steepest ground slope under the car's path

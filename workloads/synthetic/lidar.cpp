@@ -119,7 +119,8 @@ PointCloud lidar_scan(const Town& town, const Pose34& pose, const LidarConfig& c
   }
   for (std::size_t i = 0; i < town.cylinders.size(); ++i)
     keep(town.cylinders[i].cx, town.cylinders[i].cy, town.cylinders[i].r, 1, i);
-  for (std::size_t i = 0; i < town.spheres.size(); ++i) keep(town.spheres[i].cx, town.spheres[i].cy, town.spheres[i].r, 2, i);
+  for (std::size_t i = 0; i < town.spheres.size(); ++i)
+    keep(town.spheres[i].cx, town.spheres[i].cy, town.spheres[i].r, 2, i);
 
   std::vector<double> ranges(n_rings * n_az, -1.0);
   std::vector<double> dirs(n_rings * 3);
@@ -130,8 +131,7 @@ PointCloud lidar_scan(const Town& town, const Pose34& pose, const LidarConfig& c
     // The column's world directions and the wedge of their horizontal parts.
     for (std::size_t r = 0; r < n_rings; ++r) {
       const double sx = ce[r] * ca[j], sy = ce[r] * sa[j], sz = se[r];
-      for (int k = 0; k < 3; ++k)
-        dirs[r * 3 + k] = (pose[4 * k] * sx + pose[4 * k + 1] * sy) + pose[4 * k + 2] * sz;
+      for (int k = 0; k < 3; ++k) dirs[r * 3 + k] = (pose[4 * k] * sx + pose[4 * k + 1] * sy) + pose[4 * k + 2] * sz;
     }
     const double mn = std::sqrt(dirs[mid * 3] * dirs[mid * 3] + dirs[mid * 3 + 1] * dirs[mid * 3 + 1]);
     const double ux = dirs[mid * 3] / mn, uy = dirs[mid * 3 + 1] / mn;

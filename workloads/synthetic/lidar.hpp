@@ -4,8 +4,8 @@
 
 #include <array>
 
-#include "sw_ref/cloud.hpp"
 #include "det_math.hpp"
+#include "sw_ref/cloud.hpp"
 #include "town.hpp"
 
 namespace tigris::synth {

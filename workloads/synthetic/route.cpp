@@ -12,8 +12,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kEdgeMargin = 150.0;
-constexpr double kBrake = 2.5;   // m/s^2, planned deceleration
-constexpr double kStep = 0.01;   // s, integration step (10 a frame)
+constexpr double kBrake = 2.5;  // m/s^2, planned deceleration
+constexpr double kStep = 0.01;  // s, integration step (10 a frame)
 enum Tag : std::uint64_t { kRouteTag = 201 };
 
 struct Heading {
@@ -26,8 +26,7 @@ Heading right_of(Heading h) { return {h.hy, -h.hx}; }
 
 void Route::at(double s, double& x, double& y, double& hx, double& hy) const {
   s = std::min(std::max(s, 0.0), length());
-  auto it = std::upper_bound(pieces.begin(), pieces.end(), s,
-                             [](double v, const RoutePiece& p) { return v < p.s0; });
+  auto it = std::upper_bound(pieces.begin(), pieces.end(), s, [](double v, const RoutePiece& p) { return v < p.s0; });
   const RoutePiece& p = *(it == pieces.begin() ? it : it - 1);
   const double d = s - p.s0;
   if (p.turn == 0) {
@@ -62,7 +61,8 @@ Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m
   const auto dir_of = [](Heading v, int a) { return a == 0 ? v.hx : v.hy; };
   const auto inside = [&](int a, int next) {  // crossing `next` of across[a] exists, away from the edge
     const std::vector<Street>& c = *across[a];
-    return next >= 0 && next < static_cast<int>(c.size()) && std::abs(c[static_cast<std::size_t>(next)].pos) <= kTownHalfSize - kEdgeMargin;
+    return next >= 0 && next < static_cast<int>(c.size()) &&
+           std::abs(c[static_cast<std::size_t>(next)].pos) <= kTownHalfSize - kEdgeMargin;
   };
   bool first = true;
   double cruise_from = 0.0;

@@ -56,8 +56,8 @@ class BlockFiller {
   // A box standing on the ground with its top `height` above the ground at its centre; its
   // foot reaches 1 m below the lowest ground under it (the ground hides what is underneath).
   void box(double x0, double x1, double y0, double y1, double height) {
-    const double low = std::min(std::min(g_.height(x0, y0), g_.height(x1, y0)),
-                                std::min(g_.height(x0, y1), g_.height(x1, y1)));
+    const double low =
+        std::min(std::min(g_.height(x0, y0), g_.height(x1, y0)), std::min(g_.height(x0, y1), g_.height(x1, y1)));
     town_.boxes.push_back(Box{x0, x1, y0, y1, low - 1.0, g_.height(0.5 * (x0 + x1), 0.5 * (y0 + y1)) + height});
   }
   void pole(double x, double y, double r, double height) {
@@ -140,7 +140,8 @@ class BlockFiller {
 }  // namespace
 
 std::uint64_t stream_id(std::uint64_t tag, std::int64_t a, std::int64_t b) {
-  return det::splitmix64(tag ^ det::splitmix64(static_cast<std::uint64_t>(a) ^ det::splitmix64(static_cast<std::uint64_t>(b))));
+  return det::splitmix64(
+      tag ^ det::splitmix64(static_cast<std::uint64_t>(a) ^ det::splitmix64(static_cast<std::uint64_t>(b))));
 }
 
 Ground make_ground(std::uint64_t seed) {
@@ -190,8 +191,8 @@ Town make_town(std::uint64_t seed, const StreetGrid& grid, const std::vector<dou
             }
       } else {
         const double half_x = 0.5 * (bx1 - bx0) - 1.0, half_y = 0.5 * (by1 - by0) - 1.0;
-        fill.building_row(0, bx0, bx1, by0, +1, half_y);  // south edge, facing the street at ys[j]
-        fill.building_row(0, bx0, bx1, by1, -1, half_y);  // north edge
+        fill.building_row(0, bx0, bx1, by0, +1, half_y);                // south edge, facing the street at ys[j]
+        fill.building_row(0, bx0, bx1, by1, -1, half_y);                // north edge
         fill.building_row(1, by0 + 10.0, by1 - 10.0, bx0, +1, half_x);  // west edge
         fill.building_row(1, by0 + 10.0, by1 - 10.0, bx1, -1, half_x);  // east edge
       }

@@ -19,8 +19,8 @@ namespace tigris::synth {
 struct Ground {
   double a = 0, b = 0, c = 0, d = 0, e = 0;
   double height(double x, double y) const { return ((a * x + b * y) + (c * x * x + d * y * y)) + e * x * y; }
-  double dx(double x, double y) const { return (a + 2.0 * c * x) + e * y;  }  // dz/dx
-  double dy(double x, double y) const { return (b + 2.0 * d * y) + e * x; }   // dz/dy
+  double dx(double x, double y) const { return (a + 2.0 * c * x) + e * y; }  // dz/dx
+  double dy(double x, double y) const { return (b + 2.0 * d * y) + e * x; }  // dz/dy
 };
 
 struct Box {  // axis-aligned
@@ -40,7 +40,7 @@ struct Street {
 };
 
 constexpr double kTownHalfSize = 1000.0;  // the grid covers [-1000, 1000] m on both axes
-constexpr double kLaneOffset = 1.8;        // right-hand traffic: lane centre 1.8 m right of the centre line
+constexpr double kLaneOffset = 1.8;       // right-hand traffic: lane centre 1.8 m right of the centre line
 
 class StreetGrid {
  public:

@@ -21,9 +21,9 @@ class FifoReplacement final : public ReplacementPolicy {
   std::deque<std::uint32_t> order_;  // oldest fill first
 };
 
-const bool registered = ReplacementPolicies::add("fifo", "oldest filled; hits do not count", [](const AcceleratorConfig&) {
-  return std::make_unique<FifoReplacement>();
-});
+const bool registered =
+    ReplacementPolicies::add("fifo", "oldest filled; hits do not count",
+                             [](const AcceleratorConfig&) { return std::make_unique<FifoReplacement>(); });
 
 }  // namespace
 }  // namespace tigris::hw

@@ -32,9 +32,9 @@ class LargestFirstReplacement final : public ReplacementPolicy {
   std::uint64_t tick_ = 0;
 };
 
-const bool registered = ReplacementPolicies::add(
-    "largest_first", "the biggest Node Set; least recently used among equals",
-    [](const AcceleratorConfig&) { return std::make_unique<LargestFirstReplacement>(); });
+const bool registered =
+    ReplacementPolicies::add("largest_first", "the biggest Node Set; least recently used among equals",
+                             [](const AcceleratorConfig&) { return std::make_unique<LargestFirstReplacement>(); });
 
 }  // namespace
 }  // namespace tigris::hw

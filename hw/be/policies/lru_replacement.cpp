@@ -30,8 +30,9 @@ class LruReplacement final : public ReplacementPolicy {
   std::unordered_map<std::uint32_t, std::list<std::uint32_t>::iterator> where_;
 };
 
-const bool registered = ReplacementPolicies::add(
-    "lru", "least recently read or filled", [](const AcceleratorConfig&) { return std::make_unique<LruReplacement>(); });
+const bool registered = ReplacementPolicies::add("lru", "least recently read or filled", [](const AcceleratorConfig&) {
+  return std::make_unique<LruReplacement>();
+});
 
 }  // namespace
 }  // namespace tigris::hw
