@@ -55,7 +55,8 @@ struct Row {
   const char* unit;
   const char* meaning;
 };
-const std::vector<Row>& other_fields() {
+// The run's own fields: what ran, on what, with which verdict.
+const std::vector<Row>& run_fields() {
   static const std::vector<Row> table = {
       {"command", "text", "`run`"},
       {"command_line", "text", "the full command line as typed, so the run can be repeated"},
@@ -103,6 +104,13 @@ const std::vector<Row>& other_fields() {
       {"units.search_units.pes_per_su", "count", "PEs per Search Unit"},
       {"units.search_units.issue_policy", "text", "the Search Units' issue policy (`be.issue_policy`)"},
       {"buffers.node_cache.policy", "text", "the Node Cache's replacement policy (`node_cache.policy`)"},
+  };
+  return table;
+}
+
+// What the run measured beyond the statistics tree: energy, area, latency, the bound, the tree.
+const std::vector<Row>& measured_fields() {
+  static const std::vector<Row> table = {
       {"energy_pj.pe", "pJ", "PE distance computations (Node Set and list scans) and Leader Check distances"},
       {"energy_pj.ru", "pJ", "RU node operations, and reads of replicated top levels (`fe.top_levels_replicated`)"},
       {"energy_pj.sram_read", "pJ", "reads of the Point, Query, Query Stack and Result Buffers"},
@@ -207,6 +215,13 @@ const std::vector<Row>& other_fields() {
       {"tree.nonempty_leaves", "count", "leaf sets holding points"},
       {"tree.leaf_set_mean", "ratio", "mean points per non-empty leaf set"},
       {"tree.leaf_set_max", "count", "largest leaf set"},
+  };
+  return table;
+}
+
+// The search and approximation settings of the run, beside the accelerator's keys in `config`.
+const std::vector<Row>& search_config_fields() {
+  static const std::vector<Row> table = {
       {"config.search.mode", "text", "`nn`, `knn` or `radius`"},
       {"config.search.k", "count", "neighbours per query (1 for NN)"},
       {"config.search.radius", "m", "radius search only: the radius"},
@@ -282,7 +297,8 @@ std::vector<StatField> stats_schema() {
       if (!by_name) break;  // the groups of a kind share their counters
     }
   }
-  for (const Row& r : other_fields()) add(r.path, r.unit, r.meaning, "", kOther);
+  for (const std::vector<Row>* table : {&run_fields(), &measured_fields(), &search_config_fields()})
+    for (const Row& r : *table) add(r.path, r.unit, r.meaning, "", kOther);
   for (const DerivedStat& d : derived_stats()) add(d.path, d.unit, d.meaning, d.formula, kDerived);
   for (const config::Key& k : config::keys<hw::AcceleratorConfig>()) {
     std::string unit = k.spec.unit;

@@ -61,13 +61,16 @@ double search_seconds(const ordered_json& reg) {
 
 }  // namespace
 
-int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
+namespace {
+
+// The flags that do not go with --compare, then every back-end's flags, each checked by the
+// command itself (--check-flags) before the first one runs and before the folder is claimed.
+void check_compare_flags(const CLI::App& app, const RegisterOptions& o) {
   for (const char* flag : {"--search", "--record-trace", "--list-config", "--inject-kth", "--inject-shell"})
     if (app.count(flag))
       throw std::invalid_argument(std::string(flag) + " does not go with --compare (it runs the paper's back-ends " +
                                   "flann, exact, accel and accel-approx without error injection)");
   if (o.argv.empty()) throw std::logic_error("--compare: the command's arguments were not kept");
-  // Every back-end's flags are checked before the first one runs (and before the folder).
   for (const Variant& v : kVariants) {
     std::vector<std::string> args = variant_args(o.argv, v, o.out + "/" + v.search);
     args.push_back("--check-flags");
@@ -75,6 +78,12 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       throw std::invalid_argument(std::string("--compare: the flags do not hold for the ") + v.search +
                                   " back-end (its message is above); nothing was run");
   }
+}
+
+}  // namespace
+
+int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
+  check_compare_flags(app, o);
   nlohmann::json inputs = nlohmann::json::array();
   for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
                                    {"target", o.target},
