@@ -13,7 +13,8 @@ or as Slurm job arrays (--slurm and its options are passed through), then plots.
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
 once the Slurm jobs are done). --variants also runs the experiments under design variants
-(sweep/variants.py: details the paper leaves open) into DIR/variants/<name>/, and REPORT.md gets
+(the shipped presets marked as variants, `tigris presets`: details the paper leaves open) into
+DIR/variants/<name>/, and REPORT.md gets
 the robustness matrix of the claims and DIR/figures/variants.png. Default workload: the built-in synthetic frame pair; a cloud
 without --queries is searched in itself. DIR/workload.json records the workload of DIR's
 results: a rerun without --cloud reuses it, one with another workload is refused. DIR holds
@@ -290,9 +291,14 @@ def parse_args(argv):
                     "paper's section-3 claims measured there")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
     from . import variants as vt
+    try:
+        shipped = ", ".join(vt.by_name())
+    except vt.VariantError as e:
+        shipped = f"none readable ({e})"
     ap.add_argument("--variants", nargs="*", metavar="NAME", help="also run the experiments under "
-                    "design variants (all of them, or the NAMEs): " + ", ".join(vt.by_name()) +
-                    "; REPORT.md gets the robustness matrix (sweep/variants.py says what each is)")
+                    "design variants (all of them, or the NAMEs): " + shipped +
+                    "; REPORT.md gets the robustness matrix (the shipped presets marked as variants: "
+                    "`tigris presets` says what each changes and why)")
     ap.add_argument("--variants-file", metavar="FILE", help="your own variants (JSON, see "
                     "docs/sweeps.md), added to the built-in list; implies --variants")
     g = ap.add_mutually_exclusive_group()

@@ -47,6 +47,8 @@ class Command:
         # with the stage's key in the prefix, the stages as the binary lists them (Tigris.headline)
         self.stage_columns = stage_columns
         self.paths = files + folders
+        # the flag that takes the accelerator's configuration: a file, or a preset's name
+        self.preset_flag = "config" if name == "run" else "accel-config" if config_from == "register" else None
 
     def headline_of(self, stages):
         """The headline with the columns of `stages` (core.pipeline_stages), in their order."""
@@ -183,6 +185,11 @@ def typed(text):
 # ----------------------------------------------------------------------------------------------
 # The tigris binary: its run flags and configuration keys, with their defaults
 
+def is_preset_name(v):
+    """A configuration value naming a preset, as tigris reads it: no '/' and no .json ending."""
+    return "/" not in v and not v.endswith(".json")
+
+
 def default_tigris():
     """$TIGRIS (the binary that started this tool), else the binary of the prefix or build tree
     this package sits in (PREFIX/share/tigris/sweep -> PREFIX/bin/tigris), else the source
@@ -242,6 +249,17 @@ class Tigris:
             stages = core.pipeline_stages(self.path) if self.command.stage_columns else []
             self._headline = self.command.headline_of(stages)
         return self._headline
+
+    def preset_file(self, name, error):
+        """The file of the binary's preset `name` (`tigris presets --json`); error(msg) when
+        there is none."""
+        if not hasattr(self, "_presets"):
+            self._presets = {p["name"]: p["file"] for p in self._ask_json("presets", "--json").get("presets", [])}
+        if name not in self._presets:
+            near = difflib.get_close_matches(name, list(self._presets), 1)
+            raise error(f"no preset named '{name}'" + (f" (did you mean '{near[0]}'?)" if near else "") +
+                        f"; presets: {', '.join(sorted(self._presets))}; a file needs a '/' or a .json name")
+        return self._presets[name]
 
     def _ask_json(self, sub, *flags):
         text = self._ask(sub, *flags)
@@ -394,6 +412,8 @@ class Spec:
             what = "folder" if canon in self.command.folders else "file"
             if not isinstance(v, str) or not v.strip():
                 raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a {what} name, got {json.dumps(v)}"))
+            if canon == self.command.preset_flag and is_preset_name(v):
+                v = self.tig.preset_file(v, lambda msg: SpecError(self._at(loc, msg)))
             full = os.path.join(self.dir, v)
             if not (os.path.isdir(full) if what == "folder" else os.path.isfile(full)):
                 raise SpecError(self._at(loc, f"no such {what}: {full} (relative paths are relative to "

@@ -1,7 +1,9 @@
 """Design variants: details the paper leaves open, and which of its claims survive them.
 
 A variant is a set of configuration keys (and, for approximate NN, a leader result width) that
-the paper does not fix, with the reason a real Tigris might have chosen it. `tigris reproduce
+the paper does not fix, with the reason a real Tigris might have chosen it. The shipped ones are
+presets (presets/NAME.json with a "variant" in its "//preset" member; `tigris presets` lists
+them), so `tigris run --config NAME` runs the same machine. `tigris reproduce
 --variants` runs the claim experiments under each variant beside the default configuration;
 this module writes each variant's specs, then turns the per-variant claims of report.py into a
 robustness matrix (claim x variant: the measured value and its verdict), a classification per
@@ -69,42 +71,52 @@ def _show(v):
     return json.dumps(v) if isinstance(v, (bool, str)) else f"{v:g}" if isinstance(v, float) else str(v)
 
 
-# The details the paper leaves open (docs/model.md says what the default assumes for each). The
+# The details the paper leaves open (docs/model.md says what the default assumes for each) are
+# shipped presets (presets/NAME.json, PREFIX/share/tigris/presets beside this package; `tigris
+# presets` lists them): an accelerator configuration whose "//preset" member has a "variant". The
 # default column is the model's default configuration: 0 top levels replicated, DRAM 51.2
 # bytes/cycle, 128 Point Buffer banks and ports, a 128 KiB Node Cache, leaders checked at a query's
 # first leaf (the authors' code), a Leader Check counting leaders still searching (wait).
-VARIANTS = [
-    Variant("top-6", "each RU keeps the top tree's first 6 levels (63 nodes, 1 KiB) in registers: "
-            "the root's bank is the front-end's hot spot, and a few registers are the cheap fix",
-            set={"fe.top_levels_replicated": 6}),
-    Variant("top-10", "each RU keeps the whole top tree of the default height 10 (1,023 nodes, "
-            "16 KiB): no top-tree read reaches the Point Buffer (taller top trees and the canonical "
-            "tree keep their first 10 levels)", set={"fe.top_levels_replicated": 10}),
-    Variant("dram-2x", "the result write-back at 102.4 bytes/cycle (2x): the paper gives no DRAM "
-            "bandwidth; two LPDDR4 channels instead of one", set={"dram.bytes_per_cycle": 102.4}),
-    Variant("dram-8x", "the result write-back at 409.6 bytes/cycle (8x, ~205 GB/s at 500 MHz): an "
-            "HBM-class interface", set={"dram.bytes_per_cycle": 409.6}),
-    Variant("pb-banks-64", "a Point Buffer of 64 banks and ports (the paper gives its size only): "
-            "one per RU, the SUs' streams share them", set={"sram.points.banks": 64, "sram.points.ports": 64}),
-    Variant("pb-banks-256", "a Point Buffer of 256 banks and ports: fewer bank conflicts for twice "
-            "the periphery", set={"sram.points.banks": 256, "sram.points.ports": 256}),
-    Variant("nc-32k", "a 32 KiB Node Cache (a quarter of the default): the paper does not say "
-            "how big it is", set={"node_cache.bytes": 32768}),
-    Variant("nc-512k", "a 512 KiB Node Cache (4x the default 128 KiB)", set={"node_cache.bytes": 524288}),
-    Variant("every-leaf", "approximate search as docs/model.md read Algorithm 1 before the authors' "
-            "code: leaders checked at every leaf visit, a follower keeps traversing with a leader's "
-            "local list", set={"leader.scope": "every_leaf"}, experiments=["approx-nn", "approx-radius"]),
-    Variant("every-leaf-w4", "every_leaf, each leader keeping its 4 nearest points of the leaf for "
-            "its followers (the default keeps k = 1)", set={"leader.scope": "every_leaf"},
-            leader_width=4, experiments=["approx-nn"]),
-    Variant("finished-only", "a Leader Check counts only leaders whose search has finished (no "
-            "follower waits; fewer followers while the first leaders are still searching)",
-            set={"leader.in_flight": "finished_only"}, experiments=["approx-nn", "approx-radius"]),
-]
+PRESETS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "presets")
+
+
+def _flat(d, prefix=""):
+    out = {}
+    for k, v in d.items():
+        if k.startswith("//"):
+            continue
+        key = f"{prefix}.{k}" if prefix else k
+        out.update(_flat(v, key) if isinstance(v, dict) else {key: v})
+    return out
+
+
+def builtin(presets_dir=None):
+    """The shipped presets that are design variants, by name (sorted). The files are checked by
+    `tigris presets` (every key and value); an unreadable one is a VariantError naming it."""
+    folder = presets_dir or PRESETS_DIR
+    try:
+        names = sorted(f[:-5] for f in os.listdir(folder) if f.endswith(".json"))
+    except OSError as e:
+        raise VariantError(f"the presets folder {folder} cannot be read ({e.strerror}): the variants are "
+                           "its files (share/tigris/presets beside the package)")
+    out = []
+    for name in names:
+        path = os.path.join(folder, name + ".json")
+        try:
+            with open(path, encoding="utf-8") as f:
+                d = json.load(f)
+        except (OSError, ValueError) as e:
+            raise VariantError(f"{path}: not a readable preset ({e})")
+        meta = d.get("//preset") if isinstance(d, dict) else None
+        if not isinstance(meta, dict) or not isinstance(meta.get("variant"), dict):
+            continue
+        var = meta["variant"]
+        out.append(Variant(name, meta.get("why", ""), _flat(d), var.get("leader_width"), var.get("experiments")))
+    return out
 
 
 def by_name():
-    return {v.name: v for v in VARIANTS}
+    return {v.name: v for v in builtin()}
 
 
 def check_value(key, v, info):

@@ -458,6 +458,7 @@ LAYERS = {
     "testbench": ["testbench", "hw", "tlm", "config", "traces", "workloads", "sw_ref", "core",
                   "registration/accelerator_port.hpp"],
     "apps": ["apps", "testbench", "hw", "tlm", "config", "traces", "workloads", "registration", "sw_ref", "core"],
+    "python": ["python", "workloads", "sw_ref", "core"],
 }
 
 

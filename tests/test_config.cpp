@@ -77,9 +77,7 @@ struct TempFile {
   ~TempFile() { fs::remove(path); }
 };
 
-std::string paper_json() {
-  return (fs::path(__FILE__).parent_path().parent_path() / "testbench" / "configs" / "paper.json").string();
-}
+std::string paper_json() { return (fs::path(TIGRIS_TESTS_DIR).parent_path() / "presets" / "paper.json").string(); }
 
 AcceleratorConfig applied(const json& j) {
   AcceleratorConfig cfg;

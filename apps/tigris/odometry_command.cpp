@@ -32,6 +32,7 @@
 #include "python_tools.hpp"
 #include "registration/odometry_metrics.hpp"
 #include "synth_command.hpp"
+#include "testbench/presets.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
 #include "workloads/kitti_sequence.hpp"
@@ -190,7 +191,9 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
       ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
   app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
-  app.add_option("--accel-config", o.accel_config, "With --search accel*: the accelerator's configuration JSON");
+  app.add_option("--accel-config", o.accel_config,
+                 "With --search accel*: the accelerator's configuration, a preset's name or a JSON file")
+      ->transform(preset_or_file());
   app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--max-work", o.max_work, "Work bound of each pair's registration (as tigris register)")

@@ -15,6 +15,7 @@
 #include "command.hpp"
 #include "core/build_info.hpp"
 #include "core/children.hpp"
+#include "core/share_dir.hpp"
 
 namespace tigris {
 namespace {
@@ -52,19 +53,11 @@ const bool kRegistered = [] {
   return true;
 }();
 
-std::string self_path() {
-  char self[PATH_MAX];
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-  if (n <= 0) return "";
-  self[n] = '\0';
-  return self;
-}
-
 // The package folder: TIGRIS_SWEEP_DIR, else ../share/tigris/sweep beside this binary.
 std::string package_dir() {
   const char* dir_env = std::getenv("TIGRIS_SWEEP_DIR");
   if (dir_env && *dir_env) return fs::path(dir_env).lexically_normal().string();
-  return (fs::path(self_path()).parent_path().parent_path() / "share" / "tigris" / "sweep").string();
+  return (fs::path(share_dir()) / "sweep").string();
 }
 
 // Debian's python3 carries python3-matplotlib; another one first on PATH may not.

@@ -16,6 +16,7 @@
 #include "registration/pipeline.hpp"
 #include "testbench/accel_in_loop.hpp"
 #include "testbench/config.hpp"
+#include "testbench/presets.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
 #include "testbench/simulation.hpp"
@@ -213,8 +214,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
                  "traces/README.md) for tigris run --trace");
   app.add_option("--accel-config", o.accel_config,
-                 "With --search accel*: the accelerator's configuration JSON (as tigris run --config; "
-                 "default: the built-in paper configuration)");
+                 "With --search accel*: the accelerator's configuration, a preset's name or a JSON file (as tigris "
+                 "run --config; default: the built-in paper configuration)")
+      ->transform(preset_or_file());
   app.add_option("--accel-set", o.accel_sets,
                  "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
                  "(repeatable; tigris run --list-config lists them)")

@@ -16,6 +16,7 @@
 #include "testbench/accel_job.hpp"
 #include "testbench/bottleneck.hpp"
 #include "testbench/config.hpp"
+#include "testbench/presets.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
 #include "testbench/run_report.hpp"
@@ -36,7 +37,9 @@ namespace {}  // namespace
 void add_run_options(CLI::App& app, RunOptions& o) {
   add_search_options(app, o.search);
   app.add_option("--config", o.config_file,
-                 "Accelerator configuration, JSON nested by block (see testbench/configs/paper.json)");
+                 "Accelerator configuration: a preset's name (tigris presets lists them, e.g. paper, dram-2x) or a "
+                 "JSON file nested by block (presets/paper.json writes out every key)")
+      ->transform(preset_or_file());
   app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
   app.add_option("--vcd", o.vcd,
                  "Write waveforms as VCD, and a GTKWave save file beside it (same name, .gtkw): machine-wide "

@@ -1,0 +1,59 @@
+// `tigris presets`: the shipped accelerator configurations (testbench/presets.hpp), what each
+// changes against the built-in defaults and why, for people (a table) and tools (--json).
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include "command.hpp"
+#include "testbench/presets.hpp"
+
+namespace tigris {
+namespace {
+
+struct PresetsOptions {
+  bool json = false;
+  std::string show;
+};
+
+std::string shown(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+int run_presets(const PresetsOptions& o) {
+  nlohmann::json all = nlohmann::json::array();
+  if (!o.show.empty())
+    all.push_back(describe_preset(o.show));
+  else
+    for (const std::string& name : preset_names()) all.push_back(describe_preset(name));
+  if (o.json) {
+    std::cout << nlohmann::json{{"dir", presets_dir()}, {"presets", all}}.dump(2) << '\n';
+    return 0;
+  }
+  if (all.empty()) {
+    std::fprintf(stderr, "tigris presets: none installed in %s\n", presets_dir().c_str());
+    return 1;
+  }
+  std::printf("Presets in %s (tigris run --config NAME; tigris presets --show NAME for one):\n\n",
+              presets_dir().c_str());
+  for (const nlohmann::json& p : all) {
+    std::string changes;
+    for (auto it = p["changes"].begin(); it != p["changes"].end(); ++it)
+      changes += (changes.empty() ? "" : ", ") + it.key() + " " + shown(it.value()[0]) + " -> " + shown(it.value()[1]);
+    std::printf("%-14s %s\n", p["name"].get<std::string>().c_str(),
+                changes.empty() ? "the built-in defaults" : changes.c_str());
+    std::printf("%-14s %s\n", "", p["why"].get<std::string>().c_str());
+    if (p.contains("variant"))
+      std::printf("%-14s a design variant of tigris reproduce --variants%s\n", "",
+                  p["variant"].empty() ? "" : (": " + p["variant"].dump()).c_str());
+  }
+  return 0;
+}
+
+const CommandRegistration kRegistration{options_command<PresetsOptions>(
+    "presets", "List the shipped accelerator configurations (tigris run --config NAME): what each changes and why", 45,
+    [](CLI::App& app, PresetsOptions& o) {
+      app.add_flag("--json", o.json, "Print them as JSON (name, file, why, every key each sets, the changes)");
+      app.add_option("--show", o.show, "Only this preset");
+    },
+    [](const CLI::App&, PresetsOptions& o, const CommandLine&) { return run_presets(o); })};
+
+}  // namespace
+}  // namespace tigris

@@ -1,0 +1,172 @@
+#!/usr/bin/env python3
+"""Tigris as a platform other programs use (docs/install.md): the install, relocated; a PCL
+program outside the tree built against the installed CMake package; the Python module from the
+relocated prefix; the Debian package's contents. Parts (--part, default all):
+
+  install   `cmake --install BUILD --prefix A`, A copied to B and removed: B/bin/tigris runs
+            `run` (with a preset), `presets`, `sweep` (a spec naming a preset) and `plot`; no
+            source path in the binary; the installed headers and package files are there
+  example   examples/pcl_search built with find_package(TigrisTLM) from B (CMAKE_PREFIX_PATH
+            only): registers the built-in pair on the golden model, in the loop with a preset
+            (the same transform, every job checked, none falling back), and records a trace that
+            `tigris run --trace` replays bit-exact
+  python    python/tests with PYTHONPATH=B/lib/python3/dist-packages (the installed module finds
+            B/bin/tigris beside it)
+  deb       `cpack -G DEB`: the package's Depends, and its files unpacked (dpkg-deb -x) run
+            `tigris run --config paper` from there
+
+Usage: platform_test.py --build BUILD [--part P ...]   (exit 0 when every part holds)
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TIMEOUT = 1200
+
+
+def sh(cmd, cwd=None, env=None, ok=(0,)):
+    p = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       timeout=TIMEOUT, stdin=subprocess.DEVNULL)
+    if p.returncode not in ok:
+        raise AssertionError(f"{' '.join(cmd)} exited {p.returncode}:\n{p.stdout[-4000:]}")
+    return p.stdout
+
+
+def check(cond, what):
+    if not cond:
+        raise AssertionError(what)
+
+
+def installed(build, tmp):
+    """The install, copied elsewhere and the original removed: the prefix that must work."""
+    first, moved = os.path.join(tmp, "first"), os.path.join(tmp, "moved", "prefix")
+    sh(["cmake", "--install", build, "--prefix", first])
+    shutil.copytree(first, moved, symlinks=True)
+    shutil.rmtree(first)
+    return moved
+
+
+def part_install(build, prefix, tmp):
+    tig = os.path.join(prefix, "bin", "tigris")
+    for f in ("include/tigris/sw_ref/kdtree.hpp", "include/tigris/registration/search_plugin.hpp",
+              "lib/cmake/TigrisTLM/TigrisTLMConfig.cmake", "share/tigris/presets/paper.json",
+              "share/tigris/sweep/tigris_sweep.py", "share/tigris/sweep/core/folders.py"):
+        check(os.path.isfile(os.path.join(prefix, f)), f"the install has no {f}")
+    check(not glob.glob(os.path.join(prefix, "share/tigris/sweep/tests")), "the install carries the sweep's tests")
+    with open(tig, "rb") as f:
+        binary = f.read()
+    check(SRC.encode() not in binary and os.path.abspath(build).encode() not in binary,
+          f"the installed binary holds a path of the source or build tree ({SRC})")
+    work = os.path.join(tmp, "work")
+    os.makedirs(work)
+    out = sh([tig, "run", "--config", "dram-8x", "--out", "r"], cwd=work)
+    check("MATCH" in out, f"tigris run from the relocated prefix did not match:\n{out}")
+    stats = json.load(open(os.path.join(work, "r", "stats.json")))
+    check(stats["config"]["dram"]["bytes_per_cycle"] == 409.6, "--config dram-8x did not set the DRAM bandwidth")
+    check(any(i.get("path", "").startswith(prefix) for i in stats["inputs"] if i.get("role") == "config"),
+          "stats.json's inputs do not name the preset's file in the prefix")
+    presets = json.loads(sh([tig, "presets", "--json"]))
+    check(presets["dir"] == os.path.join(prefix, "share", "tigris", "presets"), f"presets read from {presets['dir']}")
+    check({"paper", "top-6", "top-10", "dram-2x", "dram-8x", "pb-banks-64", "pb-banks-256", "nc-32k",
+           "nc-512k"} <= {p["name"] for p in presets["presets"]}, "a preset is missing")
+    with open(os.path.join(work, "spec.json"), "w") as f:
+        json.dump({"command": "run", "base": {"config": "top-6", "sim-threads": 1},
+                   "grid": {"fe.recursion_units": [32, 64]}}, f)
+    out = sh([tig, "sweep", "spec.json", "--out", "sw", "--jobs", "2"], cwd=work)
+    check("2 ok" in out, f"the relocated sweep:\n{out}")
+    rows = open(os.path.join(work, "sw", "sweep.csv")).read()
+    check("top-6.json" in rows, "the sweep's CSV does not name the preset's file")
+    out = sh([tig, "plot", "sw"], cwd=work)
+    check(glob.glob(os.path.join(work, "sw", "plots", "*.png")), f"tigris plot drew nothing:\n{out}")
+    bad = sh([tig, "run", "--config", "dram2x"], cwd=work, ok=(2,))
+    check("no preset named 'dram2x' (did you mean 'dram-2x'?)" in bad, f"an unknown preset's message:\n{bad}")
+    print("install: relocated prefix runs run, presets, sweep and plot; no source path in the binary")
+
+
+def part_example(build, prefix, tmp):
+    ex = os.path.join(tmp, "example")
+    shutil.copytree(os.path.join(SRC, "examples", "pcl_search"), os.path.join(ex, "src"))
+    env = dict(os.environ, CMAKE_PREFIX_PATH=prefix)
+    sh(["cmake", "-S", os.path.join(ex, "src"), "-B", os.path.join(ex, "build")], env=env)
+    sh(["cmake", "--build", os.path.join(ex, "build"), "-j2"], env=env)
+    prog = os.path.join(ex, "build", "register_pair")
+    golden = sh([prog, "--builtin"])
+    accel = sh([prog, "--builtin", "--accel", "--config", "nc-32k"])
+
+    def transform(out):
+        m = re.search(r"transform:\n((?:\s+.*\n){4})", out)
+        check(m, f"no transform printed:\n{out}")
+        return m.group(1)
+    check(transform(golden) == transform(accel), "the accelerator in the loop changed ICP's transform")
+    m = re.search(r"accelerator: (\d+) jobs, (\d+) queries, (\d+) cycles.*; (\d+) searches fell back", accel)
+    check(m and int(m.group(1)) > 1 and int(m.group(3)) > 0, f"no accelerator jobs:\n{accel}")
+    check(int(m.group(4)) == 0, f"searches fell back to the CPU:\n{accel}")
+    m2 = re.search(r"searches (\d+),", accel)
+    check(m2 and int(m2.group(1)) == int(m.group(2)), "the jobs' queries are not every search")
+    trace = os.path.join(ex, "icp.trace")
+    sh([prog, "--builtin", "--record-trace", trace])
+    replay = sh([os.path.join(prefix, "bin", "tigris"), "run", "--trace", trace, "--out", os.path.join(ex, "replay"),
+                 "--jobs", "2"])
+    check("MATCH (every query of every job bit-exact)" in replay, f"the example's trace did not replay:\n{replay}")
+    bad = sh([prog, os.path.join(ex, "nope.pcd"), os.path.join(ex, "nope.pcd")], ok=(2,))
+    check("nope.pcd" in bad, f"a missing cloud's message:\n{bad}")
+    print("example: built against the installed package; golden and in-the-loop transforms equal, trace replays")
+
+
+def part_python(build, prefix, tmp):
+    site = os.path.join(prefix, "lib", "python3", "dist-packages")
+    check(glob.glob(os.path.join(site, "tigris", "_tigris*.so")), "the install has no Python module")
+    env = dict(os.environ, PYTHONPATH=site)
+    env.pop("TIGRIS", None)
+    out = sh([sys.executable, "-c", "import tigris; print(tigris.binary())"], env=env, cwd=tmp)
+    check(out.strip() == os.path.join(prefix, "bin", "tigris"), f"the installed module runs {out.strip()}")
+    sh([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", os.path.join(SRC, "python", "tests")],
+       env=env, cwd=tmp)
+    print("python: the relocated module passes python/tests")
+
+
+def part_deb(build, prefix, tmp):
+    out = sh(["cpack", "-G", "DEB", "-B", os.path.join(tmp, "deb")], cwd=build)
+    debs = glob.glob(os.path.join(tmp, "deb", "tigris-tlm_*.deb"))
+    check(len(debs) == 1, f"cpack made {debs}:\n{out}")
+    depends = sh(["dpkg-deb", "-f", debs[0], "Depends"])
+    for pkg in ("libsystemc-dev", "libpcl-dev", "python3-numpy"):
+        check(pkg in depends, f"the package does not depend on {pkg}: {depends}")
+    root = os.path.join(tmp, "deb-root")
+    sh(["dpkg-deb", "-x", debs[0], root])
+    run = sh([os.path.join(root, "usr", "bin", "tigris"), "run", "--config", "paper", "--out", "r"], cwd=tmp)
+    check("MATCH" in run, f"the packaged binary:\n{run}")
+    print(f"deb: {os.path.basename(debs[0])} depends on {depends.strip()}; its binary runs unpacked")
+
+
+PARTS = {"install": part_install, "example": part_example, "python": part_python, "deb": part_deb}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--part", nargs="+", choices=list(PARTS), default=list(PARTS))
+    a = ap.parse_args()
+    tmp = tempfile.mkdtemp(prefix="tigris-platform-")
+    try:
+        prefix = installed(os.path.abspath(a.build), tmp)
+        for p in a.part:
+            PARTS[p](os.path.abspath(a.build), prefix, tmp)
+    except AssertionError as e:
+        print(f"FAIL: {e}", file=sys.stderr)
+        return 1
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    print("platform: every part holds")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
