@@ -410,7 +410,14 @@ def choose_variants(a):
     try:
         user = vt.load(a.variants_file, list(experiments(a.quick)), tig.key_info,
                        set(ts.FLAG_KEYS["run"].values())) if a.variants_file else []
-        return vt.choose(a.variants or [], user, a.variants_file), defaults
+        chosen = vt.choose(a.variants or [], user, a.variants_file)
+        known = set(experiments(a.quick))
+        for v in chosen:                          # a shipped preset naming no experiment of ours
+            bad = [e for e in v.experiments or [] if e not in known]
+            if bad:
+                raise vt.VariantError(f"variant {v.name!r}: \"experiments\": not an experiment: {', '.join(bad)} "
+                                      f"({', '.join(sorted(known))})")
+        return chosen, defaults
     except vt.VariantError as e:
         raise Refused(str(e))
 

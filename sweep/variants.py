@@ -91,11 +91,12 @@ def _flat(d, prefix=""):
 
 
 def builtin(presets_dir=None):
-    """The shipped presets that are design variants, by name (sorted). The files are checked by
-    `tigris presets` (every key and value); an unreadable one is a VariantError naming it."""
+    """The shipped presets that are design variants, in name order (numbers numerically). The
+    files are plain JSON (no comments: this reads them too); `tigris presets` checks every key
+    and value, reproduce the experiments they name; a bad one is a VariantError naming it."""
     folder = presets_dir or PRESETS_DIR
     try:
-        names = sorted(f[:-5] for f in os.listdir(folder) if f.endswith(".json"))
+        names = sorted((f[:-5] for f in os.listdir(folder) if f.endswith(".json")), key=natural)
     except OSError as e:
         raise VariantError(f"the presets folder {folder} cannot be read ({e.strerror}): the variants are "
                            "its files (share/tigris/presets beside the package)")
@@ -111,8 +112,19 @@ def builtin(presets_dir=None):
         if not isinstance(meta, dict) or not isinstance(meta.get("variant"), dict):
             continue
         var = meta["variant"]
-        out.append(Variant(name, meta.get("why", ""), _flat(d), var.get("leader_width"), var.get("experiments")))
+        lw, exps = var.get("leader_width"), var.get("experiments")
+        if set(var) - {"experiments", "leader_width"} or \
+                lw is not None and (not isinstance(lw, int) or isinstance(lw, bool) or lw < 0) or \
+                exps is not None and not (isinstance(exps, list) and exps and all(isinstance(e, str) for e in exps)):
+            raise VariantError(f"{path}: \"//preset\".\"variant\" takes \"experiments\" (a list of names) and "
+                               f"\"leader_width\" (an integer >= 0), got {json.dumps(var)}")
+        out.append(Variant(name, meta.get("why", ""), _flat(d), lw, exps))
     return out
+
+
+def natural(name):
+    """A sort key with numbers in numeric order: top-6 before top-10."""
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
 
 
 def by_name():

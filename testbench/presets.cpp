@@ -1,6 +1,7 @@
 #include "presets.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <stdexcept>
 
@@ -15,12 +16,36 @@ namespace fs = std::filesystem;
 
 std::string presets_dir() { return (fs::path(share_dir()) / "presets").string(); }
 
+namespace {
+
+// Names with their numbers in numeric order: top-6 before top-10, nc-32k before nc-512k.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
+      std::size_t ei = i, ej = j;
+      while (ei < a.size() && std::isdigit(static_cast<unsigned char>(a[ei]))) ++ei;
+      while (ej < b.size() && std::isdigit(static_cast<unsigned char>(b[ej]))) ++ej;
+      const std::string na = a.substr(i, ei - i), nb = b.substr(j, ej - j);
+      if (na.size() != nb.size()) return na.size() < nb.size();  // no leading zeros in names
+      if (na != nb) return na < nb;
+      i = ei, j = ej;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+}  // namespace
+
 std::vector<std::string> preset_names(const std::string& dir) {
   std::vector<std::string> names;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (it->path().extension() == ".json") names.push_back(it->path().stem().string());
-  std::sort(names.begin(), names.end());
+  std::sort(names.begin(), names.end(), natural_less);
   return names;
 }
 
@@ -48,7 +73,17 @@ void flatten(const nlohmann::json& j, const std::string& prefix, nlohmann::json&
 std::string config_path(const std::string& value) { return config_path(value, presets_dir()); }
 
 std::string config_path(const std::string& value, const std::string& dir) {
-  if (!is_preset_name(value)) return value;
+  if (!is_preset_name(value)) {
+    // "paper.json" meant as the preset: say so rather than "no such file".
+    const fs::path p(value);
+    std::error_code ec;
+    const std::vector<std::string> names = preset_names(dir);
+    if (p.extension() == ".json" && !p.has_parent_path() && !fs::exists(p, ec) &&
+        std::find(names.begin(), names.end(), p.stem().string()) != names.end())
+      throw std::invalid_argument("no file " + value +
+                                  " here; the preset is named without .json: " + p.stem().string());
+    return value;
+  }
   const std::vector<std::string> names = preset_names(dir);
   if (std::find(names.begin(), names.end(), value) != names.end()) return (fs::path(dir) / (value + ".json")).string();
   std::string list, nearest;

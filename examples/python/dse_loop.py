@@ -30,7 +30,7 @@ def main():
 
     def one(point):
         ru, su, pe = point
-        job = tigris.run(cloud, queries, mode="nn", sim_threads=1,
+        job = tigris.run(cloud, queries, mode="nn",
                          config={"fe.recursion_units": ru, "be.search_units": su, "be.pes_per_su": pe})
         return point, job
 

@@ -106,6 +106,10 @@ def test_run_is_tigris_run(pair):
     both = tigris.run(cloud, queries, mode="knn", k=8, preset="top-6", config={"fe": {"recursion_units": 16}})
     assert both.cycles == job.cycles
     assert both.stats["config"]["fe"]["top_levels_replicated"] == 6
+    # A key of the dict that the preset sets too: the dict's, in either form.
+    for over in ({"fe": {"top_levels_replicated": 2}}, {"fe.top_levels_replicated": 2}):
+        mine = tigris.run(cloud, queries, mode="knn", k=8, preset="top-6", config=over)
+        assert mine.stats["config"]["fe"]["top_levels_replicated"] == 2
 
 
 def test_register_is_tigris_register(tmp_path):
@@ -115,6 +119,14 @@ def test_register_is_tigris_register(tmp_path):
     assert reg.status == want["status"]
     assert np.array_equal(reg.transform, np.array(want["transform"]))
     assert set(reg.stages) == set(want["stages"])
+
+
+def test_synthetic_pair_is_the_built_in_workload():
+    cloud, queries = tigris.synthetic_pair()
+    assert cloud.dtype == np.float32 and cloud.shape[1] == 3 and len(queries) > 100000
+    a, b = tigris.run(cloud, queries, sim_threads=1), tigris.run(sim_threads=1)
+    assert a.cycles == b.cycles and without_run_facts(a.stats) == without_run_facts(b.stats)
+    assert np.array_equal(a.indices, tigris.search(cloud, queries).indices)
 
 
 def test_config_keys_and_presets():

@@ -36,8 +36,9 @@ class TigrisError(RuntimeError):
 
 
 class MismatchError(TigrisError):
-    """The accelerator's results differ from the golden model's (or the simulation deadlocked):
-    `.result` holds the run's RunResult (its stats name the first differing query)."""
+    """The accelerator's results differ from the golden model's, or the simulation deadlocked:
+    `.result` holds the run's RunResult (its stats name the first differing query); None after a
+    deadlock or a failed job in the loop, which leave no stats (the message says what stuck)."""
     def __init__(self, message, result):
         super().__init__(message)
         self.result = result
@@ -68,6 +69,13 @@ def _error_text(stderr):
     lines = [ln for ln in stderr.splitlines() if ln.strip()]
     errors = [ln for ln in lines if "error:" in ln]
     return (errors[-1] if errors else lines[-1] if lines else "no message").split("error: ", 1)[-1]
+
+
+def _verdict_text(p):
+    """The line of a failed run that says what failed (MISMATCH, DEADLOCK), else its last line."""
+    lines = [ln for ln in (p.stdout + "\n" + p.stderr).splitlines() if ln.strip()]
+    said = [ln for ln in lines if "MISMATCH" in ln or "DEADLOCK" in ln or "mismatch" in ln or "deadlock" in ln]
+    return (said or lines or ["exit 1, no message"])[0].strip()
 
 
 def _json_of(args):
@@ -197,6 +205,9 @@ def _flags(**kw):
     for name, v in kw.items():
         if v is None or v is False:
             continue
+        v = _plain(v)
+        if v is False:
+            continue
         flag = "--" + name.replace("_", "-")
         args += [flag] if v is True else [flag, str(v)]
     return args
@@ -223,12 +234,17 @@ class RunResult:
 
 def _read_results(path, queries):
     """The results dump (query,rank,index,dist2) as offsets, indices and dist2 arrays."""
-    if not os.path.exists(path):
-        return np.zeros(1, np.uint64), np.zeros(0, np.uint32), np.zeros(0, np.float32)
+    known = isinstance(queries, int) and not isinstance(queries, bool)
+    with open(path) as f:
+        f.readline()                                   # the header
+        empty = not f.read(1)                          # no query has a neighbour
+    if empty:
+        nq = int(queries) if known else 0
+        return np.zeros(nq + 1, np.uint64), np.zeros(0, np.uint32), np.zeros(0, np.float32)
     rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=1,
                       dtype={"names": ("q", "rank", "index", "dist2"),
                              "formats": (np.int64, np.int64, np.uint32, np.float32)})
-    nq = int(queries) if isinstance(queries, int) else (int(rows["q"].max()) + 1 if len(rows) else 0)
+    nq = int(queries) if known else int(rows["q"].max()) + 1
     counts = np.bincount(rows["q"], minlength=nq) if len(rows) else np.zeros(nq, np.int64)
     offsets = np.zeros(nq + 1, np.uint64)
     np.cumsum(counts, out=offsets[1:])
@@ -272,9 +288,12 @@ def run(cloud=None, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=
             args += ["--approx-thd", str(approx_thd)]
         args += _config_args(work, config, preset, "--config", "config.json") + _flags(**flags)
         for key, v in (set or {}).items():
+            v = _plain(v)
             args += ["--set", f"{key}={json.dumps(v) if isinstance(v, bool) else v}"]
         p = _call(args)
         stats_path = os.path.join(work, "out", "stats.json")
+        if p.returncode == 1 and not os.path.exists(stats_path):      # a deadlock: no stats
+            raise MismatchError(f"tigris run: {_verdict_text(p)}", None)
         if p.returncode not in (0, 1) or not os.path.exists(stats_path):
             raise TigrisError(f"tigris run: {_error_text(p.stderr)}")
         with open(stats_path) as f:
@@ -288,22 +307,43 @@ def run(cloud=None, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=
             shutil.rmtree(work, ignore_errors=True)
 
 
+def _flat(d, prefix=""):
+    """{"fe": {"recursion_units": 16}} as {"fe.recursion_units": 16} (comments "//..." left out)."""
+    out = {}
+    for k, v in d.items():
+        if not isinstance(k, str) or k.startswith("//"):
+            continue
+        key = f"{prefix}.{k}" if prefix else k
+        out.update(_flat(v, key) if isinstance(v, dict) else {key: v})
+    return out
+
+
+def _plain(v):
+    """A NumPy scalar as the Python value JSON and the command line take."""
+    return v.item() if isinstance(v, np.generic) else v
+
+
 def _config_args(work, config, preset, flag, name):
-    """--config PRESET, or a file of `config` (over the preset's keys when both are given)."""
+    """--config PRESET, or a file of `config` over the preset's keys when both are given (both
+    flattened to dotted keys, so a key of `config` replaces the preset's whatever its form)."""
     if config is None:
         return [flag, preset] if preset else []
     if not isinstance(config, dict):
         raise ValueError(f"config must be a dict (nested by block or dotted keys), got {type(config).__name__}")
     merged = {}
     if preset:
-        info = presets().get(preset)
-        if info is None:
-            raise ValueError(f"no preset named {preset!r}; presets: {', '.join(sorted(presets()))}")
-        merged.update(info["sets"])
-    merged.update(config)
+        if "/" in preset or preset.endswith(".json"):
+            with open(preset) as f:
+                merged.update(_flat(json.load(f)))
+        else:
+            known = presets()
+            if preset not in known:
+                raise ValueError(f"no preset named {preset!r}; presets: {', '.join(sorted(known))}")
+            merged.update(known[preset]["sets"])
+    merged.update(_flat(config))
     path = os.path.join(work, name)
     with open(path, "w") as f:
-        json.dump(merged, f)
+        json.dump(merged, f, default=_plain)
     return [flag, path]
 
 
@@ -349,6 +389,8 @@ def register(source=None, target=None, preset="dp4", search="exact", config=None
         args += _config_args(work, accel_config, accel_preset, "--accel-config", "accel.json") + _flags(**flags)
         p = _call(args)
         doc_path = os.path.join(work, "out", "registration.json")
+        if p.returncode == 1 and not os.path.exists(doc_path):        # the accelerator failed a job
+            raise MismatchError(f"tigris register: {_verdict_text(p)}", None)
         if not os.path.exists(doc_path):
             raise TigrisError(f"tigris register: {_error_text(p.stderr)}")
         with open(doc_path) as f:
