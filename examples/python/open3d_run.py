@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Open3D point clouds through the accelerator model: read two scans with Open3D (any format it
-reads: .pcd, .ply, .xyz ...), voxel-downsample them there, and run the first's points as queries
+reads: .pcd, .ply, .xyz ...; KITTI .bin through tigris.load_cloud), voxel-downsample them there, and run the first's points as queries
 into a tree of the second's with tigris.run, checked against the golden model.
 
     sudo apt-get install python3-open3d       # Debian's Open3D; only this example needs it
@@ -18,6 +18,15 @@ import open3d as o3d
 import tigris
 
 
+def read(path):
+    """Open3D's reader, or tigris's for KITTI .bin scans (which Open3D does not read)."""
+    if path.endswith(".bin"):
+        cloud = o3d.geometry.PointCloud()
+        cloud.points = o3d.utility.Vector3dVector(tigris.load_cloud(path).astype(np.float64))
+        return cloud
+    return o3d.io.read_point_cloud(path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("files", nargs="*", metavar="FILE", help="SOURCE TARGET (Open3D reads them)")
@@ -33,7 +42,7 @@ def main():
         source.points = o3d.utility.Vector3dVector(source_pts.astype(np.float64))
         target.points = o3d.utility.Vector3dVector(target_pts.astype(np.float64))
     else:
-        source, target = (o3d.io.read_point_cloud(f) for f in a.files)
+        source, target = (read(f) for f in a.files)
         for f, c in zip(a.files, (source, target)):
             if not c.has_points():
                 ap.error(f"Open3D read no points from {f}")
