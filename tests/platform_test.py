@@ -4,8 +4,9 @@ program outside the tree built against the installed CMake package; the Python m
 relocated prefix; the Debian package's contents. Parts (--part, default all):
 
   install   `cmake --install BUILD --prefix A`, A copied to B and removed: B/bin/tigris runs
-            `run` (with a preset), `presets`, `sweep` (a spec naming a preset) and `plot`; no
-            source path in the binary; the installed headers and package files are there
+            `run` (with a preset), `presets`, `sweep` (a spec naming a preset), `plot` and every
+            other command (small); no source path in the binary; the installed headers and
+            package files are there
   example   examples/pcl_search built with find_package(TigrisTLM) from B (CMAKE_PREFIX_PATH
             only): registers the built-in pair on the golden model, in the loop with a preset
             (the same transform, every job checked, none falling back), and records a trace that
@@ -85,9 +86,22 @@ def part_install(build, prefix, tmp):
     check("top-6.json" in rows, "the sweep's CSV does not name the preset's file")
     out = sh([tig, "plot", "sw"], cwd=work)
     check(glob.glob(os.path.join(work, "sw", "plots", "*.png")), f"tigris plot drew nothing:\n{out}")
+    # Every other command, small, from the same prefix.
+    sh([tig, "ref", "--mode", "knn", "--k", "4", "--out", "ref"], cwd=work)
+    out = sh([tig, "diff", "r", os.path.join("sw", "points", "fe.recursion_units=64")], cwd=work, ok=(0, 1))
+    check("dram.bytes_per_cycle" in out, f"tigris diff from the relocated prefix:\n{out}")
+    reg = sh([tig, "register", "--search", "exact", "--out", "reg"], cwd=work)
+    check(json.load(open(os.path.join(work, "reg", "registration.json")))["status"] == "converged", reg)
+    sh([tig, "synth", "--frames", "3", "--out", "seq"], cwd=work)
+    sh([tig, "odometry", "--sequence", "seq", "--search", "exact", "--out", "odo"], cwd=work)
+    check(os.path.isfile(os.path.join(work, "odo", "metrics.json")), "tigris odometry wrote no metrics.json")
+    sh([tig, "reproduce", "--quick", "--specs-only", "--out", "rp"], cwd=work)
+    check(glob.glob(os.path.join(work, "rp", "specs", "*.json")), "tigris reproduce --specs-only wrote no spec")
+    sh([tig, "pipeline-dse", "--help"], cwd=work)
     bad = sh([tig, "run", "--config", "dram2x"], cwd=work, ok=(2,))
     check("no preset named 'dram2x' (did you mean 'dram-2x'?)" in bad, f"an unknown preset's message:\n{bad}")
-    print("install: relocated prefix runs run, presets, sweep and plot; no source path in the binary")
+    print("install: the relocated prefix runs run, presets, sweep, plot, ref, diff, register, synth, odometry, "
+          "reproduce and pipeline-dse; no source path in the binary")
 
 
 def part_example(build, prefix, tmp):
