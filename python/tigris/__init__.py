@@ -141,6 +141,15 @@ def _height(h):
     return int(h)
 
 
+def _shaped(mode, offsets, indices, dist2):
+    """NN results as (Q,), kNN as (Q, k) when every query has k (radius: flat, with offsets)."""
+    counts = np.diff(offsets)
+    if mode in ("nn", "knn") and len(counts) and (counts == counts[0]).all():
+        shape = (len(counts),) if mode == "nn" else (len(counts), int(counts[0]))
+        return indices.reshape(shape), dist2.reshape(shape)
+    return indices, dist2
+
+
 class SearchResult:
     """The golden model's answer. indices and dist2: for nn (Q,), for knn (Q, k) (k clamped to
     the cloud's size), for radius flat arrays with offsets (query q's are
@@ -150,11 +159,7 @@ class SearchResult:
     def __init__(self, mode, d):
         self.mode = mode
         self.offsets = d["offsets"]
-        counts = np.diff(self.offsets)
-        self.indices, self.dist2 = d["indices"], d["dist2"]
-        if mode in ("nn", "knn") and len(counts) and (counts == counts[0]).all():
-            shape = (len(counts),) if mode == "nn" else (len(counts), int(counts[0]))
-            self.indices, self.dist2 = self.indices.reshape(shape), self.dist2.reshape(shape)
+        self.indices, self.dist2 = _shaped(mode, self.offsets, d["indices"], d["dist2"])
         self.visits, self.leaders = d["visits"], d["leaders"]
         self.visits_top, self.visits_leaf_points = d["visits_top"], d["visits_leaf_points"]
         self.tree = {"top_height": d["top_height"], "full_height": d["full_height"], "leaves": d["leaves"]}
@@ -225,11 +230,8 @@ class RunResult:
         self.bottleneck = stats.get("bottleneck") or {}
         self.bound = self.bottleneck.get("bound")        # "front-end", "back-end", "write-back" ...
         self.mode = mode
-        self.offsets, self.indices, self.dist2 = _read_results(results_csv, stats.get("queries"))
-        counts = np.diff(self.offsets)
-        if mode in ("nn", "knn") and len(counts) and (counts == counts[0]).all():
-            shape = (len(counts),) if mode == "nn" else (len(counts), int(counts[0]))
-            self.indices, self.dist2 = self.indices.reshape(shape), self.dist2.reshape(shape)
+        self.offsets, indices, dist2 = _read_results(results_csv, stats.get("queries"))
+        self.indices, self.dist2 = _shaped(mode, self.offsets, indices, dist2)
 
 
 def _read_results(path, queries):
