@@ -47,6 +47,8 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
       return fail("true/false/1/0/on/off");
     case Type::Enum: return text;
     case Type::Number: {
+      for (const auto& n : names)
+        if (text == n.name) return text;
       // Decimal numbers only: strtod would also take hex ("0x10"), "inf" and "nan".
       if (text.find_first_not_of("0123456789.eE+-") != std::string::npos) return fail("a decimal number");
       char* end = nullptr;
@@ -129,6 +131,8 @@ std::string shown(const json& v) {
 json checked(const Key& k, const json& v, const std::string& source) {
   const Allowed& a = k.spec.allowed;
   const auto check_range = [&](double x) {
+    for (const auto& n : a.names)
+      if (x == n.value) return;  // a named value's number ("auto" = -1)
     if (x < a.lo || (a.lo_open && x == a.lo) || x > a.hi)
       key_error(source, k, "= " + shown(v) + " is out of range (" + describe(k) + ")");
   };
@@ -142,7 +146,14 @@ json checked(const Key& k, const json& v, const std::string& source) {
           if (v.get<std::string>() == n.name) return v;
       key_error(source, k, "must be one of " + describe(k) + ", got " + shown(v));
     case Type::Number: {
-      if (!v.is_number()) key_error(source, k, "must be a number, got " + shown(v));
+      if (v.is_string())
+        for (const auto& n : a.names)
+          if (v.get<std::string>() == n.name) return static_cast<double>(n.value);
+      if (!v.is_number()) {
+        std::string names;
+        for (const auto& n : a.names) names += " or \"" + n.name + "\"";
+        key_error(source, k, "must be a number" + names + ", got " + shown(v));
+      }
       const double x = v.get<double>();
       if (!std::isfinite(x)) key_error(source, k, "must be a finite number, got " + shown(v));
       check_range(x);

@@ -74,7 +74,8 @@ void with_field(C& cfg, const Key& k, F&& f) {
   });
 }
 
-// A key's value as a file writes it (enums by name, tree.top_height as an integer).
+// A key's value as a file writes it (enums and a number key's named values by name,
+// tree.top_height as an integer).
 template <class C>
 nlohmann::json get(const C& cfg, const Key& k) {
   C copy = cfg;  // visit() hands out mutable fields; only read here
@@ -84,6 +85,10 @@ nlohmann::json get(const C& cfg, const Key& k) {
       v = "?";
       for (const auto& n : k.spec.allowed.names)
         if (n.value == static_cast<int>(field)) v = n.name;
+    } else if constexpr (std::is_same_v<std::remove_reference_t<decltype(field)>, double>) {
+      v = field;  // a number key's named values ("off", "auto") are written by name
+      for (const auto& n : k.spec.allowed.names)
+        if (field == n.value) v = n.name;
     } else {
       v = field;
     }

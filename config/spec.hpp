@@ -13,14 +13,15 @@
 
 namespace tigris::config {
 
-// A value with a name: "full" = -1 for tree.top_height, or an enum value (by its to_string).
+// A value with a name: "full" = -1 for tree.top_height, "auto" = -1 for sim.sampling, or an enum
+// value (by its to_string).
 struct Named {
   std::string name;
   int value;
 };
 
-// The values a key accepts. Numbers: lo..hi, lo excluded when lo_open; integer keys also take
-// their named values. Enum keys take their named values only.
+// The values a key accepts. Numbers: lo..hi, lo excluded when lo_open; integer and number keys
+// also take their named values. Enum keys take their named values only.
 struct Allowed {
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();

@@ -226,6 +226,37 @@ struct AcceleratorConfig {
     }
   } stall;
 
+  // How the simulator runs a job, not hardware: sampled simulation (docs/sampling.md). A
+  // sampled job simulates its fill, `windows` stretches of consecutive queries spread over the
+  // job and its drain in one stream, and estimates the rest from the windows' throughput.
+  struct Sim {
+    static constexpr int kAuto = -1;
+    double sampling = 0.0;  // 0: off (every query simulated); kAuto; else the share simulated
+    int windows = 20;
+    int warm_queries = kAuto;
+    int window_queries = kAuto;
+
+    template <class V>
+    void visit(V&& v) {
+      v("sampling", sampling,
+        {"-", named(named(in(0, 1), "off", 0), "auto", kAuto),
+         "sampled simulation: off (every query simulated in detail), auto (the job is sampled when it is long "
+         "enough for its windows to be estimated well, else simulated in full) or the share of the queries to "
+         "simulate (0 < f <= 1); the others take the golden model's results and their cycles and energy are "
+         "estimated, with a 95% confidence interval"});
+      v("windows", windows,
+        {"windows", in(2, 1000), "sampled simulation: stretches of consecutive queries measured in detail"});
+      v("warm_queries", warm_queries,
+        {"queries", named(in(0, 1 << 30), "auto", kAuto),
+         "sampled simulation: queries simulated in detail before each window and not measured, so that the "
+         "window sees a full machine (auto: as many as the job holds in flight)"});
+      v("window_queries", window_queries,
+        {"queries", named(in(1, 1 << 30), "auto", kAuto),
+         "sampled simulation with sim.sampling = auto: queries measured per window (auto: as many as the job "
+         "holds in flight); a share given in sim.sampling sets it instead"});
+    }
+  } sim;
+
   CostTable cost;
   EnergyTable energy;
   AreaTable area;
@@ -249,6 +280,7 @@ struct AcceleratorConfig {
     dram.visit(in_block(v, "dram"));
     host.visit(in_block(v, "host"));
     stall.visit(in_block(v, "stall"));
+    sim.visit(in_block(v, "sim"));
     cost.visit(in_block(v, "cost"));
     energy.visit(in_block(v, "energy"));
     area.visit(in_block(v, "area"));

@@ -11,6 +11,18 @@ std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf) {
   return ResultSlots::slot_bytes(k) + (first_leaf ? 12 * std::uint64_t{k} : 0);
 }
 
+std::uint64_t queries_in_flight(const AcceleratorConfig& config, int top_height, tlm_if::SearchMode mode,
+                                std::uint32_t k, bool approximate, bool first_leaf, std::uint64_t num_queries) {
+  const bool radius = mode == tlm_if::SearchMode::Radius;
+  const std::uint64_t slot_bytes = radius        ? 0
+                                   : approximate ? result_slot_bytes(k, first_leaf)
+                                                 : ResultSlots::slot_bytes(k);
+  const std::uint64_t stack_slots =
+      config.sram.query_stack.bytes / (std::uint64_t(std::max(top_height, 1)) * sizeof(StackEntry));
+  const std::uint64_t fqq_entries = config.fe.fqq_bytes / static_cast<std::uint64_t>(config.fe.fqq_entry_bytes);
+  return std::min({stack_slots, fqq_entries, ResultBuffer::slot_capacity(config, slot_bytes), num_queries});
+}
+
 std::string job_fit_error(const AcceleratorConfig& config, std::uint64_t image_bytes, std::uint64_t num_queries,
                           int top_height, tlm_if::SearchMode mode, std::uint32_t k, bool first_leaf) {
   const auto n = [](std::uint64_t x) { return std::to_string(x); };

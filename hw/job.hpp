@@ -89,6 +89,11 @@ struct LeaderRecord {
 // finished leader writes its list straight from its slot (hw/mem/leader_staging.hpp).
 std::uint64_t result_slot_bytes(std::uint32_t k, bool first_leaf);
 
+// Queries a job holds in flight at most (its Query Stack / Result Buffer slots): the smallest of
+// the Query Stack slots, FQQ entries, Result Buffer slots (NN/kNN) and the query count.
+std::uint64_t queries_in_flight(const AcceleratorConfig& config, int top_height, tlm_if::SearchMode mode,
+                                std::uint32_t k, bool approximate, bool first_leaf, std::uint64_t num_queries);
+
 // The one check that a job fits the configured buffers: the tree image in the Point Buffer,
 // the queries in the Query Buffer, one query's stack and (NN/kNN) its k results. Returns why
 // not, naming the configuration key, or an empty string.

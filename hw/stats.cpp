@@ -1,6 +1,7 @@
 #include "stats.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace tigris::hw {
 
@@ -21,6 +22,32 @@ void StatGroup::reset() {
   for (Counter* c : counters_) c->reset();
   for (CounterArray* a : arrays_) a->reset();
   for (StatGroup* g : children_) g->reset();
+}
+
+template <class F>
+void StatGroup::walk_values(F&& f) const {
+  for (Counter* c : counters_) f(c->value_, c->merge() == Counter::Merge::Max);
+  for (CounterArray* a : arrays_)
+    for (std::uint64_t& x : a->values_) f(x, false);
+  for (const StatGroup* g : children_) g->walk_values(f);
+}
+
+std::vector<std::uint64_t> StatGroup::values() const {
+  std::vector<std::uint64_t> out;
+  walk_values([&](std::uint64_t x, bool) { out.push_back(x); });
+  return out;
+}
+
+void StatGroup::set_values(const std::vector<std::uint64_t>& values) {
+  std::size_t i = 0;
+  walk_values([&](std::uint64_t& x, bool) { x = values.at(i++); });
+  if (i != values.size()) throw std::logic_error("StatGroup::set_values: the snapshot is of another tree");
+}
+
+std::vector<bool> StatGroup::maxima() const {
+  std::vector<bool> out;
+  walk_values([&](std::uint64_t, bool max) { out.push_back(max); });
+  return out;
 }
 
 nlohmann::json StatGroup::counters_json() const {

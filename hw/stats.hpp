@@ -41,6 +41,12 @@ class StatGroup {
   nlohmann::json counters_json() const;
   // Every group of `kind` at or below this one, in tree order.
   std::vector<const StatGroup*> find(const std::string& kind) const;
+  // Every counter and array element at or below this group in walk order (a snapshot; sampled
+  // simulation differences two), and the same list written back.
+  std::vector<std::uint64_t> values() const;
+  void set_values(const std::vector<std::uint64_t>& values);
+  // Per entry of values(): true for a maximum (Counter::Merge::Max), which is not a sum of work.
+  std::vector<bool> maxima() const;
   // The counters of `groups` merged name by name (summed, or the maximum for maxima; arrays
   // summed element by element).
   static nlohmann::json sum(const std::vector<const StatGroup*>& groups);
@@ -48,6 +54,9 @@ class StatGroup {
  private:
   friend class Counter;
   friend class CounterArray;
+  // Calls f(value&, is_maximum) on every counter and array element here and below, in walk order.
+  template <class F>
+  void walk_values(F&& f) const;
   std::string name_, kind_, description_;
   std::vector<Counter*> counters_;
   std::vector<CounterArray*> arrays_;
@@ -82,6 +91,7 @@ class Counter {
   void reset() { value_ = 0; }
 
  private:
+  friend class StatGroup;
   std::string name_, unit_, description_;
   Merge merge_;
   std::uint64_t value_ = 0;
@@ -105,6 +115,7 @@ class CounterArray {
   void reset() { std::fill(values_.begin(), values_.end(), 0); }
 
  private:
+  friend class StatGroup;
   std::string name_, unit_, description_;
   std::vector<std::uint64_t> values_;
 };

@@ -168,11 +168,8 @@ std::string TigrisAccelerator::configure_job() {
       return "the leaf directory points outside the leaf sets";
   }
   j.stack_entries = static_cast<std::uint32_t>(std::max(j.top_height, 1));
-  const std::uint64_t stack_slots = config_.sram.query_stack.bytes / (j.stack_entries * sizeof(StackEntry));
-  const std::uint64_t fqq_entries = config_.fe.fqq_bytes / static_cast<std::uint64_t>(config_.fe.fqq_entry_bytes);
-  const std::uint64_t result_slots = ResultBuffer::slot_capacity(config_, j.result_slot_bytes);
-  j.slots =
-      static_cast<std::uint32_t>(std::min({stack_slots, fqq_entries, result_slots, std::uint64_t{j.num_queries}}));
+  j.slots = static_cast<std::uint32_t>(
+      queries_in_flight(config_, j.top_height, j.mode, j.k, j.approximate, j.first_leaf, j.num_queries));
   if (j.approximate) {
     j.leader_area_base = j.slots * j.result_slot_bytes;
     j.leader_area_bytes = ResultBuffer::leader_area_bytes(config_);

@@ -72,6 +72,11 @@ class TigrisAccelerator : public sc_core::sc_module {
   const StatGroup& stats() const { return stats_; }
   // The energy meter's picojoules, with `leakage_pj` (hw/area_model.hpp) added.
   nlohmann::json energy_pj(double leakage_pj) const { return meter_.energy_pj(leakage_pj); }
+  // Sampled simulation (testbench/sampling.hpp) writes the job's estimate over the statistics.
+  void set_stat_values(const std::vector<std::uint64_t>& values) { stats_.set_values(values); }
+  // ... and warms the result write-back's backlog at a seam of its stream.
+  ResultWriteback& writeback() { return result_buffer_.writeback(); }
+  std::uint64_t now_cycle() const { return clock_.now(); }
   void attach_observer(JobObserver& observer) { observers_.attach(observer); }
   // A host speed-up: `hint` hears of each query shortly before the observers do.
   void attach_hint(QueryHint& hint) { scans_->attach(hint); }

@@ -10,6 +10,7 @@
 #include "hw/job.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "report.hpp"
+#include "sampling.hpp"
 #include "scoreboard.hpp"
 #include "simulation.hpp"
 #include "tlm/tree_image.hpp"
@@ -46,39 +47,115 @@ PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, con
   return p;
 }
 
+namespace {
+
+// The golden model's figures of the sampled queries `ids`, in their order.
+SearchOutput golden_of(const SearchOutput& golden, const std::vector<std::uint32_t>& ids) {
+  SearchOutput g;
+  for (std::uint32_t q : ids) {
+    g.results.append_query(golden.results.begin(q), golden.results.end(q));
+    g.per_query.push_back(golden.per_query[q]);
+  }
+  return g;
+}
+
+// A sampled job's results and visits: the simulated queries' as the accelerator gave them,
+// the others' as the golden model did.
+void merge_sample(const SearchOutput& golden, const std::vector<std::uint32_t>& ids, SimOutcome& sim) {
+  std::vector<std::uint32_t> at(golden.per_query.size(), ~0u);  // query -> its stream position
+  for (std::uint32_t i = 0; i < ids.size(); ++i) at[ids[i]] = i;
+  Results results;
+  results.neighbors.reserve(golden.results.neighbors.size());
+  SearchOutput visits;
+  for (std::uint32_t q = 0; q < at.size(); ++q) {
+    const bool simulated = at[q] != ~0u;
+    const Results& from = simulated ? sim.results : golden.results;
+    const std::size_t i = simulated ? at[q] : q;
+    results.append_query(from.begin(i), from.end(i));
+    const QueryVisits& v = simulated ? sim.visits.per_query[i] : golden.per_query[q];
+    visits.per_query.push_back(v);
+    visits.visits.add(v);
+  }
+  visits.schedule = std::move(sim.visits.schedule);
+  for (ScheduleEntry& e : visits.schedule) e.query = ids[e.query];
+  sim.results = std::move(results);
+  sim.visits = std::move(visits);
+}
+
+}  // namespace
+
 JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCloud& queries,
                    const SearchParams& params, const SimExtras& extras) {
   JobOutcome m;
   SearchParams exact = params;
   exact.approximate = false;
-  auto t0 = std::chrono::steady_clock::now();
-  m.golden = search(p.tree, queries, exact);
-  m.golden_seconds = seconds_since(t0);
+  const auto golden = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    m.golden = golden_search(p.tree, queries, exact);
+    m.golden_seconds = seconds_since(t0);
+  };
+  const SamplingPlan plan = plan_sampling(
+      p.cfg.sim, static_cast<std::uint32_t>(queries.size()),
+      static_cast<std::uint32_t>(hw::queries_in_flight(p.cfg, p.tree.top_height, p.job.mode, p.job.k, p.job.approximate,
+                                                       p.job.first_leaf, queries.size())),
+      params.approximate);
+  if (plan.sampled && (!extras.vcd_path.empty() || !extras.observers.empty()))
+    throw std::invalid_argument(
+        "waveforms and timelines show every query, and sampled simulation (sim.sampling) simulates a part: set "
+        "sim.sampling=off for them");
+  PointCloud stream;  // sampled: the queries simulated
+  for (std::uint32_t q : plan.stream) stream.push_back(queries[q]);
 
   SimSetup setup;
   setup.config = p.cfg;
   setup.image = &p.image;
-  setup.queries = &queries;
+  setup.queries = plan.sampled ? &stream : &queries;
   setup.num_points = static_cast<std::uint32_t>(points.size());
   setup.job = p.job;
   setup.vcd_path = extras.vcd_path;
   setup.provenance = extras.provenance;
   setup.observers = extras.observers;
   setup.sim_threads = extras.sim_threads;
-  t0 = std::chrono::steady_clock::now();
-  std::exception_ptr failure;
-  std::thread([&] {
+  if (plan.sampled) {  // the seams' warming needs each query's result count first
+    golden();
+    setup.sampling = &plan;
+    for (std::size_t q = 0; q < queries.size(); ++q)
+      setup.sampling_records.push_back(static_cast<std::uint32_t>(m.golden.results.count(q)));
+  }
+  // The simulation on a thread of its own (SystemC's stack switches confuse the sanitizers'
+  // view of the main thread); a full simulation's golden search meanwhile on this one.
+  std::exception_ptr sim_failure, golden_failure;
+  std::thread sim([&] {
     try {
+      const auto t0 = std::chrono::steady_clock::now();
       m.sim = simulate({setup}, extras.progress).front();
+      m.sim_seconds = seconds_since(t0);
     } catch (...) {
-      failure = std::current_exception();
+      sim_failure = std::current_exception();
     }
-  }).join();
-  if (failure) std::rethrow_exception(failure);
-  m.sim_seconds = seconds_since(t0);
+  });
+  if (!plan.sampled) {
+    try {
+      golden();
+    } catch (...) {
+      golden_failure = std::current_exception();
+    }
+  }
+  sim.join();
+  if (sim_failure) std::rethrow_exception(sim_failure);
+  if (golden_failure) std::rethrow_exception(golden_failure);
   if (!m.sim.error.empty()) throw std::invalid_argument(m.sim.error);
-  t0 = std::chrono::steady_clock::now();
-  if (m.sim.finished) m.verdict = check_against_golden(p.tree, queries, params, m.golden, m.sim.results, m.sim.visits);
+  if (!plan.sampled) m.sim.sampling = full_simulation_json(plan, m.sim.cycles);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (m.sim.finished) {
+    if (plan.sampled) {
+      m.verdict = check_against_golden(p.tree, stream, params, golden_of(m.golden, plan.stream), m.sim.results,
+                                       m.sim.visits, 5, &plan.stream);
+      merge_sample(m.golden, plan.stream, m.sim);
+    } else {
+      m.verdict = check_against_golden(p.tree, queries, params, m.golden, m.sim.results, m.sim.visits);
+    }
+  }
   m.check_seconds = seconds_since(t0);
   return m;
 }
@@ -126,6 +203,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   run.energy_pj = sim.energy.at("total").get<double>();
   run.visits = sim.visits.visits;
   r["cycles"] = sim.cycles;
+  r["cycles_ci95"] = sim.sampling["cycles_ci95"];
+  r["sampling"] = sim.sampling;
   r["top_height"] = p.tree.top_height;
   r["modeled_seconds"] = {
       {"search", run.search_seconds}, {"host", run.host_seconds}, {"total", run.search_seconds + run.host_seconds}};

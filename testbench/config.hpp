@@ -9,9 +9,9 @@
 //   {"fe": {"recursion_units": 32}, "sram": {"points": {"bytes": 2097152}}}
 // Keys left out keep their current value; unknown keys are an error. Integer keys take JSON
 // integers only (1.5 is an error), number keys take any number, bytes keys take whole numbers
-// >= 0, `tree.top_height` also takes "full" (stored as -1). A member whose name starts with "//"
-// is a comment and is ignored. presets/paper.json writes out every key (the paper's
-// configuration, equal to the defaults); `config_reference()` lists them with units and meaning.
+// >= 0, `tree.top_height` also takes "full" (stored as -1), `sim.sampling` "off" and "auto". A member whose name starts
+// with "//" is a comment and is ignored. presets/paper.json writes out every hardware key (the paper's configuration,
+// equal to the defaults); `config_reference()` lists them with units and meaning.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,7 +1,9 @@
 #include "scoreboard.hpp"
 
 #include <cstring>
+#include <exception>
 #include <sstream>
+#include <thread>
 
 namespace tigris {
 
@@ -83,9 +85,55 @@ std::string totals(const LeaderTotals& t) {
 
 }  // namespace
 
+SearchOutput golden_search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                           const Schedule* replay) {
+  const std::size_t half = queries.size() / 2;
+  if (params.approximate || half < 1024) return search(tree, queries, params, replay);
+  const PointCloud first(queries.begin(), queries.begin() + static_cast<std::ptrdiff_t>(half));
+  const PointCloud second(queries.begin() + static_cast<std::ptrdiff_t>(half), queries.end());
+  Schedule rows[2];
+  if (replay)
+    for (ScheduleEntry e : *replay) {
+      const bool later = e.query >= half;
+      if (later) e.query -= static_cast<std::uint32_t>(half);
+      rows[later].push_back(e);
+    }
+  SearchOutput a, b;
+  std::exception_ptr failure;
+  std::thread other([&] {
+    try {
+      a = search(tree, first, params, replay ? &rows[0] : nullptr);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  try {
+    b = search(tree, second, params, replay ? &rows[1] : nullptr);
+  } catch (...) {
+    other.join();
+    return search(tree, queries, params, replay);  // throws again, naming the job's own row and query
+  }
+  other.join();
+  if (failure) return search(tree, queries, params, replay);
+  for (std::size_t q = 0; q < second.size(); ++q) a.results.append_query(b.results.begin(q), b.results.end(q));
+  a.per_query.insert(a.per_query.end(), b.per_query.begin(), b.per_query.end());
+  for (const QueryVisits& v : b.per_query) a.visits.add(v);
+  a.leaders.leaders += b.leaders.leaders, a.leaders.followers += b.leaders.followers;
+  a.leaders.leader_buffer_full += b.leaders.leader_buffer_full;
+  if (replay) {
+    a.schedule = *replay;
+  } else {  // in query order, as one search records it
+    for (ScheduleEntry e : b.schedule) {
+      e.query += static_cast<std::uint32_t>(half);
+      a.schedule.push_back(e);
+    }
+  }
+  return a;
+}
+
 Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
                              const SearchOutput& golden, const Results& hw_results, const SearchOutput& hw_visits,
-                             std::size_t report_at_most) {
+                             std::size_t report_at_most, const std::vector<std::uint32_t>* ids) {
   Verdict v;
   const std::size_t nq = queries.size();
   if (hw_results.num_queries() != nq || hw_visits.per_query.size() != nq) {
@@ -98,7 +146,7 @@ Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, cons
   // made must be one the query's traversal expects, in a legal order.
   SearchOutput replay;
   try {
-    replay = search(tree, queries, params, &hw_visits.schedule);
+    replay = golden_search(tree, queries, params, &hw_visits.schedule);
   } catch (const ScheduleError& e) {
     v.match = false;
     v.first.push_back(std::string("the accelerator's schedule does not replay: ") + e.what());
@@ -123,7 +171,7 @@ Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, cons
     if (diff) ++v.result_mismatches;
     if (!visits_ok) ++v.visit_mismatches;
     if ((diff || !visits_ok) && v.first.size() < report_at_most)
-      v.first.push_back(describe(q, diff, ref.per_query[q], hw_visits.per_query[q], visits_ok));
+      v.first.push_back(describe(ids ? (*ids)[q] : q, diff, ref.per_query[q], hw_visits.per_query[q], visits_ok));
   }
   const LeaderTotals& g = ref.leaders;
   const LeaderTotals& h = hw_visits.leaders;

@@ -38,6 +38,12 @@ class VisitRecorder final : public hw::JobObserver, public hw::QueryHint {
   SearchOutput out_;
 };
 
+// The golden model's search (sw_ref search()), exact search on two host threads, half of the
+// queries each (its queries do not depend on each other); approximate search as one. The same
+// output either way (tests check). `replay`: the schedule to replay (see search()).
+SearchOutput golden_search(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
+                           const Schedule* replay = nullptr);
+
 struct Verdict {
   bool match = true;
   std::uint64_t result_mismatches = 0, visit_mismatches = 0;
@@ -47,8 +53,10 @@ struct Verdict {
 // Compares the accelerator's results and recorded visits with `golden` (the golden model's
 // search of `queries` in `tree` with `params`), then replays the recorded schedule through the
 // golden model: every visit must be one its traversal expects and the results must not change.
+// `ids` names the queries in the descriptions when they are a sample of a job's (sampled
+// simulation: query i is the job's query ids[i]).
 Verdict check_against_golden(const KdTree& tree, const PointCloud& queries, const SearchParams& params,
                              const SearchOutput& golden, const Results& hw_results, const SearchOutput& hw_visits,
-                             std::size_t report_at_most = 5);
+                             std::size_t report_at_most = 5, const std::vector<std::uint32_t>* ids = nullptr);
 
 }  // namespace tigris

@@ -26,6 +26,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     std::unique_ptr<VcdWriter> vcd;
     std::unique_ptr<VisitRecorder> recorder;
     std::unique_ptr<LatencyRecorder> latency;
+    std::unique_ptr<SampleController> windows;
   };
   std::vector<Bench> benches;
   std::vector<SimOutcome> out(setups.size());
@@ -53,6 +54,10 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
         o->runs.push_back({h->cycles(), h->results(), rec->visits(), run_stats_json(*a, h->cycles())});
       });
     }
+    if (s.sampling) {
+      b.windows = std::make_unique<SampleController>(*s.sampling, *b.accel, s.sampling_records);
+      b.accel->attach_observer(*b.windows);
+    }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);
     if (s.test_hook) s.test_hook(*b.accel);
     for (hw::JobObserver* o : s.observers) b.accel->attach_observer(*o);
@@ -65,7 +70,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
   }
   sc_core::sc_start();
   for (std::size_t i = 0; i < setups.size(); ++i) {
-    const hw::TigrisAccelerator& a = *benches[i].accel;
+    hw::TigrisAccelerator& a = *benches[i].accel;
     HostDriver& h = *benches[i].host;
     SimOutcome& o = out[i];
     o.finished = h.finished();
@@ -73,6 +78,8 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     if (!o.finished && o.error.empty()) o.deadlock = a.describe_state();
     o.results = h.take_results();
     o.cycles = h.cycles();
+    if (setups[i].sampling && o.finished && o.error.empty())
+      o.cycles = apply_estimate(*setups[i].sampling, *benches[i].windows, a, o.cycles, o.sampling);
     o.visits = benches[i].recorder->take_visits();
     nlohmann::json stats = run_stats_json(a, o.cycles);
     o.units = std::move(stats["units"]);

@@ -14,6 +14,7 @@
 #include "host_driver.hpp"
 #include "hw/config.hpp"
 #include "hw/top.hpp"
+#include "sampling.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
 #include "tlm/tree_image.hpp"
@@ -37,6 +38,9 @@ struct SimSetup {
   // Host threads for the simulation: 2 runs exact NN/kNN scans on a second thread
   // (hw/host/threaded_scans.hpp); the figures do not depend on it.
   int sim_threads = default_sim_threads();
+  // Sampled simulation: `queries` are the plan's stream, and the figures are the job's estimate.
+  const SamplingPlan* sampling = nullptr;
+  std::vector<std::uint32_t> sampling_records;  // ... and each job query's result records
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.
@@ -57,6 +61,7 @@ struct SimOutcome {
   // The stats JSON's `units`, `buffers`, `energy_pj`, `power_w`, `area_mm2`.
   nlohmann::json units, buffers, energy, power_w, area;
   nlohmann::json latency;       // `latency_cycles`: per query and per BQB wait
+  nlohmann::json sampling;      // sampled: the plan, the windows and the intervals (sampling.hpp)
   std::vector<RunRecord> runs;  // every run when the job ran more than once (job.runs > 1)
 };
 

@@ -172,7 +172,11 @@ def part_schema(d):
             stats_of(d, "approx", "--approx-thd", "default"),
             stats_of(d, "approx_radius", "--mode", "radius", "--approx-thd", "default"),
             stats_of(d, "files", "--cloud", cloud, "--queries", cloud, "--height", "6"),
-            stats_of(d, "cloud_alone", "--cloud", cloud, "--height", "6")]
+            stats_of(d, "cloud_alone", "--cloud", cloud, "--height", "6"),
+            # Sampled simulation: 315 kNN slots in flight leave the built-in job long enough to sample.
+            stats_of(d, "sampled", "--mode", "knn", "--k", "51", "--set", "sram.results.bytes=262144",
+                     "--set", "sim.sampling=auto")]
+    check(runs[-1]["sampling"]["sampled"], "the sampled run was sampled: " + str(runs[-1]["sampling"].get("why")))
     seen = set()
     for s in runs:
         # Per-bank statistics add up to their buffer's totals, one entry per configured bank.
@@ -180,11 +184,13 @@ def part_schema(d):
             if "banks" not in b:
                 continue
             acc, con = b["banks"]["accesses"], b["banks"]["conflict_cycles"]
+            # A sampled run's counters are estimates, each rounded on its own: within a count per bank.
+            slack = len(acc) if s["sampling"]["sampled"] else 0
             check(len(acc) == len(con) == s["config"]["sram"][name]["banks"],
                   f"buffers.{name}.banks has {len(acc)} entries for {s['config']['sram'][name]['banks']} banks")
-            check(sum(acc) == b["reads"] + b["writes"], f"buffers.{name}: banks.accesses sum to {sum(acc)}, "
+            check(abs(sum(acc) - b["reads"] - b["writes"]) <= slack, f"buffers.{name}: banks.accesses sum to {sum(acc)}, "
                   f"reads + writes {b['reads'] + b['writes']} ({s['command_line']})")
-            check(sum(con) == b["conflict_cycles"], f"buffers.{name}: banks.conflict_cycles sum to {sum(con)}, "
+            check(abs(sum(con) - b["conflict_cycles"]) <= slack, f"buffers.{name}: banks.conflict_cycles sum to {sum(con)}, "
                   f"conflict_cycles {b['conflict_cycles']} ({s['command_line']})")
         check(all(n in s["buffers"] and "banks" in s["buffers"][n] for n in ("points", "queries", "query_stack", "results")),
               f"every banked buffer has its banks ({s['command_line']})")

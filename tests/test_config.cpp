@@ -139,6 +139,8 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
       v = "every_leaf";
     else if (v == "wait")
       v = "finished_only";
+    else if (v == "off")
+      v = 0.5;
     else
       FAIL("no change for " << key);
   }
@@ -156,7 +158,7 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
   CHECK(same(again, cfg));
 }
 
-TEST_CASE("config: paper.json writes out every key and loads to exactly the defaults", "[config]") {
+TEST_CASE("config: paper.json writes out every hardware key and loads to exactly the defaults", "[config]") {
   AcceleratorConfig cfg;
   tigris::apply_setting(cfg, "be.issue_policy=mqmn");
   tigris::apply_config_file(cfg, paper_json());
@@ -167,8 +169,10 @@ TEST_CASE("config: paper.json writes out every key and loads to exactly the defa
   std::set<std::string> in_file;
   for (const auto& [k, v] : flat(file))
     if (k.rfind("//", 0) != 0) in_file.insert(k);
-  const auto keys = tigris::config_keys();
-  CHECK(in_file == std::set<std::string>(keys.begin(), keys.end()));
+  std::set<std::string> hardware;  // sim.* is how the simulator runs, chosen by the command
+  for (const auto& k : tigris::config_keys())
+    if (k.rfind("sim.", 0) != 0) hardware.insert(k);
+  CHECK(in_file == hardware);
 }
 
 TEST_CASE("config: a partial file changes only its keys and // members are comments", "[config]") {

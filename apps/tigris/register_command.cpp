@@ -218,8 +218,9 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "run --config; default: the built-in paper configuration)")
       ->transform(preset_or_file());
   app.add_option("--accel-set", o.accel_sets,
-                 "With --search accel*: set one accelerator key, e.g. --accel-set search_units=64 "
-                 "(repeatable; tigris run --list-config lists them)")
+                 "With --search accel*: set one accelerator key, e.g. --accel-set be.search_units=64 "
+                 "(repeatable; tigris run --list-config lists them); sim.sampling is auto here (jobs long enough "
+                 "are sampled, docs/sampling.md): --accel-set sim.sampling=off simulates every query")
       ->allow_extra_args(false);
   app.add_flag("--compare", o.compare,
                "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
@@ -303,6 +304,9 @@ hw::AcceleratorConfig check_register_flags(const CLI::App& app, const RegisterOp
                                 " picks lines of --kitti-poses, which is not given");
   // The accelerator in the loop: its configuration checked before any work.
   hw::AcceleratorConfig accel_cfg;
+  // Sampled where a job is long enough to gain (docs/sampling.md); --accel-set sim.sampling=off
+  // simulates every query.
+  accel_cfg.sim.sampling = hw::AcceleratorConfig::Sim::kAuto;
   if (!o.accel_config.empty()) apply_config_file(accel_cfg, o.accel_config);
   for (const std::string& s : o.accel_sets) apply_setting(accel_cfg, s, "--accel-set '" + s + "'");
   if (in_loop) validate_config(accel_cfg);

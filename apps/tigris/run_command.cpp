@@ -20,6 +20,7 @@
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
 #include "testbench/run_report.hpp"
+#include "testbench/sampling.hpp"
 #include "testbench/scoreboard.hpp"
 #include "testbench/simulation.hpp"
 #include "testbench/stat_formulas.hpp"
@@ -188,7 +189,9 @@ nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptio
   stats["command_line"] = o.search.command_line;
   stats["inputs"] = r.inputs;
   stats["workload"] = {{"cloud", r.w.cloud_name}, {"queries", r.w.queries_name}, {"points", r.w.cloud.size()}};
-  stats["cycles"] = m.sim.cycles;
+  stats["cycles"] = m.sim.cycles;  // sampled: the estimate (sampling says how it was made)
+  stats["cycles_ci95"] = m.sim.sampling["cycles_ci95"];
+  stats["sampling"] = m.sim.sampling;
   stats["queries"] = r.w.queries.size();
   stats["verdict"] = m.verdict.match ? "match" : "mismatch";
   stats["mismatches"] = {
@@ -226,6 +229,7 @@ void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions
   const SearchParams& params = r.params;
   const SearchOutput& hw_view = m.sim.visits;
   const auto& u = stats["units"];
+  const bool sampled = stats["sampling"]["sampled"].get<bool>();
   std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode), r.w.queries.size(),
               r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
   std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
@@ -233,8 +237,10 @@ void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions
               cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
               cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(), r.p.tree.top_height,
               r.p.tree.full_height, cfg.clock_mhz);
-  std::printf("  cycles  %llu (%.3f ms at %.0f MHz); lower bound %.0f\n", static_cast<unsigned long long>(m.sim.cycles),
-              stats["seconds"].get<double>() * 1e3, cfg.clock_mhz, stats["lower_bound_cycles"].get<double>());
+  std::printf("  cycles  %s%llu (%.3f ms at %.0f MHz); lower bound %.0f\n", sampled ? "~" : "",
+              static_cast<unsigned long long>(m.sim.cycles), stats["seconds"].get<double>() * 1e3, cfg.clock_mhz,
+              stats["lower_bound_cycles"].get<double>());
+  std::fputs(sampling_summary(stats["sampling"]).c_str(), stdout);
   std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
   std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
               100 * u["recursion_units"]["utilization"].get<double>(),

@@ -56,6 +56,7 @@ class ResultBuffer : public sc_core::sc_module {
     return writeback_.write(now, records, n);
   }
   std::uint64_t drained_cycle() const { return writeback_.drained_cycle(); }  // last byte in DRAM
+  ResultWriteback& writeback() { return writeback_; }
   void attach_waves(Probe& backlog) { writeback_.attach_waves(backlog); }
   std::uint64_t streamed_bytes() const { return writeback_.bytes(); }
   LeaderStaging& leader_staging() { return staging_; }  // first_leaf leaders' lists in the making

@@ -64,6 +64,15 @@ std::uint64_t ResultWriteback::drained_cycle() const {
   return origin_ + static_cast<std::uint64_t>(std::ceil(drain_free_)) + latency;
 }
 
+double ResultWriteback::backlog_bytes(std::uint64_t now) const {
+  return std::max(0.0, drain_free_ - static_cast<double>(now - origin_)) * config_.bytes_per_cycle;
+}
+
+void ResultWriteback::set_backlog(std::uint64_t now, double bytes) {
+  const double b = std::clamp(bytes, 0.0, static_cast<double>(buffer_bytes_));
+  drain_free_ = static_cast<double>(now - origin_) + b / config_.bytes_per_cycle;
+}
+
 void ResultWriteback::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
   const std::uint64_t addr = trans.get_address(), len = trans.get_data_length();
   if (trans.get_command() != tlm::TLM_READ_COMMAND) {

@@ -39,6 +39,11 @@ class ResultWriteback : public sc_core::sc_module {
   std::uint64_t transfer(std::uint64_t now, std::uint64_t bytes, bool write);
   // The cycle the last accepted byte reaches DRAM.
   std::uint64_t drained_cycle() const;
+  // Sampled simulation's functional warming (testbench/sampling.hpp): the bytes waiting in the
+  // stream buffer at cycle `now`, set to what the queries it skipped would have left there.
+  double backlog_bytes(std::uint64_t now) const;
+  void set_backlog(std::uint64_t now, double bytes);
+  std::uint64_t buffer_bytes() const { return buffer_bytes_; }
   std::uint64_t bytes() const { return region_.size(); }
   StatGroup& stats() { return stats_; }
   // The bytes waiting in the stream buffer, traced at every write.
