@@ -50,13 +50,15 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
       for (const auto& n : names)
         if (text == n.name) return text;
       // Decimal numbers only: strtod would also take hex ("0x10"), "inf" and "nan".
-      if (text.find_first_not_of("0123456789.eE+-") != std::string::npos) return fail("a decimal number");
+      std::string number = "a decimal number";
+      for (const auto& n : names) number += " or '" + n.name + "'";
+      if (text.find_first_not_of("0123456789.eE+-") != std::string::npos) return fail(number);
       char* end = nullptr;
       errno = 0;
       const double x =
           text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ? 0.0 : std::strtod(first, &end);
       // ERANGE on underflow still gives the nearest number (a denormal, or 0): the range decides.
-      if (end != last || (errno == ERANGE && std::abs(x) == HUGE_VAL)) return fail("a number");
+      if (end != last || (errno == ERANGE && std::abs(x) == HUGE_VAL)) return fail(number);
       return x;
     }
     case Type::Integer:

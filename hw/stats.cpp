@@ -26,27 +26,28 @@ void StatGroup::reset() {
 
 template <class F>
 void StatGroup::walk_values(F&& f) const {
-  for (Counter* c : counters_) f(c->value_, c->merge() == Counter::Merge::Max);
+  const auto kind = [](const std::string& unit) { return unit == "cycles" ? ValueKind::Cycles : ValueKind::Sum; };
+  for (Counter* c : counters_) f(c->value_, c->merge() == Counter::Merge::Max ? ValueKind::Maximum : kind(c->unit()));
   for (CounterArray* a : arrays_)
-    for (std::uint64_t& x : a->values_) f(x, false);
+    for (std::uint64_t& x : a->values_) f(x, kind(a->unit()));
   for (const StatGroup* g : children_) g->walk_values(f);
 }
 
 std::vector<std::uint64_t> StatGroup::values() const {
   std::vector<std::uint64_t> out;
-  walk_values([&](std::uint64_t x, bool) { out.push_back(x); });
+  walk_values([&](std::uint64_t x, ValueKind) { out.push_back(x); });
   return out;
 }
 
 void StatGroup::set_values(const std::vector<std::uint64_t>& values) {
   std::size_t i = 0;
-  walk_values([&](std::uint64_t& x, bool) { x = values.at(i++); });
+  walk_values([&](std::uint64_t& x, ValueKind) { x = values.at(i++); });
   if (i != values.size()) throw std::logic_error("StatGroup::set_values: the snapshot is of another tree");
 }
 
-std::vector<bool> StatGroup::maxima() const {
-  std::vector<bool> out;
-  walk_values([&](std::uint64_t, bool max) { out.push_back(max); });
+std::vector<StatGroup::ValueKind> StatGroup::value_kinds() const {
+  std::vector<ValueKind> out;
+  walk_values([&](std::uint64_t, ValueKind k) { out.push_back(k); });
   return out;
 }
 

@@ -45,8 +45,10 @@ class StatGroup {
   // simulation differences two), and the same list written back.
   std::vector<std::uint64_t> values() const;
   void set_values(const std::vector<std::uint64_t>& values);
-  // Per entry of values(): true for a maximum (Counter::Merge::Max), which is not a sum of work.
-  std::vector<bool> maxima() const;
+  // Per entry of values(): a maximum (Counter::Merge::Max, not a sum of work), cycles (busy or
+  // stall time), or another sum (events, bytes).
+  enum class ValueKind : char { Maximum, Cycles, Sum };
+  std::vector<ValueKind> value_kinds() const;
   // The counters of `groups` merged name by name (summed, or the maximum for maxima; arrays
   // summed element by element).
   static nlohmann::json sum(const std::vector<const StatGroup*>& groups);
@@ -54,7 +56,7 @@ class StatGroup {
  private:
   friend class Counter;
   friend class CounterArray;
-  // Calls f(value&, is_maximum) on every counter and array element here and below, in walk order.
+  // Calls f(value&, kind) on every counter and array element here and below, in walk order.
   template <class F>
   void walk_values(F&& f) const;
   std::string name_, kind_, description_;

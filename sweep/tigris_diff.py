@@ -7,8 +7,9 @@ Printed in this order:
 
   runs           each run's command line and inputs (path and SHA-256, or the built-in workload)
   configuration  every configuration key whose value differs
-  headline       cycles, time, energy and its split, power, area, utilizations, the bound, stalls
-                 by cause (share of the unit kind's cycles), traffic by buffer, visits, accuracy;
+  headline       cycles (sampled: their 95% interval and the queries simulated), time, energy and
+                 its split, power, area, utilizations, the bound, stalls by cause (share of the
+                 unit kind's cycles), traffic by buffer, visits, accuracy;
                  side by side, each with its ratio to the first run
   other          every other leaf that differs (the first 40; --all: all of them, per-unit ones too)
 
@@ -112,7 +113,7 @@ def trace_rows(docs):
     rows = [("cycles", "cycles", "total.cycles", 1), ("energy", "uJ", "total.energy_pj", 1e-6),
             ("modeled search time", "ms", "total.modeled_search_seconds", 1e3),
             ("modeled host time", "ms", "total.modeled_host_seconds", 1e3),
-            ("jobs", "", "total.jobs", 1), ("queries", "", "total.queries", 1),
+            ("jobs", "", "total.jobs", 1), ("  sampled", "", "sampled_jobs", 1), ("queries", "", "total.queries", 1),
             ("  differing from recorded", "", "total.queries_differing_from_recorded", 1),
             ("end-to-end speed-up", "x", "end_to_end.speedup", 1),
             ("KD-tree speed-up", "x", "end_to_end.kdtree_speedup", 1),
@@ -132,7 +133,8 @@ def headline(docs, kind="run"):
     reading order, for those that any of the runs has. `path`: the stats leaf shown."""
     if kind == "trace":
         return rows_of(docs, trace_rows(docs))
-    rows = [("cycles", "cycles", "cycles", 1), ("time", "ms", "seconds", 1e3),
+    rows = [("cycles", "cycles", "cycles", 1), ("  95% interval", "", "cycles_ci95", interval),
+            ("  simulated", "", "sampling.simulated", simulated), ("time", "ms", "seconds", 1e3),
             ("lower bound", "cycles", "lower_bound_cycles", 1), ("energy", "uJ", "energy_pj.total", 1e-6)]
     for part in ("pe", "ru", "sram_read", "sram_write", "node_cache", "leader_buffer", "dram", "leakage"):
         rows.append((f"  energy {part}", "uJ", f"energy_pj.{part}", 1e-6))
@@ -171,6 +173,27 @@ def rows_of(docs, rows):
             out.append({"name": label.strip(), "label": label, "unit": unit, "path": path, "values": vals,
                         "ratios": ratios(vals)})
     return out
+
+
+def interval(d):
+    """A sampled run's cycles interval as text; `exact` when every query was simulated."""
+    ci, sm = get(d, "cycles_ci95"), get(d, "sampling")
+    if not isinstance(ci, list) or len(ci) != 2 or not isinstance(sm, dict):
+        return None  # a run of an older tigris
+    if not sm.get("sampled"):
+        return "exact"
+    lo, hi = ci
+    c = get(d, "cycles")
+    half = f" (+-{100 * (hi - lo) / 2 / c:.2f}%)" if is_num(c) and c else ""
+    return f"[{lo:,.0f}, {hi:,.0f}]{half}"
+
+
+def simulated(d):
+    """How many of the queries were simulated (sampled simulation), as text."""
+    sm = get(d, "sampling")
+    if not isinstance(sm, dict) or "simulated" not in sm:
+        return None
+    return f"{sm['simulated']:,} of {sm.get('queries', 0):,}" + (" (sampled)" if sm.get("sampled") else "")
 
 
 def scale(v, f):

@@ -82,7 +82,8 @@ class Command:
 COMMANDS = {
     "run": Command("run", "stats.json", ("cloud", "queries", "config"), (), ("cloud", "queries", "mode"),
                    "cloud", "run", [
-                       "cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
+                       "cycles", "sampling.sampled", "sampling.simulated", "sampling.relative_half_width",
+                       "seconds", "energy_pj.total", "power_w", "area_mm2.total",
                        "units.recursion_units.utilization", "units.search_units.utilization",
                        "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause",
                        "bottleneck.share", "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction",
@@ -95,7 +96,7 @@ COMMANDS = {
                         ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
                         ("source", "target", "preset", "search"), "source", "register", [
                             "error.translation_m", "error.rotation_deg", "seconds", "kdtree_seconds",
-                            "kdtree_share", "kdtree_work.distances_and_neighbors"],
+                            "kdtree_share", "kdtree_work.distances_and_neighbors", "accelerator.sampled_jobs"],
                         ("stages.{key}", ("seconds", "search_seconds", "searches"))),
     "odometry": Command("odometry", "metrics.json", ("config", "accel-config"), ("sequence",),
                         ("sequence", "preset", "search"), "sequence", "register", [
@@ -786,7 +787,8 @@ def collect_command(out):
 SUMMARY_ROWS = 40
 # The summary table's columns after the swept keys and status: (title, column, scale, format).
 SUMMARY = {
-    "run": [("cycles", "cycles", 1, "{:,.0f}"), ("time ms", "seconds", 1e3, "{:.3g}"),
+    "run": [("cycles", "cycles", 1, "{:,.0f}"), ("+-% (sampled)", "sampling.relative_half_width", 100, "{:.2f}"),
+            ("time ms", "seconds", 1e3, "{:.3g}"),
             ("energy uJ", "energy_pj.total", 1e-6, "{:.3g}"), ("power W", "power_w", 1, "{:.3g}"),
             ("RU%", "units.recursion_units.utilization", 100, "{:.0f}"),
             ("SU%", "units.search_units.utilization", 100, "{:.0f}"),

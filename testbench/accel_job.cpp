@@ -119,8 +119,12 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
   if (plan.sampled) {  // the seams' warming needs each query's result count first
     golden();
     setup.sampling = &plan;
-    for (std::size_t q = 0; q < queries.size(); ++q)
-      setup.sampling_records.push_back(static_cast<std::uint32_t>(m.golden.results.count(q)));
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const QueryVisits& v = m.golden.per_query[q];
+      setup.sampling_work.records.push_back(static_cast<std::uint32_t>(m.golden.results.count(q)));
+      setup.sampling_work.leaf_points.push_back(v.leaf_points);
+      setup.sampling_work.top_nodes.push_back(v.top + v.pruned);
+    }
   }
   // The simulation on a thread of its own (SystemC's stack switches confuse the sanitizers'
   // view of the main thread); a full simulation's golden search meanwhile on this one.

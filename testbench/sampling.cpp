@@ -99,9 +99,8 @@ SamplingPlan plan_sampling(const hw::AcceleratorConfig::Sim& sim, std::uint32_t 
   return p;
 }
 
-SampleController::SampleController(const SamplingPlan& plan, hw::TigrisAccelerator& accel,
-                                   std::vector<std::uint32_t> records)
-    : plan_(plan), accel_(accel), records_(std::move(records)) {
+SampleController::SampleController(const SamplingPlan& plan, hw::TigrisAccelerator& accel, QueryWork work)
+    : plan_(plan), accel_(accel), work_(std::move(work)) {
   for (const auto& w : plan.windows) {
     marks_.push_back(w.from);
     marks_.push_back(w.to);
@@ -116,14 +115,18 @@ void SampleController::query_admitted(std::uint32_t query, std::uint64_t cycle) 
 
 void SampleController::warm_writeback(std::size_t window, std::uint64_t cycle) {
   const SamplingPlan::Window& w = plan_.windows[window];
+  // The skipped queries' own pace, unthrottled: a window held back by the write-back runs at its
+  // results' pace, not at theirs; the fastest window so far is the best guess at what the units
+  // do when nothing holds them (a full stream buffer then holds them as in a full simulation).
   const double pace = static_cast<double>(cycle - snaps_[2 * window].cycle) / (w.to - w.from);  // cycles/query
+  fastest_ = window == 0 ? pace : std::min(fastest_, pace);
   hw::ResultWriteback& wb = accel_.writeback();
-  const double drained = accel_.config().dram.bytes_per_cycle * pace;  // bytes per skipped query
+  const double drained = accel_.config().dram.bytes_per_cycle * fastest_;  // bytes per skipped query
   const double cap = static_cast<double>(wb.buffer_bytes());
   double backlog = wb.backlog_bytes(cycle);
   // The skipped queries lie between the window's last query and the next stretch's first.
   for (std::uint32_t q = plan_.stream[w.to - 1] + 1; q < plan_.stream[w.to]; ++q)
-    backlog = std::clamp(backlog + records_[q] * double{sizeof(tlm_if::ResultRecord)} - drained, 0.0, cap);
+    backlog = std::clamp(backlog + work_.records[q] * double{sizeof(tlm_if::ResultRecord)} - drained, 0.0, cap);
   wb.set_backlog(cycle, backlog);
 }
 
@@ -149,54 +152,128 @@ RatioEstimate ratio_estimate(const std::vector<double>& y, const std::vector<dou
   return e;
 }
 
+namespace {
+
+using ValueKind = hw::StatGroup::ValueKind;
+
+// The stream between fill and drain as segments: segment k runs from window k's first admission
+// to window k+1's (the last: to the drain's), seams included. With every slot taken, its
+// admissions follow the completions of the queries `in_flight` positions earlier, so its
+// auxiliary totals are those queries'.
+struct Segments {
+  std::vector<double> cycles, per_query;
+  std::vector<std::vector<std::uint64_t>> grown;  // the statistics' growth, per segment
+  std::vector<std::string> aux_names;
+  std::vector<std::vector<double>> aux;  // [candidate][segment]
+  std::vector<double> aux_job;           // [candidate]: the job's queries between fill and drain
+};
+
+std::vector<std::uint64_t> growth(const std::vector<std::uint64_t>& a, const std::vector<std::uint64_t>& b,
+                                  const std::vector<ValueKind>& kinds) {
+  std::vector<std::uint64_t> d(a.size());
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = kinds[i] == ValueKind::Maximum ? 0 : b[i] - std::min(a[i], b[i]);
+  return d;
+}
+
+Segments measure(const SamplingPlan& plan, const SampleController& control, const std::vector<ValueKind>& kinds) {
+  const auto& s = control.snapshots();
+  const std::size_t n = plan.windows.size();
+  const std::uint32_t band = plan.in_flight;
+  const QueryWork& w = control.work();
+  const std::pair<const char*, const std::vector<std::uint32_t>*> candidates[] = {{"queries", nullptr},
+                                                                                  {"result_records", &w.records},
+                                                                                  {"leaf_points", &w.leaf_points},
+                                                                                  {"top_nodes", &w.top_nodes}};
+  Segments seg;
+  std::vector<std::uint32_t> from, to;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t a = 2 * k, b = k + 1 < n ? 2 * k + 2 : 2 * k + 1;
+    from.push_back(plan.windows[k].from);
+    to.push_back(k + 1 < n ? plan.windows[k + 1].from : plan.windows[k].to);
+    seg.cycles.push_back(static_cast<double>(s[b].cycle - s[a].cycle));
+    seg.per_query.push_back(seg.cycles.back() / (to.back() - from.back()));
+    seg.grown.push_back(growth(s[a].values, s[b].values, kinds));
+  }
+  for (const auto& [name, x] : candidates) {
+    const auto total = [x = x](auto id, std::uint32_t lo, std::uint32_t hi) {
+      double t = 0;
+      for (std::uint32_t i = lo; i < hi; ++i) t += x ? (*x)[id(i)] : 1.0;
+      return t;
+    };
+    std::vector<double> per_segment;
+    for (std::size_t k = 0; k < n; ++k)
+      per_segment.push_back(total([&](std::uint32_t i) { return plan.stream[i]; }, from[k] - band, to[k] - band));
+    seg.aux_names.push_back(name);
+    seg.aux.push_back(per_segment);
+    seg.aux_job.push_back(total([](std::uint32_t i) { return i; }, plan.fill - band, plan.queries - plan.drain - band));
+  }
+  return seg;
+}
+
+// The auxiliary that gives y the narrowest interval, and y's ratio to it.
+struct Choice {
+  std::size_t aux = 0;
+  RatioEstimate r;
+  double total = 0, half = 0;  // the job's queries between fill and drain: y's estimate, its half width
+};
+
+Choice best_ratio(const std::vector<double>& y, const Segments& seg) {
+  Choice best;
+  best.half = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < seg.aux.size(); ++c) {
+    const RatioEstimate r = ratio_estimate(y, seg.aux[c]);
+    if (r.ratio < 0 || r.half * seg.aux_job[c] >= best.half) continue;
+    best = {c, r, r.ratio * seg.aux_job[c], r.half * seg.aux_job[c]};
+  }
+  if (!std::isfinite(best.half)) best.half = 0;  // y grew nowhere: nothing to estimate
+  return best;
+}
+
+}  // namespace
+
 std::uint64_t apply_estimate(const SamplingPlan& plan, const SampleController& control, hw::TigrisAccelerator& accel,
                              std::uint64_t stream_cycles, nlohmann::json& report) {
   const auto& s = control.snapshots();
-  const std::size_t n = plan.windows.size();
-  if (s.size() != 2 * n) throw std::logic_error("sampled simulation: a window was not measured");
+  if (s.size() != 2 * plan.windows.size()) throw std::logic_error("sampled simulation: a window was not measured");
   const hw::AcceleratorConfig& cfg = accel.config();
   const std::vector<std::uint64_t> last = accel.stats().values();
-  const std::vector<bool> maxima = accel.stats().maxima();
-  const auto energy = [&](const std::vector<std::uint64_t>& v, std::uint64_t cycles) {
+  const std::vector<ValueKind> kinds = accel.stats().value_kinds();
+  const auto energy = [&](const std::vector<std::uint64_t>& v, double cycles) {
     accel.set_stat_values(v);
-    return accel.energy_pj(hw::leakage_pj(cfg, cycles)).at("total").get<double>();
+    return accel.energy_pj(hw::leakage_pj(cfg, static_cast<std::uint64_t>(cycles))).at("total").get<double>();
   };
-  const auto grown = [&](const std::vector<std::uint64_t>& a, const std::vector<std::uint64_t>& b) {
-    std::vector<std::uint64_t> d(a.size());
-    for (std::size_t i = 0; i < d.size(); ++i) d[i] = maxima[i] ? 0 : b[i] - std::min(a[i], b[i]);
-    return d;
-  };
-  // Segment k runs from window k's first admission to window k+1's (the last: to the drain's),
-  // so the segments cover the stream between fill and drain, seams included.
-  std::vector<double> queries, cycles_of, energy_of, per_query;
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t a = 2 * k, b = k + 1 < n ? 2 * k + 2 : 2 * k + 1;
-    const std::uint32_t to = k + 1 < n ? plan.windows[k + 1].from : plan.windows[k].to;
-    const std::uint64_t c = s[b].cycle - s[a].cycle;
-    queries.push_back(to - plan.windows[k].from);
-    cycles_of.push_back(static_cast<double>(c));
-    energy_of.push_back(energy(grown(s[a].values, s[b].values), c));
-    per_query.push_back(cycles_of.back() / queries.back());
-  }
-  const RatioEstimate rate = ratio_estimate(cycles_of, queries), joules = ratio_estimate(energy_of, queries);
-  const double mid = plan.queries - plan.fill - plan.drain;  // the job's queries between fill and drain
-  double stream_mid = 0;
-  for (double q : queries) stream_mid += q;
+  const Segments seg = measure(plan, control, kinds);
+  const Choice time = best_ratio(seg.cycles, seg);
   const std::uint64_t fill_cycles = s.front().cycle - accel.start_cycle();
   const std::uint64_t drain_cycles = accel.start_cycle() + stream_cycles - s.back().cycle;
   const auto cycles =
-      static_cast<std::uint64_t>(std::llround(static_cast<double>(fill_cycles + drain_cycles) + mid * rate.ratio));
+      static_cast<std::uint64_t>(std::llround(static_cast<double>(fill_cycles + drain_cycles) + time.total));
 
-  // The counters: fill and drain as simulated, the stream between them scaled to the job's.
+  // The counters: fill and drain as simulated, the queries between by their own best ratio;
+  // busy and stall cycles by the cycles' ratio, so that shares of the cycles stay consistent.
   std::vector<std::uint64_t> est(last.size());
-  const std::vector<std::uint64_t> between = grown(s.front().values, s.back().values);
-  for (std::size_t i = 0; i < est.size(); ++i)
-    est[i] = maxima[i] ? last[i]
-                       : static_cast<std::uint64_t>(std::llround(static_cast<double>(last[i] - between[i]) +
-                                                                 static_cast<double>(between[i]) * mid / stream_mid));
-  const double energy_total = energy(est, cycles);  // leaves the estimate in the statistics
+  const std::vector<std::uint64_t> between = growth(s.front().values, s.back().values, kinds);
+  std::vector<double> y(seg.cycles.size());
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    if (kinds[i] == ValueKind::Maximum) {
+      est[i] = last[i];
+      continue;
+    }
+    for (std::size_t k = 0; k < y.size(); ++k) y[k] = static_cast<double>(seg.grown[k][i]);
+    const Choice c = kinds[i] == ValueKind::Cycles ? Choice{time.aux, ratio_estimate(y, seg.aux[time.aux]), 0, 0}
+                                                   : best_ratio(y, seg);
+    const double scaled = c.r.ratio * seg.aux_job[c.aux];
+    est[i] = static_cast<std::uint64_t>(std::llround(static_cast<double>(last[i] - between[i]) + scaled));
+  }
+  std::vector<double> joules;
+  for (std::size_t k = 0; k < seg.cycles.size(); ++k) joules.push_back(energy(seg.grown[k], seg.cycles[k]));
+  const double e_half = best_ratio(joules, seg).half;
+  const double energy_total = energy(est, static_cast<double>(cycles));  // leaves the estimate in the statistics
+  const double c_half = time.half;
+  const std::size_t n = plan.windows.size();
+  const std::vector<double>& per_query = seg.per_query;
+  const std::string aux = seg.aux_names[time.aux];
 
-  const double c_half = mid * rate.half, e_half = mid * joules.half;
   nlohmann::json& j = report;
   j["requested"] = sampling_setting(plan.requested);
   j["sampled"] = true;
@@ -213,6 +290,7 @@ std::uint64_t apply_estimate(const SamplingPlan& plan, const SampleController& c
   j["fill_cycles"] = fill_cycles;
   j["drain_cycles"] = drain_cycles;
   j["segment_cycles_per_query"] = per_query;
+  j["auxiliary"] = aux;
   j["cycles_ci95"] = {std::max(0.0, static_cast<double>(cycles) - c_half), static_cast<double>(cycles) + c_half};
   j["energy_pj_ci95"] = {std::max(0.0, energy_total - e_half), energy_total + e_half};
   j["relative_half_width"] = cycles ? c_half / static_cast<double>(cycles) : 0.0;
@@ -239,9 +317,11 @@ nlohmann::json full_simulation_json(const SamplingPlan& plan, std::uint64_t cycl
           {"sampled", false},
           {"why", plan.why},
           {"queries", plan.queries},
+          {"in_flight", plan.in_flight},
           {"simulated", plan.queries},
           {"checked", plan.queries},
-          {"cycles_ci95", {cycles, cycles}}};
+          {"cycles_ci95", {cycles, cycles}},
+          {"relative_half_width", 0.0}};
 }
 
 }  // namespace tigris

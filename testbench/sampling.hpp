@@ -44,6 +44,12 @@ struct SamplingPlan {
 SamplingPlan plan_sampling(const hw::AcceleratorConfig::Sim& sim, std::uint32_t queries, std::uint32_t in_flight,
                            bool approximate);
 
+// What the golden model counted per query of the job: the auxiliary variables of the estimate
+// and the result records that warm the write-back.
+struct QueryWork {
+  std::vector<std::uint32_t> records, leaf_points, top_nodes;
+};
+
 // A ratio estimator (Cochran, Sampling Techniques, 6.3): sum y / sum x over the segments, and
 // the 95% half width of that ratio from the successive differences of their residuals
 // (Student's t, n - 1 degrees of freedom).
@@ -55,12 +61,11 @@ RatioEstimate ratio_estimate(const std::vector<double>& y, const std::vector<dou
 // The sampled run's controller, an observer of admissions: snapshots of the statistics at the
 // admissions that bound the windows, and functional warming at each seam of the stream: the
 // result write-back's backlog is set to what the skipped queries would have left in the stream
-// buffer (their result records, from the golden model, arriving at the last window's pace and
+// buffer (their result records, from the golden model, arriving at the fastest window's pace and
 // draining at the DRAM bandwidth), since a window's results alone fill little of that buffer.
 class SampleController final : public hw::JobObserver {
  public:
-  // `records[q]`: the result records job query q streams to DRAM (the golden model's count).
-  SampleController(const SamplingPlan& plan, hw::TigrisAccelerator& accel, std::vector<std::uint32_t> records);
+  SampleController(const SamplingPlan& plan, hw::TigrisAccelerator& accel, QueryWork work);
   void query_admitted(std::uint32_t query, std::uint64_t cycle) override;
   struct Snapshot {
     std::uint64_t cycle = 0;
@@ -68,14 +73,16 @@ class SampleController final : public hw::JobObserver {
   };
   // Two per window, in stream order: at its first query's admission and at the next stretch's.
   const std::vector<Snapshot>& snapshots() const { return snaps_; }
+  const QueryWork& work() const { return work_; }
 
  private:
   void warm_writeback(std::size_t window, std::uint64_t cycle);
   const SamplingPlan& plan_;
   hw::TigrisAccelerator& accel_;
-  std::vector<std::uint32_t> records_;
+  QueryWork work_;
   std::vector<std::uint32_t> marks_;  // stream positions, ascending
   std::vector<Snapshot> snaps_;
+  double fastest_ = 0;  // the fewest cycles per query of a window so far
 };
 
 // After the stream's run of `stream_cycles`: writes the job's estimate over the accelerator's

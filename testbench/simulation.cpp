@@ -55,7 +55,7 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
       });
     }
     if (s.sampling) {
-      b.windows = std::make_unique<SampleController>(*s.sampling, *b.accel, s.sampling_records);
+      b.windows = std::make_unique<SampleController>(*s.sampling, *b.accel, s.sampling_work);
       b.accel->attach_observer(*b.windows);
     }
     if (progress && setups.size() == 1) b.accel->set_progress(progress);

@@ -40,7 +40,7 @@ struct SimSetup {
   int sim_threads = default_sim_threads();
   // Sampled simulation: `queries` are the plan's stream, and the figures are the job's estimate.
   const SamplingPlan* sampling = nullptr;
-  std::vector<std::uint32_t> sampling_records;  // ... and each job query's result records
+  QueryWork sampling_work;  // ... and what the golden model counted per job query
 };
 
 // What one run of a job left: its cycles, results, recorded visits and stats JSON.

@@ -104,7 +104,11 @@ const std::vector<Row>& run_fields() {
       {"sampling.segment_cycles_per_query[]", "cycles",
        "sampled: cycles per query of each segment of the stream (a window and the next one's warming)"},
       {"sampling.energy_pj_ci95[]", "pJ", "sampled: 95% confidence interval of `energy_pj.total`"},
-      {"sampling.relative_half_width", "fraction", "sampled: the cycles interval's half width over `cycles`"},
+      {"sampling.auxiliary", "text",
+       "sampled: what the stream's cycles are scaled by to the job's: `queries`, or the golden model's "
+       "`result_records`, `leaf_points` or `top_nodes` of the queries, whichever gives the narrowest interval"},
+      {"sampling.relative_half_width", "fraction",
+       "the cycles interval's half width over `cycles` (0 when every query was simulated)"},
       {"verdict", "text", "`match` (every query's results and visit counts equal the golden model's) or `mismatch`"},
       {"mismatches.results", "count", "queries whose results differ from the golden model's"},
       {"mismatches.visits", "count", "queries whose visit counts differ from the golden model's"},

@@ -281,6 +281,7 @@ int run_compare(const OdometryOptions& o, const std::vector<std::string>& flags,
 struct PairTotals {
   double seconds = 0, kd = 0, modeled_e2e = 0, modeled_kd = 0, energy = 0;
   std::size_t not_converged = 0;
+  std::uint64_t jobs = 0, sampled_jobs = 0;  // accelerator jobs, and those sampled (estimated figures)
 };
 
 // One odometry of one back-end, its steps in the order run() takes them; the members are what
@@ -542,9 +543,13 @@ void OdometryRun::add_pair(std::size_t k, std::ostringstream& csv) {
     sum.modeled_kd += a.at("modeled_kdtree_seconds").get<double>();
     sum.modeled_e2e += a.at("modeled_end_to_end_seconds").get<double>();
     sum.energy += a.at("kdtree_energy_pj").get<double>();
-    std::snprintf(line, sizeof line, ",%.6g,%.6g,%.6g,%llu", a.at("modeled_kdtree_seconds").get<double>(),
+    const std::uint64_t sampled = a.value("sampled_jobs", std::uint64_t{0});  // none before sampling existed
+    sum.jobs += a.value("jobs", std::uint64_t{0});
+    sum.sampled_jobs += sampled;
+    std::snprintf(line, sizeof line, ",%.6g,%.6g,%.6g,%llu,%llu", a.at("modeled_kdtree_seconds").get<double>(),
                   a.at("modeled_end_to_end_seconds").get<double>(), a.at("kdtree_energy_pj").get<double>(),
-                  static_cast<unsigned long long>(a.at("fallback_searches").get<std::uint64_t>()));
+                  static_cast<unsigned long long>(a.at("fallback_searches").get<std::uint64_t>()),
+                  static_cast<unsigned long long>(sampled));
     csv << line;
   }
   csv << '\n';
@@ -556,7 +561,8 @@ void OdometryRun::write_pairs_csv() {
   accel = o.search == "accel" || o.search == "accel-approx";
   std::ostringstream csv;
   csv << "pair,source,target,status,seconds,kdtree_seconds,kdtree_share,searches,rpe_translation_m,rpe_rotation_deg";
-  if (accel) csv << ",modeled_kdtree_seconds,modeled_end_to_end_seconds,kdtree_energy_pj,fallback_searches";
+  if (accel)
+    csv << ",modeled_kdtree_seconds,modeled_end_to_end_seconds,kdtree_energy_pj,fallback_searches,sampled_jobs";
   csv << '\n';
   for (std::size_t k = 0; k < pairs; ++k) {
     try {  // a hand-edited report: the error names its file
@@ -640,6 +646,8 @@ void OdometryRun::write_metrics() {
     m["accelerator"] = {{"modeled_kdtree_seconds", sum.modeled_kd},
                         {"modeled_end_to_end_seconds", sum.modeled_e2e},
                         {"kdtree_energy_pj", sum.energy},
+                        {"jobs", sum.jobs},
+                        {"sampled_jobs", sum.sampled_jobs},  // their figures estimated (docs/sampling.md)
                         {"per_pair_mean",
                          {{"modeled_kdtree_seconds", sum.modeled_kd / pairs},
                           {"modeled_end_to_end_seconds", sum.modeled_e2e / pairs},

@@ -19,6 +19,7 @@
 #include "testbench/presets.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
+#include "testbench/sampling.hpp"
 #include "testbench/simulation.hpp"
 #include "traces/workload_trace.hpp"
 #include "workloads/io/cloud_io.hpp"
@@ -384,11 +385,16 @@ std::string injection_text(const registration::PipelineConfig& config) {
 ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep,
                            const std::string& stage) {
   const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
-  std::fprintf(stderr,
-               "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %.3g ms modeled, %.1f s "
-               "simulated\n",
-               stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
-               job.points->size(), rep.value("verdict", "?").c_str(), 1e3 * modeled, rep.value("wall_seconds", 0.0));
+  const nlohmann::json sampling = rep.value("sampling", nlohmann::json::object());
+  const bool sampled = sampling.value("sampled", false);
+  std::fprintf(
+      stderr,
+      "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %s%.3g ms modeled, %.1f s "
+      "simulated%s\n",
+      stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
+      job.points->size(), rep.value("verdict", "?").c_str(), sampled ? "~" : "", 1e3 * modeled,
+      rep.value("wall_seconds", 0.0),
+      sampled ? (" (sampled: " + std::to_string(sampling.value("simulated", 0)) + " queries simulated)").c_str() : "");
   ordered_json j;
   j["job"] = n;
   j["stage"] = stage;
@@ -400,6 +406,9 @@ ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, c
   j["points"] = job.points->size();
   j["verdict"] = rep.value("verdict", "");
   j["cycles"] = rep.value("cycles", 0);
+  j["cycles_ci95"] = rep.value("cycles_ci95", nlohmann::json());  // [cycles, cycles] unless sampled
+  j["sampled"] = sampled;
+  j["simulated_queries"] = sampling.value("simulated", 0);
   j["modeled_seconds"] = rep.value("modeled_seconds", nlohmann::json());
   j["energy_pj"] = rep.value("energy_pj", 0.0);
   return j;
@@ -429,7 +438,11 @@ ordered_json accelerator_json(const registration::RegistrationResult& r, const h
     fallbacks += s.kdtree.accel.fallback_searches;
   }
   const LoopFigures f = loop_figures(r);
+  std::uint64_t sampled = 0;
+  for (const auto& j : accel_jobs) sampled += j.value("sampled", false);
   return {{"jobs", jobs},
+          {"sampled_jobs", sampled},  // their cycles and energy estimated (docs/sampling.md)
+          {"sampling", sampling_setting(accel_cfg.sim.sampling)},
           {"fallback_searches", fallbacks},
           {"modeled_kdtree_seconds", f.modeled_kd},
           {"kdtree_energy_pj", f.energy_pj},
@@ -664,6 +677,14 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
     out << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
   });  // paths: any bytes
   print_registration(o, config, in_loop, f, r, injection, err, path);
+  if (in_loop) {
+    const auto& a = doc["accelerator"];
+    std::printf(
+        "  sampled %llu of %llu accelerator jobs (sim.sampling %s: their cycles and energy are estimates; "
+        "--accel-set sim.sampling=off simulates every query)\n",
+        static_cast<unsigned long long>(a["sampled_jobs"].get<std::uint64_t>()),
+        static_cast<unsigned long long>(a["jobs"].get<std::uint64_t>()), a["sampling"].dump().c_str());
+  }
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
                  r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),

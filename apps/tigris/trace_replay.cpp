@@ -26,6 +26,7 @@
 #include "testbench/accel_job.hpp"
 #include "testbench/config.hpp"
 #include "testbench/report.hpp"
+#include "testbench/sampling.hpp"
 #include "testbench/simulation.hpp"
 #include "testbench/work_guard.hpp"
 #include "traces/workload_trace.hpp"
@@ -348,12 +349,18 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   stats["stages"] = per_stage;
   stats["total"] = total;
   stats["jobs"] = jobs;
+  std::size_t sampled = 0;
+  for (const json& j : jobs) sampled += j.contains("sampling") && j["sampling"].value("sampled", false);
+  stats["sampled_jobs"] = sampled;  // their cycles and energy estimated (docs/sampling.md)
   stats["end_to_end"] = end_to_end;
   stats["wall_seconds"] = seconds_since(t0);
   write_file(stats_path,
              [&](std::ostream& f) { f << stats.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
 
   print_replay(t, o, plan.size(), c, end_to_end, stats_path);
+  if (cfg.sim.sampling != 0)
+    std::printf("  sampled %zu of %zu jobs (sim.sampling %s): their cycles, energy and the totals are estimates\n",
+                sampled, plan.size(), sampling_setting(cfg.sim.sampling).dump().c_str());
   if (!all_match) {
     for (const json& r : jobs)
       if (r.value("verdict", "") != "match") {

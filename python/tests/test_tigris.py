@@ -112,6 +112,20 @@ def test_run_is_tigris_run(pair):
         assert mine.stats["config"]["fe"]["top_levels_replicated"] == 2
 
 
+def test_run_sampled():
+    # The built-in pair with 315 kNN slots in flight: long enough to sample (docs/sampling.md).
+    small = {"sram.results.bytes": 262144}
+    full = tigris.run(mode="knn", k=51, set=small)
+    assert not full.sampled and full.cycles_ci95 == [full.cycles, full.cycles]
+    job = tigris.run(mode="knn", k=51, set=small, sampling="auto")
+    assert job.verdict == "match" and job.sampled
+    assert job.sampling["simulated"] < 0.3 * job.sampling["queries"]
+    lo, hi = job.cycles_ci95
+    assert lo <= job.cycles <= hi and lo <= full.cycles <= hi
+    # Every query's results, simulated or not, are the golden model's: the same as the full run's.
+    assert np.array_equal(job.indices, full.indices) and np.array_equal(job.dist2, full.dist2)
+
+
 def test_register_is_tigris_register(tmp_path):
     cli("register", "--preset", "dp4", "--search", "exact", "--out", str(tmp_path / "cli"))
     want = json.load(open(tmp_path / "cli" / "registration.json"))

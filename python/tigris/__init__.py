@@ -219,13 +219,18 @@ def _flags(**kw):
 
 
 class RunResult:
-    """One accelerator job: stats (stats.json as a dict), verdict ("match" ...), cycles,
-    seconds, bound (the block that bounds the job) and bottleneck (stats' whole verdict), and the results as SearchResult's arrays
+    """One accelerator job: stats (stats.json as a dict), verdict ("match" ...), cycles (sampled:
+    the estimate), cycles_ci95 ([low, high]; [cycles, cycles] when every query was simulated),
+    sampled (bool) and sampling (stats' account of it), seconds, bound (the block that bounds the
+    job) and bottleneck (stats' whole verdict), and the results as SearchResult's arrays
     (indices/dist2/offsets from the run's results dump)."""
     def __init__(self, stats, results_csv, mode):
         self.stats = stats
         self.verdict = stats.get("verdict")
         self.cycles = stats.get("cycles")
+        self.cycles_ci95 = stats.get("cycles_ci95")
+        self.sampling = stats.get("sampling") or {}
+        self.sampled = bool(self.sampling.get("sampled"))
         self.seconds = stats.get("seconds")
         self.bottleneck = stats.get("bottleneck") or {}
         self.bound = self.bottleneck.get("bound")        # "front-end", "back-end", "write-back" ...
@@ -254,14 +259,16 @@ def _read_results(path, queries):
 
 
 def run(cloud=None, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=None, approx_thd=None,
-        config=None, preset=None, set=None, keep=None, **flags):
+        config=None, preset=None, set=None, sampling=None, keep=None, **flags):
     """One accelerator job, checked against the golden model, as `tigris run` runs it.
 
     cloud, queries: float32 (N, 3) arrays (neither: the built-in synthetic pair; a cloud alone is
     searched in itself). config: a dict nested by block or of dotted keys
     ({"fe.recursion_units": 32}); preset: a shipped preset's name (tigris.presets()); both:
     the preset, then the dict over it. set: {key: value} as --set. Other tigris run flags as
-    keyword arguments (leader_capacity=8, split_axis="round-robin", sim_threads=1 ...). keep: a
+    keyword arguments (leader_capacity=8, split_axis="round-robin", sim_threads=1 ...).
+    sampling: sim.sampling, "off" (the default), "auto" or the share of queries to simulate
+    (docs/sampling.md; the result's cycles_ci95 holds the estimate's interval). keep: a
     folder to keep the run's files in (default: a temporary one, removed). Returns a RunResult;
     raises MismatchError when a query differs from the golden model, TigrisError when the run is
     refused (the CLI's message), ValueError for bad arrays."""
@@ -292,6 +299,8 @@ def run(cloud=None, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=
         for key, v in (set or {}).items():
             v = _plain(v)
             args += ["--set", f"{key}={json.dumps(v) if isinstance(v, bool) else v}"]
+        if sampling is not None:
+            args += ["--set", f"sim.sampling={_plain(sampling)}"]
         p = _call(args)
         stats_path = os.path.join(work, "out", "stats.json")
         if p.returncode == 1 and not os.path.exists(stats_path):      # a deadlock: no stats
