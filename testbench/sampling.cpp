@@ -249,8 +249,13 @@ std::uint64_t apply_estimate(const SamplingPlan& plan, const SampleController& c
   const auto cycles =
       static_cast<std::uint64_t>(std::llround(static_cast<double>(fill_cycles + drain_cycles) + time.total));
 
-  // The counters: fill and drain as simulated, the queries between by their own best ratio;
-  // busy and stall cycles by the cycles' ratio, so that shares of the cycles stay consistent.
+  // The counters: fill and drain as simulated, the queries between scaled by one auxiliary per
+  // kind, so that sums over banks or units stay their totals: busy and stall cycles by the
+  // cycles' (their shares of the cycles stay consistent), events and bytes by the energy's (what
+  // they are priced for).
+  std::vector<double> joules;
+  for (std::size_t k = 0; k < seg.cycles.size(); ++k) joules.push_back(energy(seg.grown[k], seg.cycles[k]));
+  const Choice work = best_ratio(joules, seg);
   std::vector<std::uint64_t> est(last.size());
   const std::vector<std::uint64_t> between = growth(s.front().values, s.back().values, kinds);
   std::vector<double> y(seg.cycles.size());
@@ -260,14 +265,11 @@ std::uint64_t apply_estimate(const SamplingPlan& plan, const SampleController& c
       continue;
     }
     for (std::size_t k = 0; k < y.size(); ++k) y[k] = static_cast<double>(seg.grown[k][i]);
-    const Choice c = kinds[i] == ValueKind::Cycles ? Choice{time.aux, ratio_estimate(y, seg.aux[time.aux]), 0, 0}
-                                                   : best_ratio(y, seg);
-    const double scaled = c.r.ratio * seg.aux_job[c.aux];
+    const std::size_t aux = kinds[i] == ValueKind::Cycles ? time.aux : work.aux;
+    const double scaled = ratio_estimate(y, seg.aux[aux]).ratio * seg.aux_job[aux];
     est[i] = static_cast<std::uint64_t>(std::llround(static_cast<double>(last[i] - between[i]) + scaled));
   }
-  std::vector<double> joules;
-  for (std::size_t k = 0; k < seg.cycles.size(); ++k) joules.push_back(energy(seg.grown[k], seg.cycles[k]));
-  const double e_half = best_ratio(joules, seg).half;
+  const double e_half = work.half;
   const double energy_total = energy(est, static_cast<double>(cycles));  // leaves the estimate in the statistics
   const double c_half = time.half;
   const std::size_t n = plan.windows.size();
