@@ -2,7 +2,8 @@
 
 An axis whose plotted values vary by less than FLAT (5%) of their size would otherwise be
 auto-scaled until a 0.04% wobble fills the panel and looks like a cliff. Such an axis is drawn
-from zero and says "flat" with the actual spread. Every figure names what it shows.
+from zero and says "flat" with the actual spread. Every figure names what it shows, and says when
+its points were sampled (sim.sampling: estimated figures).
 """
 import math
 
@@ -58,3 +59,19 @@ def name_workload(fig, text):
     title = fig._suptitle.get_text() if fig._suptitle is not None else ""
     fig.suptitle(f"{title}\n{text}" if title else text, fontsize=11)
     fig.tight_layout()
+
+
+def sampled_note(rows):
+    """[a note] when rows of a sweep CSV were sampled runs (sim.sampling): their cycles and energy
+    are estimates; [] otherwise."""
+    sampled = [r for r in rows if str(r.get("sampling.sampled", "")).strip().lower() in ("true", "1")]
+    if not sampled:
+        return []
+    widths = []
+    for r in sampled:
+        try:
+            widths.append(float(r.get("sampling.relative_half_width") or 0))
+        except ValueError:
+            pass
+    most = f", 95% intervals within +-{100 * max(widths):.1f}%" if widths else ""
+    return [f"{len(sampled)} of {len(rows)} points sampled (sim.sampling): their cycles and energy are estimates{most}"]

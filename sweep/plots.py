@@ -439,8 +439,9 @@ def make_figures(sw, out, which=None, log=ed.note, footer=None):
             log(f"plots: skipped {e}")
             continue
         png, svg = os.path.join(out, name + ".png"), os.path.join(out, name + ".svg")
-        fig.notes = getattr(fig, "notes", []) + figure_truth.guard_flat(fig)
-        figure_truth.name_workload(fig, ed.workload_text(sw))
+        sampled = figure_truth.sampled_note(getattr(sw, "ok", []))
+        fig.notes = getattr(fig, "notes", []) + figure_truth.guard_flat(fig) + sampled
+        figure_truth.name_workload(fig, "\n".join([ed.workload_text(sw)] + sampled))
         if footer:
             core.add_footer(fig, footer)
         core.save_figure(fig, png, dpi=110)

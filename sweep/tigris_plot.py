@@ -155,8 +155,9 @@ def sweep_figure(key, rows, swept, ys, workload):
         axes[0].legend(fontsize=8)
     fig.suptitle(f"{', '.join(y[1] for y in ys)} against {key}" + (f" (others held at {held})" if held else ""),
                  fontsize=12)
-    notes = figure_truth.guard_flat(fig)
-    figure_truth.name_workload(fig, workload)
+    sampled = figure_truth.sampled_note(rows)
+    notes = figure_truth.guard_flat(fig) + sampled
+    figure_truth.name_workload(fig, "\n".join([workload] + sampled))
     return fig, notes
 
 

@@ -62,6 +62,10 @@ SearchOutput golden_of(const SearchOutput& golden, const std::vector<std::uint32
 // A sampled job's results and visits: the simulated queries' as the accelerator gave them,
 // the others' as the golden model did.
 void merge_sample(const SearchOutput& golden, const std::vector<std::uint32_t>& ids, SimOutcome& sim) {
+  // A mismatch report may come from output of another shape: keep it as the accelerator left it.
+  if (sim.results.num_queries() != ids.size() || sim.visits.per_query.size() != ids.size()) return;
+  for (const ScheduleEntry& e : sim.visits.schedule)
+    if (e.query >= ids.size()) return;
   std::vector<std::uint32_t> at(golden.per_query.size(), ~0u);  // query -> its stream position
   for (std::uint32_t i = 0; i < ids.size(); ++i) at[ids[i]] = i;
   Results results;

@@ -108,9 +108,11 @@ SampleController::SampleController(const SamplingPlan& plan, hw::TigrisAccelerat
 }
 
 void SampleController::query_admitted(std::uint32_t query, std::uint64_t cycle) {
-  if (snaps_.size() >= marks_.size() || query != marks_[snaps_.size()]) return;
-  snaps_.push_back({cycle, accel_.stats().values()});
-  if (snaps_.size() % 2 == 0) warm_writeback(snaps_.size() / 2 - 1, cycle);
+  // A loop: without warming, a window's end is the next one's start, one admission for both.
+  while (snaps_.size() < marks_.size() && query == marks_[snaps_.size()]) {
+    snaps_.push_back({cycle, accel_.stats().values()});
+    if (snaps_.size() % 2 == 0) warm_writeback(snaps_.size() / 2 - 1, cycle);
+  }
 }
 
 void SampleController::warm_writeback(std::size_t window, std::uint64_t cycle) {
@@ -221,6 +223,9 @@ Choice best_ratio(const std::vector<double>& y, const Segments& seg) {
   Choice best;
   best.half = std::numeric_limits<double>::infinity();
   for (std::size_t c = 0; c < seg.aux.size(); ++c) {
+    double sx = 0;
+    for (double x : seg.aux[c]) sx += x;
+    if (sx <= 0 || seg.aux_job[c] <= 0) continue;  // counted nothing (top nodes at height 0): no scale
     const RatioEstimate r = ratio_estimate(y, seg.aux[c]);
     if (r.ratio < 0 || r.half * seg.aux_job[c] >= best.half) continue;
     best = {c, r, r.ratio * seg.aux_job[c], r.half * seg.aux_job[c]};

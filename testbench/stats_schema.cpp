@@ -178,7 +178,7 @@ const std::vector<Row>& measured_fields() {
       {"area_mm2.by_block.logic.recursion_units", "mm2", "RUs x `area.ru_mm2`"},
       {"area_mm2.by_block.logic.pes", "mm2", "SUs x PEs per SU x `area.pe_mm2`"},
       {"area_mm2.by_block.logic.issue_logic", "mm2", "SUs x `area.issue_logic_mm2`"},
-      {"latency_cycles.query.count", "count", "queries measured (all)"},
+      {"latency_cycles.query.count", "count", "queries measured (all; sampled simulation: the simulated ones)"},
       {"latency_cycles.query.mean", "cycles",
        "mean query latency: from admission (a Query Stack slot taken) to its last results entering the write-back "
        "stream"},

@@ -92,6 +92,11 @@ def main():
     check(share["sampling"]["sampled"] and abs(share["sampling"]["simulated"] - 0.2 * share["queries"]) < 50,
           f"sim.sampling=0.2 simulates a fifth: {share['sampling']['simulated']} of {share['queries']}")
 
+    print("== without warming: a window's end is the next one's start")
+    _, cold = run(tig, os.path.join(d, "cold"), *small, "--set", "sim.sampling=auto", "--set", "sim.warm_queries=0")
+    check(cold["sampling"]["sampled"] and cold["sampling"]["warm_per_window"] == 0 and cold["verdict"] == "match",
+          f"sim.warm_queries=0 samples: {cold['sampling']}")
+
     print(f"{len(FAILS)} failure(s)")
     sys.exit(1 if FAILS else 0)
 

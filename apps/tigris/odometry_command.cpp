@@ -680,9 +680,15 @@ int OdometryRun::print_summary() {
   else
     std::printf("  registration %.2f s in all, KD-tree search %.2f s (%.1f%%)\n", sum.seconds, sum.kd,
                 sum.seconds > 0 ? 100.0 * sum.kd / sum.seconds : 0.0);
-  if (accel)
+  if (accel) {
     std::printf("  on the accelerator (modeled): KD-tree %.4f s, end to end %.3f s, KD-tree energy %.1f uJ\n",
                 sum.modeled_kd, sum.modeled_e2e, sum.energy * 1e-6);
+    if (sum.sampled_jobs > 0)
+      std::printf(
+          "  sampled %llu of %llu accelerator jobs: their cycles and energy, and these totals, are estimates "
+          "(--accel-set sim.sampling=off simulates every query)\n",
+          static_cast<unsigned long long>(sum.sampled_jobs), static_cast<unsigned long long>(sum.jobs));
+  }
   if (m.contains("kitti")) {
     const auto& k = m["kitti"];
     if (k["too_short"].get<bool>())

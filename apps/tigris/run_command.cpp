@@ -252,11 +252,11 @@ void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions
               static_cast<unsigned long long>(hw_view.visits.leaf_points));
   const auto& lat = m.sim.latency;
   std::printf(
-      "  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu\n",
+      "  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu%s\n",
       lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
       lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
       lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
-      lat["bqb_wait"]["max"].get<unsigned long long>());
+      lat["bqb_wait"]["max"].get<unsigned long long>(), sampled ? " (of the simulated queries)" : "");
   if (params.approximate) {
     std::printf(
         "  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
