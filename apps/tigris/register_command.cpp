@@ -679,11 +679,17 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   print_registration(o, config, in_loop, f, r, injection, err, path);
   if (in_loop) {
     const auto& a = doc["accelerator"];
-    std::printf(
-        "  sampled %llu of %llu accelerator jobs (sim.sampling %s: their cycles and energy are estimates; "
-        "--accel-set sim.sampling=off simulates every query)\n",
-        static_cast<unsigned long long>(a["sampled_jobs"].get<std::uint64_t>()),
-        static_cast<unsigned long long>(a["jobs"].get<std::uint64_t>()), a["sampling"].dump().c_str());
+    const auto sampled = a["sampled_jobs"].get<std::uint64_t>(), jobs = a["jobs"].get<std::uint64_t>();
+    const std::string setting = a["sampling"].is_string() ? a["sampling"].get<std::string>() : a["sampling"].dump();
+    if (sampled > 0)
+      std::printf(
+          "  sampled %llu of %llu accelerator jobs (sim.sampling %s): their cycles and energy are estimates; "
+          "--accel-set sim.sampling=off simulates every query\n",
+          static_cast<unsigned long long>(sampled), static_cast<unsigned long long>(jobs), setting.c_str());
+    else
+      std::printf("  every query of the %llu accelerator jobs simulated (sim.sampling %s%s)\n",
+                  static_cast<unsigned long long>(jobs), setting.c_str(),
+                  setting == "off" ? "" : ": no job long enough to sample");
   }
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
