@@ -82,12 +82,12 @@ class Command:
 COMMANDS = {
     "run": Command("run", "stats.json", ("cloud", "queries", "config"), (), ("cloud", "queries", "mode"),
                    "cloud", "run", [
-                       "cycles", "sampling.sampled", "sampling.simulated", "sampling.relative_half_width",
-                       "seconds", "energy_pj.total", "power_w", "area_mm2.total",
+                       "cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
                        "units.recursion_units.utilization", "units.search_units.utilization",
                        "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause",
                        "bottleneck.share", "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction",
-                       "accuracy.mean_extra_distance_m", "accuracy.recall", "accuracy.precision"]),
+                       "accuracy.mean_extra_distance_m", "accuracy.recall", "accuracy.precision",
+                       "sampling.sampled", "sampling.simulated", "sampling.relative_half_width"]),
     # The golden model alone (no configuration keys: its flags are its settings).
     "ref": Command("ref", "stats.json", ("cloud", "queries", "schedule"), (), ("cloud", "queries", "mode"),
                    "cloud", None, ["visits.top", "visits.leaf_points", "tree.leaf_set_mean",
@@ -96,7 +96,7 @@ COMMANDS = {
                         ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
                         ("source", "target", "preset", "search"), "source", "register", [
                             "error.translation_m", "error.rotation_deg", "seconds", "kdtree_seconds",
-                            "kdtree_share", "kdtree_work.distances_and_neighbors", "accelerator.sampled_jobs"],
+                            "kdtree_share", "kdtree_work.distances_and_neighbors"],
                         ("stages.{key}", ("seconds", "search_seconds", "searches"))),
     "odometry": Command("odometry", "metrics.json", ("config", "accel-config"), ("sequence",),
                         ("sequence", "preset", "search"), "sequence", "register", [
