@@ -9,6 +9,9 @@ include(CMakePackageConfigHelpers)
 set(TIGRIS_EXPORTED_LIBRARIES
     tigris_core tigris_config tigris_cloud tigris_sw_ref tigris_io tigris_workloads tigris_traces
     tigris_workload_trace tigris_registration tigris_vcd tigris_tlm tigris_hw_policies tigris_hw tigris_testbench)
+if(TIGRIS_RTL)
+  list(APPEND TIGRIS_EXPORTED_LIBRARIES tigris_rtl)
+endif()
 # The PCL search back-end with the model in the loop: the plug-in (registration/search_plugin.hpp)
 # and the model server a program hands its jobs to (testbench/accel_in_loop.hpp).
 add_library(tigris_pcl_search INTERFACE)

@@ -65,6 +65,7 @@ struct AcceleratorConfig {
     std::uint64_t fqq_bytes = 1572864;  // 1.5 MB
     int fqq_entry_bytes = 8;
     int top_levels_replicated = 0;
+    std::string recursion_unit_model = "tlm";  // a name in RecursionUnitModels (hw/fe/walk_engine.hpp)
 
     template <class V>
     void visit(V&& v) {
@@ -82,6 +83,9 @@ struct AcceleratorConfig {
          "the top tree's first levels kept in every RU's own registers (2^N - 1 nodes of 16 "
          "bytes, filled by the host's tree-image write): their node reads leave the Point "
          "Buffer, whose root bank every new query otherwise reads (0: the paper's design)"});
+      v("recursion_unit_model", recursion_unit_model,
+        {"-", RecursionUnitModels::allowed(),
+         RecursionUnitModels::doc("the model that walks every RU activation (docs/validation.md)")});
     }
   } fe;
 

@@ -19,6 +19,7 @@ namespace tigris::hw {
 struct AcceleratorConfig;
 class IssuePolicy;
 class ReplacementPolicy;
+class WalkEngine;
 
 template <class Base>
 class PolicyRegistry {
@@ -65,5 +66,6 @@ class PolicyRegistry {
 
 using IssuePolicies = PolicyRegistry<IssuePolicy>;
 using ReplacementPolicies = PolicyRegistry<ReplacementPolicy>;
+using RecursionUnitModels = PolicyRegistry<WalkEngine>;  // hw/fe/walk_engine.hpp
 
 }  // namespace tigris::hw

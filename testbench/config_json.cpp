@@ -36,6 +36,15 @@ std::vector<std::string> config_keys() {
   return names;
 }
 
+namespace {
+bool rtl_costs_hold(const hw::CostTable& c) {
+  const hw::CostTable d;
+  return c.ru_fetch_query == d.ru_fetch_query && c.ru_node == d.ru_node && c.ru_pi_rs_stall == d.ru_pi_rs_stall &&
+         c.ru_prune_at_rn == d.ru_prune_at_rn && c.ru_prune_no_bypass == d.ru_prune_no_bypass &&
+         c.ru_drain == d.ru_drain && c.result_writeback == d.result_writeback;
+}
+}  // namespace
+
 void validate_config(const AcceleratorConfig& cfg) {
   const std::string source = "invalid configuration";
   config::check_keys(cfg, source);  // per-key type and range
@@ -51,6 +60,10 @@ void validate_config(const AcceleratorConfig& cfg) {
       {"sram.queries.bytes", holds_one(cfg.sram.queries), "holds no word of sram.queries.word_bytes"},
       {"sram.query_stack.bytes", holds_one(cfg.sram.query_stack), "holds no word of sram.query_stack.word_bytes"},
       {"sram.results.bytes", holds_one(cfg.sram.results), "holds no word of sram.results.word_bytes"},
+      // The RTL RU's timing is its pipeline (rtl/README.md): the cost table's RU rows must be
+      // the ones it was built to, or the cross-check compares different machines.
+      {"fe.recursion_unit_model", cfg.fe.recursion_unit_model != "rtl" || rtl_costs_hold(cfg.cost),
+       "'rtl' needs the cost table's RU rows at their defaults (cost.ru_*): its pipeline has that timing"},
       {"result_buffer.leader_fraction", cfg.result_buffer.slot_fraction + cfg.result_buffer.leader_fraction < 1.0,
        "plus result_buffer.slot_fraction must stay below 1: the result stream needs the rest"},
   };

@@ -1,5 +1,6 @@
 #include "front_end.hpp"
 
+#include <stdexcept>
 #include <string>
 
 namespace tigris::hw {
@@ -9,7 +10,14 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
                    Scheduler& scheduler, ScanService& scans, bool reverse_construction)
     : sc_module(name), Scheduler::Client(Scheduler::kFrontEnd, 0), job_(job),
       observer_(observer), clock_{config.period()}, scheduler_(scheduler), stall_(config.stall, "fqq", stats_) {
-  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler, walk_log_, scans};
+  // One walk engine serves every RU: an activation is walked whole when it starts, and an RU
+  // keeps nothing in the engine between activations (its query's state is in the token and
+  // the buffers).
+  const RecursionUnitModels::Entry* model = RecursionUnitModels::find(config.fe.recursion_unit_model);
+  if (!model) throw std::invalid_argument("fe.recursion_unit_model: no model '" + config.fe.recursion_unit_model + "'");
+  engine_ = model->make(config);
+  const RecursionUnit::Links links{*this,     qdn,       result_buffer, meter,        observer,
+                                   scheduler, walk_log_, scans,         engine_.get()};
   const int n = config.fe.recursion_units;
   rus.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {

@@ -8,6 +8,13 @@
 
 namespace tigris::hw {
 
+namespace {
+// The transaction-level walk is the Recursion Unit's own (walk() below): no engine.
+const bool kTlmRegistered = RecursionUnitModels::add(
+    "tlm", "transaction level: each activation's cycles from the cost table, one charge per buffer",
+    [](const AcceleratorConfig&) { return std::unique_ptr<WalkEngine>(); });
+}  // namespace
+
 RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                              const JobDescriptor& job, Links links)
     : sc_module(name), Scheduler::Client(Scheduler::kRecursionUnit, static_cast<std::uint32_t>(id)), points("points"),
@@ -18,6 +25,7 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
                                       links.meter.table().register_pj_per_byte)),
       stall_(config.stall, "ru" + std::to_string(id), stats_) {
   links.scheduler.add(*this);
+  (void)kTlmRegistered;
 }
 
 void RecursionUnit::start_job() {
@@ -39,29 +47,35 @@ void RecursionUnit::start(const QueryToken& token) {
   ++activations_;
   const std::uint64_t now = clock_.now();
   links_.scans.ready(token.slot);  // the deferred-result contract (hw/host/scan_service.hpp)
-  const std::uint64_t pipeline = walk();
-  busy_cycles_ += pipeline;
-
-  // One transaction per buffer for the whole activation.
-  tlm_if::AccessProfile a;
-  std::uint64_t done = now + pipeline;
-  a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord);
-  a.bytes = sizeof(tlm_if::QueryRecord);
-  done = std::max(done, queries.charge(now, a, clock_.period));
-  done = std::max(done, points.charge(now, links_.log.node_reads.profile(), clock_.period));
-  // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
-  done = std::max(done, stacks.charge(now, links_.log.stack_pops.profile(), clock_.period));
-  tlm_if::AccessProfile pushes = links_.log.stack_pushes.profile();
-  pushes.write = true;
-  done = std::max(done, stacks.charge(now, pushes, clock_.period));
+  std::uint64_t pipeline = 0, done = 0, grant_stalls = 0;
+  if (links_.engine) {
+    std::tie(pipeline, done, grant_stalls) = engine_walk(now);
+  } else {
+    pipeline = walk();
+    // One transaction per buffer for the whole activation.
+    tlm_if::AccessProfile a;
+    done = now + pipeline;
+    a.first_byte = std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord);
+    a.bytes = sizeof(tlm_if::QueryRecord);
+    done = std::max(done, queries.charge(now, a, clock_.period));
+    done = std::max(done, points.charge(now, links_.log.node_reads.profile(), clock_.period));
+    // Query Stack Buffer: the pops as one read, the pushes as one write, in pipeline order.
+    done = std::max(done, stacks.charge(now, links_.log.stack_pops.profile(), clock_.period));
+    tlm_if::AccessProfile pushes = links_.log.stack_pushes.profile();
+    pushes.write = true;
+    done = std::max(done, stacks.charge(now, pushes, clock_.period));
+  }
   if (!job_.radius()) {  // the result slot, read and written back
-    a = {};
+    tlm_if::AccessProfile a;
     a.first_byte = job_.result_slot_address(token_.slot);
     a.bytes = job_.result_slot_bytes;
     done = std::max(done, results.charge(now, a, clock_.period));
     a.write = true;  // PI's last insert writes the slot back at the end of the walk (posted)
     results.charge(now + pipeline, a, clock_.period);
   }
+  // The RTL's grant stalls are SRAM stalls: shown after the busy cycles, as the TLM's are.
+  pipeline -= grant_stalls;
+  busy_cycles_ += pipeline;
   sram_stall_ += done - (now + pipeline);
   busy_wave_.set_at(clock_.at(now + pipeline), 0);
   const auto ru = static_cast<std::uint32_t>(id_);
@@ -101,6 +115,25 @@ void RecursionUnit::take_leader_record() {
   // wait: every leader's record goes (its followers may be parked for it); finished_only: a
   // list without entries has nothing for followers.
   if (job_.wait_for_leaders ? token_.leader_entry != kNoLeaf : !r.list.empty()) record_ = std::move(r);
+}
+
+std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> RecursionUnit::engine_walk(std::uint64_t now) {
+  hits_.clear();
+  if (!token_.started) {  // the query's slot (or radius staging) is outside the RU: cleared here
+    if (!job_.radius()) slots_.clear(token_.slot);
+    if (job_.first_leaf && job_.radius()) links_.result_buffer.leader_staging().staged(token_.slot).clear();
+  }
+  const WalkEngine::Ports ports{points,         queries, stacks, job_,  tree_,
+                                query_records_, stacks_, slots_, hits_, replicated_nodes_};
+  const WalkEngine::Outcome o = links_.engine->walk(token_, now, ports);
+  finished_ = o.finished;
+  const auto prune = static_cast<std::uint64_t>(config_.fe.bypassing ? cost_.ru_prune_at_rn : cost_.ru_prune_no_bypass);
+  prune_cycles_ += o.pruned * prune;
+  if (!config_.fe.forwarding) pi_rs_stall_ += std::uint64_t{o.nodes} * static_cast<std::uint64_t>(cost_.ru_pi_rs_stall);
+  replica_bytes_ += std::uint64_t{o.replica_reads} * sizeof(tlm_if::PointEntry);
+  node_energy_ += o.nodes;
+  links_.observer.walked(token_.query, o.nodes, o.pruned);
+  return {o.end - now, o.done, o.grant_stalls};
 }
 
 std::uint64_t RecursionUnit::walk() {

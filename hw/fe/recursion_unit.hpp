@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include <systemc>
@@ -23,6 +24,7 @@
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
 #include "hw/tree_view.hpp"
+#include "walk_engine.hpp"
 
 namespace tigris::hw {
 
@@ -67,6 +69,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     Scheduler& scheduler;
     WalkLog& log;
     ScanService& scans;  // the query's slot may still be written by its last scan (deferred results)
+    WalkEngine* engine;  // walks the activations instead of walk() (the RTL RU), or null
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config, const JobDescriptor& job,
                 Links links);
@@ -102,6 +105,9 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   void on_done();
   // Runs the walk functionally; returns the cycles the pipeline needs; sets leaf_/finished_.
   std::uint64_t walk();
+  // The engine's walk: (pipeline cycles with its grant stalls, done, grant stalls); the
+  // statistics the walk adds, from its counts.
+  std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> engine_walk(std::uint64_t now);
 
   int id_;
   const AcceleratorConfig& config_;
