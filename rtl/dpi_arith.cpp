@@ -25,5 +25,6 @@ unsigned int tigris_fp_dist2_dpi(unsigned int ax, unsigned int ay, unsigned int 
 }
 
 unsigned int tigris_fp_plane2_dpi(unsigned int a, unsigned int b) {
-  return as_bits(tigris::plane_dist2(tigris::Point3{as_float(a), 0.0f, 0.0f}, tigris::Point3{as_float(b), 0.0f, 0.0f}, 0));
+  return as_bits(
+      tigris::plane_dist2(tigris::Point3{as_float(a), 0.0f, 0.0f}, tigris::Point3{as_float(b), 0.0f, 0.0f}, 0));
 }

@@ -105,29 +105,17 @@ class RtlRecursionUnit final : public WalkEngine {
 
  private:
   static constexpr std::uint64_t kMaxActivationCycles = std::uint64_t{1} << 32;
-  // A request being served: booked when it appeared, granted from `grant` on.
+  // A port's request being served: booked when it appeared, granted from `grant` on.
   struct Port {
     BufferPort& port;
     int latency;
     bool booked = false;
     std::uint64_t grant = 0;
-    // Books one access starting at `cycle`; returns the cycle its data is complete.
-    std::uint64_t book(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, bool burst,
-                       const sc_core::sc_time& period) {
-      tlm_if::AccessProfile a;
-      tlm_if::PipelineAccess one{byte, bytes, 0};
-      a.write = write;
-      a.bytes = bytes;
-      if (burst) {
-        a.first_byte = byte;
-      } else {
-        a.pipeline = &one;
-        a.pipeline_count = 1;
-      }
-      const std::uint64_t complete = port.charge(cycle, a, period);
+    // Books one access from `cycle`; raises `complete` to the cycle its data is complete.
+    void book(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, const sc_core::sc_time& period,
+              std::uint64_t& complete) {
+      grant = port.request(cycle, byte, bytes, write, latency, period, complete);
       booked = true;
-      grant = complete - 1 - static_cast<std::uint64_t>(latency);  // the cycle its last word is served
-      return complete;
     }
   };
 
@@ -147,30 +135,29 @@ class RtlRecursionUnit final : public WalkEngine {
       ru.eval();
       bool changed = false;
       const auto serve = [&](Port& port, bool req, unsigned char& gnt, auto book) {
-        if (req && !port.booked) o.done = std::max(o.done, book()), changed = true;
+        if (req && !port.booked) book(), changed = true;
         const unsigned char g = req && port.booked && cycle >= port.grant;
         if (g != gnt) gnt = g, changed = true;
       };
       serve(qb, ru.qb_req, ru.qb_gnt, [&] {
-        return qb.book(cycle, std::uint64_t{ru.qb_index} * sizeof(tlm_if::QueryRecord), sizeof(tlm_if::QueryRecord),
-                       false, true, period);
+        qb.book(cycle, std::uint64_t{ru.qb_index} * sizeof(tlm_if::QueryRecord), sizeof(tlm_if::QueryRecord), false,
+                period, o.done);
       });
       if (ru.pb_req && ru.pb_replica) {  // the RU's own copy: no bank
         if (!pb.booked) pb.booked = true, pb.grant = cycle, ++o.replica_reads, changed = true;
       }
       serve(pb, ru.pb_req, ru.pb_gnt, [&] {
-        return ru.pb_dir ? pb.book(cycle, p.tree.dir_address(ru.pb_index), sizeof(tlm_if::LeafDirEntry), false, false,
-                                   period)
-                         : pb.book(cycle, p.tree.node_address(ru.pb_index), sizeof(tlm_if::PointEntry), false, false,
-                                   period);
+        if (ru.pb_dir)
+          pb.book(cycle, p.tree.dir_address(ru.pb_index), sizeof(tlm_if::LeafDirEntry), false, period, o.done);
+        else
+          pb.book(cycle, p.tree.node_address(ru.pb_index), sizeof(tlm_if::PointEntry), false, period, o.done);
       });
       serve(qs_rd, ru.qs_rd_req, ru.qs_rd_gnt, [&] {
-        return qs_rd.book(cycle, std::uint64_t{ru.qs_rd_index} * sizeof(StackEntry), sizeof(StackEntry), false, false,
-                          period);
+        qs_rd.book(cycle, std::uint64_t{ru.qs_rd_index} * sizeof(StackEntry), sizeof(StackEntry), false, period,
+                   o.done);
       });
       serve(qs_wr, ru.qs_wr_req, ru.qs_wr_gnt, [&] {
-        return qs_wr.book(cycle, std::uint64_t{ru.qs_wr_index} * sizeof(StackEntry), sizeof(StackEntry), true, false,
-                          period);
+        qs_wr.book(cycle, std::uint64_t{ru.qs_wr_index} * sizeof(StackEntry), sizeof(StackEntry), true, period, o.done);
       });
       // Read data with the grants.
       if (ru.qb_gnt) {
@@ -182,8 +169,8 @@ class RtlRecursionUnit final : public WalkEngine {
         const tlm_if::PointEntry& e = p.tree.node(ru.pb_index);
         ru.pb_x = bits(e.x), ru.pb_y = bits(e.y), ru.pb_z = bits(e.z), ru.pb_tag = e.tag;
         const std::uint32_t left = 2 * ru.pb_index + 1;
-        ru.pb_child_nonempty = static_cast<unsigned char>((p.tree.node_nonempty(left) ? 1 : 0) |
-                                                          (p.tree.node_nonempty(left + 1) ? 2 : 0));
+        ru.pb_child_nonempty =
+            static_cast<unsigned char>((p.tree.node_nonempty(left) ? 1 : 0) | (p.tree.node_nonempty(left + 1) ? 2 : 0));
       }
       if (ru.qs_rd_gnt) {
         const StackEntry& e = p.stacks_data[ru.qs_rd_index];

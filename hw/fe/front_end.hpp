@@ -67,7 +67,6 @@ class FrontEnd : public sc_core::sc_module, private Scheduler::Client {
   static constexpr std::size_t kPrefetchAhead = 8;  // dispatches ahead; see dispatch()
   const JobDescriptor& job_;
   JobObserver& observer_;
-  RecursionUnit::WalkLog walk_log_;     // the RUs' shared scratch
   std::unique_ptr<WalkEngine> engine_;  // fe.recursion_unit_model, or null for the TLM walk
   Clock clock_;
   FifoRing<QueryToken> fqq_;

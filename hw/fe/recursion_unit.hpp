@@ -36,29 +36,6 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
  public:
   BufferPort points, queries, stacks, results;
 
-  // A walk's accesses, charged before start() returns: one log shared by a front-end's RUs
-  // (64 private copies would only crowd the host's caches).
-  // One buffer's accesses of a walk, in pipeline order with their sizes and issue cycles.
-  struct AccessLog {
-    std::vector<tlm_if::PipelineAccess> accesses;
-    std::uint64_t bytes = 0;
-    void clear() { accesses.clear(), bytes = 0; }
-    void add(std::uint64_t addr, std::uint32_t size, std::uint64_t cycle) {
-      accesses.push_back({addr, size, static_cast<std::uint32_t>(cycle)});
-      bytes += size;
-    }
-    tlm_if::AccessProfile profile() const {
-      tlm_if::AccessProfile a;
-      a.pipeline = accesses.data();
-      a.pipeline_count = static_cast<std::uint32_t>(accesses.size());
-      a.bytes = bytes;
-      return a;
-    }
-  };
-  struct WalkLog {
-    AccessLog node_reads, stack_pops, stack_pushes;
-  };
-
   // What a Recursion Unit works with: the blocks it hands queries and results to.
   struct Links {
     FrontEnd& fe;
@@ -67,7 +44,6 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     EnergyMeter& meter;
     JobObserver& observer;
     Scheduler& scheduler;
-    WalkLog& log;
     ScanService& scans;  // the query's slot may still be written by its last scan (deferred results)
     WalkEngine* engine;  // walks the activations instead of walk() (the RTL RU), or null
   };
@@ -103,10 +79,10 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
  private:
   enum class State { Idle, Walking, Blocked };
   void on_done();
-  // Runs the walk functionally; returns the cycles the pipeline needs; sets leaf_/finished_.
-  std::uint64_t walk();
-  // The engine's walk: (pipeline cycles with its grant stalls, done, grant stalls); the
-  // statistics the walk adds, from its counts.
+  // Walks the activation from cycle `now` (the transaction-level walk, or the engine's); sets
+  // token_ and finished_, adds the walk's statistics. Returns (its pipeline cycles with the
+  // grant stalls, the cycle its last access is complete, the grant stalls).
+  std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> walk(std::uint64_t now);
   std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> engine_walk(std::uint64_t now);
 
   int id_;

@@ -39,7 +39,7 @@ class WalkEngine {
     std::uint64_t done = 0;          // the cycle its last access is complete (>= end)
     std::uint64_t grant_stalls = 0;  // cycles spent waiting for a grant
     std::uint32_t nodes = 0, pruned = 0, replica_reads = 0;
-    bool finished = false;           // the stack is empty (else token.leaf is the next leaf)
+    bool finished = false;  // the stack is empty (else token.leaf is the next leaf)
   };
   // Walks `token` from cycle `now`: reads its query record, charges every access, updates the
   // token (point, sp, started, leaf), the slot (NN/kNN) or `hits` (radius).

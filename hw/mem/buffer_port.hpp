@@ -3,6 +3,7 @@
 // offers one with its DMI pointer, else as a TLM_IGNORE_COMMAND b_transport.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include <tlm_utils/simple_initiator_socket.h>
@@ -42,6 +43,23 @@ class BufferPort {
   }
   // Test hook: time every access with a b_transport, even where a TimingTarget is offered.
   void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr; }
+
+  // One access a unit requests at cycle `cycle` and holds until it is granted (the Recursion
+  // Unit's request/grant ports): books `bytes` at `byte`; returns the cycle it is granted (its
+  // last word served), and raises `complete` to the cycle its data is complete (the grant, then
+  // the buffer's `latency`).
+  std::uint64_t request(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, int latency,
+                        const sc_core::sc_time& period, std::uint64_t& complete) {
+    const tlm_if::PipelineAccess one{byte, bytes, 0};
+    tlm_if::AccessProfile a;
+    a.write = write;
+    a.bytes = bytes;
+    a.pipeline = &one;
+    a.pipeline_count = 1;
+    const std::uint64_t c = charge(cycle, a, period);
+    complete = std::max(complete, c);
+    return c - 1 - static_cast<std::uint64_t>(latency);
+  }
 
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access, const sc_core::sc_time& period) {
