@@ -147,7 +147,7 @@ module tigris_recursion_unit (
   assign pb_dir = node_is_leaf;
   assign pb_replica = !node_is_leaf && node < cfg_replicated_nodes;
   assign pb_index = node_is_leaf ? node - cfg_top_nodes : node;
-  assign cand_valid = visit && tigris_fle(d2, bound);
+  assign cand_valid = visit && step_done && tigris_fle(d2, bound);  // once, as the step completes
   assign cand_index = {2'b00, pb_tag[29:0]};
   assign cand_dist2 = d2;
 

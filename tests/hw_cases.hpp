@@ -20,6 +20,7 @@ struct Case {
   SearchParams params;
   const PointCloud* cloud = nullptr;  // this case's own workload, when not the shared one
   const PointCloud* queries = nullptr;
+  std::vector<hw::JobObserver*> observers = {};  // attached to this case's job
 };
 
 // Simulates every case on (cloud, queries) in one run; checks each against the golden model.
@@ -41,6 +42,7 @@ inline std::vector<SimOutcome> run_and_check(const PointCloud& shared_cloud, con
     s.queries = &queries;
     s.num_points = static_cast<std::uint32_t>(cloud.size());
     s.job = host_job(c.params);
+    s.observers = c.observers;
     setups.push_back(s);
   }
   std::vector<SimOutcome> out = simulate(setups);
