@@ -68,17 +68,16 @@ std::vector<Case> matrix(const std::vector<std::pair<std::string, SearchParams>>
           hw::AcceleratorConfig c = units(rus, 4, 8, height);
           c.fe.forwarding = c.fe.bypassing = opt;
           c.fe.top_levels_replicated = top;
-          cases.push_back({name + " " + std::to_string(rus) + " RU" + (opt ? "" : " no fwd/byp") + " top " +
-                               std::to_string(top),
-                           c, params});
+          cases.push_back(
+              {name + " " + std::to_string(rus) + " RU" + (opt ? "" : " no fwd/byp") + " top " + std::to_string(top), c,
+               params});
         }
   return cases;
 }
 
 }  // namespace
 
-TEST_CASE("RTL RU: NN, kNN and radius, 1/8/64 RUs, forwarding and bypassing on/off, top levels 0/6",
-          "[rtl]") {
+TEST_CASE("RTL RU: NN, kNN and radius, 1/8/64 RUs, forwarding and bypassing on/off, top levels 0/6", "[rtl]") {
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 4000, 42);
   const PointCloud queries = make_queries(cloud, 600, 42);
   cross_check(cloud, queries,

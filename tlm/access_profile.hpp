@@ -23,6 +23,9 @@ struct AccessProfile;
 class TimingTarget {
  public:
   virtual std::uint64_t charge(std::uint64_t start, const AccessProfile& access) = 0;
+  // One access of `bytes` at byte `byte` from cycle `start`: what a one-entry pipeline profile
+  // charges, for a unit that books its accesses one at a time (the Recursion Unit's steps).
+  virtual std::uint64_t charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) = 0;
 
  protected:
   ~TimingTarget() = default;

@@ -11,7 +11,7 @@ namespace tigris::hw {
 namespace {
 // The transaction-level walk is the Recursion Unit's own (walk() below): no engine.
 const bool kTlmRegistered = RecursionUnitModels::add(
-    "tlm", "transaction level: each activation's cycles from the cost table, one charge per buffer",
+    "tlm", "transaction level: each step's cycles from the cost table, its accesses granted by the bank calendars",
     [](const AcceleratorConfig&) { return std::unique_ptr<WalkEngine>(); });
 }  // namespace
 

@@ -151,6 +151,29 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   return a.pipeline_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
 }
 
+std::uint64_t BankedSram::charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
+#ifndef TIGRIS_CHECK_SRAM  // (the naive model's check takes the profile below)
+  // Within one word: charge_in_order's short path without building a profile.
+  if (word_in_row_ && bytes > 0 && (byte & (word_bytes_ - 1)) + bytes <= word_bytes_) {
+    const std::uint64_t now = std::min(start, clock_.now());
+    const auto bank = static_cast<std::uint32_t>((byte >> word_shift_) & bank_mask_);
+    const std::uint64_t served = banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now);
+    ++bank_accesses_[bank];
+    bank_conflicts_[bank] += served - start;
+    conflict_cycles_ += served - start;
+    count(write, 1, bytes);
+    return served + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
+  }
+#endif
+  const tlm_if::PipelineAccess one{byte, bytes, 0};
+  tlm_if::AccessProfile a;
+  a.write = write;
+  a.bytes = bytes;
+  a.pipeline = &one;
+  a.pipeline_count = 1;
+  return charge_in_order(start, a);
+}
+
 void BankedSram::check([[maybe_unused]] std::uint64_t start, [[maybe_unused]] const tlm_if::AccessProfile& a,
                        [[maybe_unused]] std::uint64_t now, [[maybe_unused]] std::uint64_t served) {
 #ifdef TIGRIS_CHECK_SRAM

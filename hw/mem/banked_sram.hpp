@@ -55,6 +55,7 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access) override;
+  std::uint64_t charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) override;
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);

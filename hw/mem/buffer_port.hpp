@@ -50,13 +50,18 @@ class BufferPort {
   // the buffer's `latency`).
   std::uint64_t request(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, int latency,
                         const sc_core::sc_time& period, std::uint64_t& complete) {
-    const tlm_if::PipelineAccess one{byte, bytes, 0};
-    tlm_if::AccessProfile a;
-    a.write = write;
-    a.bytes = bytes;
-    a.pipeline = &one;
-    a.pipeline_count = 1;
-    const std::uint64_t c = charge(cycle, a, period);
+    std::uint64_t c;
+    if (timing_) {
+      c = timing_->charge_one(cycle, byte, bytes, write);
+    } else {
+      const tlm_if::PipelineAccess one{byte, bytes, 0};
+      tlm_if::AccessProfile a;
+      a.write = write;
+      a.bytes = bytes;
+      a.pipeline = &one;
+      a.pipeline_count = 1;
+      c = charge(cycle, a, period);
+    }
     complete = std::max(complete, c);
     return c - 1 - static_cast<std::uint64_t>(latency);
   }
