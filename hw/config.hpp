@@ -85,7 +85,9 @@ struct AcceleratorConfig {
          "Buffer, whose root bank every new query otherwise reads (0: the paper's design)"});
       v("recursion_unit_model", recursion_unit_model,
         {"-", RecursionUnitModels::allowed(),
-         RecursionUnitModels::doc("the model that walks every RU activation (docs/validation.md)")});
+         "the model that walks every RU activation: tlm (the transaction-level walk: each step's cycles from "
+         "the cost table, its accesses granted by the bank calendars) or rtl (the RTL Recursion Unit of rtl/, "
+         "Verilated and clocked cycle by cycle, in builds with Verilator; identical cycles, docs/validation.md)"});
     }
   } fe;
 

@@ -57,7 +57,7 @@ void RecursionUnit::start(const QueryToken& token) {
     a.write = true;  // PI's last insert writes the slot back at the end of the walk (posted)
     results.charge(now + pipeline, a, clock_.period);
   }
-  // The RTL's grant stalls are SRAM stalls: shown after the busy cycles, as the TLM's are.
+  // A walk's grant stalls are SRAM stalls, shown after its busy cycles (the cost table's).
   pipeline -= grant_stalls;
   busy_cycles_ += pipeline;
   sram_stall_ += done - (now + pipeline);
@@ -101,12 +101,14 @@ void RecursionUnit::take_leader_record() {
   if (job_.wait_for_leaders ? token_.leader_entry != kNoLeaf : !r.list.empty()) record_ = std::move(r);
 }
 
+void RecursionUnit::clear_results() {
+  if (!job_.radius()) slots_.clear(token_.slot);
+  if (job_.first_leaf && job_.radius()) links_.result_buffer.leader_staging().staged(token_.slot).clear();
+}
+
 std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> RecursionUnit::engine_walk(std::uint64_t now) {
   hits_.clear();
-  if (!token_.started) {  // the query's slot (or radius staging) is outside the RU: cleared here
-    if (!job_.radius()) slots_.clear(token_.slot);
-    if (job_.first_leaf && job_.radius()) links_.result_buffer.leader_staging().staged(token_.slot).clear();
-  }
+  if (!token_.started) clear_results();  // the slot is outside the RTL RU
   const WalkEngine::Ports ports{points,         queries, stacks, job_,  tree_,
                                 query_records_, stacks_, slots_, hits_, replicated_nodes_};
   const WalkEngine::Outcome o = links_.engine->walk(token_, now, ports);
@@ -153,8 +155,7 @@ std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> RecursionUnit::walk(std:
   if (!token_.started) {
     token_.started = true;
     token_.sp = 0;
-    if (!job_.radius()) slots_.clear(token_.slot);
-    if (job_.first_leaf && job_.radius()) links_.result_buffer.leader_staging().staged(token_.slot).clear();
+    clear_results();
     if (tree_.node_nonempty(0)) {
       granted = std::max(granted, push_write(now, 0));
       stack[token_.sp++] = {0, 0.0f};

@@ -84,6 +84,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   // grant stalls, the cycle its last access is complete, the grant stalls).
   std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> walk(std::uint64_t now);
   std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> engine_walk(std::uint64_t now);
+  void clear_results();  // a new query's slot (NN/kNN) or radius staging starts empty
 
   int id_;
   const AcceleratorConfig& config_;
