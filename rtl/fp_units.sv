@@ -1,3 +1,4 @@
+`line 2 "rtl/fp_units.sv" 0  // messages name the file relative to the tree (no build path in the binary)
 // The RU's float32 arithmetic units. In simulation they call the project's arithmetic through
 // DPI-C (rtl/dpi_arith.cpp: sw_ref/arith.hpp, the numeric contract), so results are bit-exact
 // with the golden model; in synthesis (SYNTHESIS defined) they are black boxes: a float

@@ -1,3 +1,4 @@
+`line 2 "rtl/tigris_recursion_unit.sv" 0  // messages name the file relative to the tree (no build path in the binary)
 // Recursion Unit (paper section 5.2, Fig. 8) in synthesizable SystemVerilog: walks one
 // query's top-tree part of the depth-first search per activation, from taking its token out
 // of the FE Query Queue to handing it to a leaf set (CL) or finishing it.

@@ -15,6 +15,11 @@
 #include "Vtigris_ru.h"
 #include "hw/config.hpp"
 #include "hw/fe/walk_engine.hpp"
+#include "hw/job.hpp"
+#include "hw/mem/buffer_port.hpp"
+#include "hw/mem/result_slots.hpp"
+#include "hw/tree_view.hpp"
+#include "tlm/address_map.hpp"
 #include "verilated.h"
 
 namespace tigris::hw {

@@ -463,6 +463,8 @@ LAYERS = {
            "sw_ref/leader_policy.hpp"],
     "testbench": ["testbench", "hw", "tlm", "config", "traces", "workloads", "sw_ref", "core",
                   "registration/accelerator_port.hpp"],
+    # The RTL RU's transactor: the model's headers and Verilator's generated ones.
+    "rtl": ["rtl", "hw", "tlm", "config", "sw_ref/arith.hpp", "Vtigris_ru.h", "Vtigris_ru__Dpi.h", "verilated.h"],
     "apps": ["apps", "testbench", "hw", "tlm", "config", "traces", "workloads", "registration", "sw_ref", "core"],
     "python": ["python", "workloads", "sw_ref", "core"],
 }

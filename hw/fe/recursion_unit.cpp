@@ -1,19 +1,13 @@
 #include "recursion_unit.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "front_end.hpp"
 #include "hw/mem/result_buffer.hpp"
 #include "hw/qdn/distribution_network.hpp"
 
 namespace tigris::hw {
-
-namespace {
-// The transaction-level walk is the Recursion Unit's own (walk() below): no engine.
-const bool kTlmRegistered = RecursionUnitModels::add(
-    "tlm", "transaction level: each step's cycles from the cost table, its accesses granted by the bank calendars",
-    [](const AcceleratorConfig&) { return std::unique_ptr<WalkEngine>(); });
-}  // namespace
 
 RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config,
                              const JobDescriptor& job, Links links)
@@ -25,7 +19,7 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
                                       links.meter.table().register_pj_per_byte)),
       stall_(config.stall, "ru" + std::to_string(id), stats_) {
   links.scheduler.add(*this);
-  (void)kTlmRegistered;
+  if (!kTlmWalkRegistered) throw std::logic_error("the tlm walk is not registered");  // (links it in)
 }
 
 void RecursionUnit::start_job() {

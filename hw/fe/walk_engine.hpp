@@ -10,14 +10,22 @@
 #include <memory>
 #include <vector>
 
-#include "hw/job.hpp"
-#include "hw/mem/buffer_port.hpp"
-#include "hw/mem/result_slots.hpp"
 #include "hw/policy_registry.hpp"
-#include "hw/tree_view.hpp"
-#include "tlm/address_map.hpp"
+
+namespace tigris::tlm_if {
+struct QueryRecord;
+struct ResultRecord;
+}  // namespace tigris::tlm_if
 
 namespace tigris::hw {
+
+// (Declared only: every program that reads configurations links the "tlm" registration.)
+class BufferPort;
+class ResultSlots;
+class TreeView;
+struct JobDescriptor;
+struct QueryToken;
+struct StackEntry;
 
 class WalkEngine {
  public:
@@ -47,6 +55,8 @@ class WalkEngine {
 };
 
 // RecursionUnitModels (hw/policy_registry.hpp): "tlm" makes no engine (the Recursion Unit's
-// own walk); "rtl" is registered by the RTL library when the build has Verilator (rtl/).
+// own walk; registered in walk_engine.cpp); "rtl" is registered by the RTL library when the
+// build has Verilator (rtl/).
+extern const bool kTlmWalkRegistered;
 
 }  // namespace tigris::hw
