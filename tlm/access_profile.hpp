@@ -57,8 +57,9 @@ struct AccessProfile : tlm::tlm_extension<AccessProfile> {
   const std::uint64_t* scatter = nullptr;
   std::uint32_t scatter_size = 0;
   std::uint32_t scatter_count = 0;
-  // ... or `pipeline_count` accesses an in-order pipeline issues at their offsets (an RU
-  // walk's nodes or stack entries): a busy bank delays that access and every later one.
+  // ... or `pipeline_count` accesses an in-order pipeline issues at their offsets: a busy bank
+  // delays that access and every later one (a Recursion Unit's request, one at a time, when the
+  // buffer offers no TimingTarget: TimingTarget::charge_one's b_transport form).
   const PipelineAccess* pipeline = nullptr;
   std::uint32_t pipeline_count = 0;
   std::uint64_t bytes = 0;  // payload bytes moved, for traffic and energy statistics
