@@ -127,9 +127,10 @@ else passes=$((passes + 1)); fi
 expect 0 "knn" -- ref --mode knn --k 3 --height 12 --out "$tmp/ref3" --dump-results "$tmp/ref3.csv"
 cmp -s "$tmp/run1.csv" "$tmp/ref3.csv" && passes=$((passes + 1)) || { echo "FAIL: run and ref dumps differ"; failures=$((failures + 1)); }
 
-# The accelerator's schedule replays through the golden model to the same results.
-expect 0 "MATCH" -- run --mode radius --radius 0.5 --height 9 --out "$tmp/hs" --dump-schedule "$tmp/hs.csv" --dump-results "$tmp/hs_run.csv"
-expect 0 "radius" -- ref --mode radius --radius 0.5 --height 9 --out "$tmp/hs2" --schedule "$tmp/hs.csv" --dump-results "$tmp/hs_ref.csv"
+# The accelerator's schedule replays through the golden model to the same results. --max-nn
+# leaves the walk (and the schedule) as it is but keeps the results dump at 21 MB, not 630 MB.
+expect 0 "MATCH" -- run --mode radius --radius 0.5 --max-nn 8 --height 9 --out "$tmp/hs" --dump-schedule "$tmp/hs.csv" --dump-results "$tmp/hs_run.csv"
+expect 0 "radius" -- ref --mode radius --radius 0.5 --max-nn 8 --height 9 --out "$tmp/hs2" --schedule "$tmp/hs.csv" --dump-results "$tmp/hs_ref.csv"
 cmp -s "$tmp/hs_run.csv" "$tmp/hs_ref.csv" && passes=$((passes + 1)) || { echo "FAIL: schedule replay dumps differ"; failures=$((failures + 1)); }
 
 # Waveforms: a VCD with the unit signals and a GTKWave save file beside it.

@@ -40,6 +40,11 @@ namespace {
 // TIGRIS_NO_HUGE_PAGES=1 (e.g. under valgrind) or a GLIBC_TUNABLES naming hugetlb keeps
 // the process as started.
 void ask_for_huge_pages(char** argv) {
+#ifdef TIGRIS_SANITIZE
+  // ASan's allocator replaces glibc's malloc, so the tunable would change nothing there; the
+  // second start-up (ASan's own initialisation included) would only cost time.
+  (void)argv;
+#else
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (std::getenv("TIGRIS_NO_HUGE_PAGES") || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb"))) return;
   // Once only: a secure-execution process (setuid, capabilities) has the tunable dropped.
@@ -49,6 +54,7 @@ void ask_for_huge_pages(char** argv) {
       tunables && *tunables ? std::string(tunables) + ":glibc.malloc.hugetlb=1" : "glibc.malloc.hugetlb=1";
   setenv("GLIBC_TUNABLES", value.c_str(), 1);
   ::execv("/proc/self/exe", argv);  // returns only when it failed: go on as started
+#endif
 }
 
 }  // namespace
