@@ -66,6 +66,16 @@ struct AccessProfile : tlm::tlm_extension<AccessProfile> {
 
   tlm::tlm_extension_base* clone() const override { return new AccessProfile(*this); }
   void copy_from(const tlm::tlm_extension_base& other) override { *this = static_cast<const AccessProfile&>(other); }
+
+  // The profile of a single access `one` (which must outlive it): a one-entry pipeline.
+  static AccessProfile single(const PipelineAccess& one, bool write) {
+    AccessProfile a;
+    a.write = write;
+    a.bytes = one.bytes;
+    a.pipeline = &one;
+    a.pipeline_count = 1;
+    return a;
+  }
 };
 
 }  // namespace tigris::tlm_if

@@ -1,7 +1,6 @@
 #include "recursion_unit.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "front_end.hpp"
 #include "hw/mem/result_buffer.hpp"
@@ -19,7 +18,6 @@ RecursionUnit::RecursionUnit(sc_core::sc_module_name name, int id, const Acceler
                                       links.meter.table().register_pj_per_byte)),
       stall_(config.stall, "ru" + std::to_string(id), stats_) {
   links.scheduler.add(*this);
-  if (!kTlmWalkRegistered) throw std::logic_error("the tlm walk is not registered");  // (links it in)
 }
 
 void RecursionUnit::start_job() {

@@ -57,6 +57,5 @@ class WalkEngine {
 // RecursionUnitModels (hw/policy_registry.hpp): "tlm" makes no engine (the Recursion Unit's
 // own walk; registered in walk_engine.cpp); "rtl" is registered by the RTL library when the
 // build has Verilator (rtl/).
-extern const bool kTlmWalkRegistered;
 
 }  // namespace tigris::hw

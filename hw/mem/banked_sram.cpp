@@ -166,12 +166,7 @@ std::uint64_t BankedSram::charge_one(std::uint64_t start, std::uint64_t byte, st
   }
 #endif
   const tlm_if::PipelineAccess one{byte, bytes, 0};
-  tlm_if::AccessProfile a;
-  a.write = write;
-  a.bytes = bytes;
-  a.pipeline = &one;
-  a.pipeline_count = 1;
-  return charge_in_order(start, a);
+  return charge_in_order(start, tlm_if::AccessProfile::single(one, write));
 }
 
 void BankedSram::check([[maybe_unused]] std::uint64_t start, [[maybe_unused]] const tlm_if::AccessProfile& a,

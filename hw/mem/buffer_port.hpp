@@ -55,12 +55,7 @@ class BufferPort {
       c = timing_->charge_one(cycle, byte, bytes, write);
     } else {
       const tlm_if::PipelineAccess one{byte, bytes, 0};
-      tlm_if::AccessProfile a;
-      a.write = write;
-      a.bytes = bytes;
-      a.pipeline = &one;
-      a.pipeline_count = 1;
-      c = charge(cycle, a, period);
+      c = charge(cycle, tlm_if::AccessProfile::single(one, write), period);
     }
     complete = std::max(complete, c);
     return c - 1 - static_cast<std::uint64_t>(latency);
