@@ -20,6 +20,13 @@
 
 namespace tigris::hw {
 
+// How the result write-back meets the channel (docs/model.md, "Two accountings").
+enum class Writeback { Channel, OffCriticalPath };
+inline const char* to_string(Writeback w) { return w == Writeback::Channel ? "channel" : "off_critical_path"; }
+// Where approximate search keeps the leaders' final lists.
+enum class LeaderLists { Spill, Resident };
+inline const char* to_string(LeaderLists l) { return l == LeaderLists::Spill ? "spill" : "resident"; }
+
 struct SramConfig {
   std::uint64_t bytes = 0;
   int banks = 32;
@@ -169,6 +176,7 @@ struct AcceleratorConfig {
   struct ResultBuffer {
     double slot_fraction = 0.5;
     double leader_fraction = 0.25;
+    LeaderLists leader_lists = LeaderLists::Spill;
 
     template <class V>
     void visit(V&& v) {
@@ -180,13 +188,21 @@ struct AcceleratorConfig {
         {"-", above(0, 1),
          "approximate search: share of the Result Buffer holding the leaders' local result "
          "lists, split evenly among the SUs; a list that finds its SU's share full is kept in "
-         "DRAM (read and written over the write-back channel)"});
+         "DRAM (read and written over the write-back channel) unless leader_lists is resident"});
+      v("leader_lists", leader_lists,
+        {"-", one_of({LeaderLists::Spill, LeaderLists::Resident}),
+         "approximate search: where a leader's final list lives once its SU's share "
+         "(leader_fraction) is full: spill (the physical machine: kept in DRAM, over the write-back "
+         "channel at DRAM energy) or resident (the paper's accounting: followers \"fetch search nodes "
+         "from the Result Buffer\", so every list stays in the Result Buffer, read and written at its "
+         "banks and price; the paper bounds the lists by nothing)"});
     }
   } result_buffer;
 
   struct Dram {
     double bytes_per_cycle = 51.2;  // one DDR4-3200 x64 channel (25.6 GB/s) at 500 MHz
     int latency_cycles = 100;
+    Writeback writeback = Writeback::Channel;
 
     template <class V>
     void visit(V&& v) {
@@ -195,6 +211,14 @@ struct AcceleratorConfig {
          "DRAM bandwidth for the result write-back (at least 1e-3: below it a job's cycle "
          "count leaves the 64-bit range)"});
       v("latency_cycles", latency_cycles, {"cycles", in(0, kMaxCycles), "DRAM access latency"});
+      v("writeback", writeback,
+        {"-", one_of({Writeback::Channel, Writeback::OffCriticalPath}),
+         "how the result stream meets DRAM: channel (the physical machine: the double-buffered stream "
+         "area drains at bytes_per_cycle, a writer waits while both halves are full, the job ends when "
+         "the last byte is in DRAM) or off_critical_path (the paper's accounting: the double buffer "
+         "\"take[s] the result write traffic off the critical path\": a record is accepted as it is "
+         "written and the job ends with its last record; the bytes are still counted, and leader lists "
+         "kept in DRAM still wait for their transfers)"});
     }
   } dram;
 

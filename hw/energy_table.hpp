@@ -35,6 +35,8 @@ struct EnergyTable {
   double leader_buffer_pj_per_byte = 0.30;
   double register_pj_per_byte = 0.05;
   double dram_pj_per_byte = 120.0;        // 15 pJ/bit
+  // A switch, not a price: the paper's DP4 split gives DRAM 0.2% (docs/model.md, "Two accountings").
+  bool charge_result_dram = true;
   double leakage_pj_per_mm2_cycle = 4.0;  // 2 mW/mm2 at 500 MHz
 
   // pJ per byte of an access to an SRAM of `bytes` in `banks` equal banks: the access drives
@@ -86,6 +88,11 @@ struct EnergyTable {
        "DRAM access (off chip, not scaled): DDR4 ~15 pJ/bit with I/O, the middle of ~10-20 "
        "pJ/bit from Micron's DDR4 power calculator (TN-40-07); Horowitz 45 nm DDR3: 1.3-2.6 nJ "
        "per 64 bits (20-40 pJ/bit)");
+    v("charge_result_dram", charge_result_dram,
+      {"-", boolean(),
+       "charge dram_pj_per_byte for the result write-back and the leader lists kept in DRAM (true: "
+       "the physical machine; false: the paper's accounting, whose DP4 split gives \"DRAM read/write "
+       "(0.2%)\", no room for its results' bytes at a DDR4 price; the bytes are still counted)"});
     pj("leakage_pj_per_mm2_cycle", leakage_pj_per_mm2_cycle, "pJ/(mm2 cycle)",
        "static energy per mm2 of area (hw area model) per cycle: an estimate of 2 mW/mm2 for 16 "
        "nm FinFET logic and SRAM at nominal voltage, at 500 MHz (no published figure for this "

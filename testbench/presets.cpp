@@ -130,6 +130,9 @@ nlohmann::json describe_preset(const std::string& name) {
   const nlohmann::json meta = j.contains("//preset") ? j["//preset"] : nlohmann::json::object();
   out["why"] = meta.is_object() && meta.contains("why") ? meta["why"] : nlohmann::json("");
   if (meta.is_object() && meta.contains("variant")) out["variant"] = meta["variant"];
+  // The paper's accounting: the sentence each switch follows, by key.
+  if (meta.is_object() && meta.contains("accounting")) out["accounting"] = meta["accounting"];
+  if (meta.is_object() && meta.contains("cites")) out["cites"] = meta["cites"];
   return out;
 }
 

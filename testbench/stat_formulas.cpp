@@ -120,9 +120,14 @@ const std::vector<DerivedStat>& derived_stats() {
       {"units.search_units.queries_per_batch", "ratio", "query-leaf visits served per batch",
        "units.search_units.queries / units.search_units.batches"},
       {"power_w", "W", "mean power over the run", "energy_pj.total * 1e-12 / seconds"},
-      {"lower_bound_cycles", "cycles", "the cycles with every RU or every PE busy all the time: no schedule beats them",
+      {"visits.pe_distances", "count",
+       "distances the PEs compute: Node Set points, leader-list entries and Leader Check distances",
+       "visits.leaf_points + visits.follower_points + visits.leader_checks"},
+      {"lower_bound_cycles", "cycles",
+       "the ideal machine of this size (docs/model.md, \"Work and the ideal machine\"): every RU one top-tree "
+       "node a cycle, every PE one distance a cycle, no bank conflict, free write-back; no schedule beats it",
        "max(visits.top / config.fe.recursion_units, "
-       "visits.leaf_points / (config.be.search_units * config.be.pes_per_su))"},
+       "visits.pe_distances / (config.be.search_units * config.be.pes_per_su))"},
   };
   return table;
 }

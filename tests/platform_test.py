@@ -93,7 +93,7 @@ def part_install(build, prefix, tmp):
     presets = json.loads(sh([tig, "presets", "--json"]))
     check(presets["dir"] == os.path.join(prefix, "share", "tigris", "presets"), f"presets read from {presets['dir']}")
     check({"paper", "top-6", "top-10", "dram-2x", "dram-8x", "pb-banks-64", "pb-banks-256", "nc-32k",
-           "nc-512k"} <= {p["name"] for p in presets["presets"]}, "a preset is missing")
+           "nc-512k", "paper-accounting"} <= {p["name"] for p in presets["presets"]}, "a preset is missing")
     with open(os.path.join(work, "spec.json"), "w") as f:
         json.dump({"command": "run", "base": {"config": "top-6", "sim-threads": 1},
                    "grid": {"fe.recursion_units": [32, 64]}}, f)

@@ -139,6 +139,10 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
       v = "every_leaf";
     else if (v == "wait")
       v = "finished_only";
+    else if (v == "channel")
+      v = "off_critical_path";
+    else if (v == "spill")
+      v = "resident";
     else if (v == "off")
       v = 0.5;
     else if (v == "tlm" && tigris::hw::RecursionUnitModels::find("rtl"))
@@ -156,6 +160,9 @@ TEST_CASE("config: every key maps to its own field", "[config]") {
   CHECK(cfg.tree.split_axis == tigris::SplitRule::RoundRobin);
   CHECK(cfg.leader.scope == tigris::LeaderScope::EveryLeaf);
   CHECK(cfg.leader.in_flight == tigris::LeaderInFlight::FinishedOnly);
+  CHECK(cfg.dram.writeback == tigris::hw::Writeback::OffCriticalPath);
+  CHECK(cfg.result_buffer.leader_lists == tigris::hw::LeaderLists::Resident);
+  CHECK_FALSE(cfg.energy.charge_result_dram);
   AcceleratorConfig valid = cfg;
   valid.fe.recursion_unit_model = "tlm";  // the RTL RU refuses the changed cost.ru_* (tested below)
   CHECK_NOTHROW(tigris::validate_config(valid));

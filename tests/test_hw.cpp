@@ -302,6 +302,40 @@ TEST_CASE("a radius job run three times on one accelerator: identical cycles, re
   check_repeatable(mode(Mode::Radius, 1, 1.2f));
 }
 
+TEST_CASE("the paper's accounting: the write-back off the critical path, its bytes free of DRAM energy",
+          "[hw][timing]") {
+  // A radius job whose results outrun a slow channel: the physical machine waits for it; off
+  // the critical path nobody waits, as on a channel of unbounded bandwidth and no latency (the
+  // same cycles, but for the last record's drain: at most one cycle), and every byte still moves.
+  const PointCloud cloud = make_cloud(CloudKind::Uniform, 2500, 21);
+  const PointCloud queries = make_queries(cloud, 300, 21);
+  hw::AcceleratorConfig channel = units(8, 4, 4, 6);
+  channel.sram.results.bytes = 4096;
+  channel.dram.bytes_per_cycle = 0.7;
+  hw::AcceleratorConfig off = channel;
+  off.dram.writeback = hw::Writeback::OffCriticalPath;
+  off.energy.charge_result_dram = false;
+  hw::AcceleratorConfig wide = channel;
+  wide.dram.bytes_per_cycle = 1e6;
+  wide.dram.latency_cycles = 0;
+  const SearchParams r = mode(Mode::Radius, 1, 1.2f);
+  const auto out = run_and_check(cloud, queries, {{"channel", channel, r}, {"off", off, r}, {"wide", wide, r}});
+  const auto waited = [](const SimOutcome& o) {
+    return o.units["recursion_units"]["stall_cycles"]["result_writeback"].get<std::uint64_t>() +
+           o.units["search_units"]["stall_cycles"]["result_writeback"].get<std::uint64_t>();
+  };
+  CHECK(waited(out[0]) > 0);
+  CHECK(waited(out[1]) == 0);
+  CHECK(out[1].cycles < out[0].cycles);
+  CHECK(out[1].cycles <= out[2].cycles);
+  CHECK(out[2].cycles <= out[1].cycles + 1);
+  const auto bytes = [](const SimOutcome& o) { return o.buffers["dram"]["write_bytes"].get<std::uint64_t>(); };
+  CHECK(bytes(out[1]) == bytes(out[0]));
+  CHECK(bytes(out[1]) > 0);
+  CHECK(out[0].energy["dram"].get<double>() == Approx(bytes(out[0]) * hw::EnergyTable{}.dram_pj_per_byte));
+  CHECK(out[1].energy["dram"].get<double>() == 0.0);
+}
+
 TEST_CASE("Result Buffer words follow sram.results.word_bytes", "[hw][timing]") {
   // kNN k=1 slots are 16 bytes: two 8-byte words or one 16-byte word per slot access.
   const PointCloud cloud = make_cloud(CloudKind::Uniform, 1500, 8);

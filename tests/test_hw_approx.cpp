@@ -163,14 +163,30 @@ TEST_CASE("leader lists that find the Result Buffer's list area full live in DRA
   const PointCloud queries = make_queries(cloud, 300, 24);
   auto tiny = units(8, 4, 8, 5);
   tiny.result_buffer.leader_fraction = 1e-5;  // 31 bytes: less than one 16-byte entry per SU
-  const std::vector<Case> cases = {{"area", units(8, 4, 8, 5), approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)},
-                                   {"dram", tiny, approximate(mode(Mode::Radius, 1, 1.0f), 0.4f)}};
+  auto resident = tiny;  // the paper's accounting: the same lists stay in the Result Buffer
+  resident.result_buffer.leader_lists = hw::LeaderLists::Resident;
+  const SearchParams r = approximate(mode(Mode::Radius, 1, 1.0f), 0.4f);
+  const std::vector<Case> cases = {{"area", units(8, 4, 8, 5), r}, {"dram", tiny, r}, {"resident", resident, r}};
   const auto out = run_and_check(cloud, queries, cases);
   const auto lists = [](const SimOutcome& o) { return o.buffers["dram"]["leader_list"]; };
+  const auto count = [](const SimOutcome& o, const char* key) {
+    return o.buffers["leader_buffer"][key].get<std::uint64_t>();
+  };
   CHECK(lists(out[0])["write_bytes"].get<std::uint64_t>() == 0);
   CHECK(lists(out[1])["write_bytes"].get<std::uint64_t>() > 0);
   CHECK(lists(out[1])["read_bytes"].get<std::uint64_t>() > 0);
   CHECK(out[0].results.neighbors.size() == out[1].results.neighbors.size());
+  // Resident: no list crosses the channel; the overflow is read and written at the Result
+  // Buffer's banks instead, every byte the spill moved.
+  CHECK(lists(out[2])["write_bytes"].get<std::uint64_t>() == 0);
+  CHECK(lists(out[2])["read_bytes"].get<std::uint64_t>() == 0);
+  CHECK(count(out[2], "dram_lists") == 0);
+  CHECK(count(out[2], "resident_overflow_lists") == count(out[1], "dram_lists"));
+  // Radius keeps no slots: every list byte written is a Result Buffer write, or a DRAM one.
+  const auto written = [](const SimOutcome& o) { return o.buffers["results"]["write_bytes"].get<std::uint64_t>(); };
+  CHECK(written(out[1]) + lists(out[1])["write_bytes"].get<std::uint64_t>() == count(out[1], "list_bytes"));
+  CHECK(written(out[2]) == count(out[2], "list_bytes"));
+  CHECK(out[2].results.offset == out[1].results.offset);  // both bit-exact against the golden model above
 }
 
 TEST_CASE("Leader Check cost (every_leaf): leaders stream past the PEs, then one decision cycle",

@@ -7,7 +7,8 @@ namespace tigris::hw {
 
 LeaderBuffer::LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter)
     : su_(su), sus_(static_cast<std::uint32_t>(config.be.search_units)),
-      capacity_(static_cast<std::uint32_t>(config.leader.capacity_per_leaf)), stats_("leader_buffer", "leader_buffer"),
+      capacity_(static_cast<std::uint32_t>(config.leader.capacity_per_leaf)),
+      resident_(config.result_buffer.leader_lists == LeaderLists::Resident), stats_("leader_buffer", "leader_buffer"),
       read_energy_(meter.line("leader_buffer.read_bytes", EnergyMeter::Component::LeaderBuffer,
                               meter.table().leader_buffer_pj_per_byte)),
       write_energy_(meter.line("leader_buffer.write_bytes", EnergyMeter::Component::LeaderBuffer,
@@ -22,7 +23,7 @@ void LeaderBuffer::start(const JobDescriptor& job, std::uint8_t* result_buffer) 
   area_ = result_buffer + area_base_;
   area_bytes_ = share;
   area_used_ = 0;
-  dram_.clear();
+  overflow_.clear();
 }
 
 std::size_t LeaderBuffer::append(std::uint32_t leaf, const Point3& point, const std::vector<tlm_if::PointEntry>& list) {
@@ -57,16 +58,19 @@ void LeaderBuffer::store_list(Leader& l, const std::vector<tlm_if::PointEntry>& 
     if (bytes) std::memcpy(area_ + area_used_, list.data(), bytes);
     area_used_ += bytes;
   } else {
-    l.in_dram = true;
-    l.list_address = dram_.size() * kListEntryBytes;
-    dram_.insert(dram_.end(), list.begin(), list.end());
-    ++dram_lists_;
+    // The list's entries go to the overflow store; its bytes cross the channel (spill) or stay
+    // in the Result Buffer at a wrapped address (resident).
+    l.in_dram = !resident_;
+    l.overflow = overflow_.size();
+    l.list_address = l.overflow * kListEntryBytes;
+    overflow_.insert(overflow_.end(), list.begin(), list.end());
+    ++(resident_ ? resident_overflow_ : dram_lists_);
   }
   list_bytes_ += bytes;
 }
 
 const tlm_if::PointEntry* LeaderBuffer::list(const Leader& l) const {
-  if (l.in_dram) return dram_.data() + l.list_address / kListEntryBytes;
+  if (l.overflow != kNoOverflow) return overflow_.data() + l.overflow;
   return reinterpret_cast<const tlm_if::PointEntry*>(area_ + (l.list_address - area_base_));
 }
 

@@ -4,7 +4,9 @@
 // result list lives. Lists are written into this SU's equal share of the Result Buffer's
 // leader-list area (16-byte entries: x, y, z, index, as in the Point Buffer), bump-allocated
 // within a job; a list that no longer fits is kept in DRAM (a documented spill: its write and
-// every follower's read cross the write-back channel).
+// every follower's read cross the write-back channel), or, with result_buffer.leader_lists =
+// resident (the paper's accounting), stays in the Result Buffer: its accesses are charged at
+// the share's banks, its address wrapped into the share (the paper bounds the lists by nothing).
 #pragma once
 
 #include <cstdint>
@@ -23,12 +25,14 @@ class LeaderBuffer {
  public:
   static constexpr std::uint64_t kLeaderBytes = 12;  // x, y, z as float32
   static constexpr std::uint64_t kListEntryBytes = sizeof(tlm_if::PointEntry);
+  static constexpr std::uint64_t kNoOverflow = ~std::uint64_t{0};
 
   struct Leader {
     Point3 point;
-    std::uint64_t list_address = 0;  // byte address in the Result Buffer, or in the DRAM spill
+    std::uint64_t list_address = 0;  // byte address in the Result Buffer, or in the overflow store
     std::uint32_t list_length = 0;   // entries
     bool in_dram = false;
+    std::uint64_t overflow = kNoOverflow;  // entry index in the overflow store (DRAM, or resident)
     std::uint64_t ready = 0;          // cycle the list is written and followers may read it
     bool pending = false;             // first_leaf, wait: reserved at its check, still searching
     std::vector<QueryToken> waiters;  // wait: followers parked until its list is written
@@ -40,6 +44,11 @@ class LeaderBuffer {
   void start(const JobDescriptor& job, std::uint8_t* result_buffer);
   const std::vector<Leader>& leaders(std::uint32_t leaf) const { return leaves_[slot(leaf)]; }
   bool full(std::uint32_t leaf) const { return leaders(leaf).size() >= capacity_; }
+  // Where the Result Buffer's banks see a list's first byte (a resident overflow list wraps).
+  std::uint64_t bank_address(const Leader& l) const {
+    return l.overflow == kNoOverflow ? l.list_address
+                                     : area_base_ + (area_bytes_ ? l.list_address % area_bytes_ : 0);
+  }
   // The check stream reads `entries` leaders of one leaf.
   void read(std::uint64_t entries) {
     read_bytes_ += entries * kLeaderBytes;
@@ -62,10 +71,11 @@ class LeaderBuffer {
 
   std::uint32_t su_, sus_;
   std::uint32_t capacity_;
+  bool resident_;  // result_buffer.leader_lists: lists beyond the share stay in the Result Buffer
   std::vector<std::vector<Leader>> leaves_;
   std::uint8_t* area_ = nullptr;  // this SU's share of the leader-list area
   std::uint64_t area_base_ = 0, area_bytes_ = 0, area_used_ = 0;
-  std::vector<tlm_if::PointEntry> dram_;  // lists kept in DRAM
+  std::vector<tlm_if::PointEntry> overflow_;  // lists beyond the share (DRAM, or resident)
   StatGroup stats_;
   Counter read_bytes_{stats_, "read_bytes", "bytes",
                       "Leader Buffer bytes read by the Leader Checks (12 bytes a leader)"};
@@ -74,6 +84,9 @@ class LeaderBuffer {
                       "leaders' local result lists written (16-byte entries), wherever they live"};
   Counter dram_lists_{stats_, "dram_lists", "count",
                       "lists that found their SU's share of the Result Buffer full and were kept in DRAM"};
+  Counter resident_overflow_{stats_, "resident_overflow_lists", "count",
+                             "lists that found their SU's share full and stayed in the Result Buffer "
+                             "(result_buffer.leader_lists = resident)"};
   Counter max_leaders_{stats_, "max_leaders_per_leaf", "count", "most leaders any leaf held", Counter::Merge::Max};
   Counter& read_energy_;
   Counter& write_energy_;

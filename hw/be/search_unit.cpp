@@ -341,7 +341,7 @@ std::uint64_t SearchUnit::list_access(std::uint64_t at, const LeaderBuffer::Lead
   if (l.in_dram) return links_.result_buffer.dram_transfer(at, bytes, write);
   tlm_if::AccessProfile a;
   a.write = write;
-  a.first_byte = l.list_address;
+  a.first_byte = leader_buffer_.bank_address(l);
   a.bytes = bytes;
   return results.charge(at, a, clock_.period);
 }

@@ -1,6 +1,7 @@
 // The result write-back stream: finished results leave the Result Buffer's double-buffered
 // stream area for DRAM at a fixed bandwidth; writers are held back only when both halves are
-// full. The DRAM region it fills is a window on the host socket, where the host driver reads
+// full (dram.writeback = channel). Under the paper's accounting (off_critical_path) the stream
+// never holds a writer back and the channel carries only leader lists kept in DRAM. The DRAM region it fills is a window on the host socket, where the host driver reads
 // the records after done. Time is kept relative to the job's START, so a job run again on the
 // same accelerator rounds exactly as the first time.
 #pragma once
@@ -35,9 +36,11 @@ class ResultWriteback : public sc_core::sc_module {
   // Appends records at cycle `now`; returns the cycle they are accepted (backpressure).
   std::uint64_t write(std::uint64_t now, const tlm_if::ResultRecord* records, std::size_t n);
   // Other traffic on the channel (leader lists kept in DRAM): `bytes` moved from cycle `now`,
-  // behind what the channel already carries; returns the cycle the transfer completes.
+  // behind what the channel already carries (off the critical path: other lists only);
+  // returns the cycle the transfer completes.
   std::uint64_t transfer(std::uint64_t now, std::uint64_t bytes, bool write);
-  // The cycle the last accepted byte reaches DRAM.
+  // The cycle the last accepted byte reaches DRAM (off the critical path: the last record's
+  // acceptance, or the last leader-list transfer's end).
   std::uint64_t drained_cycle() const;
   // Sampled simulation's functional warming (testbench/sampling.hpp): the bytes waiting in the
   // stream buffer at cycle `now`, set to what the queries it skipped would have left there.
@@ -51,6 +54,7 @@ class ResultWriteback : public sc_core::sc_module {
 
  private:
   void b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
+  static double dram_price(const EnergyTable& table);  // 0 when result traffic is not charged
 
   AcceleratorConfig::Dram config_;
   double host_bytes_per_cycle_;
@@ -58,6 +62,7 @@ class ResultWriteback : public sc_core::sc_module {
   std::vector<std::uint8_t> region_;
   std::uint64_t origin_ = 0;  // the job's START cycle
   double drain_free_ = 0.0;   // cycles after START at which the channel is idle again
+  std::uint64_t last_accept_ = 0;  // cycles after START of the last record's acceptance
   std::uint64_t buffer_bytes_ = 0;
   StatGroup stats_{"dram", "dram"};
   Counter writes_{stats_, "writes", "count", "result records written to DRAM (12 bytes each: query, index, dist2)"};
