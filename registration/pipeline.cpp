@@ -110,6 +110,8 @@ RegistrationResult register_clouds(const PointCloud& source_points, const PointC
   state.normals_search.shell_inner = static_cast<float>(c.inject.normals_shell_inner);
   state.normals_search.shell_outer = static_cast<float>(c.inject.normals_shell_outer);
   state.rpce_search.inject_kth = c.inject.rpce_kth;
+  state.normals_search.leaf_size = c.search.normals_leaf_size;  // the authors' per-stage leaf sizes
+  state.rpce_search.leaf_size = c.search.rpce_leaf_size;
   // Every stage announces itself to the caller and to the trace recorder.
   const StageCallback on_stage = [&hooks](const std::string& stage) {
     if (hooks.recorder) hooks.recorder->begin_stage(stage);

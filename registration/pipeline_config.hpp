@@ -83,6 +83,8 @@ struct PipelineConfig {
   struct {
     Backend backend = Backend::Exact;
     int top_height = 10;
+    int normals_leaf_size = 0;  // 0: top_height
+    int rpce_leaf_size = 0;
     double nn_thd = 1.2;
     double radius_thd = 0.4;
     int leader_capacity = 16;
@@ -157,6 +159,13 @@ struct PipelineConfig {
        "3D KD-tree search: PCL's FLANN (CPU baseline), golden exact, golden approximate"});
     v("search.top_height", search.top_height,
       {"levels", in(0, 30), "top-tree height (clamped to each cloud's full height)"});
+    v("search.normals_leaf_size", search.normals_leaf_size,
+      {"points", in(0, 1 << 30),
+       "normal estimation's trees: the lowest top height whose leaf sets hold at most this many points, "
+       "instead of top_height (0: top_height; the paper authors' pipeline: 64, bin/config.txt)"});
+    v("search.rpce_leaf_size", search.rpce_leaf_size,
+      {"points", in(0, 1 << 30),
+       "RPCE's (ICP's) trees: as normals_leaf_size (0: top_height; the authors' pipeline: 32)"});
     v("search.nn_thd", search.nn_thd, {"m", in(0, 1000), "approximate NN/kNN leader threshold"});
     v("search.radius_thd", search.radius_thd, {"fraction of r", in(0, 1), "approximate radius threshold"});
     v("search.leader_capacity", search.leader_capacity,

@@ -106,7 +106,9 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
     } else {
       this->input_ = cloud;
       this->indices_ = indices;
-      golden_.build(finite_points(), settings_.top_height);
+      PointCloud pts = finite_points();
+      const int height = settings_.height_for(pts.size());
+      golden_.build(std::move(pts), height);
       jobs_.rebuilt();  // an announced set is searched on the new tree
     }
     const double seconds = seconds_since(t0);

@@ -31,7 +31,7 @@ void SearchRecording::tree_built(const SearchSettings& s, const PointCloud& poin
     local_of_.assign(input_size, -1);
     for (std::size_t i = 0; i < map.size(); ++i) local_of_[static_cast<std::size_t>(map[i])] = static_cast<int>(i);
   }
-  serial_ = s.recorder->tree_built(points, to_string(s.backend), s.top_height, build_seconds);
+  serial_ = s.recorder->tree_built(points, to_string(s.backend), s.height_for(points.size()), build_seconds);
   s.recorder->add_overhead(seconds_since(t1));
 }
 

@@ -16,6 +16,13 @@ void SearchSettings::validate_injection() const {
                                 std::to_string(shell_inner) + ", " + std::to_string(shell_outer));
 }
 
+int SearchSettings::height_for(std::size_t points) const {
+  if (leaf_size <= 0) return top_height;
+  int h = 0;
+  for (std::size_t n = points; n > static_cast<std::size_t>(leaf_size); n /= 2) ++h;
+  return h;
+}
+
 SearchParams golden_params(SearchParams p, const SearchSettings& s) {
   if (s.backend != Backend::Approx) return p;
   p.approximate = true;

@@ -18,6 +18,7 @@ namespace tigris::registration {
 struct SearchSettings {
   Backend backend = Backend::Exact;
   int top_height = 10;      // clamped to each cloud's full height
+  int leaf_size = 0;        // > 0: the top height whose leaf sets hold at most this many points
   float nn_thd = 1.2f;      // approximate NN/kNN: follow a leader this close (metres)
   float radius_thd = 0.4f;  // approximate radius: threshold as a fraction of r
   int leader_capacity = 16;
@@ -33,6 +34,9 @@ struct SearchSettings {
   // In the loop (announced_jobs.hpp): golden back-ends only; null: none.
   std::shared_ptr<AcceleratorPort> accelerator;
 
+  // The top height of a tree on `points` points: top_height, or the lowest height whose leaf
+  // sets hold at most leaf_size points (a top node keeps its median: the larger half is n / 2).
+  int height_for(std::size_t points) const;
   bool injects_kth() const { return inject_kth > 1; }
   bool injects_shell() const { return shell_outer > 0.0f; }
   // Throws std::invalid_argument naming the field: inject_kth < 1, a shell with inner < 0,

@@ -60,7 +60,7 @@ def render(doc_lines, schema):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--tigris", default=os.path.join(ROOT, "build", "testbench", "tigris"))
+    ap.add_argument("--tigris", default=os.path.join(ROOT, "build", "bin", "tigris"))
     ap.add_argument("--check", action="store_true", help="only compare; exit 1 when docs/stats.md is out of date")
     a = ap.parse_args()
     p = subprocess.run([a.tigris, "run", "--stats-schema"], capture_output=True, text=True)

@@ -150,6 +150,32 @@ typename TigrisKdTree<T>::Ptr injected(Backend b, int kth, float inner = 0.0f, f
 
 }  // namespace
 
+TEST_CASE("leaf size: the lowest top height whose leaf sets hold at most that many points", "[registration]") {
+  SearchSettings s;
+  s.top_height = 7;
+  CHECK(s.height_for(1000) == 7);  // no leaf size: the top height
+  s.leaf_size = 32;
+  CHECK(s.height_for(32) == 0);
+  CHECK(s.height_for(33) == 1);
+  CHECK(s.height_for(64) == 1);
+  CHECK(s.height_for(65) == 1);  // the root keeps one point: 32 + 32
+  CHECK(s.height_for(66) == 2);
+  for (std::size_t n : {100u, 1000u, 4097u, 20000u}) {
+    PointCloud cloud(n);
+    for (std::size_t i = 0; i < n; ++i)
+      cloud[i] = {static_cast<float>(i % 37), static_cast<float>(i % 101) * 0.5f, static_cast<float>(i) * 0.01f};
+    const int h = s.height_for(n);
+    for (int height : {h - 1, h}) {
+      if (height < 0) continue;
+      const KdTree t = build_kdtree(cloud, height);
+      std::uint32_t largest = 0;
+      for (std::uint32_t j = 0; j < t.num_leaves(); ++j) largest = std::max(largest, t.leaf_size(j));
+      INFO("n " << n << " height " << height);
+      CHECK((largest <= 32) == (height == h));  // h gets there, one level less does not
+    }
+  }
+}
+
 TEST_CASE("plug-in error injection: an NN search returns exactly the K-th nearest neighbour", "[registration]") {
   for (const auto kind : {test::CloudKind::Uniform, test::CloudKind::Duplicates}) {
     const auto cloud = to_pcl(test::make_cloud(kind, 1500, 44));
