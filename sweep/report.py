@@ -16,6 +16,7 @@ import os
 import sys
 
 from . import evaldata as ed
+from . import variants as vt
 from .evaldata import num
 
 TWO_X = 2.0
@@ -53,6 +54,8 @@ class Claim:
         self.direction = None  # True / False / None (n/a)
         self.within = None
         self.explanation = ""
+        self.speed = None        # a speed claim's ratios, slow over fast: cycles, work, leaf, pe, ideal (speed_bound)
+        self.work_ratio = False  # the paper's speed-up is a work ratio no machine of this size reaches
 
     def missing(self, what):
         self.explanation = f"needs {what}"
@@ -78,6 +81,63 @@ def within_2x_gain(measured, paper):
     '+x%' claim. On the factors themselves any result from 1.0x to 4x would be within 2x of a 2x
     claim, no change included."""
     return None if measured is None or paper is None else within_2x(measured - 1, paper - 1)
+
+
+# ------------------------------------------------------------------ the work bound of a speed claim
+
+PE_PARTS = ("visits.leaf_points", "visits.follower_points", "visits.leader_checks")
+
+
+def run_work(row):
+    """(cycles, nodes, leaf points, PE distances, ideal cycles) of a `tigris run` row. Nodes =
+    top-tree nodes + PE distances (leaf points + follower points + leader checks); the ideal
+    cycles are the model's `lower_bound_cycles`: the configured machine at one node per RU and
+    one distance per PE per cycle, no bank conflict, free write-back (docs/model.md)."""
+    pe = num(row, "visits.pe_distances")
+    if pe is None:  # a row of a tigris before that column: its parts
+        pe = sum(num(row, c) or 0 for c in PE_PARTS)
+    return (num(row, "cycles"), (num(row, "visits.top") or 0) + pe, num(row, "visits.leaf_points") or 0, pe,
+            num(row, "lower_bound_cycles"))
+
+
+def register_work(row):
+    """run_work of a registration with the accelerator in the loop (a registrations CSV row),
+    None without its jobs' figures: cycles and visits summed over the stages
+    (`stages.<key>.accelerator.*`); the ideal cycles per stage from its visits and the
+    accelerator's unit counts (`accelerator.config.*`), summed, a stage's jobs following one
+    another."""
+    units = [num(row, f"accelerator.config.{k}") for k in ("fe.recursion_units", "be.search_units", "be.pes_per_su")]
+    stages = sorted({k[len("stages."):-len(".accelerator.cycles")] for k in row
+                     if k.startswith("stages.") and k.endswith(".accelerator.cycles")})
+    if not stages or not all(units):
+        return None
+    total = [0.0] * 5
+    for st in stages:
+        at = lambda c: num(row, f"stages.{st}.accelerator.{c}") or 0  # noqa: E731
+        top, pe = at("visits.top"), sum(at(c) for c in PE_PARTS)
+        for i, v in enumerate((at("cycles"), top + pe, at("visits.leaf_points"), pe,
+                               max(top / units[0], pe / (units[1] * units[2])))):
+            total[i] += v
+    return tuple(total)
+
+
+def ratio(a, b):
+    return a / b if a is not None and b else None
+
+
+def speed_bound(c, slow, fast, paper=None, rule=None):
+    """Records on claim c a speed claim's ratios of the slow run over the fast one (run_work
+    tuples): cycles, work (nodes) and the ideal machine's; and whether the paper's speed-up
+    `paper` (a factor) is a work ratio: within 2x of the work ratio by the claim's own rule
+    (default within_2x_gain), yet above the ideal ratio by more than the no-change band, so no
+    machine of this size reaches it as a speed-up. Returns the explanation's words for them."""
+    r = [ratio(a, b) for a, b in zip(slow, fast)]
+    c.speed = dict(zip(("cycles", "work", "leaf", "pe", "ideal"), r))
+    c.work_ratio = bool(paper and r[1] and r[4] and (rule or within_2x_gain)(r[1], paper)
+                        and paper > r[4] * (1 + NO_CHANGE))
+    show = lambda v: xf(v) if v is not None else "n/a"  # noqa: E731
+    return (f"work {show(r[1])} in nodes (leaf points {show(r[2])}, PE distances {show(r[3])}), "
+            f"ideal machine {show(r[4])}" + (f": the paper's {paper:.3g}x is a work ratio" if c.work_ratio else ""))
 
 
 def pct(x, digits=1):
@@ -150,6 +210,11 @@ def grows(pts):
     return ys[-1] > ys[0] and all(b >= a * 0.98 for a, b in zip(ys, ys[1:]))
 
 
+# The two conventions of the redundancy (docs/model.md, fidelity targets), named in the claims' labels.
+MODEL_CONV = "(model's convention: a point in every node)"
+AUTHORS_CONV = "(authors' convention: classic tree, leaf size one)"
+
+
 def claims_redundancy(sw):
     out, at32 = [], {}
     how = ("redundancy = nodes visited per query (top-tree nodes + leaf-set points, "
@@ -158,7 +223,7 @@ def claims_redundancy(sw):
            "is interpolated log-log between the nearest two heights. Direction: redundancy "
            "grows with leaf-set size at every step of the height sweep.")
     for mode, key in (("nn", "redundancy_nn_32"), ("radius", "redundancy_radius_32")):
-        c = Claim(f"redundancy-{mode}", "9", f"two-stage redundancy grows with leaf-set size "
+        c = Claim(f"redundancy-{mode}", "9", f"two-stage redundancy grows with leaf-set size {MODEL_CONV} "
                   f"({'NN' if mode == 'nn' else 'radius'}; value at leaf-set 32)",
                   f"{PAPER[key]:g}x at 32 (KITTI)", how)
         out.append(c)
@@ -182,7 +247,7 @@ def claims_redundancy(sw):
                 f"{(num(r, 'visits.top') or 0) / q:.0f} top nodes); redundancy "
                 + ", ".join(f"{p[1]:.2f}x@{p[0]:.0f}" for p in pts) + f"; value {where}")
         c.set(xf(v), grows(pts), within_2x_gain(v, PAPER[key]), fact)
-    c = Claim("redundancy-nn-vs-radius", "9", "redundancy grows faster for NN than for radius "
+    c = Claim("redundancy-nn-vs-radius", "9", f"redundancy grows faster for NN than for radius {MODEL_CONV} "
               "(NN / radius redundancy at leaf-set 32)",
               f"{PAPER['redundancy_nn_32']:g}x / {PAPER['redundancy_radius_32']:g}x = "
               f"{PAPER['redundancy_nn_32'] / PAPER['redundancy_radius_32']:.1f}", how)
@@ -219,7 +284,7 @@ def claims_redundancy_conventions(path):
             rad = next((r.get("radius") for r in g if r.get("radius")), "")
             label_ = "NN" if mode == "nn" else (f"radius {float(rad):.2f} m" if rad else "radius")
             c = Claim(f"redundancy-authors-{mode}-{'self' if 'itself' in queries else 'cross'}", "9",
-                      f"two-stage redundancy at leaf-set 32 in the authors' convention ({label_}, {where})",
+                      f"two-stage redundancy at leaf-set 32 {AUTHORS_CONV} ({label_}, {where})",
                       f"{paper:g}x at 32 (KITTI)", how)
             if not g:
                 out.append(c.missing("a `tigris ref --redundancy` run of this search "
@@ -257,11 +322,14 @@ def claims_redundancy_conventions(path):
     return out
 
 
-def _csv_rows(path):
-    if not path or not os.path.isfile(path):
-        return []
-    with open(path, newline="") as f:
-        return [r for r in csv.DictReader(f) if r.get("status") == "ok"]
+def _csv_rows(paths):
+    """The ok rows of a CSV, or of several in order (a list: None and missing files skipped)."""
+    out = []
+    for path in paths if isinstance(paths, (list, tuple)) else [paths]:
+        if path and os.path.isfile(path):
+            with open(path, newline="") as f:
+                out += [r for r in csv.DictReader(f) if r.get("status") == "ok"]
+    return out
 
 
 def _f(row, col):
@@ -280,7 +348,9 @@ def claims_headline(reg_csv, odo_csv):
     """The paper's most quoted claims (section 6): end to end with the accelerator in the loop
     against the CPU-only system, the approximate search's speed-up and accuracy cost, and the
     GPU comparisons (not measurable here). From reproduce's `registrations` sweep (tigris
-    register points) and `odometry-approx` sweep (tigris odometry over a synthetic drive)."""
+    register points; several CSVs: a later one's point of a preset and search replaces an
+    earlier one's, an accounting's accelerator points the default's) and `odometry-approx`
+    sweep (tigris odometry over a synthetic drive)."""
     reg = {(r.get("preset"), r.get("search")): r for r in _csv_rows(reg_csv)}
     how = ("`tigris register` of frame 1 into frame 0 per preset and back-end (reproduce's `registrations` sweep): "
            "end to end = the registration's seconds on the CPU (PCL's FLANN: the CPU-only system) against the "
@@ -316,9 +386,11 @@ def claims_headline(reg_csv, odo_csv):
               "registration; exact / approximate modeled KD-tree seconds)", "11.1x", how)
     ex, ap = kd("dp7", "accel"), kd("dp7", "accel-approx")
     if ex and ap:
+        works = [register_work(reg[("dp7", s)]) for s in ("accel", "accel-approx")]
+        work = "; accelerator jobs: " + speed_bound(c, *works, PAPER["approx_speedup"]) if all(works) else ""
         out.append(c.set(xf(ex / ap), up(ex / ap), within_2x_gain(ex / ap, PAPER["approx_speedup"]),
                          f"modeled KD-tree {ex:.4f} s -> {ap:.4f} s (normal estimation's radius searches and ICP's "
-                         "NN searches together; the single-job claims above show each)"))
+                         f"NN searches together; the single-job claims above show each){work}"))
     else:
         out.append(c.missing("`tigris register --preset dp7` with --search accel and accel-approx"))
     c = Claim("approx-e2e-dp7", "9", "approximate search improves the end to end (DP7, accelerator exact / "
@@ -333,38 +405,21 @@ def claims_headline(reg_csv, odo_csv):
 
     # Accuracy: per metre of the drive, from the relative pose errors (a short synthetic drive
     # has no 100 m KITTI segment; KITTI's r_err is per metre too).
-    odo = {(r.get("preset"), r.get("search")): r for r in _csv_rows(odo_csv)}
+    # Rows of the authors' convention set the per-stage leaf sizes (reproduce.AUTHORS_ACCURACY).
+    odo = {(r.get("preset"), r.get("search"), "authors" if _f(r, "search.rpce_leaf_size") else "model"): r
+           for r in _csv_rows(odo_csv)}
     ohow = ("`tigris odometry --synthetic N` per preset, search exact and approximate (reproduce's `odometry-approx` "
             "sweep): translation error = mean RPE translation / mean step, in %; rotation error = mean RPE rotation "
-            "/ mean step, in deg/m (the drive is shorter than KITTI's 100 m segments, so its t_err/r_err are empty)")
-
-    def per_metre(r, col):
-        v, pairs, length = _f(r, col), _f(r, "pairs"), _f(r, "kitti.trajectory_length_m")
-        return v * pairs / length if v is not None and pairs and length else None
-
+            "/ mean step, in deg/m (the drive is shorter than KITTI's 100 m segments, so its t_err/r_err are empty). "
+            "Two conventions: the model's (the preset's top height 10, 16 leaders per leaf) and the authors' "
+            "(PointCloud-pipeline's bin/config.txt: leaves of 64 points for normal estimation and 32 for ICP, "
+            "`search.normals_leaf_size` / `search.rpce_leaf_size`, and a leader list bounded by nothing, "
+            "`search.leader_capacity` 2^20), exact search being the same in both")
     for p, rot in (("dp4", 0.05), ("dp7", 0.0006)):
-        e, a = odo.get((p, "exact")), odo.get((p, "approx"))
-        c = Claim(f"approx-t-{p}", "9", f"approximate search leaves the translation error unchanged ({p.upper()})",
-                  "unchanged", ohow)
-        c2 = Claim(f"approx-r-{p}", "9", f"approximate search adds little rotation error ({p.upper()}, deg/m)",
-                   f"+{rot:g} deg/m", ohow)
-        if not (e and a):
-            out += [c.missing(f"odometry over a synthetic drive with --preset {p}, exact and approximate"),
-                    c2.missing(f"odometry over a synthetic drive with --preset {p}, exact and approximate")]
-            continue
-        te, ta = per_metre(e, "rpe.mean_translation_m"), per_metre(a, "rpe.mean_translation_m")
-        re_, ra = per_metre(e, "rpe.mean_rotation_deg"), per_metre(a, "rpe.mean_rotation_deg")
-        if None in (te, ta, re_, ra):
-            out += [c.missing("the runs' RPE and trajectory length"), c2.missing("the runs' RPE and trajectory length")]
-            continue
-        out.append(c.set(f"{100 * te:.3f}% -> {100 * ta:.3f}% of the distance", ta <= te * (1 + NO_CHANGE) + 1e-12,
-                         None, f"{e.get('pairs')} pairs; mean RPE {_f(e, 'rpe.mean_translation_m') * 1e3:.2f} -> "
-                               f"{_f(a, 'rpe.mean_translation_m') * 1e3:.2f} mm per pair"))
-        d = ra - re_
-        out.append(c2.set(f"{'+' if d >= 0 else ''}{d:.4f} deg/m ({re_:.4f} -> {ra:.4f})", d >= 0,
-                          within_2x(d, rot) if d > 0 else False,
-                          f"mean RPE rotation {_f(e, 'rpe.mean_rotation_deg'):.4f} -> "
-                          f"{_f(a, 'rpe.mean_rotation_deg'):.4f} deg per pair"))
+        for conv, label_ in (("model", ""), ("authors", "; authors' convention: leaves of 64 / 32 points, unbounded "
+                                                       "leaders")):
+            out += accuracy_claims(p, rot, odo.get((p, "exact", "model")), odo.get((p, "approx", conv)),
+                                   "" if conv == "model" else "-authors", label_, ohow)
     for cid, text, paper in (("gpu-kd", "the accelerator's KD-tree search against the GPU (DP7, Acc-2SKD / Base-KD)",
                               "77.2x"),
                              ("gpu-e2e", "end to end against the GPU baseline (DP7)", "-41.7%"),
@@ -374,6 +429,37 @@ def claims_headline(reg_csv, odo_csv):
         c.explanation = GPU_HOW
         out.append(c)
     return out
+
+
+def _per_metre(r, col):
+    """A per-pair error of an odometry row per metre of its drive."""
+    v, pairs, length = _f(r, col), _f(r, "pairs"), _f(r, "kitti.trajectory_length_m")
+    return v * pairs / length if v is not None and pairs and length else None
+
+
+def accuracy_claims(p, rot, e, a, suffix, label_, how):
+    """The approximate search's accuracy cost for preset p (exact row e, approximate row a):
+    translation unchanged, rotation +rot deg/m (the paper's)."""
+    c = Claim(f"approx-t-{p}{suffix}", "9", f"approximate search leaves the translation error unchanged "
+              f"({p.upper()}{label_})", "unchanged", how)
+    c2 = Claim(f"approx-r-{p}{suffix}", "9", f"approximate search adds little rotation error ({p.upper()}, "
+               f"deg/m{label_})", f"+{rot:g} deg/m", how)
+    want = f"odometry over a synthetic drive with --preset {p}, exact and approximate" + \
+        (" (the authors' leaf sizes)" if suffix else "")
+    if not (e and a):
+        return [c.missing(want), c2.missing(want)]
+    te, ta = _per_metre(e, "rpe.mean_translation_m"), _per_metre(a, "rpe.mean_translation_m")
+    re_, ra = _per_metre(e, "rpe.mean_rotation_deg"), _per_metre(a, "rpe.mean_rotation_deg")
+    if None in (te, ta, re_, ra):
+        return [c.missing("the runs' RPE and trajectory length"), c2.missing("the runs' RPE and trajectory length")]
+    c.set(f"{100 * te:.3f}% -> {100 * ta:.3f}% of the distance", ta <= te * (1 + NO_CHANGE) + 1e-12, None,
+          f"{e.get('pairs')} pairs; mean RPE {_f(e, 'rpe.mean_translation_m') * 1e3:.2f} -> "
+          f"{_f(a, 'rpe.mean_translation_m') * 1e3:.2f} mm per pair")
+    d = ra - re_
+    c2.set(f"{'+' if d >= 0 else ''}{d:.4f} deg/m ({re_:.4f} -> {ra:.4f})", d >= 0,
+           within_2x(d, rot) if d > 0 else False,
+           f"mean RPE rotation {_f(e, 'rpe.mean_rotation_deg'):.4f} -> {_f(a, 'rpe.mean_rotation_deg'):.4f} deg per pair")
+    return [c, c2]
 
 
 def claims_acc_kd(sw):
@@ -392,9 +478,10 @@ def claims_acc_kd(sw):
         v = num(kd, "cycles") / num(two, "cycles")
         c = Claim(f"acc2skd-vs-acckd-{s['mode']}", "9", f"Acc-2SKD beats Acc-KD ({label(s)}; "
                   "speed-up of Acc-2SKD over Acc-KD)", f"{PAPER['acc2skd_over_acckd']:.1f}x", how)
+        work = speed_bound(c, run_work(kd), run_work(two), PAPER["acc2skd_over_acckd"])
         c.set(xf(v), up(v), within_2x_gain(v, PAPER["acc2skd_over_acckd"]),
               f"Acc-KD {num(kd, 'cycles'):,.0f} cycles, {short_bound(kd)}. "
-              f"Acc-2SKD {num(two, 'cycles'):,.0f} cycles, {short_bound(two)}")
+              f"Acc-2SKD {num(two, 'cycles'):,.0f} cycles, {short_bound(two)}; {work}")
         out.append(c)
     if not found:
         out.append(Claim("acc2skd-vs-acckd", "9", "Acc-2SKD beats Acc-KD (speed-up of Acc-2SKD "
@@ -445,6 +532,8 @@ def claims_optimizations(sw):
             else:
                 fact = (f"MQSN: {num(ra, 'units.search_units.queries_per_batch') or 0:.2f} queries/batch, "
                         f"{short_bound(ra)}. MQMN: {short_bound(rb)}")
+            factor = PAPER[key] if cid == "mqmn-speed" else 1 + PAPER[key]  # a gain's speed-up
+            fact += "; " + speed_bound(c, run_work(ra), run_work(rb), factor)
             if cid == "mqmn-speed":
                 c.set(xf(sp), up(sp), within_2x_gain(sp, PAPER[key]), fact)
             else:
@@ -553,6 +642,9 @@ def claims_units(sw):
                 c.missing(f"two `{col}` values a factor 2 apart (the other two at the defaults)")
                 continue
             knee = next((v for v, g in doublings if g < KNEE_GAIN), None)
+            at = knee if knee is not None else doublings[-1][0]  # the doubling at the knee, or the last
+            rows = {v: r for v, _, r in pts}
+            work = f"; doubling {at}->{2 * at}: " + speed_bound(c, run_work(rows[at]), run_work(rows[2 * at]))
             direction = None
             if paper // 2 in by and paper in by and 2 * paper in by:
                 into, out_of = by[paper // 2] / by[paper], by[paper] / by[2 * paper]
@@ -564,11 +656,11 @@ def claims_units(sw):
                 knee_row = [r for v, _, r in pts if v == last][0]
                 c.set(f">= {last} (every doubling swept gains >= {100 * (KNEE_GAIN - 1):.0f}%)",
                       direction, False if last > 2 * paper else None,
-                      f"speed-up per doubling: {steps}; at {last} {name}: {short_bound(knee_row)}")
+                      f"speed-up per doubling: {steps}; at {last} {name}: {short_bound(knee_row)}{work}")
             else:
                 knee_row = [r for v, _, r in pts if v == knee][0]
                 c.set(f"{knee}", direction, within_2x(knee, paper),
-                      f"speed-up per doubling: {steps}; at {knee} {name}: {short_bound(knee_row)}")
+                      f"speed-up per doubling: {steps}; at {knee} {name}: {short_bound(knee_row)}{work}")
         # At few RUs the front-end bounds the run: SU/PE counts help little.
         c = Claim("low-ru-frontend-bound", "9", "at 16-32 RU the front-end bounds the run: more "
                   "SU x PE helps only marginally (back-end scaling gain at the fewest RU / at 64 RU)",
@@ -674,9 +766,10 @@ def claims_approx(sw):
                   f"({label(s)}, thd {thd:.2f} m; exact cycles / approximate cycles)", "11.1x (DP7)",
                   "cycles of exact search / cycles with approximate search at the paper's threshold, "
                   "same machine and tree. The paper's 11.1x is DP7's whole KD-tree search over Acc-2SKD.")
+        work = speed_bound(c, run_work(ex), run_work(ap), PAPER["approx_speedup"], rule=within_2x)
         c.set(f"{sp:.2f}x", sp > 1 + NO_CHANGE, within_2x(sp, PAPER["approx_speedup"]),
               f"exact: {short_bound(ex)}; approximate: {short_bound(ap)}; "
-              f"{num(ap, 'leaders.followers') or 0:,.0f} followers")
+              f"{num(ap, 'leaders.followers') or 0:,.0f} followers; {work}")
         out.append(c)
     if not out:
         out.append(Claim("approx-visits", "9", "approximate search cuts visited nodes by ~70%",
@@ -1012,10 +1105,6 @@ def read_dse(path):
     return pipeline_dse.renamed(dse)
 
 
-def yn(v):
-    return "n/a" if v is None else ("yes" if v else "**no**")
-
-
 def md_cell(s):
     return str(s).replace("|", "\\|").replace("\n", " ")
 
@@ -1036,52 +1125,158 @@ def _reason(c, limit=110):
     return e if len(e) <= limit else e[:limit].rsplit(" ", 1)[0] + " ..."
 
 
-def summary_lines(claims, extra=()):
-    """REPORT.md's opening answer (about ten lines): which claims hold, which hold only in
-    direction and by how much they miss, which fail and the measured reason. `extra`: other
-    (title, claims) groups reported in the same words (the pipeline's section 3)."""
-    groups = [("", claims)] + [(t, cs) for t, cs in extra]
+# The summary's groups of verdicts (variants.verdict): size only is a fail there, the direction
+# not holding; a work ratio is neither a hold nor a fail.
+GROUP = {vt.HOLDS: "hold", vt.DIRECTION_ONLY: "direction", vt.FAILS: "fail", vt.SIZE_ONLY: "fail",
+         vt.WORK_RATIO: "work"}
+
+
+def grouped(cs):
+    """{group: [claims]} over hold, direction, fail, work and rest (no verdict)."""
+    g = {k: [] for k in ("hold", "direction", "fail", "work", "rest")}
+    for c in cs:
+        g[GROUP.get(vt.verdict(c), "rest")].append(c)
+    return g
+
+
+def counts(cs):
+    g = grouped(cs)
+    return (f"{len(g['hold'])} of {len(cs)} hold, {len(g['direction'])} direction only, {len(g['fail'])} fail, "
+            f"{len(g['work'])} a work ratio, {len(g['rest'])} without a verdict")
+
+
+def speed_text(c):
+    """A speed claim's ratios as the table and summary show them: "cycles / work / ideal"."""
+    show = lambda v: xf(v) if v is not None else "n/a"  # noqa: E731
+    return " / ".join(show(c.speed[k]) for k in ("cycles", "work", "ideal"))
+
+
+def summary_lines(claims, extra=(), paper=None):
+    """REPORT.md's opening answer (about ten lines): the counts of each configuration, which
+    claims hold, which hold only in direction and by how much they miss, which fail and the
+    measured reason, which are work ratios. `extra`: other (title, claims) groups reported in the
+    same words (the pipeline's section 3); `paper`: (accounting Variant, {cid: claim}) of the
+    same claims under the paper's accounting: its counts, the verdicts it changes and the claims
+    that still fail under it with their measured reason."""
     L = ["## Summary: what reproduces", ""]
-    for title, cs in groups:
+    pcs = [paper[1].get(c.cid) or Claim(c.cid, c.section, c.text, c.paper, c.how) for c in claims] if paper else []
+    if paper:
+        L.append(f"- **Default machine: {counts(claims)}; the paper's accounting (`{paper[0].name}`): "
+                 f"{counts(pcs)}.**")
+    for title, cs in [("", claims)] + [(t, cs) for t, cs in extra]:
         num = {id(c): i for i, c in enumerate(cs, 1)}
         ref = (lambda c: f"{title} #{num[id(c)]}") if title else (lambda c: f"#{num[id(c)]}")  # noqa: E731
-        measured = [c for c in cs if c.measured != "not measured"]
-        hold = [c for c in measured if c.direction is not False and c.within is not False
-                and (c.direction or c.within)]
-        direction_only = [c for c in measured if c.direction and c.within is False]
-        fail = [c for c in measured if c.direction is False]
-        rest = [c for c in cs if c not in hold + direction_only + fail]
+        g = grouped(cs)
         where = f" of {title}" if title else ""
-        L.append(f"- **{len(hold)} of {len(cs)} claims{where} hold** (direction, and size within 2x where the paper "
-                 "gives a number): " + ("; ".join(f"{ref(c)} {short_claim(c)}" for c in hold) or "none") + ".")
-        if direction_only:
-            def miss(c):
-                return f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper}"
-            L.append(f"- **{len(direction_only)} hold only in direction**, the size off by more than 2x: "
-                     + "; ".join(miss(c) for c in direction_only) + ".")
-        if fail:
-            L.append(f"- **{len(fail)} fail**: " + "; ".join(
-                f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper} ({_reason(c)})" for c in fail) + ".")
+        on = " on the default machine" if paper and not title else ""
+        L.append(f"- **{len(g['hold'])} of {len(cs)} claims{where} hold**{on} (direction, and size within 2x where "
+                 "the paper gives a number): " + ("; ".join(f"{ref(c)} {short_claim(c)}" for c in g["hold"]) or "none") + ".")
+        if g["direction"]:
+            L.append(f"- **{len(g['direction'])} hold only in direction**, the size off by more than 2x: "
+                     + "; ".join(f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper}" for c in g["direction"]) + ".")
+        if g["fail"]:
+            L.append(f"- **{len(g['fail'])} fail**: " + "; ".join(
+                f"{ref(c)} {short_claim(c)}: {c.measured} against {c.paper} ({_reason(c)})" for c in g["fail"]) + ".")
+        if g["work"]:
+            L.append(f"- **{len(g['work'])} {'is a work ratio' if len(g['work']) == 1 else 'are work ratios'}**: the "
+                     "paper's speed-up is within 2x of the ratio of work but above the ideal machine's ratio, so no "
+                     "machine of this size reaches it as a speed-up: " + "; ".join(
+                         f"{ref(c)} {short_claim(c)}: {c.paper} against cycles / work / ideal {speed_text(c)}"
+                         for c in g["work"]) + ".")
+        rest = g["rest"]
         if rest:
             gpu = [c for c in rest if c.explanation.startswith("needs a GPU")]
             L.append(f"- {len(rest)} without a verdict (no direction test and no paper number, or not measured): "
                      + ", ".join(ref(c) for c in rest if c not in gpu)
                      + (("; " if len(gpu) < len(rest) else "") + ", ".join(ref(c) for c in gpu)
                         + " need a GPU (the paper's baselines)" if gpu else "") + ".")
+        if paper and not title:
+            L += accounting_lines(claims, pcs)
     return L + ["", "Each claim's measurement, and the facts behind a miss, are in the tables below.", ""]
 
 
-def claim_table(claims):
-    lines = ["| # | model.md | claim | paper | measured | direction holds | within 2x | explanation (measured facts) |",
-             "|---:|---|---|---|---|---|---|---|"]
+def accounting_lines(claims, pcs):
+    """The summary's lines of the paper's accounting: the verdicts it changes, the claims that
+    still fail under it (with its measured reason)."""
+    changed = [(i, c, p) for i, (c, p) in enumerate(zip(claims, pcs), 1)
+               if vt.verdict(c) != vt.verdict(p) and vt.verdict(p) != vt.NOT_MEASURED]
+    fail = [(i, c, p) for i, (c, p) in enumerate(zip(claims, pcs), 1) if GROUP.get(vt.verdict(p)) == "fail"]
+    L = []
+    if changed:
+        L.append(f"- **The paper's accounting changes {len(changed)} verdict{'s' if len(changed) > 1 else ''}**: "
+                 + "; ".join(f"#{i} {short_claim(c)}: {vt.verdict(c)} -> {vt.verdict(p)} ({p.measured})"
+                             for i, c, p in changed) + ".")
+    L.append(f"- **{len(fail)} still fail under the paper's accounting**" + (": " + "; ".join(
+        f"#{i} {short_claim(c)}: {p.measured} against {c.paper} ({_reason(p)})" for i, c, p in fail) if fail else "")
+        + ".")
+    return L
+
+
+def claim_table(claims, paper=None):
+    """The claim table: each claim's measured value and verdict (variants.verdict); `paper`:
+    (accounting Variant, {cid: claim}), the same claims' value and verdict under the paper's
+    accounting beside the default's; a column of the speed claims' cycle / work / ideal ratios
+    when any claim has them (the paper's accounting's cycles beside the default's where they
+    differ: work and the ideal machine do not depend on the accounting)."""
+    speed = any(c.speed for c in claims)
+    head = ["#", "model.md", "claim", "paper"] + (["default machine", "verdict", "paper's accounting", "verdict"]
+                                                  if paper else ["measured", "verdict"])
+    head += ["speed-up: cycles / work / ideal"] if speed else []
+    lines = ["| " + " | ".join(head + ["explanation (measured facts)"]) + " |",
+             "|---:|" + "---|" * len(head)]
     for i, c in enumerate(claims, 1):
-        lines.append("| " + " | ".join(md_cell(x) for x in (
-            i, f"§{c.section}", c.text, c.paper, c.measured, yn(c.direction), yn(c.within),
-            c.explanation)) + " |")
+        p = paper[1].get(c.cid) if paper else None
+        row = [i, f"§{c.section}", c.text, c.paper, c.measured, vt.verdict(c)]
+        if paper:
+            row += [p.measured if p else "not measured", vt.verdict(p)]
+        if speed:
+            cell = speed_text(c) if c.speed else ""
+            if c.speed and p is not None and p.speed and xf(p.speed["cycles"] or 0) != xf(c.speed["cycles"] or 0):
+                cell = cell.replace(" / ", f" (paper's accounting {xf(p.speed['cycles'] or 0)}) / ", 1)
+            row.append(cell)
+        lines.append("| " + " | ".join(md_cell(x) for x in row + [c.explanation]) + " |")
     return "\n".join(lines)
 
 
-def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None, robust=None, command=None):
+VERDICTS_TEXT = (
+    "Verdicts, one word per configuration: " + "; ".join(f"*{k}*: {vt.MEANING[k]}" for k in vt.VERDICTS) + ". "
+    "The direction is the claim's qualitative test (stated per claim below); within 2x is measured / paper "
+    "in [0.5, 2] (for a '+x%' or '-x%' claim, the gains or cuts are compared, and for a speed-up or ratio "
+    "('2x') its gain over 1: a 1.03x against a 2x claim is +3% against +100%; a gain of the wrong sign is "
+    f"not within 2x). A change of less than {100 * NO_CHANGE:.0f}% counts as no change: the direction does "
+    "not hold. A claim without a paper number or without a direction has the other test only.")
+
+WORK_BOUND_TEXT = (
+    "the column *speed-up: cycles / work / ideal* gives, of the slow run over the fast one, the measured "
+    "cycle ratio (the paper's accounting's beside it where it differs), the work ratio in nodes (top-tree "
+    "nodes + PE distances, `visits.top` + `visits.pe_distances`; PE distances = leaf points + follower points "
+    "+ leader checks; the explanation gives the leaf points' and the PE distances' ratios apart) and the "
+    "ideal machine's ratio, `lower_bound_cycles` of the slow run over the fast one: the machine of the "
+    "configured size at one node per RU and one distance per PE per cycle, no bank conflict, free "
+    "write-back, max(top nodes / #RU, PE distances / (#SU x #PE)) (docs/model.md). Neither the work nor the "
+    "ideal machine depends on the accounting. A claim whose paper number is within 2x of the work ratio "
+    "(by the claim's own size rule) and above the ideal ratio by more than "
+    f"{100 * NO_CHANGE:.0f}% is a *work ratio*: no machine of this size reaches it as a speed-up, whatever "
+    "the cycles measured (the paper's approximate 11.1x against the nodes visited, say). The knee claims "
+    "give the doubling at the measured knee (or the last one swept) and have no paper speed-up; the "
+    "registration's approximate speed-up sums its accelerator jobs' cycles and visits over the stages, the "
+    "ideal machine per stage (a stage's jobs follow one another); the end-to-end claims have none: the "
+    "CPU's own work is in them, and the CPU-only system shares no machine with the accelerator.")
+
+
+def accounting_text(v):
+    return (f"The paper's accounting: every claim experiment also ran under the preset `{v.name}` "
+            f"({v.describe()}; docs/model.md, \"Two accountings\": the same machine, charged as the paper's "
+            "simulator evidently charged it). The golden model's redundancy and the odometry's accuracy share the "
+            "default's rows, and so do the registrations on the CPU; the registrations with the accelerator in "
+            "the loop ran with the preset as their --accel-config. A claim whose experiment did not run under it "
+            "(--quick leaves out the RU x SU x PE grids) reads *not measured* there.")
+
+
+def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse=None, robust=None, command=None,
+           paper=None):
+    """REPORT.md's text; `paper`: (accounting Variant, {cid: claim}), the claims under the
+    paper's accounting (its column, counts and failures in the summary)."""
     measured = [c for c in claims if c.measured != "not measured"]
     dir_n = [c for c in measured if c.direction is not None]
     size_n = [c for c in measured if c.within is not None]
@@ -1089,14 +1284,14 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
                   r.get("workload.queries") or r["eff"]["queries"] or "synthetic frame 1 (built-in)")
                  for r in sw.ok})
     wtxt = "; ".join(f"cloud `{c}`, queries `{q}`" for c, q in wl) or "none"
-    counts = {}
+    statuses = {}
     for r in sw.rows:
-        counts[r.get("status", "")] = counts.get(r.get("status", ""), 0) + 1
+        statuses[r.get("status", "")] = statuses.get(r.get("status", ""), 0) + 1
     L = [f"# {title or 'Tigris TLM: the paper evaluation, reproduced'}", "",
          "Generated by `sweep/report.py` from " + ", ".join(
              f"`{os.path.relpath(p, fig_rel) if fig_rel else p}`" for p in sw.paths) + ".", "",
          f"- Workload: {wtxt}."] + ([f"- Command: `{command}`."] if command else []) + [
-         f"- Rows: " + ", ".join(f"{n} {s}" for s, n in sorted(counts.items())) +
+         f"- Rows: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items())) +
          f"; {len(sw.ok)} distinct ok runs used.",
          "- Every number below is measured by the model on this workload; nothing is tuned toward "
          "the paper. A miss is reported as a miss, with the facts the sweep measured beside it.",
@@ -1105,18 +1300,15 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
         L += ["**Warning**: the CSVs hold several workloads; claims compare rows of one workload "
               "only when their other settings match, so mixed workloads may pair badly.", ""]
     extra = [("section 3", pipeline_section(dse[1], dse[0], fig_rel)[1])] if dse is not None else []
-    L += summary_lines(claims, extra)
+    L += summary_lines(claims, extra, paper)
     L += ["## Claims of the fidelity targets (§9) and energy figures (§14) of docs/model.md", "",
           f"{len(measured)} of {len(claims)} claims measured; direction holds for "
           f"{sum(1 for c in dir_n if c.direction)} of {len(dir_n)} with a direction test; size within "
           f"2x for {sum(1 for c in size_n if c.within)} of {len(size_n)} with a paper number.", "",
-          claim_table(claims), "",
-          "Verdicts: *direction holds* is the claim's qualitative test (stated per claim below); "
-          "*within 2x* is measured / paper in [0.5, 2] (for a '+x%' or '-x%' claim, the gains or "
-          "cuts are compared, and for a speed-up or ratio ('2x') its gain over 1: a 1.03x against "
-          "a 2x claim is +3% against +100%; a gain of the wrong sign is not within 2x). A change of less than "
-          f"{100 * NO_CHANGE:.0f}% counts as no change: the direction does not hold. n/a: the paper "
-          "gives no number, or the claim has no direction.", ""]
+          claim_table(claims, paper), "",
+          VERDICTS_TEXT, ""]
+    if paper:
+        L += [accounting_text(paper[0]), ""]
     L += robust or []
     L += ["## How each claim is measured", ""]
     seen = set()
@@ -1127,13 +1319,17 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
         ids = ", ".join(f"#{i}" for i, d in enumerate(claims, 1) if d.how == c.how)
         L.append(f"- {ids}: {c.how}")
     L.append("")
+    fast = [f"#{i}" for i, c in enumerate(claims, 1) if c.speed or paper and getattr(paper[1].get(c.cid), "speed", None)]
+    if fast:
+        L += [f"The work bound of the speed claims ({', '.join(fast)}): {WORK_BOUND_TEXT}", ""]
     L += ["What bounds a run (the explanations): each run's `bottleneck.summary` from its stats.json, "
           "computed by the model from each unit kind's busy and stall cycles by cause "
           "as a share of (units x cycles), summed over its units (`units.*.busy_cycles`, "
           "`units.*.stall_cycles.*`); 'front-end bound' when the RUs are occupied (busy or "
           "stalled) a larger share than the SUs, 'back-end bound' otherwise, 'result write-back "
           "bound' when RUs or SUs wait on the DRAM write-back more than 30% of the time. The lower "
-          "bound is max(top visits / #RU, leaf points / (#SU x #PE)).", ""]
+          "bound (`lower_bound_cycles`, 'cycles Nx the lower bound') is the ideal machine's: max(top "
+          "visits / #RU, PE distances / (#SU x #PE)).", ""]
     if dse is not None:
         L += pipeline_section(dse[1], dse[0], fig_rel)[0]
     if figures is not None:
@@ -1158,21 +1354,34 @@ def render(sw, claims, figures=None, skipped=None, fig_rel=None, title=None, dse
     return "\n".join(L)
 
 
+def variant_claims(v, csvs):
+    """all_claims of a variant's (or an accounting's) CSVs, its rows read with its keys as the defaults."""
+    if not csvs:
+        return []
+    with ed.DEFAULTS.overridden(vt.overrides(v, ed.SPEC_NAMES)):
+        return all_claims(ed.Sweep(csvs, assume=vt.assumed_columns(v)))
+
+
 def variant_columns(claims, variants):
     """The default's claims and each variant's, as sweep/variants.py's columns. variants:
-    [(name, Variant, CSVs)]; a variant's rows are read with its keys as the defaults."""
-    from . import variants as vt
-    cols = [vt.Column(vt.DEFAULT, None, claims)]
-    for name, v, csvs in variants:
-        with ed.DEFAULTS.overridden(vt.overrides(v, ed.SPEC_NAMES)):
-            vclaims = all_claims(ed.Sweep(csvs, assume=vt.assumed_columns(v))) if csvs else []
-        cols.append(vt.Column(name, v, vclaims))
-    return cols
+    [(name, Variant, CSVs)]."""
+    return [vt.Column(vt.DEFAULT, None, claims)] + [vt.Column(name, v, variant_claims(v, csvs))
+                                                     for name, v, csvs in variants]
+
+
+def own_claims(redundancy, headline, accel_registrations=None):
+    """The claims of reproduce's CSVs that are not `tigris run` sweeps: the redundancy in both
+    conventions and the headline claims; `accel_registrations`: an accounting's registrations CSV,
+    whose accelerator points replace the default's."""
+    out = claims_redundancy_conventions(redundancy) if redundancy else []
+    if headline:
+        reg, odo = headline
+        out += claims_headline([reg, accel_registrations] if accel_registrations else reg, odo)
+    return out
 
 
 def variants_section(cols, figures_dir, out, draw, log=ed.note):
     """REPORT.md's robustness section and, when drawing, figures_dir/variants.png."""
-    from . import variants as vt
     from . import tigris_sweep as ts
     tig = ts.tigris_at(ts.default_tigris(), "run")
     defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
@@ -1185,10 +1394,12 @@ def variants_section(cols, figures_dir, out, draw, log=ed.note):
 
 
 def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note, dse_dir=None,
-                 variants=None, command=None, redundancy=None, headline=None):
+                 variants=None, command=None, redundancy=None, headline=None, accounting=None):
     """REPORT.md from sweep CSVs; `redundancy`: a `tigris ref --redundancy` sweep's CSV, whose
     claims (both conventions) come after the others (the variants do not change them);
-    `headline`: (registrations CSV, odometry CSV) of reproduce, the paper's headline claims."""
+    `headline`: (registrations CSV, odometry CSV) of reproduce, the paper's headline claims;
+    `accounting`: (Variant, its `tigris run` CSVs, its registrations CSV or None) of the paper's
+    accounting, every claim's column beside the default's."""
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
     dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
@@ -1200,14 +1411,15 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     os.makedirs(out, exist_ok=True)
     robust = variants_section(variant_columns(claims, variants), figures_dir, out, draw, log) \
         if variants else None
-    if redundancy:
-        claims = claims + claims_redundancy_conventions(redundancy)
-    if headline:
-        claims = claims + claims_headline(*headline)
+    claims = claims + own_claims(redundancy, headline)
+    paper = None
+    if accounting:
+        v, acsvs, areg = accounting
+        paper = (v, {c.cid: c for c in variant_claims(v, acsvs) + own_claims(redundancy, headline, areg)})
     path = os.path.join(out, "REPORT.md")
     from . import core
     core.atomic_write(path, render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust,
-                                   command=command))
+                                   command=command, paper=paper))
     log(f"report: wrote {path}")
     return path, claims
 

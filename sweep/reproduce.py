@@ -12,7 +12,10 @@ beside this module (python3 -m sweep.tigris_sweep SPEC --out DIR/sweeps/<exp>), 
 or as Slurm job arrays (--slurm and its options are passed through), then plots.py's figures into
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
-once the Slurm jobs are done). --variants also runs the experiments under design variants
+once the Slurm jobs are done). Every experiment the accelerator's accounting can change also runs
+under the preset paper-accounting (docs/model.md, "Two accountings"; --quick leaves out its RU x SU x
+PE grids) into DIR/variants/paper-accounting/, REPORT.md's second column of every claim.
+--variants also runs the experiments under design variants
 (the shipped presets marked as variants, `tigris presets`: details the paper leaves open) into
 DIR/variants/<name>/, and REPORT.md gets
 the robustness matrix of the claims and DIR/figures/variants.png. Default workload: the built-in synthetic frame pair; a cloud
@@ -43,7 +46,15 @@ RADIUS = 0.30
 WORKLOAD = "workload.json"
 # Experiments whose CSV is not of `tigris run` points: the report reads each on its own.
 OWN_CSV = ("redundancy", "registrations", "odometry-approx")
+# The paper authors' leaf sizes and leader list (PointCloud-pipeline, bin/config.txt, kdtree.h):
+# the accuracy claims' second convention (docs/model.md, fidelity targets).
+AUTHORS_ACCURACY = {"search.normals_leaf_size": 64, "search.rpce_leaf_size": 32, "search.leader_capacity": 1 << 20}
 OUTPUTS = ["specs/", "sweeps/", "variants/", "figures/", "REPORT.md", WORKLOAD]
+# The paper's accounting (a shipped preset whose "//preset" has "accounting"): every claim is
+# measured under it beside the default machine. --quick leaves its RU x SU x PE grids out (the
+# knee claims read not measured in its column), keeping a quick run quick.
+ACCOUNTING = "paper-accounting"
+QUICK_WITHOUT_ACCOUNTING = ("units-su", "units-pe")
 
 
 class Refused(core.Refused):
@@ -109,9 +120,14 @@ def experiments(quick=False):
                              "(exact, approximate): end to end and KD-tree time",
                              {"command": "register",
                               "grid": {"preset": presets, "search": ["flann", "exact", "accel", "accel-approx"]}})
-    exps["odometry-approx"] = ("odometry over a synthetic drive, exact against approximate search: the accuracy cost",
+    # The accuracy cost also in the authors' convention (their pipeline's bin/config.txt): leaves of
+    # 64 points for normals and 32 for ICP, and a leader list bounded by nothing.
+    exps["odometry-approx"] = ("odometry over a synthetic drive, exact against approximate search: the accuracy cost "
+                               "(and approximate in the authors' convention: leaves of 64 / 32 points, unbounded "
+                               "leaders)",
                                {"command": "odometry", "base": {"synthetic": 4 if quick else 12, "seed": 1},
-                                "grid": {"preset": presets, "search": ["exact", "approx"]}})
+                                "grid": {"preset": presets, "search": ["exact", "approx"]},
+                                "points": [dict(AUTHORS_ACCURACY, preset=p, search="approx") for p in presets]})
     exps["approx-nn"] = ("approximation threshold vs visits, cycles, accuracy (NN); {} = exact",
                          {"base": {"mode": "nn"}, "grid": {"approx-thd": nn_thd}, "points": [{}]})
     exps["approx-radius"] = (f"approximation threshold vs visits, cycles, recall (radius {RADIUS} m)",
@@ -198,11 +214,12 @@ def write_specs(out, names, quick, cloud, queries):
     return made
 
 
-def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
+def variant_plan(out, plan, chosen, defaults, quick, cloud, queries, omit=()):
     """[(variant, [(exp, spec path or None, sweep folder)])]: each variant's specs in
     DIR/variants/<name>/specs/; an experiment the variant cannot change has no spec and is read
-    from the default's sweep folder. DIR/variants/<name>/variant.json records the definition its
-    results belong to: a rerun with another definition under that name is refused."""
+    from the default's sweep folder; one in `omit` has no entry (its claims are not measured
+    under the variant). DIR/variants/<name>/variant.json records the definition its results
+    belong to: a rerun with another definition under that name is refused."""
     from . import variants as vt
     exps = experiments(quick)
     made = []
@@ -224,6 +241,8 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
             os.makedirs(os.path.join(vdir, "specs"), exist_ok=True)
             write_json(rec_path, v.as_json())
             for name, _spec, folder in plan:
+                if name in omit:
+                    continue
                 what, spec = exps[name]
                 if not vt.affects(v, name, spec):
                     entries.append((name, None, folder))
@@ -238,6 +257,18 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries):
             raise Refused(f"cannot write {e.filename or vdir}: {e.strerror or e}")
         made.append((v, entries))
     return made
+
+
+def accounting_plan(out, plan, defaults, quick, cloud, queries):
+    """The paper's accounting's (variant, entries) of variant_plan: its keys are no experiment's
+    axis, so it needs no model defaults to apply (`defaults` may be empty)."""
+    from . import variants as vt
+    try:
+        v = vt.accounting(ACCOUNTING)
+    except vt.VariantError as e:
+        raise Refused(f"the paper's accounting: {e}")
+    return variant_plan(out, plan, [v], defaults, quick, cloud, queries,
+                        omit=QUICK_WITHOUT_ACCOUNTING if quick else ())[0]
 
 
 def driver_argv(a, args):
@@ -298,7 +329,8 @@ def parse_args(argv):
     ap.add_argument("--variants", nargs="*", metavar="NAME", help="also run the experiments under "
                     "design variants (all of them, or the NAMEs): " + shipped +
                     "; REPORT.md gets the robustness matrix (the shipped presets marked as variants: "
-                    "`tigris presets` says what each changes and why)")
+                    "`tigris presets` says what each changes and why). The paper's accounting ("
+                    f"{ACCOUNTING}) is no variant: every run measures it")
     ap.add_argument("--variants-file", metavar="FILE", help="your own variants (JSON, see "
                     "docs/sweeps.md), added to the built-in list; implies --variants")
     g = ap.add_mutually_exclusive_group()
@@ -378,8 +410,9 @@ def main(argv=None):
     rc = 2
     try:
         plan = write_specs(out, a.names, a.quick, w["cloud"], w["queries"])
+        aplan = accounting_plan(out, plan, defaults, a.quick, w["cloud"], w["queries"])
         vplan = variant_plan(out, plan, chosen, defaults, a.quick, w["cloud"], w["queries"]) if chosen else []
-        rc = run(a, out, plan, vplan)
+        rc = run(a, out, plan, vplan, aplan)
         return rc
     except core.Refused as e:
         print(f"reproduce: error: {e}", file=sys.stderr)
@@ -448,8 +481,16 @@ def run_sweeps(a, entries, failed, pending, prefix=""):
     return 0
 
 
-def run(a, out, plan, vplan=()):
+def sweep_csvs(entries, own=False):
+    """The sweep.csv of each entry that has one: of `tigris run` sweeps, or (own) of the others."""
+    return [os.path.join(f, "sweep.csv") for n, _, f in entries
+            if os.path.isfile(os.path.join(f, "sweep.csv")) and (n in OWN_CSV) == own]
+
+
+def run(a, out, plan, vplan=(), aplan=None):
     note(f"{len(plan)} sweep specs in {os.path.join(out, 'specs')}"
+         + (f"; the paper's accounting: {sum(1 for e in aplan[1] if e[1])} sweeps in "
+            f"{os.path.join(out, 'variants', aplan[0].name)}" if aplan else "")
          + (f"; {len(vplan)} variant(s) in {os.path.join(out, 'variants')}: "
             + ", ".join(f"{v.name} ({sum(1 for e in ent if e[1])} sweeps)" for v, ent in vplan) if vplan else ""))
     if a.specs_only:
@@ -459,7 +500,8 @@ def run(a, out, plan, vplan=()):
         return 2
     failed, pending = [], []
     rc = run_sweeps(a, plan, failed, pending)
-    for v, entries in vplan:
+    configs = ([aplan] if aplan else []) + list(vplan)
+    for v, entries in configs:
         rc = rc or run_sweeps(a, entries, failed, pending, prefix=f"{v.name}/")
     if rc:
         return rc
@@ -483,30 +525,32 @@ def run(a, out, plan, vplan=()):
               "with /usr/bin/python3): REPORT.md without figures", file=sys.stderr)
         draw = False
     title = "Tigris TLM: the paper's evaluation, reproduced" + (" (--quick)" if a.quick else "")
-    vcsvs = [(v.name, v, [os.path.join(f, "sweep.csv") for n, _, f in entries
-                          if os.path.isfile(os.path.join(f, "sweep.csv")) and n not in OWN_CSV]) for v, entries in vplan]
+    vcsvs = [(v.name, v, sweep_csvs(entries)) for v, entries in vplan]
+    accounting = None
+    if aplan:  # its registrations: the accelerator points it ran (the CPU's are the default's)
+        reg = sweep_csvs([e for e in aplan[1] if e[0] == "registrations" and e[1]], own=True)
+        accounting = (aplan[0], sweep_csvs(aplan[1]), reg[0] if reg else None)
     try:
         path, claims = report.write_report(csvs, out, os.path.join(out, "figures"), draw, title,
                                            dse_dir=a.dse, variants=vcsvs, command=a.command_line,
                                            redundancy=red[0] if red else None,
-                                           headline=(found.get("registrations"), found.get("odometry-approx")))
+                                           headline=(found.get("registrations"), found.get("odometry-approx")),
+                                           accounting=accounting)
     except (OSError, ValueError) as e:
         print(f"reproduce: error: the report: {e}", file=sys.stderr)
         return 2
     measured = [c for c in claims if c.measured != "not measured"]
-    print(f"reproduce: {path}: {len(measured)} of {len(claims)} claims measured; direction holds "
-          f"for {sum(1 for c in measured if c.direction)} of "
-          f"{sum(1 for c in measured if c.direction is not None)}, within 2x for "
-          f"{sum(1 for c in measured if c.within)} of {sum(1 for c in measured if c.within is not None)}"
+    print(f"reproduce: {path}: {len(measured)} of {len(claims)} claims measured; on the default machine "
+          f"{report.counts(claims)} (its summary gives the paper's accounting's too)"
           + (f"; sweeps with failed points: {', '.join(failed)}" if failed else ""), file=sys.stderr)
     statuses = csv_statuses(csvs)
     if "ok" not in statuses:
         print(f"reproduce: every point failed ({len(statuses)} points in {len(csvs)} sweep{'s' if len(csvs) > 1 else ''}): no claim "
               f"could be measured; the errors are in {path}, section \"Rows not ok\"", file=sys.stderr)
         return 1
-    dead = [v.name for v, entries in vplan
-            if "ok" not in csv_statuses(os.path.join(f, "sweep.csv") for _, spec, f in entries if spec)
-            and any(spec for _, spec, _ in entries)]
+    # A configuration not run at all (--report-only on an earlier folder) is not measured, not dead.
+    ran = [(v, csv_statuses(os.path.join(f, "sweep.csv") for _, spec, f in entries if spec)) for v, entries in configs]
+    dead = [v.name for v, statuses in ran if statuses and "ok" not in statuses]
     if dead:  # its column would hold the default's shared rows only: a robustness that was not measured
         print(f"reproduce: every run of variant(s) {', '.join(dead)} failed (their sweep.csv under "
               f"{os.path.join(out, 'variants')} say why): their columns are not measured", file=sys.stderr)

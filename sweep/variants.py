@@ -8,7 +8,9 @@ them), so `tigris run --config NAME` runs the same machine. `tigris reproduce
 this module writes each variant's specs, then turns the per-variant claims of report.py into a
 robustness matrix (claim x variant: the measured value and its verdict), a classification per
 claim (holds everywhere / depends on a named detail, and in which direction / fails
-everywhere, with the default's measured reason) and a figure of the matrix.
+everywhere, with the default's measured reason) and a figure of the matrix. An accounting (a
+preset whose "//preset" has "accounting": `paper-accounting`) is loaded the same way
+(accounting()) but is no design variant: reproduce runs it always, REPORT.md's second column.
 
 User variants come from a JSON file (`--variants-file`), a list of objects or {"variants": [...]}:
     {"name": "dram-4x", "set": {"dram.bytes_per_cycle": 204.8},
@@ -36,11 +38,14 @@ class VariantError(ValueError):
 
 
 class Variant:
-    def __init__(self, name, why, set=None, leader_width=None, experiments=None):
+    def __init__(self, name, why, set=None, leader_width=None, experiments=None, accel_config=None):
         self.name, self.why = name, why
         self.set = dict(set or {})
         self.leader_width = leader_width
         self.experiments = list(experiments) if experiments is not None else None
+        # A preset file the accelerator-in-the-loop points of `register` experiments run with
+        # (--accel-config): an accounting's, whose keys apply to the registrations' jobs too.
+        self.accel_config = accel_config
 
     def keys(self):
         """The detail this variant changes: its configuration keys (and leader-width)."""
@@ -103,13 +108,8 @@ def builtin(presets_dir=None):
     out = []
     for name in names:
         path = os.path.join(folder, name + ".json")
-        try:
-            with open(path, encoding="utf-8") as f:
-                d = json.load(f)
-        except (OSError, ValueError) as e:
-            raise VariantError(f"{path}: not a readable preset ({e})")
-        meta = d.get("//preset") if isinstance(d, dict) else None
-        if not isinstance(meta, dict) or not isinstance(meta.get("variant"), dict):
+        d, meta = _read_preset(path)
+        if not isinstance(meta.get("variant"), dict):
             continue
         var = meta["variant"]
         lw, exps = var.get("leader_width"), var.get("experiments")
@@ -120,6 +120,37 @@ def builtin(presets_dir=None):
                                f"\"leader_width\" (an integer >= 0), got {json.dumps(var)}")
         out.append(Variant(name, meta.get("why", ""), _flat(d), lw, exps))
     return out
+
+
+def _read_preset(path):
+    """(the preset's JSON, its "//preset" member or {}); a VariantError naming an unreadable file."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            d = json.load(f)
+    except (OSError, ValueError) as e:
+        raise VariantError(f"{path}: not a readable preset ({e})")
+    meta = d.get("//preset") if isinstance(d, dict) else None
+    return d, meta if isinstance(meta, dict) else {}
+
+
+def accounting(name, presets_dir=None):
+    """The shipped preset NAME whose "//preset" has an "accounting" (docs/model.md, "Two
+    accountings"; `paper-accounting`) as a Variant of every experiment: `tigris reproduce` runs
+    it beside the default always, registrations included (its file is their --accel-config). It
+    is not a design variant: the robustness matrix is about details the paper leaves open,
+    under the default accounting."""
+    path = os.path.join(presets_dir or PRESETS_DIR, name + ".json")
+    d, meta = _read_preset(path)
+    if not isinstance(meta.get("accounting"), str):
+        raise VariantError(f"{path}: not an accounting preset (its \"//preset\" has no \"accounting\")")
+    return Variant(name, meta.get("why", ""), _flat(d), accel_config=path)
+
+
+def is_accounting(name):
+    try:
+        return bool(accounting(name))
+    except VariantError:
+        return False
 
 
 def natural(name):
@@ -226,13 +257,16 @@ def choose(names, user, source="the variants file"):
     built-in one), all of them or those `names` lists."""
     table = by_name()
     for v in user:
-        if v.name in table:
+        if v.name in table or is_accounting(v.name):  # its results would share the folder
             raise VariantError(f"{source}: variant {v.name!r} has the name of a built-in variant "
-                               "(tigris reproduce --help lists them): give it another name")
+                               "or accounting (tigris reproduce --help lists them): give it another name")
         table[v.name] = v
     if not names:
         return list(table.values())
     bad = [n for n in names if n not in table]
+    if any(is_accounting(n) for n in bad):
+        raise VariantError(f"--variants: {', '.join(n for n in bad if is_accounting(n))} is an accounting, not a "
+                           "design variant: tigris reproduce measures every claim under it always")
     if bad:
         raise VariantError(f"--variants: unknown variant(s) {', '.join(bad)} ({', '.join(table)})")
     return [table[n] for n in dict.fromkeys(names)]
@@ -242,9 +276,11 @@ def choose(names, user, source="the variants file"):
 
 def affects(variant, exp_name, spec):
     """Whether the variant can change this experiment's rows."""
-    if spec.get("command", "run") != "run":  # the golden model alone: no accelerator to vary
-        return False
     if variant.experiments is not None and exp_name not in variant.experiments:
+        return False
+    if spec.get("command", "run") == "register":  # its accelerator points, through --accel-config
+        return variant.accel_config is not None and bool(_accel_points(spec))
+    if spec.get("command", "run") != "run":  # the golden model alone: no accelerator to vary
         return False
     if not variant.set:  # a leader width only: experiments with approximate runs
         return any("approx-thd" in p for p in _own_points(spec)) or "approx-thd" in spec.get("base", {})
@@ -257,13 +293,25 @@ def _own_points(spec):
     return own + list(spec.get("points") or [])
 
 
+def _accel_points(spec):
+    """A `register` spec's points with the accelerator in the loop (search accel, accel-approx)."""
+    base = spec.get("base", {}).get("search", "")
+    return [p for p in _own_points(spec) if str(p.get("search", base)).startswith("accel")]
+
+
 def apply(spec, variant, defaults):
     """The experiment's spec under the variant. A key the experiment sweeps or sets keeps its
     values, except that its value at the model's default (`defaults`) becomes the variant's (the
     Node Cache experiment's [default, 0] becomes [variant, 0]); a key it does not name goes into
     base.set. A leader width goes on every point with an approximation threshold, so the grid
-    is written out as points."""
+    is written out as points. A `register` spec keeps its accelerator points only, each with
+    the variant's --accel-config (the others, on the CPU, are the default's)."""
     spec = json.loads(json.dumps(spec))
+    if spec.get("command") == "register":
+        points = _accel_points(spec)
+        spec.pop("grid", None)
+        spec["points"] = [dict(p, **{"accel-config": variant.accel_config}) for p in points]
+        return spec
     base = spec.setdefault("base", {})
     named = set(base) | set(base.get("set", {})) | set(spec.get("grid") or {}) | \
         {k for p in spec.get("points") or [] for k in p} | \
@@ -309,31 +357,37 @@ def assumed_columns(variant):
 
 # ----------------------------------------------------------------------- matrix, verdicts, classes
 
-HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED = (
-    "holds", "direction only", "size only", "fails", "no test", "not measured")
-VERDICTS = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, NO_TEST, NOT_MEASURED]  # the legend's order
+HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, WORK_RATIO, NO_TEST, NOT_MEASURED = (
+    "holds", "direction only", "size only", "fails", "work ratio", "no test", "not measured")
+VERDICTS = [HOLDS, DIRECTION_ONLY, SIZE_ONLY, FAILS, WORK_RATIO, NO_TEST, NOT_MEASURED]  # the legend's order
 SCORE = {HOLDS: 3, DIRECTION_ONLY: 2, SIZE_ONLY: 1, FAILS: 0}
 # What each verdict means, in the figure's legend and REPORT.md's text alike (render, figure).
 MEANING = {HOLDS: "every test the claim has passes",
            DIRECTION_ONLY: "the direction holds, the size is off from the paper's by more than 2x",
            SIZE_ONLY: "within 2x of the paper's number, the direction does not hold",
            FAILS: "every test fails",
+           WORK_RATIO: "the paper's speed-up is within 2x of the ratio of work but above the ideal "
+                       "machine's ratio: no machine of this size reaches it as a speed-up",
            NO_TEST: "measured, but no direction test and no paper number",
            NOT_MEASURED: "no value"}
 # A colour of its own per verdict: direction only (a miss in size) is amber, never a shade of
 # the holds' green, so no cell reads as a hold that is not one.
 COLOURS = {HOLDS: "#1a9850", DIRECTION_ONLY: "#f5a623", SIZE_ONLY: "#9ecae1", FAILS: "#d73027",
-           NO_TEST: "#bdbdbd", NOT_MEASURED: "#ffffff"}
+           WORK_RATIO: "#762a83", NO_TEST: "#bdbdbd", NOT_MEASURED: "#ffffff"}
 COLOUR_NAMES = {HOLDS: "green", DIRECTION_ONLY: "amber", SIZE_ONLY: "light blue", FAILS: "red",
-                NO_TEST: "grey", NOT_MEASURED: "white, hatched"}
-TEXT_COLOURS = {HOLDS: "white", FAILS: "white"}  # the cell's value: black on the others
+                WORK_RATIO: "purple", NO_TEST: "grey", NOT_MEASURED: "white, hatched"}
+TEXT_COLOURS = {HOLDS: "white", FAILS: "white", WORK_RATIO: "white"}  # the cell's value: black on the others
 
 
 def verdict(claim):
     """One word for a claim's two tests: holds (every test it has passes), direction only, size
-    only, fails (every test fails), no test (neither applies), not measured."""
+    only, fails (every test fails), no test (neither applies), not measured; work ratio before
+    them all when the paper's speed-up is a ratio of work no machine of its size reaches
+    (report.speed_bound), whatever the cycles measured."""
     if claim is None or claim.measured == "not measured":
         return NOT_MEASURED
+    if getattr(claim, "work_ratio", False):
+        return WORK_RATIO
     d, w = claim.direction, claim.within
     if d is None and w is None:
         return NO_TEST
@@ -386,9 +440,11 @@ def classify(cid, columns, defaults):
     if len(kinds) == 1:
         v = next(iter(kinds))
         what = {FAILS: "fails", DIRECTION_ONLY: "the direction holds but the size misses",
-                SIZE_ONLY: "the size is within 2x but the direction does not hold"}[v]
+                SIZE_ONLY: "the size is within 2x but the direction does not hold",
+                WORK_RATIO: "the paper's number is a work ratio beyond the ideal machine's"}[v]
         first = measured[0][0]  # the default when it is measured
-        cls = "fails everywhere" + {FAILS: "", DIRECTION_ONLY: " (direction holds)", SIZE_ONLY: " (size within 2x)"}[v]
+        cls = "a work ratio everywhere" if v == WORK_RATIO else "fails everywhere" + \
+            {FAILS: "", DIRECTION_ONLY: " (direction holds)", SIZE_ONLY: " (size within 2x)"}[v]
         return cls, (f"{what} under all {len(measured)} configurations ({span}). "
                                     f"Measured reason at {'the default' if first is columns[0] else first.name}: "
                                     f"{first.claims[cid].explanation}." + tail)

@@ -112,6 +112,18 @@ def test_run_is_tigris_run(pair):
         assert mine.stats["config"]["fe"]["top_levels_replicated"] == 2
 
 
+def test_run_paper_accounting(pair):
+    # The paper's accounting is a preset like any: the same results, no DRAM energy for them.
+    _, cloud, queries = pair
+    phys = tigris.run(cloud, queries, mode="radius", radius=0.3)
+    paper = tigris.run(cloud, queries, mode="radius", radius=0.3, preset="paper-accounting")
+    assert paper.verdict == "match" and np.array_equal(paper.indices, phys.indices)
+    assert paper.stats["config"]["dram"]["writeback"] == "off_critical_path"
+    assert paper.stats["energy_pj"]["dram"] == 0 < phys.stats["energy_pj"]["dram"]
+    assert paper.stats["buffers"]["dram"]["write_bytes"] == phys.stats["buffers"]["dram"]["write_bytes"] > 0
+    assert paper.cycles <= phys.cycles
+
+
 def test_run_sampled():
     # The built-in pair with 315 kNN slots in flight: long enough to sample (docs/sampling.md).
     small = {"sram.results.bytes": 262144}

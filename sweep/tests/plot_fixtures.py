@@ -94,10 +94,12 @@ def load_stats(path):
 def fake_stats(cycles=100000, energy_pj=4e8, queries=1000, ru=64, su=32, pe=32, policy="mqsn",
                top_height=10, full_height=17, points=115200, nodes=200.0, leaf_fraction=0.9,
                split=None, traffic=None, accuracy=None, ru_busy=0.5, su_busy=0.5,
-               ru_stalls=None, su_stalls=None, clock_mhz=500.0, area=(8.38, 7.19)):
+               ru_stalls=None, su_stalls=None, clock_mhz=500.0, area=(8.38, 7.19), lower_bound=None):
     """A stats.json-shaped dict. nodes: nodes visited per query (split into top and leaf points
-    by leaf_fraction); split: energy shares by component (sum 1); traffic: bytes by buffer
-    (node_cache: read bytes, no fill); accuracy: the `accuracy` block of approximate runs."""
+    by leaf_fraction; the leaf points are the PE distances); split: energy shares by component
+    (sum 1); traffic: bytes by buffer (node_cache: read bytes, no fill); accuracy: the `accuracy`
+    block of approximate runs; lower_bound: `lower_bound_cycles`, by default the model's ideal
+    machine: max(top nodes / RU, PE distances / (SU x PE))."""
     canonical = top_height == full_height
     split = split or {"pe": 0.5, "ru": 0.02, "sram_read": 0.3, "sram_write": 0.1,
                       "node_cache": 0.03, "leader_buffer": 0.0, "dram": 0.02, "leakage": 0.03}
@@ -108,14 +110,15 @@ def fake_stats(cycles=100000, energy_pj=4e8, queries=1000, ru=64, su=32, pe=32, 
     seconds = cycles / (clock_mhz * 1e6)
     s = {
         "command": "run", "cycles": cycles, "seconds": seconds, "queries": queries,
-        "verdict": "match", "lower_bound_cycles": cycles / 4,
+        "verdict": "match",
+        "lower_bound_cycles": lower_bound if lower_bound is not None else max(top / ru, leaf / (su * pe)),
         "power_w": energy_pj * 1e-12 / seconds,
         "energy_pj": dict({k: v * energy_pj for k, v in split.items()}, total=energy_pj),
         "area_mm2": {"sram": area[0], "logic": area[1], "total": area[0] + area[1]},
         "tree": {"full_height": full_height, "top_height": top_height, "points": points,
                  "leaves": 2 ** top_height, "nonempty_leaves": 0 if canonical else 2 ** top_height,
                  "leaf_set_mean": 0.0 if canonical else (points - 2 ** top_height + 1) / 2 ** top_height},
-        "visits": {"top": top, "leaf_points": leaf, "follower_points": 0, "leader_checks": 0,
+        "visits": {"top": top, "leaf_points": leaf, "follower_points": 0, "leader_checks": 0, "pe_distances": leaf,
                    "pruned": top / 2, "per_query": {"nodes": {"mean": nodes}}},
         "units": {
             "recursion_units": {"count": ru, "busy_cycles": ru_busy * ru * cycles,

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""sweep/reproduce.py: the sweep specs of the paper's experiments (full and --quick), the
-driver command lines (local and Slurm), argument errors, and the run -> figures -> REPORT.md
-flow with a stand-in driver (so no tigris run is needed).
+"""sweep/reproduce.py: the sweep specs of the paper's experiments (full and --quick) and of
+the paper's accounting beside them, the driver command lines (local and Slurm), argument errors,
+and the run -> figures -> REPORT.md flow with a stand-in driver (so no tigris run is needed),
+the paper's accounting's column and counts included.
 Run: python3 sweep/tests/test_reproduce.py"""
 import itertools
 import json
@@ -41,8 +42,9 @@ FAKE_DRIVER = textwrap.dedent('''\
         kw["cycles"] = 1e5 * 64 / kw["ru"] + 1e3 * abs(kw["top_height"] - 10) + (
             0 if s.get("fe.forwarding", True) else 5e3)
         kw["nodes"] = 60.0 if h == "full" else 60.0 + 2 ** max(0, 17 - kw["top_height"]) / 2
-        if kw["policy"] == "mqmn":  # a design variant's DRAM bandwidth speeds MQMN up
-            kw["cycles"] /= (s.get("dram.bytes_per_cycle", 51.2) / 51.2) ** 0.5
+        if kw["policy"] == "mqmn":  # a design variant's DRAM bandwidth speeds MQMN up, and so does
+            kw["cycles"] /= (s.get("dram.bytes_per_cycle", 51.2) / 51.2) ** 0.5  # the paper's accounting
+            kw["cycles"] /= 2 if s.get("dram.writeback") == "off_critical_path" else 1
         if "approx-thd" in s:
             kw["accuracy"] = {{"exact_match_fraction": 0.5, "mean_extra_distance_m": 0.1,
                                "max_extra_distance_m": 1.0, "recall": 0.9, "precision": 1.0}}
@@ -62,6 +64,10 @@ def product_size(spec):
     for v in g.values():
         n *= len(v)
     return (n if g else 0) + len(spec.get("points", []))
+
+
+PAPER_KEYS = {"dram.writeback": "off_critical_path", "energy.charge_result_dram": False,
+              "result_buffer.leader_lists": "resident"}
 
 
 class Specs(unittest.TestCase):
@@ -88,6 +94,9 @@ class Specs(unittest.TestCase):
         self.assertEqual(s["registrations"]["grid"], {"preset": ["dp4", "dp7"],
                                                       "search": ["flann", "exact", "accel", "accel-approx"]})
         self.assertEqual(s["odometry-approx"]["grid"]["search"], ["exact", "approx"])
+        # The accuracy cost in the authors' convention too: their leaf sizes, an unbounded leader list.
+        self.assertEqual([(p["preset"], p["search"], p["search.rpce_leaf_size"], p["search.normals_leaf_size"])
+                          for p in s["odometry-approx"]["points"]], [("dp4", "approx", 32, 64), ("dp7", "approx", 32, 64)])
         # The golden model's redundancy in both conventions, at the heights bracketing leaf-set 32.
         self.assertEqual(s["redundancy"]["command"], "ref")
         self.assertEqual(s["redundancy"]["base"], {"redundancy": True})
@@ -106,6 +115,39 @@ class Specs(unittest.TestCase):
         for spec in s.values():
             self.assertNotIn("cloud", spec["base"])
             self.assertTrue(spec["comment"].startswith("sweep/reproduce.py:"))
+
+    def test_paper_accounting_always(self):
+        """Without --variants too, every experiment the accounting can change runs under the
+        preset paper-accounting (its keys in base.set); the registrations' accelerator points with
+        the preset as --accel-config; the golden model's experiments share the default's rows;
+        --quick leaves out the RU x SU x PE grids."""
+        def accounting(*args):
+            out = tempfile.mkdtemp(dir=self.tmp.name)
+            self.assertEqual(reproduce.main(["--out", out, "--specs-only"] + list(args)), 0)
+            d = os.path.join(out, "variants", "paper-accounting")
+            with open(os.path.join(d, "variant.json")) as f:
+                self.assertEqual(json.load(f)["set"], PAPER_KEYS)
+            specs = {}
+            for f in sorted(os.listdir(os.path.join(d, "specs"))):
+                with open(os.path.join(d, "specs", f)) as fh:
+                    specs[f[:-5]] = json.load(fh)
+            return specs
+        full = accounting()
+        self.assertEqual(set(full), {"heights-nn", "heights-radius", "units", "optimizations", "node-cache",
+                                     "approx-nn", "approx-radius", "registrations"})  # not redundancy, odometry
+        default = self.specs()
+        for name, spec in full.items():
+            if name != "registrations":
+                self.assertEqual(spec["base"]["set"], PAPER_KEYS, name)
+                self.assertEqual(spec.get("grid"), default[name].get("grid"), name)
+        preset = os.path.join(REPO, "presets", "paper-accounting.json")
+        self.assertEqual(full["registrations"]["points"],
+                         [{"preset": p, "search": s, "accel-config": preset}
+                          for p in ("dp4", "dp7") for s in ("accel", "accel-approx")])
+        self.assertTrue(os.path.isfile(preset))
+        quick = accounting("--quick")
+        self.assertEqual(set(quick), {"heights-nn", "heights-radius", "optimizations", "node-cache", "approx-nn",
+                                      "approx-radius", "registrations"})
 
     def test_quick_is_smaller(self):
         full = sum(product_size(v) for v in self.specs().values())
@@ -177,8 +219,25 @@ class Flow(unittest.TestCase):
         with open(os.path.join(out, "REPORT.md")) as f:
             text = f.read()
         self.assertIn("(--quick)", text.splitlines()[0])
-        self.assertIn("| # | model.md | claim |", text)
+        self.assertIn("| # | model.md | claim | paper | default machine | verdict | paper's accounting | verdict | "
+                      "speed-up: cycles / work / ideal |", text)
         self.assertIn("top height ~10 is best (NN)", text)
+        # The paper's accounting ran beside the default (no units grids in --quick), MQMN 2x faster under it.
+        self.assertIn("the paper's accounting: 7 sweeps", p.stderr)
+        acc = os.path.join(out, "variants", "paper-accounting", "sweeps")
+        self.assertEqual(sorted(os.listdir(acc)), ["approx-nn", "approx-radius", "heights-nn", "heights-radius",
+                                                   "node-cache", "optimizations", "registrations"])
+        mqmn = next(x for x in text.splitlines() if x.startswith("| ") and "MQMN ~2x faster" in x)
+        self.assertIn("| 2x | 1.00x | fails | 2.00x | holds | 1.00x (paper's accounting 2.00x) / 1.00x / 1.00x |", mqmn)
+        summary = text.split("## Summary: what reproduces", 1)[1].split("## Claims", 1)[0]
+        first = summary.strip().splitlines()[0]
+        self.assertRegex(first, r"^- \*\*Default machine: \d+ of \d+ hold, \d+ direction only, \d+ fail, \d+ a work "
+                                r"ratio, \d+ without a verdict; the paper's accounting \(`paper-accounting`\): \d+ of \d+ hold")
+        self.assertIn("MQMN ~2x faster than MQSN (+Forward -> MQMN, speed-up), NN: fails -> holds (2.00x)", summary)
+        self.assertRegex(summary, r"\*\*\d+ still fail under the paper's accounting\*\*")
+        knee = next(x for x in text.splitlines() if x.startswith("| ") and "knee in RU count" in x)
+        self.assertIn("| not measured | not measured |", knee)  # --quick: no units grid under the accounting
+        self.assertNotIn("| paper-accounting |", text)          # not a column of the robustness matrix
         try:
             import matplotlib  # noqa: F401
             self.assertIn("![units](figures/units.png)", text)

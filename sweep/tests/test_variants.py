@@ -61,6 +61,10 @@ class Verdicts(unittest.TestCase):
         self.assertEqual(vt.verdict(claim("a", "1", None, None)), vt.NO_TEST)
         self.assertEqual(vt.verdict(report.Claim("a", "9", "t", "p", "h")), vt.NOT_MEASURED)
         self.assertEqual(vt.verdict(None), vt.NOT_MEASURED)
+        for d, w in ((True, True), (True, False), (False, False)):  # a work ratio whatever its cycles say
+            c = claim("a", "1", d, w)
+            c.work_ratio = True
+            self.assertEqual(vt.verdict(c), vt.WORK_RATIO)
 
 
 class Classify(unittest.TestCase):
@@ -138,6 +142,14 @@ class Classify(unittest.TestCase):
         cls, text = vt.classify("x", cols, DEFAULTS)
         self.assertEqual(cls, "fails everywhere")
         self.assertIn("Measured reason at dram-2x: bound A", text)
+
+    def test_a_work_ratio_everywhere(self):
+        cs = [claim("x", f"{v}x", True, False) for v in (1.3, 1.2, 1.3, 1.3)]
+        for c in cs:
+            c.work_ratio = True
+        cls, text = vt.classify("x", self.cols(*cs), DEFAULTS)
+        self.assertEqual(cls, "a work ratio everywhere")
+        self.assertIn("the paper's number is a work ratio beyond the ideal machine's under all 4", text)
 
     def test_not_measured_somewhere(self):
         cols = self.cols(claim("x", "1x", True, True), report.Claim("x", "9", "t", "p", "h"),
@@ -325,6 +337,37 @@ class Specs(unittest.TestCase):
                   "nc-512k", "every-leaf", "every-leaf-w4", "finished-only"):
             self.assertIn(n, names)
             self.assertTrue(names[n].why)
+        self.assertNotIn("paper-accounting", names)  # an accounting, not a design variant of the matrix
+
+    def test_paper_accounting(self):
+        """The preset paper-accounting as a variant of every experiment: its keys in base.set of
+        the `tigris run` experiments, the registrations' accelerator points with its file as
+        --accel-config, the golden model's experiments left alone; its keys are no experiment's
+        axis, so it needs no model defaults to apply."""
+        v = vt.accounting("paper-accounting")
+        self.assertEqual(v.set, {"dram.writeback": "off_critical_path", "energy.charge_result_dram": False,
+                                 "result_buffer.leader_lists": "resident"})
+        self.assertEqual(v.accel_config, os.path.join(vt.PRESETS_DIR, "paper-accounting.json"))
+        self.assertTrue(v.why)
+        for quick in (False, True):
+            for name, (_, spec) in reproduce.experiments(quick).items():
+                golden = spec.get("command") in ("ref", "odometry")
+                self.assertEqual(vt.affects(v, name, spec), not golden, name)
+                for k in v.set:
+                    self.assertNotIn(f'"{k}"', json.dumps(spec), name)
+        reg = vt.apply(reproduce.experiments(True)["registrations"][1], v, {})
+        self.assertEqual(reg["points"], [{"preset": "dp4", "search": s, "accel-config": v.accel_config}
+                                         for s in ("accel", "accel-approx")])
+        self.assertNotIn("grid", reg)
+        with self.assertRaises(vt.VariantError) as e:
+            vt.accounting("dram-8x")
+        self.assertIn("not an accounting preset", str(e.exception))
+        with self.assertRaises(vt.VariantError) as e:
+            vt.choose(["paper-accounting"], [])
+        self.assertIn("is an accounting, not a design variant", str(e.exception))
+        with self.assertRaises(vt.VariantError) as e:
+            vt.choose([], [vt.Variant("paper-accounting", "", set={"dram.bytes_per_cycle": 1})])
+        self.assertIn("has the name of a built-in variant or accounting", str(e.exception))
 
     def test_user_variants_and_their_errors(self):
         tmp = tempfile.mkdtemp()
@@ -491,7 +534,15 @@ class EndToEnd(unittest.TestCase):
         with open(os.path.join(out, "REPORT.md")) as f:
             text = f.read()
         self.assertIn("## Robustness: the claims under design variants", text)
-        self.assertIn("| # | claim | default | dram-8x | slow-nc | class |", text)
+        self.assertIn("| # | claim | default | dram-8x | slow-nc | class |", text)  # no paper-accounting column
+        with open(os.path.join(out, "variants", "paper-accounting", "sweeps", "optimizations", "sweep.csv")) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual({(r["status"], r["dram.writeback"], r["result_buffer.leader_lists"]) for r in rows},
+                         {("ok", "off_critical_path", "resident")})
+        self.assertTrue(all(float(r["visits.pe_distances"]) > 0 and float(r["lower_bound_cycles"]) > 0 for r in rows))
+        line = next(x for x in text.splitlines() if x.startswith("| ") and "bypassing helps" in x and "· " not in x)
+        self.assertNotIn("not measured", line)   # both columns measured, and its cycle / work / ideal ratios
+        self.assertRegex(line, r"\| [0-9.]+x( \(paper's accounting [0-9.]+x\))? / 1\.00x / 1\.00x \|")
         line = next(x for x in text.splitlines() if x.startswith("| ") and "bypassing helps" in x
                     and "· " in x)
         self.assertNotIn("not measured", line)
