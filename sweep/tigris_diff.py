@@ -222,7 +222,7 @@ def fmt(v, unit=""):
     if v is None:
         return "-"
     if isinstance(v, bool) or not is_num(v):
-        text = str(v)
+        text = ("true" if v else "false") if isinstance(v, bool) else str(v)  # as the configuration writes it
         return text if len(text) <= 48 else text[:45] + "..."
     if unit == "%":
         return f"{100 * v:.1f}%"

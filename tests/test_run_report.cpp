@@ -131,7 +131,7 @@ TEST_CASE("stat formulas: every derived field names fields that a run writes", "
   json s = {{"cycles", 1000},
             {"config",
              {{"clock_mhz", 500}, {"fe", {{"recursion_units", 4}}}, {"be", {{"search_units", 2}, {"pes_per_su", 8}}}}},
-            {"visits", {{"top", 100}, {"leaf_points", 800}}},
+            {"visits", {{"top", 100}, {"leaf_points", 800}, {"follower_points", 160}, {"leader_checks", 40}}},
             {"energy_pj", {{"total", 5e6}}},
             {"units",
              {{"recursion_units", {{"busy_cycles", 2000}, {"count", 4}}},
@@ -149,6 +149,9 @@ TEST_CASE("stat formulas: every derived field names fields that a run writes", "
   CHECK(s["units"]["search_units"]["pe_utilization"].get<double>() == 0.25);
   CHECK(s["units"]["search_units"]["queries_per_batch"].get<double>() == 3.0);
   CHECK(s["power_w"].get<double>() == Approx(5e6 * 1e-12 / (1000 / 500e6)));
-  CHECK(s["lower_bound_cycles"].get<double>() == 50.0);
+  // The ideal machine: every distance a PE computes (leaf, follower and leader-check) over the
+  // 16 PEs, against 100 top nodes over 4 RUs.
+  CHECK(s["visits"]["pe_distances"].get<double>() == 1000.0);
+  CHECK(s["lower_bound_cycles"].get<double>() == 62.5);
   for (const tigris::DerivedStat& d : tigris::derived_stats()) CHECK(tigris::evaluate(d.formula, s).has_value());
 }
