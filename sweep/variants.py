@@ -367,7 +367,7 @@ MEANING = {HOLDS: "every test the claim has passes",
            SIZE_ONLY: "within 2x of the paper's number, the direction does not hold",
            FAILS: "every test fails",
            WORK_RATIO: "the paper's speed-up is within 2x of the ratio of work but above the ideal "
-                       "machine's ratio: no machine of this size reaches it as a speed-up",
+                       "machine's ratio: no machine of this size running both searches at its bound reaches it as a speed-up",
            NO_TEST: "measured, but no direction test and no paper number",
            NOT_MEASURED: "no value"}
 # A colour of its own per verdict: direction only (a miss in size) is amber, never a shade of
