@@ -34,7 +34,7 @@ struct EnergyTable {
   // The SRAM rule at the default Leader Buffer bank, one per SU: 6 KB (hw/area_model.hpp).
   double leader_buffer_pj_per_byte = 0.30;
   double register_pj_per_byte = 0.05;
-  double dram_pj_per_byte = 120.0;        // 15 pJ/bit
+  double dram_pj_per_byte = 120.0;  // 15 pJ/bit
   // A switch, not a price: the paper's DP4 split gives DRAM 0.2% (docs/model.md, "Two accountings").
   bool charge_result_dram = true;
   double leakage_pj_per_mm2_cycle = 4.0;  // 2 mW/mm2 at 500 MHz

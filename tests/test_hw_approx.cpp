@@ -163,7 +163,7 @@ TEST_CASE("leader lists that find the Result Buffer's list area full live in DRA
   const PointCloud queries = make_queries(cloud, 300, 24);
   auto tiny = units(8, 4, 8, 5);
   tiny.result_buffer.leader_fraction = 1e-5;  // 31 bytes: less than one 16-byte entry per SU
-  auto resident = tiny;  // the paper's accounting: the same lists stay in the Result Buffer
+  auto resident = tiny;                       // the paper's accounting: the same lists stay in the Result Buffer
   resident.result_buffer.leader_lists = hw::LeaderLists::Resident;
   const SearchParams r = approximate(mode(Mode::Radius, 1, 1.0f), 0.4f);
   const std::vector<Case> cases = {{"area", units(8, 4, 8, 5), r}, {"dram", tiny, r}, {"resident", resident, r}};

@@ -42,7 +42,8 @@ int run_presets(const PresetsOptions& o) {
     std::printf("%-14s %s\n", "", p["why"].get<std::string>().c_str());
     if (p.contains("cites") && p["cites"].is_object())
       for (auto it = p["cites"].begin(); it != p["cites"].end(); ++it)
-        std::printf("%-14s   %s %s\n", "", it.key().c_str(), it.value().is_string() ? it.value().get<std::string>().c_str() : "");
+        std::printf("%-14s   %s %s\n", "", it.key().c_str(),
+                    it.value().is_string() ? it.value().get<std::string>().c_str() : "");
     if (p.contains("variant"))
       std::printf("%-14s a design variant of tigris reproduce --variants%s\n", "",
                   p["variant"].empty() ? "" : (": " + p["variant"].dump()).c_str());

@@ -33,9 +33,9 @@ class LeaderBuffer {
     std::uint32_t list_length = 0;   // entries
     bool in_dram = false;
     std::uint64_t overflow = kNoOverflow;  // entry index in the overflow store (DRAM, or resident)
-    std::uint64_t ready = 0;          // cycle the list is written and followers may read it
-    bool pending = false;             // first_leaf, wait: reserved at its check, still searching
-    std::vector<QueryToken> waiters;  // wait: followers parked until its list is written
+    std::uint64_t ready = 0;               // cycle the list is written and followers may read it
+    bool pending = false;                  // first_leaf, wait: reserved at its check, still searching
+    std::vector<QueryToken> waiters;       // wait: followers parked until its list is written
   };
 
   LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter);
@@ -46,8 +46,7 @@ class LeaderBuffer {
   bool full(std::uint32_t leaf) const { return leaders(leaf).size() >= capacity_; }
   // Where the Result Buffer's banks see a list's first byte (a resident overflow list wraps).
   std::uint64_t bank_address(const Leader& l) const {
-    return l.overflow == kNoOverflow ? l.list_address
-                                     : area_base_ + (area_bytes_ ? l.list_address % area_bytes_ : 0);
+    return l.overflow == kNoOverflow ? l.list_address : area_base_ + (area_bytes_ ? l.list_address % area_bytes_ : 0);
   }
   // The check stream reads `entries` leaders of one leaf.
   void read(std::uint64_t entries) {

@@ -1,9 +1,10 @@
 // The result write-back stream: finished results leave the Result Buffer's double-buffered
 // stream area for DRAM at a fixed bandwidth; writers are held back only when both halves are
 // full (dram.writeback = channel). Under the paper's accounting (off_critical_path) the stream
-// never holds a writer back and the channel carries only leader lists kept in DRAM. The DRAM region it fills is a window on the host socket, where the host driver reads
-// the records after done. Time is kept relative to the job's START, so a job run again on the
-// same accelerator rounds exactly as the first time.
+// never holds a writer back and the channel carries only leader lists kept in DRAM. The DRAM
+// region it fills is a window on the host socket, where the host driver reads the records after
+// done. Time is kept relative to the job's START, so a job run again on the same accelerator
+// rounds exactly as the first time.
 #pragma once
 
 #include <cstdint>
@@ -60,8 +61,8 @@ class ResultWriteback : public sc_core::sc_module {
   double host_bytes_per_cycle_;
   Clock clock_;
   std::vector<std::uint8_t> region_;
-  std::uint64_t origin_ = 0;  // the job's START cycle
-  double drain_free_ = 0.0;   // cycles after START at which the channel is idle again
+  std::uint64_t origin_ = 0;       // the job's START cycle
+  double drain_free_ = 0.0;        // cycles after START at which the channel is idle again
   std::uint64_t last_accept_ = 0;  // cycles after START of the last record's acceptance
   std::uint64_t buffer_bytes_ = 0;
   StatGroup stats_{"dram", "dram"};
