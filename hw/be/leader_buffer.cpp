@@ -60,9 +60,8 @@ void LeaderBuffer::store_list(Leader& l, const std::vector<tlm_if::PointEntry>& 
   } else {
     // The list's entries go to the overflow store; its bytes cross the channel (spill) or stay
     // in the Result Buffer at a wrapped address (resident).
-    l.in_dram = !resident_;
-    l.overflow = overflow_.size();
-    l.list_address = l.overflow * kListEntryBytes;
+    l.overflowed = true;
+    l.list_address = overflow_.size() * kListEntryBytes;
     overflow_.insert(overflow_.end(), list.begin(), list.end());
     ++(resident_ ? resident_overflow_ : dram_lists_);
   }
@@ -70,7 +69,7 @@ void LeaderBuffer::store_list(Leader& l, const std::vector<tlm_if::PointEntry>& 
 }
 
 const tlm_if::PointEntry* LeaderBuffer::list(const Leader& l) const {
-  if (l.overflow != kNoOverflow) return overflow_.data() + l.overflow;
+  if (l.overflowed) return overflow_.data() + l.list_address / kListEntryBytes;
   return reinterpret_cast<const tlm_if::PointEntry*>(area_ + (l.list_address - area_base_));
 }
 

@@ -25,17 +25,15 @@ class LeaderBuffer {
  public:
   static constexpr std::uint64_t kLeaderBytes = 12;  // x, y, z as float32
   static constexpr std::uint64_t kListEntryBytes = sizeof(tlm_if::PointEntry);
-  static constexpr std::uint64_t kNoOverflow = ~std::uint64_t{0};
 
   struct Leader {
     Point3 point;
-    std::uint64_t list_address = 0;  // byte address in the Result Buffer, or in the overflow store
-    std::uint32_t list_length = 0;   // entries
-    bool in_dram = false;
-    std::uint64_t overflow = kNoOverflow;  // entry index in the overflow store (DRAM, or resident)
-    std::uint64_t ready = 0;               // cycle the list is written and followers may read it
-    bool pending = false;                  // first_leaf, wait: reserved at its check, still searching
-    std::vector<QueryToken> waiters;       // wait: followers parked until its list is written
+    std::uint64_t list_address = 0;   // byte address in the Result Buffer, or in the overflow store
+    std::uint32_t list_length = 0;    // entries
+    bool overflowed = false;          // beyond its SU's share: in the overflow store (DRAM, or resident)
+    std::uint64_t ready = 0;          // cycle the list is written and followers may read it
+    bool pending = false;             // first_leaf, wait: reserved at its check, still searching
+    std::vector<QueryToken> waiters;  // wait: followers parked until its list is written
   };
 
   LeaderBuffer(std::uint32_t su, const AcceleratorConfig& config, EnergyMeter& meter);
@@ -44,9 +42,11 @@ class LeaderBuffer {
   void start(const JobDescriptor& job, std::uint8_t* result_buffer);
   const std::vector<Leader>& leaders(std::uint32_t leaf) const { return leaves_[slot(leaf)]; }
   bool full(std::uint32_t leaf) const { return leaders(leaf).size() >= capacity_; }
+  // Whether a list's accesses cross the write-back channel (spilled), not the Result Buffer's banks.
+  bool in_dram(const Leader& l) const { return l.overflowed && !resident_; }
   // Where the Result Buffer's banks see a list's first byte (a resident overflow list wraps).
   std::uint64_t bank_address(const Leader& l) const {
-    return l.overflow == kNoOverflow ? l.list_address : area_base_ + (area_bytes_ ? l.list_address % area_bytes_ : 0);
+    return l.overflowed ? area_base_ + (area_bytes_ ? l.list_address % area_bytes_ : 0) : l.list_address;
   }
   // The check stream reads `entries` leaders of one leaf.
   void read(std::uint64_t entries) {

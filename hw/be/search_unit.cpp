@@ -338,7 +338,7 @@ SearchUnit::Plan SearchUnit::serve(std::vector<QueryToken>& tokens, std::uint32_
 std::uint64_t SearchUnit::list_access(std::uint64_t at, const LeaderBuffer::Leader& l, bool write) {
   const std::uint64_t bytes = l.list_length * LeaderBuffer::kListEntryBytes;
   if (bytes == 0) return at;
-  if (l.in_dram) return links_.result_buffer.dram_transfer(at, bytes, write);
+  if (leader_buffer_.in_dram(l)) return links_.result_buffer.dram_transfer(at, bytes, write);
   tlm_if::AccessProfile a;
   a.write = write;
   a.first_byte = leader_buffer_.bank_address(l);
