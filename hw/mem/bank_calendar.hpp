@@ -75,9 +75,10 @@ class BankCalendar {
         row[bank] |= bit;
         continue;
       }
+      const std::uint64_t generation = generation_;
       const std::uint64_t served = reserve_later(bank, cycle, now) + 1;
       if (served > finish) finish = served, critical = bank;
-      row = &word(bank, cycle / 64, now) - bank;  // the ring may have grown
+      if (generation != generation_) row = &word(bank, cycle / 64, now) - bank;  // the ring grew: rows moved
     }
     return finish;
   }
@@ -135,13 +136,28 @@ class BankCalendar {
   }
 
  private:
-  // reserve() when `cycle` itself is booked: the first free cycle after it.
-  __attribute__((noinline)) std::uint64_t reserve_later(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+  // reserve() when `cycle` itself is booked: the first free cycle after it. A bank that falls
+  // behind books at the end of its run, in a row of its own: the bank's own cached row (not
+  // the shared last row, which the other banks' accesses at the current cycle keep).
+  std::uint64_t reserve_later(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
+    Run& run = runs_[bank];
+    if (run.from <= cycle && cycle < run.to && run.row_id == run.to / 64 && run.generation == generation_ &&
+        rows_[run.row].id == run.row_id) {  // the cycle after the run, in the bank's cached row
+      std::uint64_t& w = busy_[run.row * banks_ + bank];
+      const std::uint64_t bit = std::uint64_t{1} << (run.to % 64);
+      if (!(w & bit)) {
+        w |= bit;
+        return run.to++;
+      }
+    }
+    return reserve_after(bank, cycle, now);
+  }
+  __attribute__((noinline)) std::uint64_t reserve_after(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
     Run& run = runs_[bank];
     const std::uint64_t asked = cycle;
     if (run.from <= cycle && cycle < run.to) cycle = run.to;
     for (;;) {  // every row passed over is full (so already claimed); the last one is booked in
-      std::uint64_t& busy = word(bank, cycle / 64, now);
+      std::uint64_t& busy = bank_word(run, bank, cycle / 64, now);
       const std::uint64_t free = ~busy >> (cycle % 64);
       if (free != 0) {
         cycle += static_cast<std::uint64_t>(__builtin_ctzll(free));
@@ -179,9 +195,14 @@ class BankCalendar {
   // The same, to book in (recycling a row wholly in the past). The last row looked up is kept:
   // one work item's accesses mostly fall in the same 64 cycles.
   std::uint64_t& word(std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
-    return (id == last_id_ ? last_bits_ : lookup(id, now))[bank];
+    if (id != last_id_) {
+      const std::size_t r = lookup(id, now);  // (may grow the ring: the data pointer after it)
+      last_id_ = id, last_bits_ = busy_.data() + r * banks_;
+    }
+    return last_bits_[bank];
   }
-  __attribute__((noinline)) std::uint64_t* lookup(std::uint64_t id, std::uint64_t now) {
+  // The ring index of row `id`, claimed (recycling a row wholly before `now`, or growing).
+  __attribute__((noinline)) std::size_t lookup(std::uint64_t id, std::uint64_t now) {
     for (;;) {
       const std::size_t r = static_cast<std::size_t>(id & (rows_.size() - 1));
       Row& row = rows_[r];
@@ -193,14 +214,15 @@ class BankCalendar {
         }
         row.id = id;
         if (row.used) std::fill(bits, bits + banks_, 0);
+        if (bits == last_bits_) last_id_ = kNoRow;  // word()'s row now describes other cycles
       }
       row.used = true;
-      last_id_ = id, last_bits_ = bits;
-      return bits;
+      return r;
     }
   }
   void grow() {
     last_id_ = kNoRow;
+    ++generation_;
     std::vector<Row> old_rows = std::move(rows_);
     std::vector<std::uint64_t> old_busy = std::move(busy_);
     rows_.assign(old_rows.size() * 2, Row{});
@@ -216,6 +238,7 @@ class BankCalendar {
   std::uint32_t banks_;
   std::uint64_t last_id_ = kNoRow;      // the row word() looked up last ...
   std::uint64_t* last_bits_ = nullptr;  // ... and its busy bits
+  std::uint64_t generation_ = 0;        // how often the ring has grown (rows moved)
   std::vector<Row> rows_;
   std::vector<std::uint64_t> busy_;  // rows_.size() x banks_
   // Per bank, cycles known to be all booked, so a search skips a long backlog at once (a bank
@@ -223,6 +246,8 @@ class BankCalendar {
   // access). Bookings are never taken back at or after the current cycle, so a run stays true.
   struct Run {
     std::uint64_t from = 0, to = 0;
+    std::uint64_t row_id = kNoRow, generation = 0;  // the bank's cached row: its id, ...
+    std::size_t row = 0;                            // ... and its place in the ring
     // [a, b) is all busy: joined to the run when they touch, else kept if it reaches further.
     void note(std::uint64_t a, std::uint64_t b) {
       if (a <= to && from <= b) {
@@ -235,6 +260,16 @@ class BankCalendar {
     }
   };
   std::vector<Run> runs_;
+
+  // `bank`'s word of row `id` through the bank's cached row (valid while the ring has not grown
+  // and the row still describes `id`).
+  std::uint64_t& bank_word(Run& run, std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
+    if (run.row_id != id || run.generation != generation_ || rows_[run.row].id != id) {
+      run.row = lookup(id, now);
+      run.row_id = id, run.generation = generation_;
+    }
+    return busy_[run.row * banks_ + bank];
+  }
 };
 
 }  // namespace tigris::hw

@@ -22,7 +22,7 @@ std::string title(const std::string& name) {
 
 BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, Clock clock, EnergyMeter& meter,
                        const AcceleratorConfig::Stall& stall)
-    : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes, 0),
+    : sc_module(name), socket("socket"), config_(config), clock_(clock), data_(config.bytes),
       word_bytes_(static_cast<std::uint64_t>(config.word_bytes)), num_banks_(static_cast<std::uint64_t>(config.banks)),
       word_shift_((word_bytes_ & (word_bytes_ - 1)) == 0 ? __builtin_ctzll(word_bytes_) : -1),
       bank_mask_((num_banks_ & (num_banks_ - 1)) == 0 ? num_banks_ - 1 : 0), word_div_(word_bytes_),

@@ -17,6 +17,7 @@
 
 #include "bank_calendar.hpp"
 #include "fast_divider.hpp"
+#include "zeroed_bytes.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
@@ -101,7 +102,7 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
 
   SramConfig config_;
   Clock clock_;
-  std::vector<std::uint8_t> data_;
+  ZeroedBytes data_;  // zero until written (no set-up cost for what a job leaves untouched)
   std::uint64_t word_bytes_, num_banks_;
   int word_shift_;           // log2(word_bytes_), or -1
   std::uint64_t bank_mask_;  // num_banks_ - 1 for a power of two, else 0

@@ -39,14 +39,14 @@ class ResultSlots {
     const std::uint32_t c = count(slot);
     if (c < k_) {
       e[c] = n;
-      std::push_heap(e, e + c + 1, closer_order);
+      std::push_heap(e, e + c + 1, Closer{});
       set_count(slot, c + 1);
       return true;
     }
     if (!closer(n, e[0])) return false;
-    std::pop_heap(e, e + c, closer_order);  // the worst moves to the end and is replaced
+    std::pop_heap(e, e + c, Closer{});  // the worst moves to the end and is replaced
     e[c - 1] = n;
-    std::push_heap(e, e + c, closer_order);
+    std::push_heap(e, e + c, Closer{});
     return true;
   }
   // Where a slot lives in host memory, for the host's cache hints (hw/host/scan_service.hpp).
@@ -55,11 +55,13 @@ class ResultSlots {
   // The query is done: its list in canonical order, closest first (entries() then reads it).
   void finish(std::uint32_t slot) {
     Neighbor* e = mutable_entries(slot);
-    std::sort_heap(e, e + count(slot), closer_order);
+    std::sort_heap(e, e + count(slot), Closer{});
   }
 
  private:
-  static bool closer_order(const Neighbor& a, const Neighbor& b) { return closer(a, b); }
+  struct Closer {  // a type, not a function pointer: the heap's comparisons inline
+    bool operator()(const Neighbor& a, const Neighbor& b) const { return closer(a, b); }
+  };
   Neighbor* mutable_entries(std::uint32_t slot) { return reinterpret_cast<Neighbor*>(at(slot) + kHeaderBytes); }
   std::uint8_t* at(std::uint32_t slot) const { return base_ + slot * slot_bytes(k_); }
   void set_count(std::uint32_t slot, std::uint32_t c) { std::memcpy(at(slot), &c, 4); }
