@@ -17,11 +17,11 @@
 
 #include "bank_calendar.hpp"
 #include "fast_divider.hpp"
-#include "zeroed_bytes.hpp"
 #include "hw/clock.hpp"
 #include "hw/config.hpp"
 #include "hw/energy_meter.hpp"
 #include "port_calendar.hpp"
+#include "zeroed_bytes.hpp"
 #ifdef TIGRIS_CHECK_SRAM
 #include "sram_reference.hpp"
 #endif
