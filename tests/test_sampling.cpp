@@ -28,6 +28,50 @@ constexpr double kAuto = hw::AcceleratorConfig::Sim::kAuto;
 
 }  // namespace
 
+TEST_CASE("scoreboard: exact search's schedule, checked against the golden order, fails where the replay fails",
+          "[sampling]") {
+  const SyntheticPair pair = make_synthetic_pair();
+  PointCloud cloud, queries;
+  for (std::size_t i = 0; i < pair.frame0.size(); i += 8) cloud.push_back(pair.frame0[i]);
+  for (std::size_t i = 0; i < pair.frame1.size(); i += 40) queries.push_back(pair.frame1[i]);
+  const KdTree tree = build_kdtree(cloud, 6);
+  for (const SearchParams& params : {test::mode(Mode::NN), test::mode(Mode::KNN, 8)}) {
+    const SearchOutput golden = golden_search(tree, queries, params);
+    // The accelerator's schedule: the golden rows interleaved (last query first), then spoilt.
+    Schedule interleaved = golden.schedule;
+    std::stable_sort(interleaved.begin(), interleaved.end(),
+                     [](const ScheduleEntry& a, const ScheduleEntry& b) { return a.query > b.query; });
+    SearchOutput hw = golden;
+    hw.schedule = interleaved;
+    CHECK(check_against_golden(tree, queries, params, golden, golden.results, hw).match);
+    std::size_t two = 0;  // a row whose query visits another leaf after it
+    while (two + 1 < interleaved.size() && interleaved[two].query != interleaved[two + 1].query) ++two;
+    REQUIRE(two + 1 < interleaved.size());
+    std::vector<Schedule> spoilt(6, interleaved);
+    spoilt[0][3].leaf ^= 1;                                           // a visit the traversal does not make
+    std::swap(spoilt[1][two], spoilt[1][two + 1]);                    // one query's leaves out of order
+    spoilt[2].erase(spoilt[2].begin() + 5);                           // a visit missing
+    spoilt[3].push_back(spoilt[3].back());                            // a visit after the query finished
+    spoilt[4][7].query = static_cast<std::uint32_t>(queries.size());  // no such query
+    spoilt[5][2].event = ScheduleEntry::Event::Finish;                // a leader's finish row
+    for (std::size_t i = 0; i < spoilt.size(); ++i) {
+      INFO("spoilt schedule " << i);
+      hw.schedule = spoilt[i];
+      std::string replay_says;
+      try {
+        search(tree, queries, params, &spoilt[i]);
+      } catch (const ScheduleError& e) {
+        replay_says = e.what();
+      }
+      REQUIRE_FALSE(replay_says.empty());
+      const Verdict v = check_against_golden(tree, queries, params, golden, golden.results, hw);
+      CHECK_FALSE(v.match);
+      REQUIRE(v.first.size() == 1);
+      CHECK(v.first[0] == "the accelerator's schedule does not replay: " + replay_says);
+    }
+  }
+}
+
 TEST_CASE("sampling: off, approximate search and short jobs are simulated in full, saying why", "[sampling]") {
   const SamplingPlan off = plan_sampling(sim(0), 100000, 300, false);
   CHECK_FALSE(off.sampled);
