@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 
 #include "sw_ref/search.hpp"
 
@@ -146,13 +147,27 @@ void HostDriver::collect(std::uint64_t bytes) {
   std::vector<std::uint64_t> fill(offset.begin(), offset.end() - 1);
   for_each_record([&](const ResultRecord& r) { flat[fill[r.query]++] = {r.index, r.dist2}; });
   if (job_.mode != SearchMode::Radius) return;  // NN/kNN lists arrive in canonical order already
-  // Radius hits come in scan order: sort each query's, keep its first max_nn, compact.
+  // Radius hits come in scan order: sort each query's, keep its first max_nn, compact. The
+  // queries are sorted in two halves of the hits, the second on a thread of its own (the host's
+  // work after done, not the model's: the other core is idle by now).
+  const auto sort_queries = [&](std::size_t from, std::size_t to) {
+    for (std::size_t q = from; q < to; ++q) std::sort(flat.data() + offset[q], flat.data() + offset[q + 1], Closer{});
+  };
+  const std::size_t mid =
+      static_cast<std::size_t>(std::upper_bound(offset.begin(), offset.end(), offset[nq] / 2) - offset.begin() - 1);
+  if (flat.size() >= (std::size_t{1} << 16) && mid > 0 && mid < nq) {
+    std::thread second(sort_queries, mid, nq);
+    sort_queries(0, mid);
+    second.join();
+  } else {
+    sort_queries(0, nq);
+  }
+  if (job_.max_nn == 0) return;
   std::uint64_t out = 0;
   for (std::size_t q = 0; q < nq; ++q) {
     Neighbor* first = flat.data() + offset[q];
     Neighbor* last = flat.data() + offset[q + 1];
-    std::sort(first, last, Closer{});
-    if (job_.max_nn > 0 && static_cast<std::uint64_t>(last - first) > job_.max_nn) last = first + job_.max_nn;
+    if (static_cast<std::uint64_t>(last - first) > job_.max_nn) last = first + job_.max_nn;
     offset[q] = out;
     out = static_cast<std::uint64_t>(std::copy(first, last, flat.data() + out) - flat.data());
   }

@@ -48,9 +48,7 @@ std::uint64_t ResultWriteback::write(std::uint64_t now, const tlm_if::ResultReco
     in_dram = static_cast<std::uint64_t>(std::ceil(drain_free_)) + static_cast<std::uint64_t>(config_.latency_cycles);
   }
   last_accept_ = std::max(last_accept_, accept_cycle);
-  const std::size_t old = region_.size();
-  region_.resize(old + bytes_n);
-  std::memcpy(region_.data() + old, records, bytes_n);
+  region_.append(records, bytes_n);
   writes_ += n;
   write_bytes_ += bytes_n;
   dram_energy_ += bytes_n;
@@ -93,7 +91,7 @@ void ResultWriteback::b_transport(tlm::tlm_generic_payload& trans, sc_core::sc_t
     trans.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }
-  std::memcpy(trans.get_data_ptr(), region_.data() + addr, len);
+  region_.read(addr, trans.get_data_ptr(), len);
   ++reads_;
   read_bytes_ += len;
   delay += std::ceil(static_cast<double>(len) / host_bytes_per_cycle_) * clock_.period;

@@ -21,6 +21,7 @@
 #include "hw/probe.hpp"
 #include "hw/stall_injector.hpp"
 #include "hw/stats.hpp"
+#include "record_region.hpp"
 #include "tlm/address_map.hpp"
 
 namespace tigris::hw {
@@ -60,7 +61,7 @@ class ResultWriteback : public sc_core::sc_module {
   AcceleratorConfig::Dram config_;
   double host_bytes_per_cycle_;
   Clock clock_;
-  std::vector<std::uint8_t> region_;
+  RecordRegion region_;
   std::uint64_t origin_ = 0;       // the job's START cycle
   double drain_free_ = 0.0;        // cycles after START at which the channel is idle again
   std::uint64_t last_accept_ = 0;  // cycles after START of the last record's acceptance
