@@ -141,12 +141,11 @@ class BankCalendar {
   // the shared last row, which the other banks' accesses at the current cycle keep).
   std::uint64_t reserve_later(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
     Run& run = runs_[bank];
-    if (run.from <= cycle && cycle < run.to && run.row_id == run.to / 64 && run.generation == generation_ &&
-        rows_[run.row].id == run.row_id) {  // the cycle after the run, in the bank's cached row
-      std::uint64_t& w = busy_[run.row * banks_ + bank];
+    // Most often the cycle after the run is free, in the bank's cached row.
+    if (run.from <= cycle && cycle < run.to && run.row_id == run.to / 64) {
       const std::uint64_t bit = std::uint64_t{1} << (run.to % 64);
-      if (!(w & bit)) {
-        w |= bit;
+      if (!(*run.word & bit)) {
+        *run.word |= bit;
         return run.to++;
       }
     }
@@ -212,9 +211,13 @@ class BankCalendar {
           grow();
           continue;
         }
+        if (row.used) {  // recycled: it describes other cycles now, so the caches of it go
+          std::fill(bits, bits + banks_, 0);
+          if (bits == last_bits_) last_id_ = kNoRow;
+          for (Run& run : runs_)
+            if (run.row == r) run.row_id = kNoRow;
+        }
         row.id = id;
-        if (row.used) std::fill(bits, bits + banks_, 0);
-        if (bits == last_bits_) last_id_ = kNoRow;  // word()'s row now describes other cycles
       }
       row.used = true;
       return r;
@@ -223,6 +226,7 @@ class BankCalendar {
   void grow() {
     last_id_ = kNoRow;
     ++generation_;
+    for (Run& run : runs_) run.row_id = kNoRow;  // rows move
     std::vector<Row> old_rows = std::move(rows_);
     std::vector<std::uint64_t> old_busy = std::move(busy_);
     rows_.assign(old_rows.size() * 2, Row{});
@@ -246,8 +250,9 @@ class BankCalendar {
   // access). Bookings are never taken back at or after the current cycle, so a run stays true.
   struct Run {
     std::uint64_t from = 0, to = 0;
-    std::uint64_t row_id = kNoRow, generation = 0;  // the bank's cached row: its id, ...
-    std::size_t row = 0;                            // ... and its place in the ring
+    std::uint64_t row_id = kNoRow;  // the bank's cached row: its id, ...
+    std::size_t row = 0;            // ... its place in the ring ...
+    std::uint64_t* word = nullptr;  // ... and the bank's busy bits in it
     // [a, b) is all busy: joined to the run when they touch, else kept if it reaches further.
     void note(std::uint64_t a, std::uint64_t b) {
       if (a <= to && from <= b) {
@@ -261,14 +266,14 @@ class BankCalendar {
   };
   std::vector<Run> runs_;
 
-  // `bank`'s word of row `id` through the bank's cached row (valid while the ring has not grown
-  // and the row still describes `id`).
+  // `bank`'s word of row `id` through the bank's cached row (a row's cache is dropped when the
+  // row is recycled or the ring grows).
   std::uint64_t& bank_word(Run& run, std::uint32_t bank, std::uint64_t id, std::uint64_t now) {
-    if (run.row_id != id || run.generation != generation_ || rows_[run.row].id != id) {
-      run.row = lookup(id, now);
-      run.row_id = id, run.generation = generation_;
+    if (run.row_id != id) {
+      const std::size_t r = lookup(id, now);  // (may grow the ring, dropping every cache)
+      run.row_id = id, run.row = r, run.word = busy_.data() + r * banks_ + bank;
     }
-    return busy_[run.row * banks_ + bank];
+    return *run.word;
   }
 };
 
