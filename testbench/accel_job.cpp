@@ -4,6 +4,7 @@
 #include <exception>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "config.hpp"
 #include "core/timer.hpp"
@@ -136,7 +137,7 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
   std::thread sim([&] {
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      m.sim = simulate({setup}, extras.progress).front();
+      m.sim = std::move(simulate({setup}, extras.progress).front());  // (front() of a temporary: a copy)
       m.sim_seconds = seconds_since(t0);
     } catch (...) {
       sim_failure = std::current_exception();

@@ -11,6 +11,9 @@ namespace tigris {
 void VisitRecorder::job_started(std::uint32_t num_queries) {
   out_ = SearchOutput{};
   out_.per_query.assign(num_queries, {});
+  // Room for a typical job's leaf visits at once (a few per query): growing by doubling would
+  // copy the schedule and touch its pages twice; pages reserved and not written cost nothing.
+  out_.schedule.reserve(std::size_t{8} * num_queries);
 }
 
 void VisitRecorder::walked(std::uint32_t query, std::uint32_t top, std::uint32_t pruned) {
