@@ -44,9 +44,15 @@ class ResultSlots {
       return true;
     }
     if (!closer(n, e[0])) return false;
-    std::pop_heap(e, e + c, Closer{});  // the worst moves to the end and is replaced
-    e[c - 1] = n;
-    std::push_heap(e, e + c, Closer{});
+    // n replaces the worst (the root) and sinks below every entry it is closer than (one pass,
+    // where pop_heap then push_heap would make two; any heap gives the same bound and list).
+    std::uint32_t i = 0;
+    for (std::uint32_t child; (child = 2 * i + 1) < c; i = child) {
+      if (child + 1 < c && closer(e[child], e[child + 1])) ++child;  // the worse child
+      if (!closer(n, e[child])) break;
+      e[i] = e[child];
+    }
+    e[i] = n;
     return true;
   }
   // Where a slot lives in host memory, for the host's cache hints (hw/host/scan_service.hpp).
@@ -55,13 +61,10 @@ class ResultSlots {
   // The query is done: its list in canonical order, closest first (entries() then reads it).
   void finish(std::uint32_t slot) {
     Neighbor* e = mutable_entries(slot);
-    std::sort_heap(e, e + count(slot), Closer{});
+    std::sort(e, e + count(slot), Closer{});  // (a total order: any sort gives the same list)
   }
 
  private:
-  struct Closer {  // a type, not a function pointer: the heap's comparisons inline
-    bool operator()(const Neighbor& a, const Neighbor& b) const { return closer(a, b); }
-  };
   Neighbor* mutable_entries(std::uint32_t slot) { return reinterpret_cast<Neighbor*>(at(slot) + kHeaderBytes); }
   std::uint8_t* at(std::uint32_t slot) const { return base_ + slot * slot_bytes(k_); }
   void set_count(std::uint32_t slot, std::uint32_t c) { std::memcpy(at(slot), &c, 4); }
