@@ -89,15 +89,20 @@ std::uint64_t BankedSram::reserve_words(std::uint64_t first, std::uint64_t words
     }
     return finish;
   }
+  if (!ports_bind_ && words <= num_banks_) {  // one word a bank: two runs of neighbouring banks
+    if (words == 0) return cycle;
+    const std::uint32_t b = bank_of(first);
+    const std::uint64_t head = std::min<std::uint64_t>(words, num_banks_ - b), tail = words - head;
+    std::uint64_t* accesses = &bank_accesses_[0];
+    for (std::uint64_t i = 0; i < head; ++i) ++accesses[b + i];  // (loops the compiler vectorizes)
+    for (std::uint64_t i = 0; i < tail; ++i) ++accesses[i];
+    return std::max(cycle, banks_.reserve_span(b, static_cast<std::uint32_t>(words), cycle, now, critical));
+  }
   // The first `words mod banks` banks take one word more than the others.
   const std::uint64_t touched = std::min(words, num_banks_);
   const std::uint64_t base_share = words / num_banks_, extra = words % num_banks_;
   for (std::uint64_t i = 0, b = bank_of(first); i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1)
     bank_accesses_[b] += base_share + (i < extra ? 1 : 0);
-  if (!ports_bind_ && words <= num_banks_)  // one word a bank
-    return words == 0 ? cycle
-                      : std::max(cycle, banks_.reserve_span(bank_of(first), static_cast<std::uint32_t>(words), cycle,
-                                                            now, critical));
   std::uint32_t b = bank_of(first);
   std::uint64_t finish = cycle;
   for (std::uint64_t i = 0; i < touched; ++i, b = b + 1 == num_banks_ ? 0 : b + 1) {
