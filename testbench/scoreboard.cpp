@@ -114,16 +114,18 @@ std::optional<std::string> exact_schedule_error(const SearchOutput& golden_run, 
   const auto pending = [&](std::uint32_t q) { return next[q] < at[q + 1] ? leaves[next[q]] : kDone; };
   for (std::size_t s = 0; s < hw.size(); ++s) {
     const ScheduleEntry& e = hw[s];
-    const std::string row = "schedule row " + std::to_string(s) + " (query " + std::to_string(e.query) + ", leaf " +
-                            std::to_string(e.leaf) + "): ";
-    if (e.query >= nq) return row + "there are only " + std::to_string(nq) + " queries";
+    const auto row = [&] {  // built only for an error
+      return "schedule row " + std::to_string(s) + " (query " + std::to_string(e.query) + ", leaf " +
+             std::to_string(e.leaf) + "): ";
+    };
+    if (e.query >= nq) return row() + "there are only " + std::to_string(nq) + " queries";
     if (e.event == ScheduleEntry::Event::Finish)
-      return row +
+      return row() +
              "a leader's finish row belongs to approximate search with leader scope first_leaf and in-flight policy "
              "finished_only";
     const std::uint32_t want = pending(e.query);
-    if (want == kDone) return row + "the query has already finished its search";
-    if (want != e.leaf) return row + "the query's next leaf visit is leaf " + std::to_string(want);
+    if (want == kDone) return row() + "the query has already finished its search";
+    if (want != e.leaf) return row() + "the query's next leaf visit is leaf " + std::to_string(want);
     ++next[e.query];
   }
   for (std::uint32_t q = 0; q < nq; ++q)
