@@ -44,6 +44,11 @@ class AcceleratorPort {
   // Runs one job. Throws AcceleratorFailure as above, std::invalid_argument when the job
   // cannot run (e.g. it does not fit the accelerator's buffers).
   virtual AccelAnswer run(const AccelJob& job) = 0;
+  // A job that will be run() soon (the stage's next one, independent of the current): an
+  // implementation may start it now, beside the jobs run() in between, and answer that run()
+  // from it. It must not change any answer, and *job.points and *job.queries must keep their
+  // contents until then. Ignoring it is always correct.
+  virtual void prefetch(const AccelJob& /*job*/) {}
 };
 
 }  // namespace tigris::registration

@@ -47,17 +47,27 @@ void AnnouncedJobs::announce_next() {
   announce();
 }
 
+namespace {
+AccelJob job_of(const PointCloud& queries, const SearchParams& p, const GoldenTree& tree) {
+  AccelJob job;
+  job.tree_id = tree.id();
+  job.points = &tree.points();
+  job.top_height = tree.tree().top_height;
+  job.queries = &queries;
+  job.params = p;
+  return job;
+}
+}  // namespace
+
+void AnnouncedJobs::prefetch(const SearchParams& p, const GoldenTree& tree, AcceleratorPort& port) const {
+  if (!expected_.empty() && !ran_ && tree.built()) port.prefetch(job_of(expected_, p, tree));
+}
+
 std::optional<JobNeighbors> AnnouncedJobs::serve(const SearchParams& p, const Point3& q, const GoldenTree& tree,
                                                  AcceleratorPort& port, SearchCounters::Accelerated& counters) {
   if (expected_.empty()) return std::nullopt;
   if (!ran_ && same_point(expected_.front(), q)) {
-    AccelJob job;
-    job.tree_id = tree.id();
-    job.points = &tree.points();
-    job.top_height = tree.tree().top_height;
-    job.queries = &expected_;
-    job.params = p;
-    answer_ = port.run(job);
+    answer_ = port.run(job_of(expected_, p, tree));
     if (answer_.results.num_queries() != expected_.size())
       throw AcceleratorFailure("the accelerator answered " + std::to_string(answer_.results.num_queries()) +
                                " of a job's " + std::to_string(expected_.size()) + " queries");

@@ -55,6 +55,10 @@ class AnnouncedJobs {
   std::optional<JobNeighbors> serve(const SearchParams& p, const Point3& q, const GoldenTree& tree,
                                     AcceleratorPort& port, SearchCounters::Accelerated& counters);
 
+  // Hands the announced set's job, as serve() would run it with `p` on `tree`, to `port` to
+  // start now (AcceleratorPort::prefetch); nothing when there is no set or its job ran.
+  void prefetch(const SearchParams& p, const GoldenTree& tree, AcceleratorPort& port) const;
+
   // The input indices (`map`: a tree point's index in the input cloud) of every neighbour the
   // last job returned, sorted, each once.
   pcl::Indices last_job_neighbors(const std::vector<pcl::index_t>& map) const;

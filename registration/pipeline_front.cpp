@@ -23,15 +23,18 @@ struct SIFTKeypointFieldSelector<PointXYZ> {
 #include "stages.hpp"
 
 namespace tigris::registration::stages {
+Tree::Ptr announced_tree(const Cloud::Ptr& cloud, const SearchSettings& s, const Counters& counters) {
+  auto tree = make_tree<pcl::PointXYZ>(s, counters);
+  tree->setInputCloud(cloud);
+  tree->expect_queries(*cloud);  // in the loop: every point, in order, is one job
+  return tree;
+}
+
 // PCL's StatisticalOutlierRemoval keeps its search object private (it makes its own FLANN
 // tree), so this is its algorithm (PCL 1.13, filters/impl/statistical_outlier_removal.hpp) with
 // the kNN searches on the plug-in: a point's score is the mean distance to its mean_k nearest
 // other points; points scoring above mean + stddev_mul * sigma of all scores are removed.
-Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c, const SearchSettings& s,
-                           const Counters& counters) {
-  auto tree = make_tree<pcl::PointXYZ>(s, counters);
-  tree->setInputCloud(cloud);
-  tree->expect_queries(*cloud);                // in the loop: every point, in order, is one job
+Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c, const Tree::Ptr& tree) {
   const int k = c.outlier_removal.mean_k + 1;  // the query point itself comes first
   pcl::Indices nn(static_cast<std::size_t>(k));
   std::vector<float> d2(static_cast<std::size_t>(k));
@@ -61,13 +64,10 @@ Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c
   return out;
 }
 
-std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const SearchSettings& s,
-                             const Counters& counters) {
+std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const Tree::Ptr& tree) {
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;  // never NormalEstimationOMP
   ne.setInputCloud(cloud);
-  const auto tree = make_tree<pcl::PointXYZ>(s, counters);
-  tree->expect_queries(*cloud);  // in the loop: PCL searches every point in order (one job)
-  ne.setSearchMethod(tree);
+  ne.setSearchMethod(tree);  // built on `cloud` already: PCL searches every point in order (one job)
   ne.setRadiusSearch(c.normals.radius);
   ne.setViewPoint(0.0f, 0.0f, 0.0f);  // the sensor: normals face it
   Normals all;
@@ -159,17 +159,25 @@ Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPt
 // ---------------------------------------------------------------------------------------------
 // The stages of this group (stage_table() in stages.hpp).
 
+// Both clouds' trees are built and their searches announced first, so that in the loop the
+// target's job runs beside the source's (the trees built in the same order as searched).
 void run_outlier_removal(PipelineState& s, StageContext& st) {
   const std::size_t ns = s.src->size(), nt = s.tgt->size();
-  s.src = remove_outliers(s.src, s.c, s.exact, st.counters);
-  s.tgt = remove_outliers(s.tgt, s.c, s.exact, st.counters);
+  const Tree::Ptr src_tree = announced_tree(s.src, s.exact, st.counters);
+  const Tree::Ptr tgt_tree = announced_tree(s.tgt, s.exact, st.counters);
+  tgt_tree->prefetch_knn(s.c.outlier_removal.mean_k + 1);
+  s.src = remove_outliers(s.src, s.c, src_tree);
+  s.tgt = remove_outliers(s.tgt, s.c, tgt_tree);
   st.info = {
       {"source_points", ns}, {"source_kept", s.src->size()}, {"target_points", nt}, {"target_kept", s.tgt->size()}};
 }
 
 void run_normals(PipelineState& s, StageContext& st) {
-  const std::size_t ds = estimate_normals(s.src, s.src_n, s.c, s.normals_search, st.counters);
-  const std::size_t dt = estimate_normals(s.tgt, s.tgt_n, s.c, s.normals_search, st.counters);
+  const Tree::Ptr src_tree = announced_tree(s.src, s.normals_search, st.counters);
+  const Tree::Ptr tgt_tree = announced_tree(s.tgt, s.normals_search, st.counters);
+  tgt_tree->prefetch_radius(s.c.normals.radius);  // PCL's radius searches ask no max_nn
+  const std::size_t ds = estimate_normals(s.src, s.src_n, s.c, src_tree);
+  const std::size_t dt = estimate_normals(s.tgt, s.tgt_n, s.c, tgt_tree);
   st.info = {{"source_without_normal", ds},
              {"target_without_normal", dt},
              {"source_points", s.src->size()},

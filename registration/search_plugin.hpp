@@ -96,6 +96,27 @@ class TigrisKdTree : public pcl::search::KdTree<PointT> {
   void then_expect(std::function<void()> announce) {
     if (settings_.accelerator) jobs_.then(std::move(announce));
   }
+  // Starts the announced set's job now, with the parameters its searches will ask: kNN
+  // searches of `k`, or radius searches of `radius` and `max_nn` (AcceleratorPort::prefetch),
+  // so that it runs beside the jobs before it (the other cloud's, in a stage that searches
+  // both). Nothing without an accelerator in the loop; a job its searches do not ask is not used.
+  void prefetch_knn(int k) const {
+    if (!settings_.accelerator || settings_.backend == Backend::Flann || k < 1) return;
+    const KthInjection kth = kth_injection(settings_, k);
+    SearchParams p;
+    p.mode = kth.want == 1 ? Mode::NN : Mode::KNN;
+    p.k = kth.want;
+    jobs_.prefetch(golden_params(p, settings_), golden_, *settings_.accelerator);
+  }
+  void prefetch_radius(double radius, unsigned int max_nn = 0) const {
+    if (!settings_.accelerator || settings_.backend == Backend::Flann || !(radius > 0.0)) return;
+    const ShellInjection shell = shell_injection(settings_, radius, max_nn);
+    SearchParams p;
+    p.mode = Mode::Radius;
+    p.radius = static_cast<float>(shell.radius);
+    p.max_nn = shell.max_nn;
+    jobs_.prefetch(golden_params(p, settings_), golden_, *settings_.accelerator);
+  }
   // The input indices of every neighbour the last job returned, sorted, each once.
   pcl::Indices last_job_neighbors() const { return jobs_.last_job_neighbors(map_); }
 

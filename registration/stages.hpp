@@ -27,12 +27,16 @@ typename TigrisKdTree<PointT>::Ptr make_tree(const SearchSettings& s, const Coun
 }
 
 // pipeline_front.cpp
-Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c, const SearchSettings& s,
-                           const Counters& counters);
-// Normals by radius search; points whose normal is undefined (too few neighbours) are dropped
-// from `cloud` and the normals, so both stay aligned. Returns the dropped count.
-std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const SearchSettings& s,
-                             const Counters& counters);
+using Tree = TigrisKdTree<pcl::PointXYZ>;
+// A plug-in tree built on `cloud`, charged to `counters`, its searches of every point in order
+// announced (one job in the loop).
+Tree::Ptr announced_tree(const Cloud::Ptr& cloud, const SearchSettings& s, const Counters& counters);
+// PCL's statistical outlier removal with its kNN searches on `tree` (announced_tree(cloud)).
+Cloud::Ptr remove_outliers(const Cloud::ConstPtr& cloud, const PipelineConfig& c, const Tree::Ptr& tree);
+// Normals by radius search on `tree` (announced_tree(cloud)); points whose normal is undefined
+// (too few neighbours) are dropped from `cloud` and the normals, so both stay aligned. Returns
+// the dropped count.
+std::size_t estimate_normals(Cloud::Ptr& cloud, Normals::Ptr& normals, const PipelineConfig& c, const Tree::Ptr& tree);
 // Key points of `cloud` (the sensor at the origin, for NARF's range image).
 Cloud::Ptr detect_keypoints(const Cloud::ConstPtr& cloud, const Normals::ConstPtr& normals, const PipelineConfig& c,
                             const SearchSettings& s, const Counters& counters);

@@ -1,9 +1,11 @@
 #include "accel_in_loop.hpp"
 
+#include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -132,8 +134,8 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
     try {
       Reader r{request};
       ModelJob mj;
-      mj.send_tree = r.value<char>() != 0;
-      if (mj.send_tree) points = r.vector<Point3>();
+      if (r.value<char>() != 0) points = r.vector<Point3>();  // this server's tree changes
+      mj.send_tree = r.value<char>() != 0;                    // the modeled host link carries it
       const PointCloud queries = r.vector<Point3>();
       mj.params = r.value<SearchParams>();
       mj.top_height = r.value<int>();
@@ -183,32 +185,85 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
 
 }  // namespace
 
-ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads) {
-  int fds[2];
-  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
-    throw std::runtime_error(std::string("cannot open a socket to the accelerator model: ") + std::strerror(errno));
-  try {
-    server_ = fork_child([&]() -> int {
+ModelInTheLoop::ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads, int side_by_side) {
+  // Forked here, from the main thread, before any job: one server per job run at a time.
+  for (int i = 0; i < std::max(1, std::min(side_by_side, 2)); ++i) {
+    int fds[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+      throw std::runtime_error(std::string("cannot open a socket to the accelerator model: ") + std::strerror(errno));
+    Server server;
+    try {
+      server.pid = fork_child([&]() -> int {
+        ::close(fds[0]);
+        for (const Server& other : servers_) ::close(other.socket);
+        serve(fds[1], config, limits, sim_threads);  // never returns
+      });
+    } catch (const std::exception& e) {
       ::close(fds[0]);
-      serve(fds[1], config, limits, sim_threads);  // never returns
-    });
-  } catch (const std::exception& e) {
-    ::close(fds[0]);
+      ::close(fds[1]);
+      stop();
+      throw std::runtime_error(std::string("cannot start the accelerator model: ") + e.what());
+    }
     ::close(fds[1]);
-    throw std::runtime_error(std::string("cannot start the accelerator model: ") + e.what());
+    server.socket = fds[0];
+    servers_.push_back(server);
   }
-  ::close(fds[1]);
-  socket_ = fds[0];
 }
 
-ModelInTheLoop::~ModelInTheLoop() {
-  if (socket_ >= 0) ::close(socket_);
-  if (server_ > 0) {
+void ModelInTheLoop::stop() noexcept {
+  for (Server& server : servers_) {
+    if (server.socket >= 0) ::close(server.socket);
+    server.socket = -1;
+  }
+  if (pending_ && servers_.size() > 1) ::kill(servers_[1].pid, SIGKILL);  // a job nobody will take
+  for (Server& server : servers_) {
+    if (server.pid <= 0) continue;
     try {
-      wait_child(server_);
+      wait_child(server.pid);
     } catch (...) {  // a destructor does not throw
     }
+    server.pid = -1;
   }
+}
+
+ModelInTheLoop::~ModelInTheLoop() { stop(); }
+
+namespace {
+
+// A job request: the tree's points when `server` does not hold them, whether the modeled host
+// link carries the tree image, the queries and parameters.
+Bytes request_for(const registration::AccelJob& job, std::uint64_t& server_tree, bool send_tree) {
+  Bytes request;
+  const bool points = job.tree_id != server_tree;
+  put_value<char>(request, points ? 1 : 0);
+  if (points) put_vector(request, *job.points);
+  put_value<char>(request, send_tree ? 1 : 0);
+  put_vector(request, *job.queries);
+  put_value(request, job.params);
+  put_value(request, job.top_height);
+  server_tree = job.tree_id;
+  return request;
+}
+
+bool same_job(const registration::AccelJob& a, const registration::AccelJob& b, const PointCloud& b_queries) {
+  const SearchParams &p = a.params, &q = b.params;
+  const bool same_params = p.mode == q.mode && p.k == q.k && p.radius == q.radius && p.max_nn == q.max_nn &&
+                           p.approximate == q.approximate && p.approx_thd == q.approx_thd &&
+                           p.leader_capacity == q.leader_capacity && p.leader_width == q.leader_width &&
+                           p.leader_scope == q.leader_scope && p.leader_in_flight == q.leader_in_flight;
+  return same_params && a.tree_id == b.tree_id && a.top_height == b.top_height &&
+         a.queries->size() == b_queries.size() &&
+         std::memcmp(a.queries->data(), b_queries.data(), b_queries.size() * sizeof(Point3)) == 0;
+}
+
+}  // namespace
+
+void ModelInTheLoop::prefetch(const registration::AccelJob& job) {
+  if (servers_.size() < 2 || pending_) return;
+  // Taken by run() only as the job after one on another tree (it models the tree image sent).
+  const Bytes request = request_for(job, servers_[1].tree, true);
+  if (!send_message(servers_[1].socket, request)) return;  // run() will run it itself
+  pending_ = Pending{job, *job.queries};
 }
 
 registration::AccelAnswer ModelInTheLoop::run(const registration::AccelJob& job) {
@@ -218,15 +273,16 @@ registration::AccelAnswer ModelInTheLoop::run(const registration::AccelJob& job)
                 static_cast<unsigned long long>(number), to_string(job.params.mode), job.queries->size(),
                 job.points->size());
   const bool send_tree = job.tree_id != last_tree_;
-  Bytes request;
-  put_value<char>(request, send_tree ? 1 : 0);
-  if (send_tree) put_vector(request, *job.points);
-  put_vector(request, *job.queries);
-  put_value(request, job.params);
-  put_value(request, job.top_height);
   Bytes in;
-  if (!send_message(socket_, request) || !recv_message(socket_, in))
-    throw std::runtime_error(std::string(what) + ": the accelerator model's server is gone");
+  if (pending_ && send_tree && same_job(job, pending_->job, pending_->queries)) {  // it ran beside the one before
+    pending_.reset();
+    if (!recv_message(servers_[1].socket, in))
+      throw std::runtime_error(std::string(what) + ": the accelerator model's server is gone");
+  } else {
+    const Bytes request = request_for(job, servers_[0].tree, send_tree);
+    if (!send_message(servers_[0].socket, request) || !recv_message(servers_[0].socket, in))
+      throw std::runtime_error(std::string(what) + ": the accelerator model's server is gone");
+  }
   last_tree_ = job.tree_id;
   Reader r{in};
   const char kind = r.value<char>();

@@ -16,6 +16,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -28,8 +30,9 @@ namespace tigris {
 
 class ModelInTheLoop : public registration::AcceleratorPort {
  public:
-  // Starts the model server (std::runtime_error when it cannot).
-  ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads);
+  // Starts the model server (std::runtime_error when it cannot); `side_by_side` 2 starts a
+  // second one, for a prefetched job to run beside the job run() runs.
+  ModelInTheLoop(hw::AcceleratorConfig config, WorkLimits limits, int sim_threads, int side_by_side = 1);
   ~ModelInTheLoop() override;  // stops the server
   ModelInTheLoop(const ModelInTheLoop&) = delete;
   ModelInTheLoop& operator=(const ModelInTheLoop&) = delete;
@@ -38,14 +41,27 @@ class ModelInTheLoop : public registration::AcceleratorPort {
   // names the first differing queries), std::invalid_argument when the job cannot run (e.g.
   // it does not fit the buffers), std::runtime_error when the model's process failed.
   registration::AccelAnswer run(const registration::AccelJob& job) override;
+  // Starts `job` on the second server (side_by_side 2; one at a time). run() takes its answer
+  // when it is the next job and follows one on another tree; else it runs the job itself.
+  void prefetch(const registration::AccelJob& job) override;
 
   // Called after each job with its number (from 1) and report (accel_job.hpp).
   std::function<void(std::uint64_t number, const registration::AccelJob& job, const nlohmann::json& report)> on_job;
   std::uint64_t jobs() const { return jobs_; }
 
  private:
-  int socket_ = -1;
-  pid_t server_ = -1;
+  void stop() noexcept;
+  struct Server {
+    int socket = -1;
+    pid_t pid = -1;
+    std::uint64_t tree = 0;  // the tree whose points it holds
+  };
+  struct Pending {  // the prefetched job (its queries copied: the caller's may change)
+    registration::AccelJob job;
+    PointCloud queries;
+  };
+  std::vector<Server> servers_;  // [0] runs jobs in turn; [1] a prefetched one
+  std::optional<Pending> pending_;
   std::uint64_t last_tree_ = 0, jobs_ = 0;
 };
 

@@ -4,9 +4,11 @@
 // KITTI ground-truth conversion (skipped without ../shared/data).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "registration/pipeline.hpp"
 #include "workloads/io/cloud_io.hpp"
@@ -352,9 +354,31 @@ class GoldenPort : public AcceleratorPort {
     a.search_seconds = 1e-9 * static_cast<double>(job.queries->size());
     ++jobs;
     if (job.tree_id == 0) ++zero_ids;
+    if (prefetched && same(job, *prefetched, prefetched_queries)) {
+      ++prefetches_taken;
+      prefetched.reset();
+    }
     return a;
   }
-  int jobs = 0, zero_ids = 0;
+  // A prefetched job must be one the stage runs later (here: after the source's).
+  void prefetch(const AccelJob& job) override {
+    ++prefetches;
+    prefetched = job;
+    prefetched_queries = *job.queries;
+  }
+  int jobs = 0, zero_ids = 0, prefetches = 0, prefetches_taken = 0;
+
+ private:
+  static bool same(const AccelJob& a, const AccelJob& b, const PointCloud& b_queries) {
+    const SearchParams &p = a.params, &q = b.params;
+    return a.tree_id == b.tree_id && a.top_height == b.top_height && p.mode == q.mode && p.k == q.k &&
+           p.radius == q.radius && p.max_nn == q.max_nn && p.approximate == q.approximate &&
+           p.approx_thd == q.approx_thd && a.queries->size() == b_queries.size() &&
+           std::equal(a.queries->begin(), a.queries->end(), b_queries.begin(),
+                      [](const Point3& x, const Point3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; });
+  }
+  std::optional<AccelJob> prefetched;
+  PointCloud prefetched_queries;
 };
 }  // namespace
 
@@ -386,6 +410,10 @@ TEST_CASE("pipeline: the accelerator in the loop batches the announced stages an
         }
       }
       CHECK(jobs == static_cast<std::uint64_t>(port->jobs));
+      // The target's outlier-removal and normals jobs are handed over early, each exactly the job
+      // run next (so a port may run it beside the source's).
+      CHECK(port->prefetches == 2);
+      CHECK(port->prefetches_taken == port->prefetches);
       const auto& icp = stage(loop, "icp");
       const int per_iteration = c.icp.reciprocal ? 2 : 1;
       CHECK(icp.kdtree.accel.jobs == static_cast<std::uint64_t>(per_iteration * icp.info["iterations"].get<int>()));

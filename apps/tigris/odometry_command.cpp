@@ -446,6 +446,7 @@ void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) 
         std::vector<std::string> args{"/proc/self/exe",         "register", "--source",
                                       seq.scans[first + k + 1], "--target", seq.scans[first + k]};
         args.insert(args.end(), flags.begin(), flags.end());
+        if (o.jobs > 1) args.insert(args.end(), {"--jobs", "1"});  // the pairs share the cores already
         args.insert(args.end(), {"--out", dir});
         return start_child(args, dir + "/log.txt", "log.txt");
       },

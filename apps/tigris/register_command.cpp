@@ -223,6 +223,11 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "(repeatable; tigris run --list-config lists them); sim.sampling is auto here (jobs long enough "
                  "are sampled, docs/sampling.md): --accel-set sim.sampling=off simulates every query")
       ->allow_extra_args(false);
+  app.add_option("--jobs", o.jobs,
+                 "With --search accel*: accelerator jobs simulated at a time. 2: a stage's independent jobs (the "
+                 "source's and the target's outlier removal and normals) run side by side; 1: one at a time; default: "
+                 "2 on a machine with two or more cores. Results, figures and the recorded trace do not depend on it")
+      ->check(CLI::Range(1, 2));
   app.add_flag("--compare", o.compare,
                "Run the registration four times, each in a process of its own: on the CPU with PCL's FLANN "
                "and with the golden model, on the accelerator exact and approximate; print one table "
@@ -624,7 +629,9 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
 
   // The model server starts while the process is small (accel_in_loop.hpp).
   std::shared_ptr<ModelInTheLoop> model;
-  if (in_loop) model = std::make_shared<ModelInTheLoop>(accel_cfg, WorkLimits{}, default_sim_threads());
+  if (in_loop)
+    model = std::make_shared<ModelInTheLoop>(accel_cfg, WorkLimits{}, default_sim_threads(),
+                                             o.jobs > 0 ? o.jobs : default_sim_threads());
   const FramePair f = load_frames(o);
 
   // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)

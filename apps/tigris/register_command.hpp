@@ -36,6 +36,7 @@ struct RegisterOptions {
   bool check_flags = false;             // --check-flags: validate, then exit 0
   bool compare = false;                 // --compare: the four back-ends side by side (register_compare.cpp)
   int repeat = 3;                       // --compare: timed runs of each CPU back-end (cpu_baseline.hpp)
+  int jobs = 0;                         // --search accel*: jobs simulated at a time (0: 2 with two cores)
   std::string command_line;             // as typed, for the trace's record (set by main)
   std::vector<std::string> argv;        // as given (set by main; --compare re-runs the command)
   std::string out = "tigris-out";
