@@ -93,6 +93,8 @@ def timeline_digest(path):
 
 def strip(d):
     if isinstance(d, dict):
+        if isinstance(d.get("path"), str) and os.path.isabs(d["path"]):  # a preset in this build's share/
+            d = dict(d, path=os.path.basename(d["path"]))
         return {k: strip(v) for k, v in d.items() if k not in VOLATILE}
     if isinstance(d, list):
         return [strip(v) for v in d]

@@ -1,6 +1,6 @@
 """Output folders: the one way a tool owns its --out (the C++ twin: core/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
-import fcntl, fnmatch, json, os, shutil, sys
+import fcntl, fnmatch, json, os, shutil, sys, time
 from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc, tigris_commit
 from .inputs import read_json_input
 
@@ -45,6 +45,16 @@ def save_figure(fig, path, **kw):
 def parent_outputs():
     """The names a parent keeps in this command's folder (TIGRIS_PARENT_OUTPUTS)."""
     return os.environ.get(PARENT_ENV, "").split()
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except PermissionError:  # someone else's
+        return True
+    except (ProcessLookupError, OverflowError, ValueError):
+        return False
+    return True
 
 
 def _matches(name, is_dir, patterns):
@@ -210,10 +220,21 @@ class OutFolder:
         try:
             fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            m = self._peek()
+            m = self._holder()
             who = f"pid {m.get('pid')}, tigris {m.get('command')}" if isinstance(m, dict) else "another process"
             raise Refused(f"{self.given} is locked by a run still writing into it ({who}): wait until it has "
                           f"finished, or use another {self.flag}")
+
+    def _holder(self):
+        """The manifest of the run holding the lock. It writes its manifest (its pid) just after
+        locking, so a run that finds the lock taken waits a moment for a live holder's."""
+        deadline = time.monotonic() + 2.0
+        while True:
+            m = self._peek()
+            pid = m.get("pid") if isinstance(m, dict) else None
+            if (isinstance(pid, int) and _alive(pid)) or time.monotonic() > deadline:
+                return m
+            time.sleep(0.05)
 
     def _peek(self):
         try:
