@@ -22,6 +22,15 @@ struct AccelJob {
   SearchParams params;  // exact, or approximate with its thresholds and leader settings
 };
 
+// Whether two jobs' searches ask the same (every field a search reads; the job's answer of one
+// serves the other).
+inline bool same_search(const SearchParams& a, const SearchParams& b) {
+  return a.mode == b.mode && a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn &&
+         a.approximate == b.approximate && a.approx_thd == b.approx_thd && a.leader_capacity == b.leader_capacity &&
+         a.leader_width == b.leader_width && a.leader_scope == b.leader_scope &&
+         a.leader_in_flight == b.leader_in_flight;
+}
+
 struct AccelAnswer {
   Results results;  // per query, indices into *points, in the golden model's canonical order
   std::uint64_t cycles = 0;

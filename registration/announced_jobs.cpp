@@ -9,13 +9,6 @@ namespace {
 
 bool same_point(const Point3& a, const Point3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
-bool same_params(const SearchParams& a, const SearchParams& b) {
-  return a.mode == b.mode && a.k == b.k && a.radius == b.radius && a.max_nn == b.max_nn &&
-         a.approximate == b.approximate && a.approx_thd == b.approx_thd && a.leader_capacity == b.leader_capacity &&
-         a.leader_width == b.leader_width && a.leader_scope == b.leader_scope &&
-         a.leader_in_flight == b.leader_in_flight;
-}
-
 void count_job(SearchCounters::Accelerated& a, const AccelAnswer& answer, std::size_t queries) {
   ++a.jobs;
   a.queries += queries;
@@ -76,7 +69,7 @@ std::optional<JobNeighbors> AnnouncedJobs::serve(const SearchParams& p, const Po
     cursor_ = 0;
     count_job(counters, answer_, expected_.size());
   }
-  if (!ran_ || cursor_ >= expected_.size() || !same_point(expected_[cursor_], q) || !same_params(p, params_))
+  if (!ran_ || cursor_ >= expected_.size() || !same_point(expected_[cursor_], q) || !same_search(p, params_))
     return std::nullopt;
   const JobNeighbors served{answer_.results.begin(cursor_), answer_.results.end(cursor_)};
   ++cursor_;

@@ -246,12 +246,7 @@ Bytes request_for(const registration::AccelJob& job, std::uint64_t& server_tree,
 }
 
 bool same_job(const registration::AccelJob& a, const registration::AccelJob& b, const PointCloud& b_queries) {
-  const SearchParams &p = a.params, &q = b.params;
-  const bool same_params = p.mode == q.mode && p.k == q.k && p.radius == q.radius && p.max_nn == q.max_nn &&
-                           p.approximate == q.approximate && p.approx_thd == q.approx_thd &&
-                           p.leader_capacity == q.leader_capacity && p.leader_width == q.leader_width &&
-                           p.leader_scope == q.leader_scope && p.leader_in_flight == q.leader_in_flight;
-  return same_params && a.tree_id == b.tree_id && a.top_height == b.top_height &&
+  return registration::same_search(a.params, b.params) && a.tree_id == b.tree_id && a.top_height == b.top_height &&
          a.queries->size() == b_queries.size() &&
          std::memcmp(a.queries->data(), b_queries.data(), b_queries.size() * sizeof(Point3)) == 0;
 }

@@ -370,10 +370,8 @@ class GoldenPort : public AcceleratorPort {
 
  private:
   static bool same(const AccelJob& a, const AccelJob& b, const PointCloud& b_queries) {
-    const SearchParams &p = a.params, &q = b.params;
-    return a.tree_id == b.tree_id && a.top_height == b.top_height && p.mode == q.mode && p.k == q.k &&
-           p.radius == q.radius && p.max_nn == q.max_nn && p.approximate == q.approximate &&
-           p.approx_thd == q.approx_thd && a.queries->size() == b_queries.size() &&
+    return same_search(a.params, b.params) && a.tree_id == b.tree_id && a.top_height == b.top_height &&
+           a.queries->size() == b_queries.size() &&
            std::equal(a.queries->begin(), a.queries->end(), b_queries.begin(),
                       [](const Point3& x, const Point3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; });
   }
