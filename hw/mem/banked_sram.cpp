@@ -46,8 +46,10 @@ BankedSram::BankedSram(sc_core::sc_module_name name, const SramConfig& config, C
 }
 
 std::uint64_t BankedSram::charge(std::uint64_t start, const tlm_if::AccessProfile& a) {
-  const std::uint64_t now = std::min(start, clock_.now());
   if (a.pipeline) return charge_in_order(start, a);
+  std::uint32_t bank;  // a burst within one word (a NN slot, a query record): as charge_one()
+  if (!a.scatter && in_one_word(a.first_byte, a.bytes, bank)) return charge_word(start, bank, a.bytes, a.write);
+  const std::uint64_t now = std::min(start, clock_.now());
   // Each bank serves its accesses one a cycle, in the first free cycles of its calendar.
   std::uint64_t n = 0, finish = start;
   std::uint32_t critical = 0;  // the bank served last
@@ -157,19 +159,13 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
 }
 
 std::uint64_t BankedSram::charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
-#ifndef TIGRIS_CHECK_SRAM  // (the naive model's check takes the profile below)
-  // Within one word: charge_in_order's short path without building a profile.
-  if (word_in_row_ && bytes > 0 && (byte & (word_bytes_ - 1)) + bytes <= word_bytes_) {
-    const std::uint64_t now = std::min(start, clock_.now());
-    const auto bank = static_cast<std::uint32_t>((byte >> word_shift_) & bank_mask_);
-    const std::uint64_t served = banks_.try_book(bank, start) ? start : banks_.reserve(bank, start, now);
-    ++bank_accesses_[bank];
-    bank_conflicts_[bank] += served - start;
-    conflict_cycles_ += served - start;
-    count(write, 1, bytes);
-    return served + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
-  }
-#endif
+  std::uint32_t bank;
+  if (in_one_word(byte, bytes, bank)) return charge_word(start, bank, bytes, write);
+  return charge_one_profiled(start, byte, bytes, write);
+}
+
+std::uint64_t BankedSram::charge_one_profiled(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes,
+                                              bool write) {
   const tlm_if::PipelineAccess one{byte, bytes, 0};
   return charge_in_order(start, tlm_if::AccessProfile::single(one, write));
 }

@@ -60,6 +60,38 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
+  // Whether an access of `bytes` (> 0) at `byte` lies within one word (and ports never bind):
+  // then `bank` is its word's bank. Never under TIGRIS_CHECK_SRAM (its check takes a profile).
+  bool in_one_word(std::uint64_t byte, std::uint64_t bytes, std::uint32_t& bank) const {
+#ifdef TIGRIS_CHECK_SRAM
+    return false;
+#endif
+    if (word_in_row_) {
+      bank = static_cast<std::uint32_t>((byte >> word_shift_) & bank_mask_);
+      return bytes > 0 && (byte & (word_bytes_ - 1)) + bytes <= word_bytes_;
+    }
+    if (ports_bind_ || bytes == 0) return false;
+    const std::uint64_t word = word_index(byte);
+    bank = bank_of(word);
+    return word_index(byte + bytes - 1) == word;
+  }
+  // Books one word in `bank` at `start` or its first free cycle after; what charge() and
+  // charge_in_order() do for a one-word access, without a profile.
+  std::uint64_t charge_word(std::uint64_t start, std::uint32_t bank, std::uint64_t bytes, bool write) {
+    std::uint64_t served = start;
+    if (!banks_.try_book(bank, start)) served = banks_.reserve(bank, start, std::min(start, clock_.now()));
+    ++bank_accesses_[bank];
+    if (served != start) {
+      bank_conflicts_[bank] += served - start;
+      conflict_cycles_ += served - start;
+    }
+    count(write, 1, bytes);
+    return served + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
+  }
+  // charge_one() beyond its short path, as a one-access pipeline profile (out of line: its
+  // frame would slow the short path down).
+  __attribute__((noinline)) std::uint64_t charge_one_profiled(std::uint64_t start, std::uint64_t byte,
+                                                              std::uint32_t bytes, bool write);
   // Books one word access in `bank` at the first cycle >= `cycle` when the bank and a port are
   // free (ports shared by every unit; only tracked when they can bind: fewer ports than banks).
   std::uint64_t reserve(std::uint32_t bank, std::uint64_t cycle, std::uint64_t now) {
