@@ -188,12 +188,6 @@ void BankedSram::check([[maybe_unused]] std::uint64_t start, [[maybe_unused]] co
 #endif
 }
 
-void BankedSram::count(bool write, std::uint64_t words, std::uint64_t bytes) {
-  (write ? writes_ : reads_) += words;
-  (write ? write_bytes_ : read_bytes_) += bytes;
-  (write ? write_energy_ : read_energy_) += bytes;
-}
-
 void BankedSram::b_transport(int, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
   const std::uint64_t now = Clock::time_value(), period = clock_.period.value();
   const std::uint64_t start = (now + delay.value()) / period;

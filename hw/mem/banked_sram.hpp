@@ -57,6 +57,18 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access) override;
   std::uint64_t charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) override;
+  // charge_one() for a unit's port that knows this buffer (hw/mem/buffer_port.hpp): the common
+  // case, a one-word access whose bank is free at `start` in the calendar's current row, costs
+  // the caller a few instructions instead of a call.
+  std::uint64_t charge_one_inline(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
+    std::uint32_t bank;
+    if (!in_one_word(byte, bytes, bank) || !banks_.try_book(bank, start))
+      return charge_one(start, byte, bytes,
+                        write);  // (virtual: rtl/ links before hw/; a failed try_book changed nothing)
+    ++bank_accesses_[bank];
+    count(write, 1, bytes);
+    return start + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
+  }
 
  private:
   std::uint64_t charge_in_order(std::uint64_t start, const tlm_if::AccessProfile& access);
@@ -110,7 +122,11 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // last one booked; `critical` gets the bank served last.
   std::uint64_t reserve_words(std::uint64_t first, std::uint64_t words, std::uint64_t cycle, std::uint64_t now,
                               std::uint32_t& critical);
-  void count(bool write, std::uint64_t words, std::uint64_t bytes);
+  void count(bool write, std::uint64_t words, std::uint64_t bytes) {
+    (write ? writes_ : reads_) += words;
+    (write ? write_bytes_ : read_bytes_) += bytes;
+    (write ? write_energy_ : read_energy_) += bytes;
+  }
   // With TIGRIS_CHECK_SRAM: the naive model books the access too and must agree on `served`, the
   // cycle after its last word; else nothing.
   void check(std::uint64_t start, const tlm_if::AccessProfile& access, std::uint64_t now, std::uint64_t served);

@@ -10,6 +10,7 @@
 #include <systemc>
 #include <tlm>
 
+#include "banked_sram.hpp"
 #include "hw/clock.hpp"
 #include "tlm/access_profile.hpp"
 
@@ -38,11 +39,12 @@ class BufferPort {
       if (!granted) SC_REPORT_FATAL("tigris", "buffer refused DMI");
       dmi_ptr_ = dmi.get_dmi_ptr();
       timing_ = use_transport_ ? nullptr : handle.target;
+      sram_ = dynamic_cast<BankedSram*>(timing_);
     }
     return dmi_ptr_;
   }
   // Test hook: time every access with a b_transport, even where a TimingTarget is offered.
-  void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr; }
+  void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr, sram_ = nullptr; }
 
   // One access a unit requests at cycle `cycle` and holds until it is granted (the Recursion
   // Unit's request/grant ports): books `bytes` at `byte`; returns the cycle it is granted (its
@@ -50,13 +52,8 @@ class BufferPort {
   // the buffer's `latency`).
   std::uint64_t request(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, int latency,
                         const sc_core::sc_time& period, std::uint64_t& complete) {
-    std::uint64_t c;
-    if (timing_) {
-      c = timing_->charge_one(cycle, byte, bytes, write);
-    } else {
-      const tlm_if::PipelineAccess one{byte, bytes, 0};
-      c = charge(cycle, tlm_if::AccessProfile::single(one, write), period);
-    }
+    const std::uint64_t c =
+        sram_ ? sram_->charge_one_inline(cycle, byte, bytes, write) : charge_one(cycle, byte, bytes, write, period);
     complete = std::max(complete, c);
     return c - 1 - static_cast<std::uint64_t>(latency);
   }
@@ -79,11 +76,21 @@ class BufferPort {
   }
 
  private:
+  // request()'s access through the TimingTarget, else a b_transport (out of line: the short path
+  // above is inlined into the walk's loop).
+  __attribute__((noinline)) std::uint64_t charge_one(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes,
+                                                     bool write, const sc_core::sc_time& period) {
+    if (timing_) return timing_->charge_one(cycle, byte, bytes, write);
+    const tlm_if::PipelineAccess one{byte, bytes, 0};
+    return charge(cycle, tlm_if::AccessProfile::single(one, write), period);
+  }
+
   tlm::tlm_generic_payload trans_;
   tlm_if::AccessProfile profile_;
   unsigned char dummy_ = 0;
   std::uint8_t* dmi_ptr_ = nullptr;
   tlm_if::TimingTarget* timing_ = nullptr;
+  BankedSram* sram_ = nullptr;  // timing_ when it is a global buffer: its short path inline
   bool use_transport_ = false;
 };
 
