@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -128,19 +129,31 @@ Bytes run_job(const ModelJob& mj, const hw::AcceleratorConfig& cfg, const WorkLi
 // in a child process and sends its answer back; ends when the registration closes the socket.
 void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limits, int sim_threads) {
   PointCloud points;
+  // Its tree, built here once for the jobs that search it (a stage's, ICP's iterations): each
+  // job's process, forked from this one, moves it out instead of building its own.
+  std::optional<BuiltTree> built;
   Bytes request;
   while (recv_message(fd, request)) {
     Bytes answer;
     try {
       Reader r{request};
       ModelJob mj;
-      if (r.value<char>() != 0) points = r.vector<Point3>();  // this server's tree changes
-      mj.send_tree = r.value<char>() != 0;                    // the modeled host link carries it
+      if (r.value<char>() != 0) points = r.vector<Point3>(), built.reset();  // this server's tree changes
+      mj.send_tree = r.value<char>() != 0;                                   // the modeled host link carries it
       const PointCloud queries = r.vector<Point3>();
       mj.params = r.value<SearchParams>();
       mj.top_height = r.value<int>();
       mj.points = &points;
       mj.queries = &queries;
+      const int height = std::min(mj.top_height, full_height_for(points.size()));
+      if (!built || built->tree.top_height != height) {
+        try {
+          built = BuiltTree::of(points, height, cfg.tree.split_axis);
+        } catch (const std::exception&) {  // the job builds it and says why not
+          built.reset();
+        }
+      }
+      mj.built = built ? &*built : nullptr;
       int job_fds[2];
       if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, job_fds) != 0)
         throw std::runtime_error(std::string("cannot open a socket: ") + std::strerror(errno));

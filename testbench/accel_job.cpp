@@ -31,12 +31,25 @@ double since(std::chrono::steady_clock::time_point& t) {
 }
 }  // namespace
 
+BuiltTree BuiltTree::of(const PointCloud& points, int top_height, SplitRule split) {
+  BuiltTree b;
+  b.tree = build_kdtree(points, top_height, split);
+  b.image = tlm_if::encode_tree_image(b.tree);
+  return b;
+}
+
 PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, const SearchParams& params,
-                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix) {
+                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix,
+                        BuiltTree* built) {
   PreparedJob p;
   p.cfg = cfg;
-  p.tree = build_kdtree(points, cfg.tree.top_height, cfg.tree.split_axis);
-  p.image = tlm_if::encode_tree_image(p.tree);
+  if (built && built->fits(points, cfg)) {
+    p.tree = std::move(built->tree);
+    p.image = std::move(built->image);
+  } else {
+    p.tree = build_kdtree(points, cfg.tree.top_height, cfg.tree.split_axis);
+    p.image = tlm_if::encode_tree_image(p.tree);
+  }
   p.job = host_job(params);
   const std::string fit = hw::job_fit_error(cfg, p.image.bytes.size(), queries.size(), p.tree.top_height, p.job.mode,
                                             p.job.k, p.job.approximate && p.job.first_leaf);
@@ -180,7 +193,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
     cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
     cfg.leader.in_flight = params.leader_in_flight;
   validate_config(cfg);
-  const PreparedJob p = prepare_job(*mj.points, queries, params, cfg, limits, "does not fit the accelerator: ");
+  const PreparedJob p =
+      prepare_job(*mj.points, queries, params, cfg, limits, "does not fit the accelerator: ", mj.built);
   phases["prepare"] = since(t_phase);
   SimExtras extras;
   extras.sim_threads = sim_threads;

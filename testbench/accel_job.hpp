@@ -35,11 +35,27 @@ struct PreparedJob {
   WorkEstimate estimate;
 };
 
-// Builds the tree of `points` at cfg.tree.top_height and checks the job: throws
+// A tree and its image built ahead, for a job to take instead of building its own: the loop's
+// model server builds one per cloud and each job, in a child forked from it, moves it out at no
+// cost (docs/registration.md).
+struct BuiltTree {
+  KdTree tree;
+  tlm_if::TreeImage image;
+  static BuiltTree of(const PointCloud& points, int top_height, SplitRule split);
+  // Whether it is the tree a job on `cfg` builds over `points`.
+  bool fits(const PointCloud& points, const hw::AcceleratorConfig& cfg) const {
+    return tree.num_points == points.size() && tree.top_height == cfg.tree.top_height &&
+           tree.split == cfg.tree.split_axis;
+  }
+};
+
+// Builds the tree of `points` at cfg.tree.top_height (or takes `built`'s, when it is that tree
+// of these points) and checks the job: throws
 // std::invalid_argument `fit_prefix` + why when it does not fit the buffers, and when the work
 // estimate exceeds `limits`.
 PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, const SearchParams& params,
-                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix);
+                        const hw::AcceleratorConfig& cfg, const WorkLimits& limits, const std::string& fit_prefix,
+                        BuiltTree* built = nullptr);
 
 // What a run of the job adds to the simulation: waveforms, observers, progress, host threads.
 struct SimExtras {
@@ -71,8 +87,9 @@ struct ModelJob {
   const PointCloud* points = nullptr;  // the tree's points
   const PointCloud* queries = nullptr;
   SearchParams params;
-  int top_height = 10;    // clamped to the cloud's full height
-  bool send_tree = true;  // the host writes the tree image first
+  int top_height = 10;         // clamped to the cloud's full height
+  bool send_tree = true;       // the host writes the tree image first
+  BuiltTree* built = nullptr;  // the tree of `points`, if built ahead (moved out by the job)
 };
 
 struct ModelJobRun {
