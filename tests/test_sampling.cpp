@@ -8,6 +8,7 @@
 
 #include "hw_cases.hpp"
 #include "sw_ref/search.hpp"
+#include "testbench/accel_job.hpp"
 #include "testbench/config.hpp"
 #include "testbench/sampling.hpp"
 #include "testbench/scoreboard.hpp"
@@ -204,5 +205,29 @@ TEST_CASE("scoreboard: the golden search on two threads gives what one search gi
     Schedule bad = one.schedule;
     bad.back().leaf ^= 1;  // a visit the query's traversal does not make
     CHECK_THROWS_AS(golden_search(tree, queries, params, &bad), ScheduleError);
+  }
+}
+
+TEST_CASE("model job: a tree built ahead is taken when it is the job's, else the job builds its own", "[sampling]") {
+  const SyntheticPair pair = make_synthetic_pair();
+  PointCloud cloud, queries;
+  for (std::size_t i = 0; i < pair.frame0.size(); i += 8) cloud.push_back(pair.frame0[i]);
+  for (std::size_t i = 0; i < pair.frame1.size(); i += 80) queries.push_back(pair.frame1[i]);
+  const SearchParams params = test::mode(Mode::KNN, 8);
+  hw::AcceleratorConfig cfg;
+  cfg.tree.top_height = 6;
+  const PreparedJob own = prepare_job(cloud, queries, params, cfg, WorkLimits{}, "");
+  // The loop's server builds it once (accel_in_loop.cpp); a job moves it out, not a copy.
+  BuiltTree built = BuiltTree::of(cloud, 6, cfg.tree.split_axis);
+  const PreparedJob taken = prepare_job(cloud, queries, params, cfg, WorkLimits{}, "", &built);
+  CHECK(built.tree.top.empty());
+  CHECK(taken.tree.leaf_index == own.tree.leaf_index);
+  CHECK(taken.image.bytes == own.image.bytes);
+  // Another height's tree, or another cloud's, is not the job's: it builds its own.
+  for (const PointCloud& points : {cloud, queries}) {
+    built = BuiltTree::of(points, points.size() == cloud.size() ? 5 : 6, cfg.tree.split_axis);
+    const PreparedJob rebuilt = prepare_job(cloud, queries, params, cfg, WorkLimits{}, "", &built);
+    CHECK_FALSE(built.tree.top.empty());
+    CHECK(rebuilt.image.bytes == own.image.bytes);
   }
 }
