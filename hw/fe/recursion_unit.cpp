@@ -29,6 +29,9 @@ void RecursionUnit::start_job() {
   slots_ = ResultSlots(results.data(), job_.k);
   query_records_ = reinterpret_cast<const tlm_if::QueryRecord*>(queries.data());
   stacks_ = reinterpret_cast<StackEntry*>(stacks.data());
+  points_sram_ = dynamic_cast<BankedSram*>(points.timing_target());
+  queries_sram_ = dynamic_cast<BankedSram*>(queries.timing_target());
+  stacks_sram_ = dynamic_cast<BankedSram*>(stacks.timing_target());
 }
 
 void RecursionUnit::start(const QueryToken& token) {
@@ -126,22 +129,22 @@ std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> RecursionUnit::walk(std:
   // port stalls the whole walk there (`stall` so far), as the RTL RU's ports do (rtl/).
   std::uint64_t done = now, stall = 0;
   const auto pop_read = [&](std::uint64_t cycle, std::uint32_t at) {
-    return stacks.request(cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), false,
+    return stacks.request(stacks_sram_, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), false,
                           sram.query_stack.latency_cycles, clock_.period, done);
   };
   const auto push_write = [&](std::uint64_t cycle, std::uint32_t at) {
-    return stacks.request(cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), true,
+    return stacks.request(stacks_sram_, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), true,
                           sram.query_stack.latency_cycles, clock_.period, done);
   };
   const auto point_read = [&](std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes) {
-    return points.request(cycle, byte, bytes, false, sram.points.latency_cycles, clock_.period, done);
+    return points.request(points_sram_, cycle, byte, bytes, false, sram.points.latency_cycles, clock_.period, done);
   };
 
   // FQ: fetch the query point and its stack address; a new query's root goes into its stack.
   const tlm_if::QueryRecord& r = query_records_[token_.query];
   std::uint64_t granted =
-      queries.request(now, std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord), sizeof(tlm_if::QueryRecord),
-                      false, sram.queries.latency_cycles, clock_.period, done);
+      queries.request(queries_sram_, now, std::uint64_t{token_.query} * sizeof(tlm_if::QueryRecord),
+                      sizeof(tlm_if::QueryRecord), false, sram.queries.latency_cycles, clock_.period, done);
   token_.point = Point3{r.x, r.y, r.z};
   const Point3 q = token_.point;
   if (!token_.started) {

@@ -16,6 +16,7 @@
 #include "hw/energy_meter.hpp"
 #include "hw/host/scan_service.hpp"
 #include "hw/job.hpp"
+#include "hw/mem/banked_sram.hpp"
 #include "hw/mem/buffer_port.hpp"
 #include "hw/mem/result_slots.hpp"
 #include "hw/observer.hpp"
@@ -95,6 +96,9 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
   TreeView tree_;
   ResultSlots slots_;
   const tlm_if::QueryRecord* query_records_ = nullptr;
+  // The Point, Query and Query Stack Buffers behind the ports, when they are global buffers: a
+  // walk's one-word accesses take their short path inline (BufferPort::request).
+  BankedSram *points_sram_ = nullptr, *queries_sram_ = nullptr, *stacks_sram_ = nullptr;
   StackEntry* stacks_ = nullptr;
 
   State state_ = State::Idle;

@@ -62,9 +62,9 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // the caller a few instructions instead of a call.
   std::uint64_t charge_one_inline(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
     std::uint32_t bank;
+    // (A failed try_book changed nothing: charge_one() starts afresh.)
     if (!in_one_word(byte, bytes, bank) || !banks_.try_book(bank, start))
-      return charge_one(start, byte, bytes,
-                        write);  // (virtual: rtl/ links before hw/; a failed try_book changed nothing)
+      return BankedSram::charge_one(start, byte, bytes, write);
     ++bank_accesses_[bank];
     count(write, 1, bytes);
     return start + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();

@@ -10,7 +10,6 @@
 #include <systemc>
 #include <tlm>
 
-#include "banked_sram.hpp"
 #include "hw/clock.hpp"
 #include "tlm/access_profile.hpp"
 
@@ -39,12 +38,13 @@ class BufferPort {
       if (!granted) SC_REPORT_FATAL("tigris", "buffer refused DMI");
       dmi_ptr_ = dmi.get_dmi_ptr();
       timing_ = use_transport_ ? nullptr : handle.target;
-      sram_ = dynamic_cast<BankedSram*>(timing_);
     }
     return dmi_ptr_;
   }
   // Test hook: time every access with a b_transport, even where a TimingTarget is offered.
-  void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr, sram_ = nullptr; }
+  void use_transport_for_timing() { use_transport_ = true, timing_ = nullptr; }
+  // The buffer's TimingTarget (after data()), or null when timing goes through b_transport.
+  tlm_if::TimingTarget* timing_target() const { return timing_; }
 
   // One access a unit requests at cycle `cycle` and holds until it is granted (the Recursion
   // Unit's request/grant ports): books `bytes` at `byte`; returns the cycle it is granted (its
@@ -52,10 +52,17 @@ class BufferPort {
   // the buffer's `latency`).
   std::uint64_t request(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write, int latency,
                         const sc_core::sc_time& period, std::uint64_t& complete) {
+    return granted(charge_one(cycle, byte, bytes, write, period), latency, complete);
+  }
+  // The same through `buffer` (null: as above), the buffer's own class when the caller knows it
+  // (hw/mem/banked_sram.hpp): its short path for a free bank inline in the caller's loop. (A
+  // template: rtl/, linked before hw/, instantiates only the one above.)
+  template <class Buffer>
+  std::uint64_t request(Buffer* buffer, std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write,
+                        int latency, const sc_core::sc_time& period, std::uint64_t& complete) {
     const std::uint64_t c =
-        sram_ ? sram_->charge_one_inline(cycle, byte, bytes, write) : charge_one(cycle, byte, bytes, write, period);
-    complete = std::max(complete, c);
-    return c - 1 - static_cast<std::uint64_t>(latency);
+        buffer ? buffer->charge_one_inline(cycle, byte, bytes, write) : charge_one(cycle, byte, bytes, write, period);
+    return granted(c, latency, complete);
   }
 
   // Charges `access` starting at cycle `start`; returns the cycle it completes.
@@ -78,6 +85,10 @@ class BufferPort {
  private:
   // request()'s access through the TimingTarget, else a b_transport (out of line: the short path
   // above is inlined into the walk's loop).
+  static std::uint64_t granted(std::uint64_t c, int latency, std::uint64_t& complete) {
+    complete = std::max(complete, c);
+    return c - 1 - static_cast<std::uint64_t>(latency);
+  }
   __attribute__((noinline)) std::uint64_t charge_one(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes,
                                                      bool write, const sc_core::sc_time& period) {
     if (timing_) return timing_->charge_one(cycle, byte, bytes, write);
@@ -90,7 +101,6 @@ class BufferPort {
   unsigned char dummy_ = 0;
   std::uint8_t* dmi_ptr_ = nullptr;
   tlm_if::TimingTarget* timing_ = nullptr;
-  BankedSram* sram_ = nullptr;  // timing_ when it is a global buffer: its short path inline
   bool use_transport_ = false;
 };
 
