@@ -7,6 +7,7 @@
 
 #include <systemc>
 
+#include "clock.hpp"
 #include "traces/vcd_writer.hpp"
 
 namespace tigris::hw {
@@ -19,13 +20,23 @@ class Probe {
   }
   // Also adds this probe's changes into `total` (an aggregate trace over units of a kind).
   void feed(Probe& total) { total_ = &total; }
-  void set(std::uint64_t value) { set_at(sc_core::sc_time_stamp(), value); }
+  void set(std::uint64_t value) {
+    if (vcd_) set_at(sc_core::sc_time_stamp(), value);
+  }
   // A change booked for `t` (now or later); a probe's own changes are booked in time order.
   void set_at(const sc_core::sc_time& t, std::uint64_t value) {
     if (!vcd_) return;
     if (total_) total_->add_at(t, static_cast<std::int64_t>(value) - static_cast<std::int64_t>(last_));
     last_ = value;
     vcd_->change_at(id_, ps(t), value, ps(sc_core::sc_time_stamp()));
+  }
+  // The same at cycle `c` of `clock`: its time is made only when waves are on (a library call
+  // for every unit's every step otherwise).
+  void set_at(const Clock& clock, std::uint64_t c, std::uint64_t value) {
+    if (vcd_) set_at(clock.at(c), value);
+  }
+  void add_at(const Clock& clock, std::uint64_t c, std::int64_t delta) {
+    if (vcd_) add_at(clock.at(c), delta);
   }
   // Adds `delta` from `t` (now or later) on: a count several overlapping things change.
   void add_at(const sc_core::sc_time& t, std::int64_t delta) {

@@ -91,8 +91,8 @@ void SearchUnit::step() {
     const std::uint64_t accepted = retire(running_[i]);
     if (accepted > now) {
       const auto held = static_cast<std::int64_t>(running_[i].tokens.size());
-      writeback_pes_wave_.add_at(clock_.at(now), held);
-      writeback_pes_wave_.add_at(clock_.at(accepted), -held);
+      writeback_pes_wave_.add_at(clock_, now, held);
+      writeback_pes_wave_.add_at(clock_, accepted, -held);
       links_.observer.activity(JobObserver::Activity::PeWritebackHold, static_cast<std::uint32_t>(held), now, accepted);
       running_[i].end = accepted;
       ++i;
@@ -251,13 +251,13 @@ void SearchUnit::stream_batch(Batch& batch, std::uint32_t leaf, std::uint64_t no
   ledger_.book(kBusy, start, compute_end);
   ledger_.book(kSram, compute_end, end);
   pe_busy_cycles_ += b * (compute_end - start);
-  pes_wave_.add_at(clock_.at(start), static_cast<std::int64_t>(b));
-  pes_wave_.add_at(clock_.at(compute_end), -static_cast<std::int64_t>(b));
+  pes_wave_.add_at(clock_, start, static_cast<std::int64_t>(b));
+  pes_wave_.add_at(clock_, compute_end, -static_cast<std::int64_t>(b));
   links_.observer.activity(JobObserver::Activity::PeBusy, static_cast<std::uint32_t>(b), start, compute_end);
   links_.observer.activity(JobObserver::Activity::PeSramStall, static_cast<std::uint32_t>(b), compute_end, end);
   if (end > compute_end) {
-    sram_pes_wave_.add_at(clock_.at(compute_end), static_cast<std::int64_t>(b));
-    sram_pes_wave_.add_at(clock_.at(end), -static_cast<std::int64_t>(b));
+    sram_pes_wave_.add_at(clock_, compute_end, static_cast<std::int64_t>(b));
+    sram_pes_wave_.add_at(clock_, end, -static_cast<std::int64_t>(b));
   }
   links_.observer.su_batch(id_, leaf, tokens.data(), tokens.size(), now, end, stream);
   batch.end = end;

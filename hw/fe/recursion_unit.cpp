@@ -56,13 +56,13 @@ void RecursionUnit::start(const QueryToken& token) {
   pipeline -= grant_stalls;
   busy_cycles_ += pipeline;
   sram_stall_ += done - (now + pipeline);
-  busy_wave_.set_at(clock_.at(now + pipeline), 0);
+  busy_wave_.set_at(clock_, now + pipeline, 0);
   const auto ru = static_cast<std::uint32_t>(id_);
   links_.observer.activity(JobObserver::Activity::RuBusy, 1, now, now + pipeline);
   links_.observer.activity(JobObserver::Activity::RuSramStall, 1, now + pipeline, done);
   if (done > now + pipeline) {
-    sram_wave_.set_at(clock_.at(now + pipeline), 1);
-    sram_wave_.set_at(clock_.at(done), 0);
+    sram_wave_.set_at(clock_, now + pipeline, 1);
+    sram_wave_.set_at(clock_, done, 0);
   }
   links_.observer.ru_walk(ru, token_.query, now, done);
 
