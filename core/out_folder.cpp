@@ -179,8 +179,16 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
       const fs::path rel = fs::weakly_canonical(fs::absolute(file), ec).lexically_relative(root);
       return rel.empty() || *rel.begin() == ".." || rel == "." ? "" : rel.begin()->string();
     };
-    for (const std::string& f : spec_.also_written)
-      if (const std::string top = f.empty() ? "" : top_in_folder(f); !top.empty()) spec_.outputs.push_back(top);
+    for (const std::string& f : spec_.also_written) {
+      const std::string top = f.empty() ? "" : top_in_folder(f);
+      if (top.empty()) continue;
+      // The manifest is the folder's record (written at the start and the end): an output under
+      // its name would be lost, or take the record with it.
+      if (top == kManifest)
+        throw std::invalid_argument("the output " + f + " would be " + what + "'s record, which " + cmd +
+                                    " writes itself (" + kManifest + "): give the output another name");
+      spec_.outputs.push_back(top);
+    }
     // An input inside the folder under a name this run (or the earlier one) writes would be
     // overwritten or removed.
     for (const json& in : spec_.inputs) {

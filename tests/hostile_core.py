@@ -187,6 +187,12 @@ def folders(c, d):
              else None)
     c.expect("run --trace X --out FILE: refused before any job runs", ["run", "--trace", "R/t.bin", "--out", "R/t.bin"],
              2, ["exists and is not a folder"])
+    # An output flag naming the folder's manifest (hardening round 4, reproduction 2).
+    for name, args in [("run --timeline OUT/manifest.json", ["run", "--timeline", "M1/manifest.json", "--out", "M1"]),
+                       ("ref --dump-results OUT/manifest.json", ["ref", "--dump-results", "M2/manifest.json",
+                                                                 "--out", "M2"])]:
+        c.expect(f"{name} is refused before any work", args, 2, ["manifest.json", "another name"],
+                 lambda a=args: None if not os.path.exists(os.path.join(d, a[-1], "stats.json")) else "it ran")
     with open(os.path.join(d, "D", "note.txt"), "w") as f:
         f.write("mine")
     c.expect("run --out a folder holding a user's file", ["run", "--out", "D"], 2, ["did not write (note.txt)"])
