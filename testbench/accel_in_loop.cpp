@@ -138,8 +138,11 @@ void serve_jobs(int fd, const hw::AcceleratorConfig& cfg, const WorkLimits& limi
     try {
       Reader r{request};
       ModelJob mj;
-      if (r.value<char>() != 0) points = r.vector<Point3>(), built.reset();  // this server's tree changes
-      mj.send_tree = r.value<char>() != 0;                                   // the modeled host link carries it
+      if (r.value<char>() != 0) {  // this server's tree changes
+        points = r.vector<Point3>();
+        built.reset();
+      }
+      mj.send_tree = r.value<char>() != 0;  // the modeled host link carries it
       const PointCloud queries = r.vector<Point3>();
       mj.params = r.value<SearchParams>();
       mj.top_height = r.value<int>();

@@ -43,13 +43,11 @@ PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, con
                         BuiltTree* built) {
   PreparedJob p;
   p.cfg = cfg;
-  if (built && built->fits(points, cfg)) {
-    p.tree = std::move(built->tree);
-    p.image = std::move(built->image);
-  } else {
-    p.tree = build_kdtree(points, cfg.tree.top_height, cfg.tree.split_axis);
-    p.image = tlm_if::encode_tree_image(p.tree);
-  }
+  BuiltTree own;
+  if (!built || !built->fits(points, cfg))
+    own = BuiltTree::of(points, cfg.tree.top_height, cfg.tree.split_axis), built = &own;
+  p.tree = std::move(built->tree);
+  p.image = std::move(built->image);
   p.job = host_job(params);
   const std::string fit = hw::job_fit_error(cfg, p.image.bytes.size(), queries.size(), p.tree.top_height, p.job.mode,
                                             p.job.k, p.job.approximate && p.job.first_leaf);

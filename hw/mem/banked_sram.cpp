@@ -158,12 +158,6 @@ std::uint64_t BankedSram::charge_in_order(std::uint64_t start, const tlm_if::Acc
   return a.pipeline_count ? last + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw() : start;
 }
 
-std::uint64_t BankedSram::charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
-  std::uint32_t bank;
-  if (in_one_word(byte, bytes, bank)) return charge_word(start, bank, bytes, write);
-  return charge_one_profiled(start, byte, bytes, write);
-}
-
 std::uint64_t BankedSram::charge_one_profiled(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes,
                                               bool write) {
   const tlm_if::PipelineAccess one{byte, bytes, 0};

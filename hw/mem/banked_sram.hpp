@@ -31,7 +31,7 @@
 
 namespace tigris::hw {
 
-class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
+class BankedSram final : public sc_core::sc_module, public tlm_if::TimingTarget {
  public:
   tlm_utils::multi_passthrough_target_socket<BankedSram> socket;
 
@@ -56,18 +56,13 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   }
   // Charges an access starting at cycle `start`; returns the cycle its data is complete.
   std::uint64_t charge(std::uint64_t start, const tlm_if::AccessProfile& access) override;
-  std::uint64_t charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) override;
-  // charge_one() for a unit's port that knows this buffer (hw/mem/buffer_port.hpp): the common
-  // case, a one-word access whose bank is free at `start` in the calendar's current row, costs
-  // the caller a few instructions instead of a call.
-  std::uint64_t charge_one_inline(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) {
+  // Inline, and the class final: a unit's port that knows this buffer (BufferPort::request's
+  // template) calls it directly, and a one-word access whose bank is free costs the caller's loop
+  // a few instructions.
+  std::uint64_t charge_one(std::uint64_t start, std::uint64_t byte, std::uint32_t bytes, bool write) override {
     std::uint32_t bank;
-    // (A failed try_book changed nothing: charge_one() starts afresh.)
-    if (!in_one_word(byte, bytes, bank) || !banks_.try_book(bank, start))
-      return BankedSram::charge_one(start, byte, bytes, write);
-    ++bank_accesses_[bank];
-    count(write, 1, bytes);
-    return start + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
+    return in_one_word(byte, bytes, bank) ? charge_word(start, bank, bytes, write)
+                                          : charge_one_profiled(start, byte, bytes, write);
   }
 
  private:
@@ -90,8 +85,7 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
   // Books one word in `bank` at `start` or its first free cycle after; what charge() and
   // charge_in_order() do for a one-word access, without a profile.
   std::uint64_t charge_word(std::uint64_t start, std::uint32_t bank, std::uint64_t bytes, bool write) {
-    std::uint64_t served = start;
-    if (!banks_.try_book(bank, start)) served = banks_.reserve(bank, start, std::min(start, clock_.now()));
+    const std::uint64_t served = banks_.try_book(bank, start) ? start : reserve_when_busy(bank, start);
     ++bank_accesses_[bank];
     if (served != start) {
       bank_conflicts_[bank] += served - start;
@@ -100,8 +94,12 @@ class BankedSram : public sc_core::sc_module, public tlm_if::TimingTarget {
     count(write, 1, bytes);
     return served + 1 + static_cast<std::uint64_t>(config_.latency_cycles) + stall_.draw();
   }
-  // charge_one() beyond its short path, as a one-access pipeline profile (out of line: its
-  // frame would slow the short path down).
+  // charge_word()'s bank busy at `start` (or not in the calendar's current row): its first free
+  // cycle, booked. Out of line, as the next one: their frames would slow the short path down.
+  __attribute__((noinline)) std::uint64_t reserve_when_busy(std::uint32_t bank, std::uint64_t start) {
+    return banks_.reserve(bank, start, std::min(start, clock_.now()));
+  }
+  // charge_one() beyond one word, as a one-access pipeline profile.
   __attribute__((noinline)) std::uint64_t charge_one_profiled(std::uint64_t start, std::uint64_t byte,
                                                               std::uint32_t bytes, bool write);
   // Books one word access in `bank` at the first cycle >= `cycle` when the bank and a port are

@@ -55,13 +55,13 @@ class BufferPort {
     return granted(charge_one(cycle, byte, bytes, write, period), latency, complete);
   }
   // The same through `buffer` (null: as above), the buffer's own class when the caller knows it
-  // (hw/mem/banked_sram.hpp): its short path for a free bank inline in the caller's loop. (A
-  // template: rtl/, linked before hw/, instantiates only the one above.)
+  // (hw/mem/banked_sram.hpp, final): its charge_one() inline in the caller's loop. (A template:
+  // rtl/, linked before hw/, instantiates only the one above.)
   template <class Buffer>
   std::uint64_t request(Buffer* buffer, std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes, bool write,
                         int latency, const sc_core::sc_time& period, std::uint64_t& complete) {
     const std::uint64_t c =
-        buffer ? buffer->charge_one_inline(cycle, byte, bytes, write) : charge_one(cycle, byte, bytes, write, period);
+        buffer ? buffer->charge_one(cycle, byte, bytes, write) : charge_one(cycle, byte, bytes, write, period);
     return granted(c, latency, complete);
   }
 
@@ -83,12 +83,13 @@ class BufferPort {
   }
 
  private:
-  // request()'s access through the TimingTarget, else a b_transport (out of line: the short path
-  // above is inlined into the walk's loop).
+  // An access complete at cycle `c` was granted `latency` + 1 cycles before; `complete` takes it.
   static std::uint64_t granted(std::uint64_t c, int latency, std::uint64_t& complete) {
     complete = std::max(complete, c);
     return c - 1 - static_cast<std::uint64_t>(latency);
   }
+  // request()'s access through the TimingTarget, else a b_transport (out of line: the template's
+  // short path is inlined into the walk's loop).
   __attribute__((noinline)) std::uint64_t charge_one(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes,
                                                      bool write, const sc_core::sc_time& period) {
     if (timing_) return timing_->charge_one(cycle, byte, bytes, write);
