@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <fnmatch.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,8 +18,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "arg_checks.hpp"
 #include "build_info.hpp"
 #include "children.hpp"
+#include "digest.hpp"
 #include "input_file.hpp"
 #include "json_file.hpp"
 
@@ -106,6 +109,40 @@ std::string listed(const std::vector<std::string>& names) {
   return s;
 }
 
+// The top-level name under `dir` of `file` ("" when it lies outside), links and ".." resolved.
+std::string top_in_folder(const std::string& dir, const std::string& file) {
+  std::error_code ec;
+  const fs::path root = fs::weakly_canonical(fs::absolute(dir), ec);
+  const fs::path rel = fs::weakly_canonical(fs::absolute(file), ec).lexically_relative(root);
+  return rel.empty() || *rel.begin() == ".." || rel == "." ? "" : rel.begin()->string();
+}
+
+std::string absolute_path(const std::string& file) {
+  std::error_code ec;
+  return fs::weakly_canonical(fs::absolute(file), ec).string();
+}
+
+// Size and modification time: how the next run knows a file as one this command wrote.
+json file_identity(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return nullptr;
+  return {{"bytes", static_cast<std::uint64_t>(st.st_size)},
+          {"mtime_ns", static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec}};
+}
+
+// /dev/stdout, /dev/null, /proc/self/fd/3: a stream the caller set up, written through as it is.
+bool stream_path(const std::string& path) {
+  const std::string p = fs::path(path).lexically_normal().string();
+  return p.rfind("/dev/", 0) == 0 || p.rfind("/proc/self/fd/", 0) == 0;
+}
+
+// Write ends of named pipes held open from the claim to the end of the process: the reader
+// then sees one stream, and its end only when the command is done.
+std::vector<int>& held_pipes() {
+  static std::vector<int> fds;
+  return fds;
+}
+
 std::vector<std::string>& command_line_record() {
   static std::vector<std::string> argv;
   return argv;
@@ -174,26 +211,13 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
       throw std::invalid_argument(what + " holds the output of tigris " + old.value("command", std::string("?")) +
                                   ", not of " + cmd + ": use another --out");
     const std::vector<std::string> old_outputs = strings_of(old.is_object() ? old["outputs"] : json());
-    const fs::path root = fs::weakly_canonical(fs::absolute(dir_), ec);
-    const auto top_in_folder = [&](const std::string& file) -> std::string {
-      const fs::path rel = fs::weakly_canonical(fs::absolute(file), ec).lexically_relative(root);
-      return rel.empty() || *rel.begin() == ".." || rel == "." ? "" : rel.begin()->string();
-    };
-    for (const std::string& f : spec_.also_written) {
-      const std::string top = f.empty() ? "" : top_in_folder(f);
-      if (top.empty()) continue;
-      // The manifest is the folder's record (written at the start and the end): an output under
-      // its name would be lost, or take the record with it.
-      if (top == kManifest)
-        throw std::invalid_argument("the output " + f + " would be " + what + "'s record, which " + cmd +
-                                    " writes itself (" + kManifest + "): give the output another name");
-      spec_.outputs.push_back(top);
-    }
+    claim_named(old.is_object() && old.contains("written") ? old["written"] : json::array(),
+                std::vector<std::string>(spec_.outputs), old_outputs);
     // An input inside the folder under a name this run (or the earlier one) writes would be
     // overwritten or removed.
     for (const json& in : spec_.inputs) {
       if (!in.contains("path")) continue;
-      const std::string top = top_in_folder(in["path"].get<std::string>());
+      const std::string top = top_in_folder(dir_, in["path"].get<std::string>());
       if (top.empty()) continue;
       if (top == kManifest || matches(spec_.outputs, top) || matches(old_outputs, top))
         throw std::invalid_argument("the input " + in.value("role", std::string("file")) + " (" +
@@ -208,6 +232,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
         fs::remove_all(e.path(), ec);
         continue;
       }
+      if (std::find(kept_.begin(), kept_.end(), name) != kept_.end()) continue;  // the user's companion
       (matches(old_outputs, name) ? ours : foreign).push_back(name);
     }
     std::sort(foreign.begin(), foreign.end());
@@ -250,6 +275,95 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
   }
 }
 
+void OutFolder::claim_named(const json& old_written, const std::vector<std::string>& fixed_outputs,
+                            const std::vector<std::string>& old_outputs) {
+  const std::string cmd = "tigris " + spec_.command, what = "--out " + dir_;
+  std::vector<PathUse> ins, outs;
+  for (const json& in : spec_.inputs)
+    if (in.contains("path"))
+      ins.push_back({"--" + in.value("role", std::string("input")), in["path"].get<std::string>()});
+  for (const NamedOutput& n : spec_.named) outs.push_back({n.flag, n.path});
+  check_distinct_paths(ins, outs);  // two outputs on one file, an output on an input
+  std::error_code ec;
+  for (const NamedOutput& n : spec_.named) {
+    if (n.path.empty()) continue;
+    const std::string named = n.flag + " " + n.path;
+    const std::string top = top_in_folder(dir_, n.path);
+    // The manifest is the folder's record (written at the start and the end), the fixed
+    // outputs are the command's own: an output under either name would be lost, or take them.
+    if (top == kManifest || (!top.empty() && matches(fixed_outputs, top)))
+      throw std::invalid_argument("the output " + n.path + " (" + n.flag + ") would be " + what + "'s " + top +
+                                  ", which " + cmd + " writes itself: give the output another name");
+    if (stream_path(n.path)) continue;
+    const fs::file_status st = fs::symlink_status(n.path, ec);
+    if (!fs::exists(st)) {
+      if (!top.empty()) spec_.outputs.push_back(top);
+      continue;
+    }
+    if (fs::is_directory(st)) throw std::invalid_argument(named + ": is a folder; name a file");
+    if (fs::is_fifo(st)) {  // written as it is, once a process reads it: else tigris would wait
+      const int fd = ::open(n.path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      if (fd < 0)
+        throw std::invalid_argument(named + ": a named pipe " +
+                                    (errno == ENXIO ? std::string("that no process reads") : std::strerror(errno)) +
+                                    "; start its reader first, or name a file");
+      held_pipes().push_back(fd);
+      continue;
+    }
+    if (fs::is_character_file(st)) continue;  // /dev/null, a terminal
+    if (!fs::is_regular_file(st) && !fs::is_symlink(st))
+      throw std::invalid_argument(named + ": neither a file, a named pipe nor a device; name a file");
+    // An existing file: the command's own when an earlier run into this folder wrote it and it
+    // has not changed since (in the folder: by its name, unless a companion was edited); else
+    // it is somebody's, and stays as it is.
+    const std::string abs = absolute_path(n.path);
+    const json* record = nullptr;
+    for (const json& w : old_written)
+      if (w.is_object() && w.value("path", std::string()) == abs) record = &w;
+    const bool in_folder_ours = !top.empty() && matches(old_outputs, top);
+    const bool unchanged = record && record->value("file", json()) == file_identity(n.path);
+    const bool ours = n.companion ? unchanged || (!record && in_folder_ours) : unchanged || in_folder_ours;
+    if (!ours && n.companion) {
+      std::fprintf(stderr,
+                   "%s: note: %s is kept as it is (not written by an earlier run into %s, or changed since): "
+                   "this run does not write it; remove it to get a new one\n",
+                   cmd.c_str(), named.c_str(), dir_.c_str());
+      if (!top.empty()) kept_.push_back(top);
+      kept_paths_.push_back(abs);
+      continue;
+    }
+    if (!ours)
+      throw std::invalid_argument(named + ": exists and was not written by an earlier " + cmd + " into " + dir_ +
+                                  " (or was changed since); remove it, or name a new file");
+    if (!top.empty()) spec_.outputs.push_back(top);
+  }
+}
+
+bool OutFolder::writes(const std::string& named_path) const {
+  return !named_path.empty() &&
+         std::find(kept_paths_.begin(), kept_paths_.end(), absolute_path(named_path)) == kept_paths_.end();
+}
+
+void OutFolder::check_inputs() const {
+  for (const json& in : spec_.inputs) {
+    if (!in.contains("path") || !in.contains("sha256")) continue;
+    const std::string path = in["path"].get<std::string>();
+    std::string now;
+    try {
+      now = sha256_of_file(path);
+    } catch (const std::exception&) {
+      now = "(unreadable)";
+    }
+    if (now != in["sha256"].get<std::string>())
+      throw std::invalid_argument("the input " + in.value("role", std::string("file")) + " (" + path +
+                                  ") changed while tigris " + spec_.command + " ran (sha256 " +
+                                  in["sha256"].get<std::string>().substr(0, 12) + " at the start, " +
+                                  now.substr(0, 12) +
+                                  " now): its results would mix two inputs, so none are written; "
+                                  "run again on a file that stays as it is");
+  }
+}
+
 OutFolder::~OutFolder() {
   if (fd_ < 0) return;
   if (!finished_) {
@@ -268,7 +382,15 @@ void OutFolder::finish(const std::string& status) {
 
 void OutFolder::write_manifest(const std::string& status) {
   manifest_["status"] = status;
-  if (status != "running") manifest_["finished"] = utc_now();
+  if (status != "running") {
+    manifest_["finished"] = utc_now();
+    json written = json::array();  // what the next run into this folder may replace
+    for (const NamedOutput& n : spec_.named)
+      if (writes(n.path))
+        if (json id = file_identity(n.path); !id.is_null())
+          written.push_back({{"flag", n.flag}, {"path", absolute_path(n.path)}, {"file", id}});
+    manifest_["written"] = written;
+  }
   const auto text = [](const json& m) { return m.dump(2, ' ', false, json::error_handler_t::replace) + "\n"; };
   write_file(path(kManifest), [&](std::ostream& f) { f << text(manifest_); });
   // What a stop signal leaves: this record, "interrupted" (children.cpp writes it).
@@ -285,7 +407,7 @@ void write_file(const std::string& path, const std::function<void(std::ostream&)
   // path and renamed over it: a failed write leaves the old file whole, and a symbolic link is
   // replaced, never written through (it could point at an input).
   const fs::file_status st = fs::symlink_status(path, ec);
-  const bool special = fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st);
+  const bool special = stream_path(path) || (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st));
   if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
   const std::string tmp =
       special

@@ -15,6 +15,17 @@
 
 namespace tigris {
 
+// A file a flag names (--vcd, --dump-results ...), or one derived from it (the GTKWave save file
+// beside a VCD). The core claims each before any work: a reserved name of the folder, two
+// outputs on one path, an output on an input, a named pipe no process reads and an existing
+// file no earlier run into this folder wrote are refused. A `companion` (a documented derived
+// file) that the user wrote or edited is kept, with a warning, instead of refused.
+struct NamedOutput {
+  std::string flag;  // "--vcd", "--vcd (GTKWave save file)"
+  std::string path;  // empty: not asked for
+  bool companion = false;
+};
+
 struct FolderSpec {
   std::string command;                                 // "odometry": a manifest of another command is refused
   std::vector<std::string> argv;                       // the command line, recorded
@@ -24,9 +35,10 @@ struct FolderSpec {
   // (a folder). The next run counts these as the command's own and clears them for a fresh start.
   std::vector<std::string> outputs;
   bool resumable = false;  // a matching rerun keeps the files; a different one is refused
-  // Files named by flags (--vcd, --record-trace...): when one lies in the folder, its name
-  // joins `outputs`, so the next run counts it as the command's own.
-  std::vector<std::string> also_written;
+  // Files named by flags (--vcd, --record-trace...), claimed with the folder. One that lies in
+  // the folder joins `outputs`; every one is recorded with its size and time ("written"), so
+  // the next run into this folder knows it as the command's own.
+  std::vector<NamedOutput> named;
 };
 
 class OutFolder {
@@ -39,13 +51,21 @@ class OutFolder {
   const std::string& dir() const { return dir_; }
   std::string path(const std::string& relative) const { return dir_ + "/" + relative; }
   bool resumed() const { return resumed_; }  // an earlier run's files were kept
+  // False for a companion output kept because this command did not write it (warned).
+  bool writes(const std::string& named_path) const;
+  // Digests every input file again: one that changed since the start is an error naming it
+  // (std::invalid_argument). Commands call it before they write their results.
+  void check_inputs() const;
   // Records the end of the run in the manifest: "done", "failed", "interrupted".
   void finish(const std::string& status = "done");
 
  private:
   void write_manifest(const std::string& status);
+  void claim_named(const nlohmann::json& old_written, const std::vector<std::string>& fixed_outputs,
+                   const std::vector<std::string>& old_outputs);
   std::string dir_;
   FolderSpec spec_;
+  std::vector<std::string> kept_, kept_paths_;  // companions left as the user had them (top names, paths)
   nlohmann::json manifest_;
   int fd_ = -1;
   bool resumed_ = false, finished_ = false;

@@ -17,6 +17,7 @@
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/leader_policy.hpp"
 #include "sw_ref/search.hpp"
+#include "sw_ref/work_guard.hpp"
 #include "workloads/io/cloud_io.hpp"
 #include "workloads/workload.hpp"
 
@@ -79,7 +80,7 @@ py::dict visits_dict(const VisitTotals& v) {
 py::dict golden_search(const FloatArray& cloud_in, const FloatArray& queries_in, const std::string& mode, int k,
                        float radius, std::uint32_t max_nn, int height, const std::string& split, bool approximate,
                        float approx_thd, const std::string& leader_scope, const std::string& leader_in_flight,
-                       int leader_capacity, int leader_width) {
+                       int leader_capacity, int leader_width, double max_work, double max_results) {
   const PointCloud cloud = to_cloud(cloud_in, "cloud"), queries = to_cloud(queries_in, "queries");
   SearchParams p;
   p.mode = parse_mode(mode);
@@ -103,7 +104,15 @@ py::dict golden_search(const FloatArray& cloud_in, const FloatArray& queries_in,
   {
     py::gil_scoped_release unlocked;  // the search is long and touches no Python object
     tree = build_kdtree(cloud, height, parse_split_rule(split));
-    out = search(tree, queries, p);
+    // The command line's work bound (tigris ref --max-work/--max-results): an hours-long job is
+    // refused before it starts (std::invalid_argument: ValueError)...
+    check_work(estimate_work(tree, queries, p), WorkLimits{max_work, max_results}, queries.size());
+    // ... and Ctrl-C stops one that runs: the search asks Python for a pending signal every
+    // few thousand queries (a KeyboardInterrupt raised here leaves through the search).
+    out = search(tree, queries, p, nullptr, [](std::size_t, std::size_t) {
+      py::gil_scoped_acquire locked;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    });
   }
   std::vector<std::uint32_t> index(out.results.neighbors.size());
   std::vector<float> dist2(index.size());
@@ -151,7 +160,8 @@ PYBIND11_MODULE(_tigris, m) {
   m.def("search", &golden_search, py::arg("cloud"), py::arg("queries"), py::arg("mode"), py::arg("k"),
         py::arg("radius"), py::arg("max_nn"), py::arg("height"), py::arg("split"), py::arg("approximate"),
         py::arg("approx_thd"), py::arg("leader_scope"), py::arg("leader_in_flight"), py::arg("leader_capacity"),
-        py::arg("leader_width"));
+        py::arg("leader_width"), py::arg("max_work") = WorkLimits{}.max_work,
+        py::arg("max_results") = WorkLimits{}.max_results);
   m.def(
       "full_height", [](std::size_t points) { return full_height_for(points); }, py::arg("points"));
   m.def("default_approx_thd", [](const std::string& mode, float radius) {

@@ -539,9 +539,9 @@ def parse_args(argv):
                                  "against time (docs/registration.md).",
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.split("\n")[7:]))
-    ap.add_argument("--space", default=DEFAULT_SPACE, metavar="FILE",
-                    help="design space JSON (default: sweep/pipeline_space.json, every Table 1 knob this "
-                    "pipeline has)")
+    core.role(ap.add_argument("--space", default=DEFAULT_SPACE, metavar="FILE",
+                              help="design space JSON (default: sweep/pipeline_space.json, every Table 1 knob "
+                              "this pipeline has)"), "input")
     ap.add_argument("--samples", type=int, default=100, metavar="N",
                     help="points drawn from the space, besides the anchors (default %(default)s; a small N "
                     "for a quick look)")
@@ -550,18 +550,19 @@ def parse_args(argv):
     src = ap.add_mutually_exclusive_group()
     src.add_argument("--pairs", type=int, default=None, metavar="N",
                      help="length of the synthetic sequence in pairs (default 10)")
-    src.add_argument("--sequence", metavar="DIR", help="a KITTI-layout folder instead of a synthetic drive")
+    core.role(src.add_argument("--sequence", metavar="DIR", help="a KITTI-layout folder instead of a synthetic "
+                               "drive"), "input")
     ap.add_argument("--frames", metavar="A:B", help="with --sequence: the frames to register")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                     help="points run at once locally (default %(default)s)")
-    ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
-                    default_tigris(), help="tigris binary")
+    core.role(ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or default_tigris(),
+                              help="tigris binary"), "input")
     ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
     for opt in ("partition", "time", "mem", "chunk"):
         ap.add_argument(f"--{opt}", help=f"with --slurm: the sweep's --{opt}")
     ap.add_argument("--sbatch-arg", action="append", default=[], help="with --slurm: one raw sbatch argument")
-    ap.add_argument("--out", default="tigris-dse", metavar="DIR", help="output folder (default %(default)s); "
-                    "a rerun into it resumes")
+    core.role(ap.add_argument("--out", default="tigris-dse", metavar="DIR", help="output folder (default "
+                              "%(default)s); a rerun into it resumes"), "out_folder")
     ap.add_argument("--list-flags", action="store_true", help="Print this command's flags as JSON (flag, type, "
                     "default, meaning) for tools, and exit")
     core.list_flags(ap, "pipeline-dse", argv)

@@ -308,18 +308,19 @@ def parse_args(argv):
     names = list(experiments(False)) + [n for n in experiments(True) if n not in experiments(False)]
     ap = argparse.ArgumentParser(prog="reproduce", description=__doc__.split("\n\n")[0],
                                  epilog="experiments: " + ", ".join(names))
-    ap.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
-    ap.add_argument("--cloud", help="tree cloud (KITTI .bin, .pcd, .ply); default: synthetic frame 0, "
-                    "or the one OUT/workload.json records")
-    ap.add_argument("--queries", help="query points (needs --cloud); default: the cloud itself, "
-                    "synthetic frame 1 without --cloud")
+    core.role(ap.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)"),
+              "out_folder")
+    core.role(ap.add_argument("--cloud", help="tree cloud (KITTI .bin, .pcd, .ply); default: synthetic frame 0, "
+                              "or the one OUT/workload.json records"), "input")
+    core.role(ap.add_argument("--queries", help="query points (needs --cloud); default: the cloud itself, "
+                              "synthetic frame 1 without --cloud"), "input")
     ap.add_argument("--quick", action="store_true", help="small grids (a few minutes on 2 cores)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="local points at once")
-    ap.add_argument("--tigris", help="tigris binary (passed to the driver)")
-    ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris_sweep.py "
-                    "beside this script)")
-    ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds the "
-                    "paper's section-3 claims measured there")
+    core.role(ap.add_argument("--tigris", help="tigris binary (passed to the driver)"), "input")
+    core.role(ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris_sweep.py "
+                              "beside this script)"), "input")
+    core.role(ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds "
+                              "the paper's section-3 claims measured there"), "input")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
     from . import variants as vt
     try:
@@ -331,8 +332,8 @@ def parse_args(argv):
                     "; REPORT.md gets the robustness matrix (the shipped presets marked as variants: "
                     "`tigris presets` says what each changes and why). The paper's accounting ("
                     f"{ACCOUNTING}) is no variant: every run measures it")
-    ap.add_argument("--variants-file", metavar="FILE", help="your own variants (JSON, see "
-                    "docs/sweeps.md), added to the built-in list; implies --variants")
+    core.role(ap.add_argument("--variants-file", metavar="FILE", help="your own variants (JSON, see "
+                              "docs/sweeps.md), added to the built-in list; implies --variants"), "input")
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--specs-only", action="store_true", help="write the specs, run nothing")
     g.add_argument("--report-only", action="store_true",

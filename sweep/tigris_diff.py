@@ -15,7 +15,8 @@ Printed in this order:
 
 Host time (every `wall_seconds` and `phase_seconds` leaf) is never a difference. Exit status as
 diff(1): 0 when the runs agree (host time and command lines aside), 1 when they differ, 2 on bad
-input (also a file that is not a run's statistics, or runs of the two kinds).
+input (also a file that is not a run's statistics, runs of the two kinds, or a run folder that a
+run, or a sweep point that its sweep, is still writing).
 """
 import argparse
 import json
@@ -42,6 +43,10 @@ def die(msg):
 
 def load(arg):
     path = os.path.join(arg, "stats.json") if os.path.isdir(arg) else arg
+    try:                        # a run still writing: no stats.json yet, or the last run's
+        core.refuse_if_written(arg, "RUN", enclosing=not os.path.exists(path))
+    except core.Refused as e:
+        die(str(e))
     if os.path.isdir(arg) and not os.path.exists(path):
         if os.path.isdir(os.path.join(arg, "points")):
             die(f"{arg} is a sweep folder: name one of its points, e.g. {os.path.join(arg, 'points', '<id>')}")

@@ -2,7 +2,10 @@
 """Figures of a sweep: `tigris plot SWEEP_DIR|CSV... [--out DIR] [--y COLUMN ...] [--which NAME ...]`.
 
 For each swept key, a figure of the headline figures (cycles, energy, power; --y chooses other
-sweep.csv columns) against it, each axis from zero: sweep_<key>.png and .svg. The other swept keys give one line per
+sweep.csv columns) against it, each axis from zero: sweep_<key>.png and .svg. With several SWEEPs
+each figure's name carries its sweep's, sweep_<key>-<name>.png (the sweep folder's name, or the
+CSV's without .csv; sweep_<key>-<name>-<n>.png, n its place on the command line, when two share a
+name): two sweeps of one key never write one file. The other swept keys give one line per
 combination when there are at most six; otherwise they are held at the model's default (or their
 first value) and the title says so. Then the paper's figures (sweep/plots.py: redundancy, units,
 height, optimizations, memory_traffic, approx) that the sweep's settings cover.
@@ -10,11 +13,14 @@ height, optimizations, memory_traffic, approx) that the sweep's settings cover.
 Every figure names its workload and the settings all its points share; an axis whose values vary
 by less than 5% is drawn from zero and labelled "flat". A footer says what made it: this command
 line and commit, and each sweep.csv's SHA-256 with the command line and commit of the sweep
-that wrote it (its folder's manifest.json). The default output folder is
-SWEEP_DIR/plots (for a CSV: plots/ beside it); it holds manifest.json, must be new, empty or an
-earlier plot's folder, and its earlier figures are replaced. Runs on Debian's python3 with
-python3-matplotlib (`tigris plot` starts /usr/bin/python3). Exit status 0 when at least one
-figure was written, 2 otherwise (also for a --y column without numbers).
+that wrote it (its folder's manifest.json). The output folder holds manifest.json, must be new,
+empty or an earlier plot's folder, and its earlier figures are replaced. The default is the first
+SWEEP's own: SWEEP_DIR/plots (also for SWEEP_DIR/sweep.csv), NAME-plots beside any other CSV
+NAME.csv; it is replaced only when it holds the figures of the same SWEEPs, else refused (give
+--out). A SWEEP whose folder a run is still writing (a sweep extending it) is refused, naming the
+run. Runs on Debian's python3 with python3-matplotlib (`tigris plot` starts /usr/bin/python3).
+Exit status 0 when at least one figure was written, 2 otherwise (also for a --y column without
+numbers).
 """
 import argparse
 import csv
@@ -53,6 +59,10 @@ OUTPUTS = ["sweep_*.png", "sweep_*.svg"] + [f"{n}.{e}" for n in plots.FIGURES fo
 
 
 def csv_of(arg):
+    try:                        # a sweep still running rewrites its sweep.csv as it ends
+        core.refuse_if_written(arg, "SWEEP")
+    except core.Refused as e:
+        die(str(e))
     if os.path.isdir(arg):
         path = os.path.join(arg, "sweep.csv")
         if not os.path.lexists(path):
@@ -66,6 +76,34 @@ def csv_of(arg):
     except core.Refused as e:
         die(str(e))
     return path
+
+
+def safe(name):
+    return "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in name)
+
+
+def default_out(arg, path):
+    """SWEEP/plots for a sweep folder (or its sweep.csv), NAME-plots beside another CSV: two
+    CSVs of one folder never share a default folder."""
+    if os.path.isdir(arg):
+        return os.path.join(arg, "plots")
+    d, base = os.path.split(path)
+    return os.path.join(d, "plots" if base == "sweep.csv" else safe(os.path.splitext(base)[0]) + "-plots")
+
+
+def source_names(args, paths):
+    """Each SWEEP's name in its figures' names when several are plotted: the folder's name (a
+    CSV's name without .csv; a sweep.csv: its folder's), numbered when two share one."""
+    names = []
+    for arg, path in zip(args, paths):
+        full = os.path.abspath(arg if os.path.isdir(arg) else path)
+        if not os.path.isdir(arg) and os.path.basename(full) == "sweep.csv":
+            full = os.path.dirname(full)
+        names.append(safe(os.path.splitext(os.path.basename(full))[0] if os.path.isfile(full)
+                          else os.path.basename(full)) or "sweep")
+    if len(set(names)) < len(names):
+        names = [f"{n}-{i}" for i, n in enumerate(names, 1)]
+    return names
 
 
 def read(path):
@@ -166,7 +204,8 @@ def main(argv):
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n\n".join(__doc__.split("\n\n")[1:]))
     ap.add_argument("sweeps", nargs="+", metavar="SWEEP", help="a sweep folder (with sweep.csv) or a sweep CSV")
-    ap.add_argument("--out", metavar="DIR", help="folder for the figures (default: SWEEP/plots)")
+    core.role(ap.add_argument("--out", metavar="DIR", help="folder for the figures (default: SWEEP/plots, or "
+                              "NAME-plots beside a CSV NAME.csv)"), "out_folder")
     ap.add_argument("--y", nargs="+", metavar="COLUMN",
                     help="sweep.csv columns to plot against each swept key (default: cycles energy_pj.total power_w)")
     ap.add_argument("--which", nargs="+", metavar="NAME", choices=["sweep"] + list(plots.FIGURES),
@@ -177,8 +216,12 @@ def main(argv):
     core.list_flags(ap, "plot", argv)
     a = ap.parse_args(argv)
     paths = [csv_of(s) for s in a.sweeps]
-    out = a.out or os.path.join(a.sweeps[0] if os.path.isdir(a.sweeps[0]) else
-                                os.path.dirname(os.path.abspath(paths[0])), "plots")
+    seen = {}
+    for arg, path in zip(a.sweeps, paths):
+        if os.path.realpath(path) in seen:
+            die(f"SWEEP {seen[os.path.realpath(path)]} and {arg} are one sweep CSV ({path}): give it once")
+        seen[os.path.realpath(path)] = arg
+    out = a.out or default_out(a.sweeps[0], paths[0])
     try:
         sw = ed.Sweep(paths)
     except (ValueError, OSError, core.Refused) as e:
@@ -198,21 +241,30 @@ def main(argv):
                 die(f"{path}: column {c} holds no number among the {len(ok)} ok point(s)"
                     + (f" (e.g. {example!r})" if example else " (it is empty)") + ": nothing to plot against "
                     "the swept keys; --y takes numeric columns")
+    # Every figure's name before the folder is touched: one path, one figure.
+    names, stems = source_names(a.sweeps, paths), {}
+    for i, (path, cols, rows, swept) in enumerate(tables):
+        for key in swept:
+            stem = "sweep_" + safe(key) + (f"-{names[i]}" if len(paths) > 1 else "")
+            if stem in stems.values():
+                other = next(p for (p, _), st in stems.items() if st == stem)
+                die(f"{other} and {path} would both write {stem}.png: plot them one at a time (with --out)")
+            stems[path, key] = stem
     folder = core.OutFolder(out, "plot", OUTPUTS)
-    try:
+    try:                        # a default folder holding another input's figures is kept
         folder.claim(settings={"sweeps": [os.path.abspath(p) for p in paths]}, resume=False,
-                     input_paths=[("SWEEP", p) for p in paths])
+                     input_paths=[("SWEEP", p) for p in paths], only_same=not a.out)
     except core.Refused as e:
-        die(str(e))
+        die(str(e) + ("" if a.out else f"\n({out} is the default --out of SWEEP {a.sweeps[0]})"))
     rc = 2
     try:
-        rc = draw(a, paths, tables, sw, workload, out, plots.sweep_footer(paths, folder.argv))
+        rc = draw(a, paths, tables, stems, sw, workload, out, plots.sweep_footer(paths, folder.argv))
         return rc
     finally:
         folder.finish(rc)
 
 
-def draw(a, paths, tables, sw, workload, out, footer):
+def draw(a, paths, tables, stems, sw, workload, out, footer):
     written = []
     if not a.which or "sweep" in a.which:
         for path, cols, rows, swept in tables:
@@ -231,7 +283,7 @@ def draw(a, paths, tables, sw, workload, out, footer):
                     continue
                 fig, notes = sweep_figure(key, ok, swept, ys, workload)
                 core.add_footer(fig, footer)
-                stem = os.path.join(out, "sweep_" + "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in key))
+                stem = os.path.join(out, stems[path, key])
                 core.save_figure(fig, stem + ".png", dpi=110)
                 core.save_figure(fig, stem + ".svg")
                 plt.close(fig)

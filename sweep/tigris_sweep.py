@@ -414,7 +414,9 @@ class Spec:
             if not isinstance(v, str) or not v.strip():
                 raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a {what} name, got {json.dumps(v)}"))
             if canon == self.command.preset_flag and is_preset_name(v):
-                v = self.tig.preset_file(v, lambda msg: SpecError(self._at(loc, msg)))
+                # Kept as written (the CSV's cell, the point's name), resolved in args().
+                self.tig.preset_file(v, lambda msg: SpecError(self._at(loc, msg)))
+                return v
             full = os.path.join(self.dir, v)
             if not (os.path.isdir(full) if what == "folder" else os.path.isfile(full)):
                 raise SpecError(self._at(loc, f"no such {what}: {full} (relative paths are relative to "
@@ -453,6 +455,8 @@ class Spec:
             if k in self.tig.switches:
                 a += [f"--{k}"] if v else []
                 continue
+            if k == self.command.preset_flag and is_preset_name(v):
+                v = self.tig.preset_file(v, SpecError)
             a += [f"--{k}", os.path.join(self.dir, v) if k in self.command.paths else cli_value(v)]
         for k in sorted(k for k in params if k not in self.tig.flags):
             a += ["--set", f"{k}={cli_value(params[k])}"]
@@ -476,7 +480,7 @@ class Spec:
             if tuple(args) in seen:
                 continue
             seen.add(tuple(args))
-            pid = ",".join(f"{k}={_id_value(k, o[k])}" for k in sorted(o)) or "base"
+            pid = ",".join(f"{k}={_id_value(k, o[k], self.command.preset_flag)}" for k in sorted(o)) or "base"
             pts.append({"id": pid, "own": o, "params": params, "args": args})
             ids.setdefault(pid, []).append(pts[-1])
         for pid, same in ids.items():            # names that sanitise alike or are too long
@@ -487,8 +491,13 @@ class Spec:
         return pts
 
 
-def _id_value(key, v):
-    s = os.path.basename(v) if any(key in c.paths for c in COMMANDS.values()) else cli_value(v)
+def _id_value(key, v, preset_flag=None):
+    """A point's name for a value: a path's file name; for the preset flag, a preset's name and a
+    file's relative path as written (./top-6: ._top-6), so the two never read alike."""
+    if key == preset_flag and not os.path.isabs(v):
+        s = v
+    else:
+        s = os.path.basename(v) if any(key in c.paths for c in COMMANDS.values()) else cli_value(v)
     return re.sub(r"[^A-Za-z0-9._+-]", "_", s) or "_"
 
 
@@ -1029,14 +1038,14 @@ def parse_args(argv):
         "point ok, 1 a point mismatched or failed, 2 bad spec, arguments or folder, 3 sbatch failed, "
         "128 + the signal when interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM).")
     ap.add_argument("spec", metavar="SPEC.json", help="sweep spec: {\"base\", \"grid\", \"points\"}")
-    ap.add_argument("--out", metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
-                    "sweep.json); rerunning into it resumes")
+    core.role(ap.add_argument("--out", metavar="DIR", help="sweep folder (points/<id>/, sweep.csv, "
+                              "sweep.json); rerunning into it resumes"), "out_folder")
     ap.add_argument("--check", action="store_true", help="validate the spec and dry-check its points, "
                     "run nothing, make no folder (with --out: also that DIR would resume it)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                     help="points run at once locally (and dry checks) (default: %(default)s)")
-    ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
-                    "script, else $TIGRIS, else build/bin/tigris of the repository)")
+    core.role(ap.add_argument("--tigris", metavar="PATH", help="tigris binary (default: the one beside this "
+                              "script, else $TIGRIS, else build/bin/tigris of the repository)"), "input")
     ap.add_argument("--slurm", action="store_true", help="run the points as one Slurm job array")
     ap.add_argument("--partition", metavar="P", help="sbatch --partition")
     ap.add_argument("--time", metavar="T", help="sbatch --time (per array task)")

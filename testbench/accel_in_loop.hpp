@@ -24,7 +24,7 @@
 #include "accel_job.hpp"
 #include "hw/config.hpp"
 #include "registration/accelerator_port.hpp"
-#include "work_guard.hpp"
+#include "sw_ref/work_guard.hpp"
 
 namespace tigris {
 

@@ -129,6 +129,7 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
   setup.num_points = static_cast<std::uint32_t>(points.size());
   setup.job = p.job;
   setup.vcd_path = extras.vcd_path;
+  setup.gtkw_path = extras.gtkw_path;
   setup.provenance = extras.provenance;
   setup.observers = extras.observers;
   setup.sim_threads = extras.sim_threads;

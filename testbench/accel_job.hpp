@@ -20,8 +20,8 @@
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/results.hpp"
 #include "sw_ref/search.hpp"
+#include "sw_ref/work_guard.hpp"
 #include "tlm/tree_image.hpp"
-#include "work_guard.hpp"
 
 namespace tigris {
 
@@ -59,7 +59,7 @@ PreparedJob prepare_job(const PointCloud& points, const PointCloud& queries, con
 
 // What a run of the job adds to the simulation: waveforms, observers, progress, host threads.
 struct SimExtras {
-  std::string vcd_path;
+  std::string vcd_path, gtkw_path;  // waveforms and their GTKWave save file (empty: none)
   std::vector<std::string> provenance;
   std::vector<hw::JobObserver*> observers;
   std::function<void(std::uint32_t done, std::uint32_t total)> progress;

@@ -8,13 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/digest.hpp"  // sha256_of_file, sha256_of_text
+
 namespace tigris {
-
-// Hex SHA-256 of a file's bytes; std::invalid_argument naming the file when it cannot be read.
-std::string sha256_of_file(const std::string& path);
-
-// Hex SHA-256 of a text (a configuration's JSON: its digest).
-std::string sha256_of_text(const std::string& text);
 
 // What made an output that is not stats.json (a VCD, a GTKWave save file, a timeline):
 // {"command_line", "inputs", "config_sha256" (of config.dump()), "commit"}.

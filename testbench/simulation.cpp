@@ -90,11 +90,10 @@ std::vector<SimOutcome> simulate(const std::vector<SimSetup>& setups, const SimP
     o.latency = benches[i].latency->json();
     if (benches[i].vcd) {
       benches[i].vcd->close();
-      const std::string& vcd = setups[i].vcd_path;
-      const std::string gtkw = gtkw_path(vcd);
       const std::uint64_t start_ps =
           static_cast<std::uint64_t>(a.start_cycle() * a.config().period() / sc_core::sc_time(1, sc_core::SC_PS));
-      write_gtkw(gtkw, vcd, *benches[i].vcd, start_ps, setups[i].provenance);
+      if (!setups[i].gtkw_path.empty())
+        write_gtkw(setups[i].gtkw_path, setups[i].vcd_path, *benches[i].vcd, start_ps, setups[i].provenance);
     }
   }
   return out;

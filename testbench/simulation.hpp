@@ -30,7 +30,8 @@ struct SimSetup {
   const PointCloud* queries = nullptr;
   std::uint32_t num_points = 0;
   HostJob job;
-  std::string vcd_path;                 // waveforms (and a GTKWave save file beside them) when not empty
+  std::string vcd_path;                 // waveforms when not empty
+  std::string gtkw_path;                // their GTKWave save file when not empty (the command's claim decides)
   std::vector<std::string> provenance;  // what made the run, for the VCD's $comment and the .gtkw
   std::function<void(hw::TigrisAccelerator&)> test_hook;  // tests: faults injected before the run
   bool reverse_construction = false;                      // tests: RUs and SUs built in reverse id order

@@ -29,6 +29,7 @@
 #include "core/out_folder.hpp"
 #include "core/slurm_array.hpp"
 #include "core/timer.hpp"
+#include "options.hpp"
 #include "python_tools.hpp"
 #include "registration/odometry_metrics.hpp"
 #include "synth_command.hpp"
@@ -165,9 +166,9 @@ ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : orde
 }  // namespace
 
 void add_odometry_options(CLI::App& app, OdometryOptions& o) {
-  CLI::Option* seq =
+  CLI::Option* seq = input_flag(
       app.add_option("--sequence", o.sequence,
-                     "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)");
+                     "KITTI-layout folder: velodyne/NNNNNN.bin, optional poses.txt (ground truth) and calib.txt (Tr)"));
   CLI::Option* syn =
       app.add_option("--synthetic", o.synthetic,
                      "Instead of --sequence: a synthetic drive of N frames with exact poses (tigris synth), "
@@ -185,14 +186,14 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
   app.add_option("--preset", o.preset, "Pipeline preset: dp4 or dp7 (as tigris register)")
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
-  app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)");
+  input_flag(app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)"));
   app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")->allow_extra_args(false);
   app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
       ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
   app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
-  app.add_option("--accel-config", o.accel_config,
-                 "With --search accel*: the accelerator's configuration, a preset's name or a JSON file")
+  input_flag(app.add_option("--accel-config", o.accel_config,
+                            "With --search accel*: the accelerator's configuration, a preset's name or a JSON file"))
       ->transform(preset_or_file());
   app.add_option("--accel-set", o.accel_sets, "With --search accel*: set one accelerator key (repeatable)")
       ->allow_extra_args(false);

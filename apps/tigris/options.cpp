@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include "core/arg_checks.hpp"
@@ -11,13 +12,13 @@
 namespace tigris {
 
 void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
-  app.add_option("--cloud", o.cloud,
-                 "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply (default: the "
-                 "built-in synthetic frame 0; without --queries the cloud is searched in itself)");
-  app.add_option("--queries", o.queries,
-                 "Query points, same formats; needs --cloud (default: the cloud itself, or with "
-                 "neither flag the built-in synthetic frame 1, the same street scanned 1 m further "
-                 "on and turned 1 degree)");
+  input_flag(app.add_option("--cloud", o.cloud,
+                            "Point cloud the KD-tree is built on: KITTI .bin, .pcd or .ply (default: the "
+                            "built-in synthetic frame 0; without --queries the cloud is searched in itself)"));
+  input_flag(app.add_option("--queries", o.queries,
+                            "Query points, same formats; needs --cloud (default: the cloud itself, or with "
+                            "neither flag the built-in synthetic frame 1, the same street scanned 1 m further "
+                            "on and turned 1 degree)"));
   app.add_option("--seed", o.seed, "Seed of the built-in synthetic frames (0 .. 2^64-1)")
       ->capture_default_str()
       ->check(uint64_text());
@@ -55,13 +56,14 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay) {
   app.add_option("--leader-width", o.leader_width,
                  "Leader result width R for nn/knn (approximate search, every_leaf; 0: k)")
       ->capture_default_str();
-  app.add_option("--dump-results", o.dump_results, "Write the results as CSV query,rank,index,dist2 (canonical order)");
-  app.add_option("--dump-schedule", o.dump_schedule,
-                 "Write the leaf-visit schedule as CSV seq,query,leaf,event (event: visit, or a "
-                 "first_leaf leader's finish)");
+  output_flag(app.add_option("--dump-results", o.dump_results,
+                             "Write the results as CSV query,rank,index,dist2 (canonical order)"));
+  output_flag(app.add_option("--dump-schedule", o.dump_schedule,
+                             "Write the leaf-visit schedule as CSV seq,query,leaf,event (event: visit, or a "
+                             "first_leaf leader's finish)"));
   if (replay) {
-    app.add_option("--schedule", o.schedule,
-                   "Replay this leaf-visit schedule (CSV seq,query,leaf,event) instead of index order");
+    input_flag(app.add_option("--schedule", o.schedule,
+                              "Replay this leaf-visit schedule (CSV seq,query,leaf,event) instead of index order"));
     app.add_flag("--redundancy", o.redundancy,
                  "Also measure the two-stage tree's redundancy (paper section 4.1) under both conventions: "
                  "nodes visited against the canonical tree (the model's), and distance computations of the "
@@ -170,16 +172,38 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderSc
   return p;
 }
 
+namespace {
+std::map<const CLI::Option*, std::string>& path_roles() {
+  static std::map<const CLI::Option*, std::string> roles;
+  return roles;
+}
+}  // namespace
+
+CLI::Option* output_flag(CLI::Option* option) {
+  path_roles()[option] = "output";
+  return option->type_name("OUTPUT");
+}
+
+CLI::Option* input_flag(CLI::Option* option) {
+  path_roles()[option] = "input";
+  return option->type_name("FILE");
+}
+
 nlohmann::json flags_json(const CLI::App& command) {
   nlohmann::json flags = nlohmann::json::array();
   for (const CLI::Option* opt : command.get_options()) {
     if (opt->get_lnames().empty()) continue;  // positional
     const bool takes_value = opt->get_expected_max() != 0;
-    flags.push_back({{"flag", opt->get_lnames().front()},
-                     {"takes_value", takes_value},
-                     {"type", takes_value ? opt->get_type_name() : ""},
-                     {"default", opt->get_default_str()},
-                     {"doc", opt->get_description()}});
+    nlohmann::json f = {{"flag", opt->get_lnames().front()},
+                        {"takes_value", takes_value},
+                        {"type", takes_value ? opt->get_type_name() : ""},
+                        {"default", opt->get_default_str()},
+                        {"doc", opt->get_description()}};
+    if (const auto it = path_roles().find(opt); it != path_roles().end())
+      f["role"] = it->second;
+    else if (f["flag"] == "out")
+      f["role"] = "out_folder";
+    flags.push_back(f);
   }
   return {{"command", command.get_name()}, {"flags", flags}};
 }

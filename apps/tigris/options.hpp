@@ -10,7 +10,7 @@
 
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
-#include "testbench/work_guard.hpp"
+#include "sw_ref/work_guard.hpp"
 
 namespace tigris {
 
@@ -38,6 +38,11 @@ struct SearchOptions {
 // `replay`: also --schedule (the golden model replays a schedule; the accelerator makes its own)
 // and --redundancy (tigris ref only).
 void add_search_options(CLI::App& app, SearchOptions& o, bool replay = false);
+
+// A flag naming a file the command writes (OUTPUT in --help, "role": "output" in --list-flags;
+// the output core claims it) or reads (FILE, "role": "input"). --out is "out_folder".
+CLI::Option* output_flag(CLI::Option* option);
+CLI::Option* input_flag(CLI::Option* option);
 
 // Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws
 // std::invalid_argument naming the flag. `scope`, `in_flight`: the leader scope and in-flight

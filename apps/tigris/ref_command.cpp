@@ -97,7 +97,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   check_work(estimate_work(tree, w.queries, params), o.limits, w.queries.size());
   const nlohmann::json inputs = search_inputs(o.cloud, o.queries, w.cloud_name, w.queries_name, "");
   FolderSpec spec{"ref", {}, nlohmann::json::object(), inputs, {"stats.json"}, false, {}};
-  spec.also_written = {o.dump_results, o.dump_schedule};
+  spec.named = {{"--dump-results", o.dump_results}, {"--dump-schedule", o.dump_schedule}};
   OutFolder folder(o.out, spec);
   ProgressReporter progress(o.schedule.empty() ? "tigris ref: queries" : "tigris ref: schedule rows");
   t0 = std::chrono::steady_clock::now();
@@ -129,6 +129,7 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
     stats["redundancy"] = redundancy_json(tree, out, w, params, split, self);
     stats["wall_seconds"]["redundancy"] = seconds_since(t0);
   }
+  folder.check_inputs();
   const std::string stats_path = o.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) {
     f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';

@@ -172,15 +172,16 @@ std::pair<double, double> parse_shell(const std::string& text, double r) {
 }  // namespace
 
 void add_register_options(CLI::App& app, RegisterOptions& o) {
-  app.add_option("--source", o.source, "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)");
-  app.add_option("--target", o.target, "Target (earlier) frame, same formats (default: synthetic frame 0)");
+  input_flag(app.add_option("--source", o.source,
+                            "Source (later) frame: KITTI .bin, .pcd or .ply (default: synthetic frame 1)"));
+  input_flag(app.add_option("--target", o.target, "Target (earlier) frame, same formats (default: synthetic frame 0)"));
   app.add_option("--seed", o.seed, "Seed of the built-in synthetic pair (0 .. 2^64-1)")
       ->capture_default_str()
       ->check(uint64_text());
   app.add_option("--preset", o.preset, "Pipeline preset: dp4 (performance) or dp7 (accuracy)")
       ->check(CLI::IsMember({"dp4", "dp7"}))
       ->capture_default_str();
-  app.add_option("--config", o.config, "Pipeline configuration JSON applied over the preset");
+  input_flag(app.add_option("--config", o.config, "Pipeline configuration JSON applied over the preset"));
   app.add_option("--set", o.sets, "Set one key, e.g. --set icp.max_iterations=30 (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--search", o.search,
@@ -201,22 +202,23 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "Error injection: normal estimation's radius searches return the points with "
                  "R1 <= d <= R2 instead of d <= r, R1 < r < R2 (r = normals.radius; sets "
                  "inject.normals_shell_inner/_outer)");
-  app.add_option("--ground-truth", o.ground_truth,
-                 "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file");
-  app.add_option("--kitti-poses", o.kitti_poses,
-                 "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)");
+  input_flag(app.add_option("--ground-truth", o.ground_truth,
+                            "Ground truth target <- source: a 4x4 or KITTI-style 3x4 row-major text file"));
+  input_flag(app.add_option("--kitti-poses", o.kitti_poses,
+                            "Ground truth from a KITTI poses.txt (camera frame, converted to the Velodyne frame)"));
   app.add_option("--kitti-frames", o.kitti_frames, "SOURCE,TARGET pose lines of --kitti-poses")->capture_default_str();
   app.add_option("--max-work", o.max_work,
                  "Stop the registration when its KD-tree searches have computed and returned more than "
                  "this many distances and neighbours (a KITTI pair takes 4e8 with dp4, 1.3e9 with dp7); 0: no limit")
       ->check(finite_range(0.0, 1e18))
       ->capture_default_str();
-  app.add_option("--record-trace", o.record_trace,
-                 "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
-                 "traces/README.md) for tigris run --trace");
-  app.add_option("--accel-config", o.accel_config,
-                 "With --search accel*: the accelerator's configuration, a preset's name or a JSON file (as tigris "
-                 "run --config; default: the built-in paper configuration)")
+  output_flag(app.add_option("--record-trace", o.record_trace,
+                             "Record every 3D KD-tree search as a workload trace (jobs, clouds, results, CPU seconds; "
+                             "traces/README.md) for tigris run --trace"));
+  input_flag(
+      app.add_option("--accel-config", o.accel_config,
+                     "With --search accel*: the accelerator's configuration, a preset's name or a JSON file (as tigris "
+                     "run --config; default: the built-in paper configuration)"))
       ->transform(preset_or_file());
   app.add_option("--accel-set", o.accel_sets,
                  "With --search accel*: set one accelerator key, e.g. --accel-set be.search_units=64 "
@@ -624,7 +626,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                    {"accelerator config", o.accel_config}})
     if (!path.empty()) inputs.push_back(input_file(role, path));
   FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}, false, {}};
-  spec.also_written = {o.record_trace};
+  spec.named = {{"--record-trace", o.record_trace}};
   OutFolder folder(o.out, spec);
 
   // The model server starts while the process is small (accel_in_loop.hpp).
@@ -678,6 +680,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   std::optional<PoseError> err;
   ordered_json doc = registration_doc(o, config, in_loop, f, r, budget->spent,
                                       in_loop ? accelerator_json(r, accel_cfg, accel_jobs) : ordered_json(), err);
+  folder.check_inputs();
   if (hooks.recorder) doc["trace"] = write_trace(o, *hooks.recorder, doc, r);
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& out) {

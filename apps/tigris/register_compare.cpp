@@ -84,6 +84,7 @@ void check_compare_flags(const CLI::App& app, const RegisterOptions& o) {
 
 int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   check_compare_flags(app, o);
+  if (o.check_flags) return 0;  // a check only: the folder is not claimed, nothing written or removed
   nlohmann::json inputs = nlohmann::json::array();
   for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
                                    {"target", o.target},
@@ -188,6 +189,8 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                   "search and host-transfer time + searches that could not be batched at their CPU time; run once "
                   "(the modeled part is deterministic)",
                   "CPU energy is not modeled: the energy column is the accelerator's only"};
+  // Every back-end read the inputs digested here at the start (each child digests them again).
+  folder.check_inputs();
   write_file(o.out + "/comparison.json",
              [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
 

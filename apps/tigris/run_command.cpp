@@ -37,20 +37,23 @@ namespace {}  // namespace
 
 void add_run_options(CLI::App& app, RunOptions& o) {
   add_search_options(app, o.search);
-  app.add_option("--config", o.config_file,
-                 "Accelerator configuration: a preset's name (tigris presets lists them, e.g. paper, dram-2x) or a "
-                 "JSON file nested by block (presets/paper.json writes out every key)")
+  input_flag(
+      app.add_option("--config", o.config_file,
+                     "Accelerator configuration: a preset's name (tigris presets lists them, e.g. paper, dram-2x) or a "
+                     "JSON file nested by block (presets/paper.json writes out every key)"))
       ->transform(preset_or_file());
   app.add_option("--set", o.settings, "Override one configuration key, e.g. --set fe.recursion_units=32 (repeatable)");
-  app.add_option("--vcd", o.vcd,
-                 "Write waveforms as VCD, and a GTKWave save file beside it (same name, .gtkw): machine-wide "
-                 "counts of RUs busy and stalled by cause, PEs busy, waiting for data and held by the write-back, "
-                 "BQB occupancy, write-back backlog; per unit its busy and stall flags, queue occupancies, query ids");
-  app.add_option("--timeline", o.timeline,
-                 "Write the run as a Chrome trace-event JSON (open in ui.perfetto.dev or "
-                 "chrome://tracing): whole-machine counters over every query (RUs and PEs busy and stalled, BQB "
-                 "occupancy, write-back backlog), and a track per RU, QDN port, SU and the write-back with a slice "
-                 "per walk, hop, BQB wait and batch and flow arrows per query, for the sampled queries");
+  output_flag(app.add_option(
+      "--vcd", o.vcd,
+      "Write waveforms as VCD, and a GTKWave save file beside it (same name, .gtkw): machine-wide "
+      "counts of RUs busy and stalled by cause, PEs busy, waiting for data and held by the write-back, "
+      "BQB occupancy, write-back backlog; per unit its busy and stall flags, queue occupancies, query ids"));
+  output_flag(
+      app.add_option("--timeline", o.timeline,
+                     "Write the run as a Chrome trace-event JSON (open in ui.perfetto.dev or "
+                     "chrome://tracing): whole-machine counters over every query (RUs and PEs busy and stalled, BQB "
+                     "occupancy, write-back backlog), and a track per RU, QDN port, SU and the write-back with a slice "
+                     "per walk, hop, BQB wait and batch and flow arrows per query, for the sampled queries"));
   app.add_option("--timeline-queries", o.timeline_queries,
                  "About how many queries the timeline's slices show (every n-th query; 0: all); its "
                  "whole-machine counters cover every query either way")
@@ -61,10 +64,11 @@ void add_run_options(CLI::App& app, RunOptions& o) {
                  "keeps everything on one (the figures are the same). Default: 2 on a machine with "
                  "two or more cores, else 1")
       ->check(CLI::Range(1, 2));
-  app.add_option("--trace", o.trace,
-                 "Replay a registration's workload trace (tigris register --record-trace): every job through the "
-                 "model as the host would run it, each query checked; per job, stage and total figures and the "
-                 "end-to-end time with the accelerator");
+  input_flag(
+      app.add_option("--trace", o.trace,
+                     "Replay a registration's workload trace (tigris register --record-trace): every job through the "
+                     "model as the host would run it, each query checked; per job, stage and total figures and the "
+                     "end-to-end time with the accelerator"));
   app.add_option("--trace-stages", o.trace_stages,
                  "With --trace: replay only these stages, comma-separated (e.g. normals,icp; default: all)");
   app.add_option("--jobs", o.jobs,
@@ -96,16 +100,22 @@ struct RunSetup {
 // What the run measured: the golden model's search, the simulation and its check.
 using RunMeasured = JobOutcome;
 
+// The files run's flags name (claimed with the output folder).
+std::vector<NamedOutput> named_outputs(const RunOptions& o) {
+  return {{"--vcd", o.vcd},
+          {"--vcd (GTKWave save file)", o.vcd.empty() ? "" : gtkw_path(o.vcd), true},
+          {"--timeline", o.timeline},
+          {"--dump-results", o.search.dump_results},
+          {"--dump-schedule", o.search.dump_schedule}};
+}
+
 // Configure: the flags, the configuration (file, --set, flags over them), the workload and its
 // tree; refuses a job that does not fit the buffers or exceeds the work limits.
 RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
+  std::vector<PathUse> outputs{{"--out (stats.json)", o.search.out + "/stats.json"}};
+  for (const NamedOutput& n : named_outputs(o)) outputs.push_back({n.flag, n.path});
   check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
-                       {{"--out (stats.json)", o.search.out + "/stats.json"},
-                        {"--vcd", o.vcd},
-                        {"--vcd (GTKWave save file)", o.vcd.empty() ? "" : gtkw_path(o.vcd)},
-                        {"--timeline", o.timeline},
-                        {"--dump-results", o.search.dump_results},
-                        {"--dump-schedule", o.search.dump_schedule}});
+                       outputs);
   RunSetup r;
   hw::AcceleratorConfig cfg;
   if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
@@ -149,9 +159,11 @@ nlohmann::json run_config_json(const RunSetup& r) {
 // an approximate run is checked against the replay of its own schedule and measured against
 // these exact results), then the accelerator, then the check. Nullopt after a deadlock, which
 // it reports.
-std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, TimelineRecorder& timeline) {
+std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, const OutFolder& folder,
+                                        TimelineRecorder& timeline) {
   SimExtras extras;
   extras.vcd_path = o.vcd;
+  if (!o.vcd.empty() && folder.writes(gtkw_path(o.vcd))) extras.gtkw_path = gtkw_path(o.vcd);
   if (!o.vcd.empty())
     extras.provenance = provenance_lines(provenance_json(o.search.command_line, r.inputs, run_config_json(r)));
   if (o.sim_threads) extras.sim_threads = o.sim_threads;
@@ -307,18 +319,18 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
                   {"stats.json"},
                   false,
                   {}};
-  spec.also_written = {o.vcd, o.vcd.empty() ? "" : gtkw_path(o.vcd), o.timeline, o.search.dump_results,
-                       o.search.dump_schedule};
+  spec.named = named_outputs(o);
   OutFolder folder(o.search.out, spec);
   const std::uint32_t shown =
       o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
   TimelineRecorder timeline(1000.0 / r.p.cfg.clock_mhz, shown);
-  const std::optional<RunMeasured> m = simulate_run(r, o, timeline);
+  const std::optional<RunMeasured> m = simulate_run(r, o, folder, timeline);
   if (!m) {
     folder.finish("failed");
     return 1;
   }
 
+  folder.check_inputs();
   if (!o.search.dump_schedule.empty())
     write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
   Accuracy accuracy;

@@ -23,12 +23,12 @@
 #include "core/json_file.hpp"
 #include "core/timer.hpp"
 #include "sw_ref/accuracy.hpp"
+#include "sw_ref/work_guard.hpp"
 #include "testbench/accel_job.hpp"
 #include "testbench/config.hpp"
 #include "testbench/report.hpp"
 #include "testbench/sampling.hpp"
 #include "testbench/simulation.hpp"
-#include "testbench/work_guard.hpp"
 #include "traces/workload_trace.hpp"
 
 namespace tigris {

@@ -198,3 +198,217 @@ def test_errors_carry_the_cli_messages(tmp_path):
         tigris.search(np.zeros((4, 3), np.float32), mode="knm")
     with pytest.raises(tigris.TigrisError, match="preset"):
         tigris.register(preset="dp99")
+
+
+# ---------------------------------------------------------------------------------- keep=DIR
+
+def snapshot(folder):
+    """Every file under `folder` with its bytes (and every folder), to compare before and after."""
+    out = {}
+    for root, dirs, files in os.walk(folder):
+        for d in dirs:
+            out[os.path.relpath(os.path.join(root, d), folder) + "/"] = None
+        for f in files:
+            with open(os.path.join(root, f), "rb") as fh:
+                out[os.path.relpath(os.path.join(root, f), folder)] = fh.read()
+    return out
+
+
+def users_folder(path, names):
+    """A folder of the user's own files under the names keep= writes: a KITTI scan with its
+    reflectance, a results table, a configuration."""
+    path.mkdir()
+    rng = np.random.default_rng(5)
+    for name in names:
+        if name.endswith(".bin"):
+            rng.random((300, 4)).astype("<f4").tofile(path / name)     # reflectance in column 4
+        else:
+            (path / name).write_text(f"the user's own {name}\n")
+    return snapshot(path)
+
+
+@pytest.mark.parametrize("function,names", [
+    ("run", ["cloud.bin", "queries.bin", "results.csv", "config.json"]),
+    ("run", ["cloud.bin"]),
+    ("run", ["results.csv"]),
+    ("register", ["source.bin", "target.bin", "pipeline.json"]),
+    ("register", ["source.bin"]),
+])
+def test_keep_refuses_a_folder_of_the_users_files(tmp_path, function, names):
+    # Issue 54, reproduction 3: keep= overwrote these (a scan's reflectance zeroed, source.bin
+    # truncated); now the rule of --out: a TigrisError naming the folder and the files, and not
+    # a byte changed (nor a file added).
+    d = tmp_path / "mine"
+    before = users_folder(d, names)
+    cloud = (np.random.default_rng(1).random((200, 3)) * 10).astype(np.float32)
+    call = (lambda: tigris.run(cloud, cloud, mode="knn", k=4, config={"fe.recursion_units": 16}, keep=str(d))) \
+        if function == "run" else (lambda: tigris.register(cloud, cloud, config={}, keep=d))
+    with pytest.raises(tigris.TigrisError) as e:
+        call()
+    msg = str(e.value)
+    assert f"keep={d}" in msg and f"tigris.{function} did not write" in msg and "nothing was written" in msg
+    for name in names:
+        assert name in msg
+    assert snapshot(d) == before
+
+
+def test_keep_a_file_is_refused(tmp_path):
+    f = tmp_path / "notes.txt"
+    f.write_text("mine\n")
+    cloud = np.zeros((4, 3), np.float32)
+    for call in (lambda: tigris.run(cloud, keep=f), lambda: tigris.register(cloud, cloud, keep=str(f))):
+        with pytest.raises(tigris.TigrisError, match=f"keep={f}: {f} exists and is not a folder"):
+            call()
+    assert f.read_text() == "mine\n" and sorted(os.listdir(tmp_path)) == ["notes.txt"]
+    with pytest.raises(ValueError, match="keep must name a folder"):
+        tigris.run(cloud, keep="")
+
+
+def test_keep_folder_reused_and_its_record(pair, tmp_path):
+    # The job's files in DIR itself (the command's --out): stats.json, results.csv, manifest.json
+    # beside the module's inputs and their record; a second call into it replaces them.
+    _, cloud, queries = pair
+    d = tmp_path / "job"
+    first = tigris.run(cloud, queries, mode="knn", k=8, config={"fe.recursion_units": 16}, keep=d)
+    assert sorted(os.listdir(d)) == ["cloud.bin", "config.json", "keep.json", "manifest.json", "queries.bin",
+                                      "results.csv", "stats.json"]
+    assert json.load(open(d / "stats.json")) == first.stats
+    manifest = json.load(open(d / "manifest.json"))
+    assert manifest["command"] == "run" and manifest["status"] == "done"
+    assert np.array_equal(tigris.load_cloud(d / "queries.bin"), queries)
+    # Again with other settings and no queries: queries.bin and config.json (this module's,
+    # unchanged) go; the job is the same as one without keep=.
+    again = tigris.run(cloud, mode="knn", k=4, keep=str(d))
+    assert sorted(os.listdir(d)) == ["cloud.bin", "keep.json", "manifest.json", "results.csv", "stats.json"]
+    assert again.cycles == tigris.run(cloud, mode="knn", k=4).cycles
+    assert np.array_equal(again.indices, tigris.search(cloud, mode="knn", k=4).indices)
+    # A run the command refuses: its message, not the earlier run's stats.json; the folder stays
+    # the module's (the next call into it runs).
+    with pytest.raises(tigris.TigrisError, match="fe.recursion_unit.*did you mean"):
+        tigris.run(cloud, mode="knn", k=4, config={"fe.recursion_unit": 3}, keep=d)
+    assert tigris.run(cloud, mode="knn", k=4, keep=d).cycles == again.cycles
+    # The user changes the module's cloud.bin (or adds a file): refused, nothing written.
+    with open(d / "cloud.bin", "r+b") as f:
+        f.seek(12)
+        f.write(np.float32(0.75).tobytes())                   # a reflectance of their own
+    (d / "notes.txt").write_text("mine\n")
+    before = snapshot(d)
+    with pytest.raises(tigris.TigrisError, match=r"did not write \(notes.txt\) and a file tigris.run wrote "
+                                                 r"that has changed since \(cloud.bin\)"):
+        tigris.run(cloud, keep=d)
+    assert snapshot(d) == before
+
+
+def test_keep_after_a_refused_first_call(tmp_path):
+    # The command refused the first call before writing its record: the folder holds only the
+    # module's files (and keep.json), and the next call into it runs.
+    d = tmp_path / "job"
+    cloud = (np.random.default_rng(1).random((300, 3)) * 10).astype(np.float32)
+    with pytest.raises(tigris.TigrisError, match="fe.recursion_unit.*did you mean"):
+        tigris.run(cloud, config={"fe.recursion_unit": 3}, keep=d)
+    assert sorted(os.listdir(d)) == ["cloud.bin", "config.json", "keep.json"]
+    assert tigris.run(cloud, keep=d).verdict == "match"
+    assert sorted(os.listdir(d)) == ["cloud.bin", "keep.json", "manifest.json", "results.csv", "stats.json"]
+
+
+def test_keep_folder_of_the_command_line_and_of_another_function(pair, tmp_path):
+    d, cloud, queries = pair
+    out = tmp_path / "cli"
+    cli("run", "--cloud", str(d / "cloud.bin"), "--out", str(out))
+    job = tigris.run(cloud, keep=out)                          # `tigris run --out` wrote it: the rule of --out
+    assert job.verdict == "match" and "cloud.bin" in os.listdir(out)
+    before = snapshot(out)
+    with pytest.raises(tigris.TigrisError, match="holds the output of tigris run, not of tigris register"):
+        tigris.register(cloud, cloud, keep=out)
+    assert snapshot(out) == before
+
+
+def test_keep_folder_in_use_is_refused(tmp_path):
+    import fcntl
+    d = tmp_path / "busy"
+    d.mkdir()
+    fd = os.open(d, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)        # as a running tigris holds it
+        with pytest.raises(tigris.TigrisError, match="another run is writing into this folder"):
+            tigris.run(np.zeros((4, 3), np.float32), keep=d)
+    finally:
+        os.close(fd)
+    assert os.listdir(d) == []
+
+
+def test_register_keep(tmp_path):
+    d = tmp_path / "reg"
+    reg = tigris.register(keep=d, config={})
+    assert sorted(os.listdir(d)) == ["keep.json", "manifest.json", "pipeline.json", "registration.json"]
+    assert json.load(open(d / "registration.json"))["status"] == reg.status
+    again = tigris.register(keep=d)
+    assert np.array_equal(again.transform, reg.transform)
+    assert sorted(os.listdir(d)) == ["keep.json", "manifest.json", "registration.json"]
+
+
+# -------------------------------------------------------------- whole numbers, indices, flags
+
+@pytest.mark.parametrize("kw,message", [
+    ({"mode": "knn", "k": 2.5}, "k must be a whole number from 1 to 2147483647, got 2.5"),
+    ({"mode": "knn", "k": 2.0}, "k must be a whole number from 1 to 2147483647, got 2.0"),
+    ({"mode": "knn", "k": 2**31}, "k must be a whole number from 1 to 2147483647, got 2147483648"),
+    ({"mode": "knn", "k": 0}, "k must be a whole number from 1 to 2147483647, got 0"),
+    ({"mode": "knn", "k": True}, "k must be a whole number"),
+    ({"mode": "radius", "max_nn": -1}, "max_nn must be a whole number from 0 to 4294967295, got -1"),
+    ({"mode": "radius", "max_nn": 2**32}, "max_nn must be a whole number from 0 to 4294967295"),
+    ({"mode": "radius", "max_nn": 2.5}, "max_nn must be a whole number from 0 to 4294967295, got 2.5"),
+    ({"approx_thd": 1, "leader_capacity": 2**40}, "leader_capacity must be a whole number from 0 to 2147483647"),
+    ({"approx_thd": 1, "leader_capacity": 1.5}, "leader_capacity must be a whole number"),
+    ({"approx_thd": 1, "leader_width": -1}, "leader_width must be a whole number from 0 to 2147483647"),
+    ({"height": 2.5}, "height must be 'full' or a whole number from 0 to 30, got 2.5"),
+])
+def test_whole_number_arguments(kw, message):
+    # Issue 54, reproduction 11 and the unclear errors: k=2.5 searched with k=2, k=2**31,
+    # max_nn=-1 and leader_capacity=2**40 were pybind11's TypeError dumps.
+    cloud = (np.random.default_rng(1).random((50, 3)) * 10).astype(np.float32)
+    escaped = message.replace("(", r"\(").replace(")", r"\)")
+    with pytest.raises(ValueError, match=escaped):
+        tigris.search(cloud, **kw)
+    with pytest.raises(ValueError, match=escaped):        # run checks them before the binary
+        tigris.run(cloud, **kw)
+    assert tigris.search(cloud, mode="knn", k=np.int64(3)).indices.shape == (50, 3)   # NumPy ints are whole
+
+
+def test_whole_number_flags_and_seed():
+    cloud = np.zeros((4, 3), np.float32)
+    with pytest.raises(ValueError, match="leader_capacity must be a whole number from 0 to 2147483647, got 8.5"):
+        tigris.run(cloud, approx_thd=1, leader_capacity=8.5)
+    with pytest.raises(ValueError, match="jobs must be a whole number"):
+        tigris.register(jobs=1.5)
+    with pytest.raises(ValueError, match="seed must be a whole number from 0 to 18446744073709551615, got 1.5"):
+        tigris.synthetic_pair(1.5)
+
+
+def test_neighbors_index_range():
+    # Issue 54, reproduction 11: neighbors(-1) was empty and neighbors(-2) the last query's.
+    cloud = (np.random.default_rng(2).random((30, 3)) * 10).astype(np.float32)
+    for mode in ("knn", "radius"):
+        r = tigris.search(cloud, mode=mode, k=3, radius=3.0)
+        idx, d2 = r.neighbors(29)
+        a, b = int(r.offsets[29]), int(r.offsets[30])
+        assert np.array_equal(idx, r.indices.reshape(-1)[a:b]) and np.array_equal(d2, r.dist2.reshape(-1)[a:b])
+        for q in (-1, -2, 30, 10**12):
+            with pytest.raises(IndexError, match=rf"query {q} is out of range: the result holds 30 queries, 0 \.\. 29"):
+                r.neighbors(q)
+        with pytest.raises(TypeError, match="whole number"):
+            r.neighbors(1.5)
+
+
+@pytest.mark.parametrize("function,flag,message", [
+    ("run", "list_config", r"list_config is not an option of tigris.run: .*tigris.config_keys\(\)"),
+    ("run", "stats_schema", "stats_schema is not an option of tigris.run"),
+    ("run", "out", "keep=DIR"),
+    ("run", "dump_results", "dump_results is not an option of tigris.run"),
+    ("register", "list_config", "list_config is not an option of tigris.register"),
+    ("register", "compare", "compare is not an option of tigris.register"),
+])
+def test_flags_that_run_nothing(function, flag, message):
+    # Issue 54: run(list_config=True) was TigrisError "no message".
+    with pytest.raises(ValueError, match=message):
+        getattr(tigris, function)(**{flag: True if flag not in ("out", "dump_results") else "x"})

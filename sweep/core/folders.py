@@ -1,6 +1,6 @@
 """Output folders: the one way a tool owns its --out (the C++ twin: core/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
-import fcntl, fnmatch, json, os, shutil, sys, time
+import fcntl, fnmatch, json, os, shlex, shutil, sys, time
 from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc, tigris_commit
 from .inputs import read_json_input
 
@@ -129,10 +129,13 @@ class OutFolder:
                               f"another {self.flag}")
 
     # -- the claim
-    def claim(self, settings=None, inputs=(), resume=True, all_inputs_must_match=True, input_paths=()):
+    def claim(self, settings=None, inputs=(), resume=True, all_inputs_must_match=True, input_paths=(),
+              only_same=False):
         """Creates or checks the folder, locks it, compares or clears an earlier run, writes the
         manifest. inputs: identities (input_identity) compared on resume; input_paths: (flag,
-        path) of every input, none of which may be an output. Raises Refused (exit 2)."""
+        path) of every input, none of which may be an output; only_same (with resume False): an
+        earlier run is cleared only when its settings and inputs were these (a default folder is
+        never another input's run lost without a word). Raises Refused (exit 2)."""
         self.check_path()
         self.check_inputs(input_paths)
         try:
@@ -162,6 +165,11 @@ class OutFolder:
                                       + f"\nrerun as before, or use another {self.flag} (or remove {self.given} "
                                       "to start afresh)")
                 else:
+                    changed = self._changes(old, settings, inputs, all_inputs_must_match) if only_same else []
+                    if changed:
+                        raise Refused(f"{self.given} holds the output of another run of tigris {self.command}, "
+                                      "which is kept:\n  " + "\n  ".join(changed) + f"\ngive {self.flag} for "
+                                      f"this one, or remove {self.given} to replace it")
                     self._remove_outputs(old)
             self._remove_temporaries()
             self.old = old
@@ -381,6 +389,41 @@ class OutFolder:
         if self.fd is not None:
             os.close(self.fd)                    # the lock goes with the descriptor
             self.fd = None
+
+
+def refuse_if_written(path, name, enclosing=False):
+    """An input (a file or folder) whose folder a run still writes into is refused, naming that
+    run: its files are half made or stale (a sweep writes sweep.csv as it ends). enclosing: the
+    folders above it too (a sweep's point before its run has started). A run writes: its
+    manifest says running with a live pid, and its lock is held (else the pid is another's)."""
+    d = path if os.path.isdir(path) else os.path.dirname(os.path.abspath(path))
+    folders = [os.path.abspath(d)]
+    while enclosing and os.path.dirname(folders[-1]) != folders[-1]:
+        folders.append(os.path.dirname(folders[-1]))
+    for d in folders:
+        try:
+            m = read_json_input(os.path.join(d, MANIFEST), MANIFEST)
+        except Refused:
+            continue
+        pid = m.get("pid") if isinstance(m, dict) and m.get("status") == "running" else None
+        if not (isinstance(pid, int) and _alive(pid)):
+            continue
+        try:
+            fd = os.open(d, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        except BlockingIOError:
+            argv = m.get("argv")
+            cmd = shlex.join([os.path.basename(argv[0])] + argv[1:]) if isinstance(argv, list) and argv and \
+                all(isinstance(x, str) for x in argv) else f"tigris {m.get('command')}"
+            cmd = cmd if len(cmd) <= 200 else cmd[:197] + "..."
+            who = "" if os.path.isdir(path) and os.path.samefile(path, d) else f": {d}"
+            raise Refused(f"{name} {path}{who} is still being written by pid {pid} ({cmd}): its files are "
+                          "not final; wait until that run has finished")
+        finally:
+            os.close(fd)
 
 
 def exit_status(exc):

@@ -817,19 +817,29 @@ def test_inputs_that_are_devices():
             assert p.seconds < 10 and not any(os.path.exists(os.path.join(d, f"o{i}")) for i in range(1, 5)), (name, args)
 
 
+ROLES = {"sweep": {"out": "out_folder", "tigris": "input"},
+         "reproduce": {"out": "out_folder", "cloud": "input", "queries": "input", "tigris": "input",
+                       "driver": "input", "dse": "input", "variants-file": "input"},
+         "diff": {}, "plot": {"out": "out_folder"},
+         "pipeline-dse": {"out": "out_folder", "space": "input", "sequence": "input", "tigris": "input"}}
+
+
 def test_list_flags():
     """#23: --list-flags on sweep, reproduce, diff, plot and pipeline-dse prints the command's flags
-    as JSON in the format of the C++ commands' (`tigris run --list-flags`)."""
+    as JSON in the format of the C++ commands' (`tigris run --list-flags`). #54: a path flag has a
+    "role" (output, out_folder, input), other flags none."""
     ref = json.loads(subprocess.run([a.tigris, "run", "--list-flags"], capture_output=True, text=True).stdout)
-    keys = set(ref["flags"][0])
+    keys = set(ref["flags"][0]) - {"role"}
     for name, some in (("sweep", "jobs"), ("reproduce", "quick"), ("diff", "all"), ("plot", "which"),
                        ("pipeline-dse", "samples")):
         p = tool(name, "--list-flags")
         clean(p, 0)
         j = json.loads(p.stdout)
-        assert j["command"] == name and all(set(f) == keys for f in j["flags"]), j
+        assert j["command"] == name and all(set(f) - {"role"} == keys for f in j["flags"]), j
         by = {f["flag"]: f for f in j["flags"]}
         assert some in by and by[some]["doc"] and "list-flags" in by and "help" in by, sorted(by)
+        roles = {f["flag"]: f["role"] for f in j["flags"] if "role" in f}
+        assert roles == ROLES[name], (name, roles)
     via = subprocess.run([a.tigris, "sweep", "--list-flags"], capture_output=True, text=True)
     assert via.returncode == 0 and json.loads(via.stdout)["command"] == "sweep", via.stderr
 
@@ -876,6 +886,157 @@ def test_parent_only_sigterm():
         assert json.load(open(os.path.join(d, "p", "manifest.json")))["status"] == "interrupted"
 
 
+# ---------------------------------------------------------------------------------- issue 54
+
+def tree(folder):
+    """{relative path: bytes} of every file under folder: what a command must leave as it was."""
+    out = {}
+    for root, _, files in os.walk(folder):
+        for f in files:
+            out[os.path.relpath(os.path.join(root, f), folder)] = digest(os.path.join(root, f))
+    return out
+
+
+def two_height_sweeps(d):
+    """Two sweeps of one key (height) into d/sw/s1 and d/sw/s2."""
+    small_workload(d, 200, 50)
+    w = {"cloud": "cloud.bin", "queries": "queries.bin"}
+    for name, hs in (("s1", [4, 5]), ("s2", [6, 7])):
+        sweep(a, write_spec(d, {"base": w, "grid": {"height": hs}}, f"{name}.json"), "--out",
+              os.path.join(d, "sw", name), "--tigris", a.tigris, check=0)
+    return os.path.join(d, "sw", "s1"), os.path.join(d, "sw", "s2")
+
+
+def test_plot_two_sources_one_key():
+    """#54.4: `plot sw/s1 sw/s2 --out P`, both sweeping height, wrote P/sweep_height.png twice (the
+    second survived): each sweep's figure carries its name; one CSV given twice is refused."""
+    with Workdir(a, "core") as d:
+        s1, s2 = two_height_sweeps(d)
+        before = tree(os.path.join(d, "sw"))
+        P = os.path.join(d, "P")
+        p = tool("plot", s1, s2, "--out", P, "--which", "sweep", timeout=300)
+        clean(p, 0, "sweep_height-s1.png", "sweep_height-s2.png")
+        assert p.stderr.count("wrote ") == 2, p.stderr
+        assert sorted(os.listdir(P)) == ["manifest.json", "sweep_height-s1.png", "sweep_height-s1.svg",
+                                         "sweep_height-s2.png", "sweep_height-s2.svg"], os.listdir(P)
+        assert digest(os.path.join(P, "sweep_height-s1.svg")) != digest(os.path.join(P, "sweep_height-s2.svg"))
+        # two sweeps of one name: numbered by their place
+        os.makedirs(os.path.join(d, "x"))
+        os.symlink(s2, os.path.join(d, "x", "s1"))
+        Q = os.path.join(d, "Q")
+        p = tool("plot", s1, os.path.join(d, "x", "s1"), "--out", Q, "--which", "sweep", timeout=300)
+        clean(p, 0, "sweep_height-s1-1.png", "sweep_height-s1-2.png")
+        was = tree(P)
+        clean(tool("plot", s1, os.path.join(s1, "sweep.csv"), "--out", P), 2, "give it once", "s1")
+        assert tree(P) == was and tree(os.path.join(d, "sw")) == before
+
+
+def test_plot_default_folder_per_input():
+    """#54.5: `plot two/a.csv` then `plot two/b.csv` both wrote two/plots/, the second deleting
+    a.csv's figures: each CSV has its own default (two/a-plots, two/b-plots); a default folder
+    holding another plot's figures is kept, the plot refused."""
+    with Workdir(a, "core") as d:
+        s1, s2 = two_height_sweeps(d)
+        two = os.path.join(d, "two")
+        os.mkdir(two)
+        for name, src in (("a.csv", s1), ("b.csv", s2)):
+            with open(os.path.join(two, name), "wb") as f:
+                f.write(digest(os.path.join(src, "sweep.csv")))
+        clean(tool("plot", os.path.join(two, "a.csv"), "--which", "sweep", timeout=300), 0, "a-plots")
+        first = tree(os.path.join(two, "a-plots"))
+        assert "sweep_height.png" in first, first
+        csvs = {n: digest(os.path.join(two, n)) for n in ("a.csv", "b.csv")}
+        clean(tool("plot", os.path.join(two, "b.csv"), "--which", "sweep", timeout=300), 0, "b-plots")
+        assert tree(os.path.join(two, "a-plots")) == first
+        assert sorted(os.listdir(two)) == ["a-plots", "a.csv", "b-plots", "b.csv"], os.listdir(two)
+        # a sweep folder: SWEEP/plots; several sweeps write the first's, which another plot then keeps
+        clean(tool("plot", s1, s2, "--which", "sweep", timeout=300), 0, "sweep_height-s2.png")
+        both = tree(os.path.join(s1, "plots"))
+        p = tool("plot", s1, "--which", "sweep", timeout=300)
+        clean(p, 2, "holds the output of another run of tigris plot", "give --out",
+              "is the default --out of SWEEP " + s1)
+        assert tree(os.path.join(s1, "plots")) == both
+        clean(tool("plot", s1, s2, "--which", "sweep", timeout=300), 0)        # the same sweeps: replaced
+        assert {n: digest(os.path.join(two, n)) for n in csvs} == csvs
+
+
+def test_read_while_written():
+    """#54.10: `plot` of a sweep folder that `tigris sweep` is extending plotted the stale
+    sweep.csv (exit 0), and `diff` of its point not yet run said "holds no stats.json": both are
+    refused (exit 2) naming the folder, the sweep's pid and command line; nothing is written."""
+    with Workdir(a, "hostile") as d:
+        small_workload(d, 300, 100)
+        w = {"cloud": "cloud.bin", "queries": "queries.bin"}
+        out = os.path.join(d, "out")
+        sweep(a, write_spec(d, {"base": w, "grid": {"seed": [1, 2]}}), "--out", out, "--tigris", a.tigris, check=0)
+        fake = wrapper(d, "slow-tigris", SLOW)
+        spec = write_spec(d, {"base": w, "grid": {"seed": [1, 2, 9]}})
+        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--tigris", fake)
+        drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env)
+        try:
+            t0 = time.monotonic()
+            while not os.path.exists(os.path.join(d, "slow.sleep.pid")):
+                assert drv.poll() is None and time.monotonic() - t0 < 60, "the sweep did not get going"
+                time.sleep(0.02)
+            before = tree(out)
+            for args in ([out], [os.path.join(out, "sweep.csv")]):
+                clean(tool("plot", *args), 2, args[0], "still being written", f"pid {drv.pid}",
+                      f"tigris sweep {spec}")
+            p = tool("diff", os.path.join(out, "points", "seed=1"), os.path.join(out, "points", "seed=9"))
+            clean(p, 2, "seed=9", out, "still being written", f"pid {drv.pid}", "tigris sweep")
+            assert "holds no stats.json" not in p.stderr
+            p = tool("diff", os.path.join(out, "points", "seed=1"), os.path.join(out, "points", "seed=2"))
+            assert p.returncode in (0, 1) and not p.stderr, p.stderr       # finished points: compared
+            assert tree(out) == before and not os.path.exists(os.path.join(out, "plots"))
+        finally:
+            drv.send_signal(signal.SIGTERM)
+            drv.communicate(timeout=60)
+        clean(tool("plot", out, "--which", "sweep", timeout=300), 0)           # it has stopped: plotted
+
+
+def test_sweep_dir_without_core():
+    """#54: TIGRIS_SWEEP_DIR at a copy of sweep/ without core/ gave a traceback: one line naming
+    the variable and the folder, exit 2."""
+    with Workdir(a, "core") as d:
+        pkg = os.path.join(d, "sweep")
+        os.mkdir(pkg)
+        here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        for f in os.listdir(here):
+            if f.endswith(".py"):
+                with open(os.path.join(pkg, f), "wb") as g:
+                    g.write(digest(os.path.join(here, f)))
+        for args in (["plot", "--help"], ["diff", "a", "b"], ["sweep", "--list-flags"]):
+            p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=60,
+                               env=dict(os.environ, TIGRIS_SWEEP_DIR=pkg))
+            clean(p, 2, f"TIGRIS_SWEEP_DIR={pkg}", "has no core/")
+            assert len(p.stderr.strip().splitlines()) == 1 and not p.stdout, p.stderr
+
+
+def test_preset_and_file_of_one_name():
+    """#54: `config: ["NAME", "./NAME"]` (a preset, a local file) named the file's point config=NAME
+    and the preset's config=NAME.json with its path in the CSV: the preset is named as written, the
+    file by its path as written (config=._NAME), and each ran what it names."""
+    with Workdir(a, "core") as d:
+        small_workload(d, 200, 50)
+        presets = json.loads(subprocess.run([a.tigris, "presets", "--json"], capture_output=True, text=True,
+                                            check=True).stdout)["presets"]
+        name, file = presets[0]["name"], presets[0]["file"]
+        with open(os.path.join(d, name), "wb") as f:
+            f.write(digest(file))
+        spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"},
+                              "grid": {"config": [name, "./" + name]}})
+        kept = {p: digest(p) for p in (spec, os.path.join(d, name), file)}
+        out = os.path.join(d, "sw")
+        clean(sweep(a, spec, "--out", out, "--tigris", a.tigris), 0, f"config={name} ", f"config=./{name} ")
+        _, rows = read_csv(os.path.join(out, "sweep.csv"))
+        got = [(r["point"], r["config"]) for r in rows]
+        assert got == [(f"config={name}", name), (f"config=._{name}", "./" + name)], got
+        ran = [json.load(open(os.path.join(out, "points", r["point"], "point.json")))["command"] for r in rows]
+        assert ran[0][ran[0].index("--config") + 1] == file, ran[0]
+        assert ran[1][ran[1].index("--config") + 1] == os.path.join(d, "./" + name), ran[1]
+        assert {p: digest(p) for p in kept} == kept
+
+
 if __name__ == "__main__":
     run_tests([test_empty_paths, test_one_setting_two_ways, test_hostile_spec_files, test_unwritable_folders,
                test_damaged_plan, test_cloud_alone_and_queries_alone, test_dry_check_progress,
@@ -883,4 +1044,6 @@ if __name__ == "__main__":
                test_reproduce_keeps_its_workload, test_reproduce_tiny_cloud,
                test_sweep_spec_inside_out, test_concurrent_sweeps, test_changed_input_resume,
                test_pipeline_dse_space_and_frames, test_diff_hostile, test_plot_hostile, test_inputs_that_are_devices,
-               test_list_flags, test_parent_only_sigterm, test_spec_fuzz])
+               test_list_flags, test_parent_only_sigterm, test_plot_two_sources_one_key,
+               test_plot_default_folder_per_input, test_read_while_written, test_sweep_dir_without_core,
+               test_preset_and_file_of_one_name, test_spec_fuzz])
