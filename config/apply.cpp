@@ -29,6 +29,18 @@ using nlohmann::json;
   throw std::invalid_argument(source + ": '" + k.name + "' " + what);
 }
 
+// A named value is written by its name on the command line: "-1" is not "auto", and "-0" of a
+// key that takes no negative number is not "off" either.
+void check_sign_and_names(const Key& k, const std::string& text, double x, const std::string& source) {
+  const Allowed& a = k.spec.allowed;
+  for (const auto& n : a.names)
+    if (x == n.value && (x < a.lo || x > a.hi || (a.lo_open && x == a.lo)))
+      key_error(source, k,
+                "= " + text + " is out of range (" + describe(k) + "); write '" + n.name + "' for " + n.name);
+  if (!text.empty() && text[0] == '-' && a.lo >= 0)
+    key_error(source, k, "= " + text + " is out of range (" + describe(k) + "): no negative value");
+}
+
 // A --set value as the JSON value a file would hold, per the key's type; the value's range is
 // then checked on the file's path.
 json parse_text(const Key& k, const std::string& text, const std::string& source) {
@@ -59,6 +71,7 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
           text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ? 0.0 : std::strtod(first, &end);
       // ERANGE on underflow still gives the nearest number (a denormal, or 0): the range decides.
       if (end != last || (errno == ERANGE && std::abs(x) == HUGE_VAL)) return fail(number);
+      check_sign_and_names(k, text, x, source);
       return x;
     }
     case Type::Integer:
@@ -75,6 +88,7 @@ json parse_text(const Key& k, const std::string& text, const std::string& source
         return fail(!is_int         ? std::string("a whole number of bytes")
                     : names.empty() ? std::string("an integer")
                                     : "an integer or '" + names[0].name + "'");
+      if (is_int) check_sign_and_names(k, text, static_cast<double>(i), source);
       return is_int ? json(i) : json(u);
     }
   }

@@ -61,6 +61,10 @@ void write_record() {
   if (ok) ::rename(g_record_tmp, g_record_path);
 }
 
+// What a rerun does with the folder the command claimed (set_rerun_note): a literal, read by
+// the signal handler.
+std::atomic<const char*> g_rerun{""};
+
 void on_stop(int sig) {
   g_stop = sig;
   if (g_defer.load() > 0) return;  // the loop that deferred stops by itself
@@ -91,7 +95,9 @@ void on_stop(int sig) {
   write_record();
   say(g_command);
   say(sig == SIGINT ? ": interrupted (SIGINT)" : sig == SIGHUP ? ": interrupted (SIGHUP)" : ": interrupted (SIGTERM)");
-  say(": child processes stopped; a rerun of the same command resumes where it can\n");
+  say(": child processes stopped");
+  say(g_rerun.load());
+  say("\n");
   ::_exit(128 + sig);
 }
 
@@ -222,6 +228,11 @@ Interrupted::Interrupted(int sig)
                                           : "SIGTERM") +
                          ")"),
       signal(sig) {}
+
+void set_rerun_note(bool resumes) {
+  g_rerun.store(resumes ? "; a rerun of the same command resumes where it can"
+                        : "; a rerun of the same command starts afresh (the folder's results are replaced)");
+}
 
 void set_interrupted_record(const std::string& path, const std::string& bytes) {
   g_record_size.store(0);

@@ -89,9 +89,11 @@ std::vector<std::string> changes(const json& old, const FolderSpec& now) {
     const std::string what = "input " + role + (in.contains("path") ? " (" + in["path"].get<std::string>() + ")" : "");
     if (it == was.end())
       out.push_back(what + ": not an input of the earlier run");
-    else if (it->second.value("path", "") != in.value("path", ""))
+    else if (it->second.value("path", "") != in.value("path", "") &&
+             !(in.contains("sha256") && it->second.value("sha256", std::string()) == in["sha256"].get<std::string>()))
+      // The same bytes under another path (a moved prefix's preset, a copied input) are the same input.
       out.push_back(what + ": the earlier run read " + it->second.value("path", std::string("a built-in input")));
-    else if (it->second != in)
+    else if (json a = it->second, b = in; a.erase("path"), b.erase("path"), a != b)
       out.push_back(what + ": content changed (" + std::to_string(it->second.value("bytes", 0ull)) + " -> " +
                     std::to_string(in.value("bytes", 0ull)) + " bytes, sha256 " +
                     it->second.value("sha256", std::string("-")).substr(0, 12) + " -> " +
@@ -268,6 +270,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
                  {"started", utc_now()},
                  {"finished", nullptr}};
     write_manifest("running");
+    set_rerun_note(spec_.resumable);
   } catch (...) {
     ::close(fd_);
     fd_ = -1;

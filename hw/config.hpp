@@ -123,6 +123,7 @@ struct AcceleratorConfig {
     int capacity_per_leaf = 16;
     LeaderScope scope = LeaderScope::FirstLeaf;
     LeaderInFlight in_flight = LeaderInFlight::Wait;
+    int width = 0;  // every_leaf, NN/kNN: R, the nearest points a leader keeps for its followers (0: k)
 
     template <class V>
     void visit(V&& v) {
@@ -138,6 +139,10 @@ struct AcceleratorConfig {
          "first_leaf: what a Leader Check sees of leaders still searching: wait (a leader counts from its "
          "check; its followers park until its final list is written) or finished_only (a leader counts "
          "once its record has reached the Leader Buffer)"});
+      v("width", width,
+        {"points", in(0, kMaxUnits),
+         "every_leaf, NN/kNN: R, the nearest points of the leaf a leader keeps for its followers (0: k; "
+         "--leader-width)"});
     }
   } leader;
 

@@ -119,6 +119,12 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
     throw std::invalid_argument(
         "waveforms and timelines show every query, and sampled simulation (sim.sampling) simulates a part: set "
         "sim.sampling=off for them");
+  if (plan.sampled && !extras.every_query.empty())
+    throw std::invalid_argument(extras.every_query +
+                                " needs every query simulated, and sampled simulation (sim.sampling) "
+                                "simulates " +
+                                std::to_string(plan.stream.size()) + " of " + std::to_string(queries.size()) +
+                                ": set sim.sampling=off for it");
   PointCloud stream;  // sampled: the queries simulated
   for (std::uint32_t q : plan.stream) stream.push_back(queries[q]);
 
@@ -189,8 +195,8 @@ ModelJobRun run_model_job(const ModelJob& mj, hw::AcceleratorConfig cfg, const W
   const SearchParams& params = mj.params;
   cfg.tree.top_height = std::min(mj.top_height, full_height_for(mj.points->size()));
   if (params.approximate)
-    cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.scope = params.leader_scope,
-    cfg.leader.in_flight = params.leader_in_flight;
+    cfg.leader.capacity_per_leaf = params.leader_capacity, cfg.leader.width = params.leader_width,
+    cfg.leader.scope = params.leader_scope, cfg.leader.in_flight = params.leader_in_flight;
   validate_config(cfg);
   const PreparedJob p =
       prepare_job(*mj.points, queries, params, cfg, limits, "does not fit the accelerator: ", mj.built);

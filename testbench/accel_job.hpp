@@ -64,6 +64,7 @@ struct SimExtras {
   std::vector<hw::JobObserver*> observers;
   std::function<void(std::uint32_t done, std::uint32_t total)> progress;
   int sim_threads = default_sim_threads();
+  std::string every_query;  // an output that needs every query simulated ("--dump-schedule"): not sampled
 };
 
 // What the job measured: the golden model's exact search, the simulation and the check.

@@ -64,6 +64,8 @@ void validate_config(const AcceleratorConfig& cfg) {
       // the ones it was built to, or the cross-check compares different machines.
       {"fe.recursion_unit_model", cfg.fe.recursion_unit_model != "rtl" || rtl_costs_hold(cfg.cost),
        "'rtl' needs the cost table's RU rows at their defaults (cost.ru_*): its pipeline has that timing"},
+      {"leader.width", cfg.leader.width == 0 || cfg.leader.scope == LeaderScope::EveryLeaf,
+       "applies to leader.scope every_leaf (first_leaf leaders keep their final results): set it to 0"},
       {"result_buffer.leader_fraction", cfg.result_buffer.slot_fraction + cfg.result_buffer.leader_fraction < 1.0,
        "plus result_buffer.slot_fraction must stay below 1: the result stream needs the rest"},
   };

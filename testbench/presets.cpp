@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -85,7 +86,15 @@ std::string config_path(const std::string& value, const std::string& dir) {
     return value;
   }
   const std::vector<std::string> names = preset_names(dir);
-  if (std::find(names.begin(), names.end(), value) != names.end()) return (fs::path(dir) / (value + ".json")).string();
+  if (std::find(names.begin(), names.end(), value) != names.end()) {
+    std::error_code ec;
+    if (fs::exists(value, ec))
+      std::fprintf(stderr,
+                   "tigris: note: '%s' is the preset %s; the file %s in this folder is not read (name it ./%s "
+                   "for the file)\n",
+                   value.c_str(), value.c_str(), value.c_str(), value.c_str());
+    return (fs::path(dir) / (value + ".json")).string();
+  }
   std::string list, nearest;
   std::size_t best = 3;  // suggest only a near miss
   for (const std::string& n : names) {

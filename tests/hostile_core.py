@@ -334,7 +334,34 @@ def children(c, d):
              "--out", "K1"], 0, ["ATE"])
 
 
-GROUPS = [("folders", folders), ("odometry", odometry), ("inputs", inputs), ("children", children)]
+def presets(c, d):
+    """A prefix whose presets folder is a broken link, then one with a corrupt preset file beside
+    good ones (issue 54: "none installed", and one bad file broke every preset)."""
+    pfx = os.path.join(d, "pfx")
+    os.makedirs(os.path.join(pfx, "bin"))
+    os.makedirs(os.path.join(pfx, "share", "tigris"))
+    shutil.copy(c.t, os.path.join(pfx, "bin", "tigris"))
+    link = os.path.join(pfx, "share", "tigris", "presets")
+    os.symlink(os.path.join(d, "no-such-presets"), link)
+    t = c.t
+    c.t = os.path.join(pfx, "bin", "tigris")
+    try:
+        c.expect("presets: a broken link is named", ["presets"], 1, ["is a link to", "which does not exist"])
+        os.remove(link)
+        shipped = os.path.join(os.path.dirname(os.path.dirname(t)), "share", "tigris", "presets")
+        shutil.copytree(shipped, link)
+        with open(os.path.join(link, "zz-broken.json"), "w") as f:
+            f.write('{"fe": {"recursion_units": ')
+        c.expect("presets: a corrupt file is named, the others listed", ["presets"], 1,
+                 ["zz-broken is left out", "every-leaf-w4"])
+        c.expect("run --config of a good preset beside a corrupt one", ["run", "--config", "top-6", "--max-work", "1",
+                                                                          "--out", "pre"], 2, ["--max-work 1"])
+    finally:
+        c.t = t
+
+
+GROUPS = [("folders", folders), ("odometry", odometry), ("inputs", inputs), ("children", children),
+          ("presets", presets)]
 
 if __name__ == "__main__":
     sys.exit(main())

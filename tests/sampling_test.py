@@ -83,6 +83,10 @@ def main():
     p, _ = run(tig, os.path.join(d, "tl"), *small, "--set", "sim.sampling=0.2", "--timeline",
                os.path.join(d, "t.json"), code=2)
     check("sim.sampling=off" in p.stderr, "a timeline needs every query: " + p.stderr)
+    p, _ = run(tig, os.path.join(d, "sch"), *small, "--set", "sim.sampling=0.2", "--dump-schedule",
+               os.path.join(d, "s.csv"), code=2)
+    check("sim.sampling=off" in p.stderr and not os.path.exists(os.path.join(d, "s.csv")),
+          "a schedule needs every query (issue 54: it was written with a fifth of the rows): " + p.stderr)
     for bad in ("sim.sampling=2", "sim.sampling=maybe", "sim.windows=1"):
         p, _ = run(tig, os.path.join(d, "bad"), "--set", bad, code=2)
         check(bad.split("=")[0] in p.stderr, f"--set {bad} names the key: {p.stderr}")

@@ -125,10 +125,12 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
   if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
-  cfg.leader.scope = r.params.leader_scope;  // the flags over the configuration
+  if (app.count("--leader-width")) cfg.leader.width = o.search.leader_width;  // so is the leaders' list width
+  cfg.leader.scope = r.params.leader_scope;                                   // the flags over the configuration
   cfg.leader.in_flight = r.params.leader_in_flight;
   validate_config(cfg);
   r.params.leader_capacity = cfg.leader.capacity_per_leaf;
+  r.params.leader_width = cfg.leader.width;
   r.params.leader_scope = cfg.leader.scope;
   r.params.leader_in_flight = cfg.leader.in_flight;
 
@@ -167,6 +169,7 @@ std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, 
   if (!o.vcd.empty())
     extras.provenance = provenance_lines(provenance_json(o.search.command_line, r.inputs, run_config_json(r)));
   if (o.sim_threads) extras.sim_threads = o.sim_threads;
+  if (!o.search.dump_schedule.empty()) extras.every_query = "--dump-schedule (the leaf visits of every query)";
   const auto queries = static_cast<std::uint32_t>(r.w.queries.size());
   if (!o.timeline.empty()) {
     extras.observers.push_back(&timeline);

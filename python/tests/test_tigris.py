@@ -6,6 +6,7 @@ clear errors on bad arrays. Run by ctest (python_module) with pytest:
 import json
 import os
 import subprocess
+import sys
 import tempfile
 
 import numpy as np
@@ -412,3 +413,38 @@ def test_flags_that_run_nothing(function, flag, message):
     # Issue 54: run(list_config=True) was TigrisError "no message".
     with pytest.raises(ValueError, match=message):
         getattr(tigris, function)(**{flag: True if flag not in ("out", "dump_results") else "x"})
+
+
+def test_search_work_bound_and_ctrl_c():
+    """Issue 54, 13: a job the command line refuses by its work bound is refused here too, before
+    it starts (it ran 30 s and more, deaf to Ctrl-C); max_results=0 lifts the bound."""
+    import time
+    pts = np.random.default_rng(3).uniform(-10, 10, (30000, 3)).astype(np.float32)
+    t0 = time.monotonic()
+    with pytest.raises(ValueError, match="max-results"):
+        tigris.search(pts, pts, mode="knn", k=30000, height=0)
+    assert time.monotonic() - t0 < 10
+    small = pts[:300]
+    res = tigris.search(small, small[:5], mode="knn", k=300, height=0, max_results=0, max_work=0)
+    assert res.indices.shape == (5, 300)
+
+
+def test_search_stops_on_ctrl_c():
+    """Issue 54, 13: Ctrl-C stops a long search inside the extension (KeyboardInterrupt)."""
+    import signal
+    import time
+    code = ("import numpy as np, tigris, sys\n"
+            "p = np.random.default_rng(3).uniform(-10, 10, (30000, 3)).astype(np.float32)\n"
+            "print('started', flush=True)\n"
+            "try:\n"
+            "    tigris.search(p, p, mode='knn', k=3000, height=0, max_work=0, max_results=0)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True); sys.exit(3)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.5)
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 3 and "interrupted" in out, (p.returncode, out)
+    assert time.monotonic() - t0 < 20
