@@ -37,7 +37,7 @@ void check_sign_and_names(const Key& k, const std::string& text, double x, const
     if (x == n.value && (x < a.lo || x > a.hi || (a.lo_open && x == a.lo)))
       key_error(source, k,
                 "= " + text + " is out of range (" + describe(k) + "); write '" + n.name + "' for " + n.name);
-  if (!text.empty() && text[0] == '-' && a.lo >= 0)
+  if (!text.empty() && text[0] == '-' && x == 0 && a.lo >= 0)  // "-0": the range would take it as 0
     key_error(source, k, "= " + text + " is out of range (" + describe(k) + "): no negative value");
 }
 

@@ -1,4 +1,5 @@
 #include "arg_checks.hpp"
+#include "out_folder.hpp"
 
 #include <algorithm>
 
@@ -171,7 +172,7 @@ bool same_file(const std::string& a, const std::string& b) {
 void check_distinct_paths(const std::vector<PathUse>& inputs, const std::vector<PathUse>& outputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const PathUse& out = outputs[i];
-    if (out.path.empty()) continue;
+    if (out.path.empty() || is_stream_path(out.path)) continue;  // /dev/null twice discards twice
     for (const PathUse& in : inputs)
       if (!in.path.empty() && same_file(in.path, out.path))
         throw std::invalid_argument(out.flag + " " + out.path + " would overwrite the input " + in.flag + " " +

@@ -106,6 +106,7 @@ void on_stop(int sig) {
 void become_child(pid_t parent) {
   for (auto& slot : g_live) slot.store(0);
   g_defer.store(0);
+  g_rerun.store("");  // the parent's folder is not the child's
   g_stop = 0;
   g_record_size.store(0);
   ::setpgid(0, 0);

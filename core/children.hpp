@@ -57,11 +57,11 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
-// The manifest a stop signal writes in place of a run's own (prepared while the run is calm:
-// a signal handler may only write bytes). Empty `path` forgets it.
 // What the stop message says of a rerun: resumes, or starts afresh (OutFolder sets it).
 void set_rerun_note(bool resumes);
 
+// The manifest a stop signal writes in place of a run's own (prepared while the run is calm:
+// a signal handler may only write bytes). Empty `path` forgets it.
 void set_interrupted_record(const std::string& path, const std::string& bytes);
 
 // This command again for a child (`--compare`): argv (argv[0] replaced by /proc/self/exe) without

@@ -6,8 +6,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <ext/stdio_filebuf.h>
+
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
@@ -132,10 +135,23 @@ json file_identity(const std::string& path) {
           {"mtime_ns", static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec}};
 }
 
-// /dev/stdout, /dev/null, /proc/self/fd/3: a stream the caller set up, written through as it is.
-bool stream_path(const std::string& path) {
-  const std::string p = fs::path(path).lexically_normal().string();
-  return p.rfind("/dev/", 0) == 0 || p.rfind("/proc/self/fd/", 0) == 0;
+// Whether an earlier run's command line (`old`'s argv, run in its cwd) named `abs` with `flag`
+// ("--vcd (GTKWave save file)" counts as --vcd's): how a manifest written before the "written"
+// record knows its files.
+bool named_by(const json& old, const std::string& flag, const std::string& abs) {
+  if (!old.is_object() || !old.contains("argv") || !old["argv"].is_array()) return false;
+  const std::string name = flag.substr(0, flag.find(' '));
+  const fs::path cwd = old.value("cwd", std::string());
+  const std::vector<std::string> argv = strings_of(old["argv"]);
+  const auto same = [&](const std::string& p) {
+    std::error_code ec;
+    return fs::weakly_canonical(fs::path(p).is_absolute() ? fs::path(p) : cwd / p, ec).string() == abs;
+  };
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    if (argv[i] == name && i + 1 < argv.size() && same(argv[i + 1])) return true;
+    if (argv[i].rfind(name + "=", 0) == 0 && same(argv[i].substr(name.size() + 1))) return true;
+  }
+  return false;
 }
 
 // Write ends of named pipes held open from the claim to the end of the process: the reader
@@ -145,12 +161,41 @@ std::vector<int>& held_pipes() {
   return fds;
 }
 
+// The descriptor a stream path names: /dev/stdout 1, /dev/stderr 2, /dev/fd/N and
+// /proc/self/fd/N N; -1 for any other path.
+int stream_fd(const std::string& path) {
+  const std::string p = fs::path(path).lexically_normal().string();
+  if (p == "/dev/stdout") return 1;
+  if (p == "/dev/stderr") return 2;
+  for (const char* prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    const std::string pre = prefix;
+    if (p.size() > pre.size() && p.compare(0, pre.size(), pre) == 0 &&
+        p.find_first_not_of("0123456789", pre.size()) == std::string::npos)
+      return std::atoi(p.c_str() + pre.size());
+  }
+  return -1;
+}
+
 std::vector<std::string>& command_line_record() {
   static std::vector<std::string> argv;
   return argv;
 }
 
 }  // namespace
+
+bool is_stream_path(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // through links: /dev/stdout may be a pipe
+  return stream_fd(path) >= 0 || fs::path(path).lexically_normal() == "/dev/null" ||
+         (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st));
+}
+
+std::string temp_path_for(const std::string& path) {
+  if (is_stream_path(path)) return path;
+  const fs::path p(path);
+  return (p.parent_path() / (std::string(kTmpPrefix) + p.filename().string() + "-" + std::to_string(::getpid())))
+      .string();
+}
 
 void record_command_line(int argc, char** argv) { command_line_record().assign(argv, argv + argc); }
 
@@ -172,6 +217,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
   std::error_code ec;
   const fs::file_status st = fs::status(dir_, ec);
   if (fs::exists(st) && !fs::is_directory(st)) throw std::invalid_argument(what + ": exists and is not a folder");
+  const bool created = !fs::exists(st);  // a refused claim removes a folder it made
   fs::create_directories(dir_, ec);
   if (ec) throw std::invalid_argument(what + ": cannot create the folder: " + ec.message());
   fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -213,8 +259,7 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
       throw std::invalid_argument(what + " holds the output of tigris " + old.value("command", std::string("?")) +
                                   ", not of " + cmd + ": use another --out");
     const std::vector<std::string> old_outputs = strings_of(old.is_object() ? old["outputs"] : json());
-    claim_named(old.is_object() && old.contains("written") ? old["written"] : json::array(),
-                std::vector<std::string>(spec_.outputs), old_outputs);
+    claim_named(old, std::vector<std::string>(spec_.outputs), old_outputs);
     // An input inside the folder under a name this run (or the earlier one) writes would be
     // overwritten or removed.
     for (const json& in : spec_.inputs) {
@@ -274,17 +319,24 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
   } catch (...) {
     ::close(fd_);
     fd_ = -1;
+    if (created && fs::is_empty(dir_, ec)) fs::remove(dir_, ec);
     throw;
   }
 }
 
-void OutFolder::claim_named(const json& old_written, const std::vector<std::string>& fixed_outputs,
+void OutFolder::claim_named(const json& old, const std::vector<std::string>& fixed_outputs,
                             const std::vector<std::string>& old_outputs) {
+  const bool has_record = old.is_object() && old.contains("written") && old["written"].is_array();
+  const json old_written = has_record ? old["written"] : json::array();
+  // Records of the earlier runs' files still as they were: carried into this run's record, so a
+  // later run naming them again knows them (this run's own outputs replace theirs).
+  for (const json& w : old_written)
+    if (w.is_object() && w.contains("path") && w.value("file", json()) == file_identity(w.value("path", std::string())))
+      carried_.push_back(w);
   const std::string cmd = "tigris " + spec_.command, what = "--out " + dir_;
   std::vector<PathUse> ins, outs;
   for (const json& in : spec_.inputs)
-    if (in.contains("path"))
-      ins.push_back({"--" + in.value("role", std::string("input")), in["path"].get<std::string>()});
+    if (in.contains("path")) ins.push_back({in.value("role", std::string("input")), in["path"].get<std::string>()});
   for (const NamedOutput& n : spec_.named) outs.push_back({n.flag, n.path});
   check_distinct_paths(ins, outs);  // two outputs on one file, an output on an input
   std::error_code ec;
@@ -297,7 +349,7 @@ void OutFolder::claim_named(const json& old_written, const std::vector<std::stri
     if (top == kManifest || (!top.empty() && matches(fixed_outputs, top)))
       throw std::invalid_argument("the output " + n.path + " (" + n.flag + ") would be " + what + "'s " + top +
                                   ", which " + cmd + " writes itself: give the output another name");
-    if (stream_path(n.path)) continue;
+    if (stream_fd(n.path) >= 0 || fs::path(n.path).lexically_normal() == "/dev/null") continue;  // set up by the caller
     const fs::file_status st = fs::symlink_status(n.path, ec);
     if (!fs::exists(st)) {
       if (!top.empty()) spec_.outputs.push_back(top);
@@ -324,14 +376,18 @@ void OutFolder::claim_named(const json& old_written, const std::vector<std::stri
     for (const json& w : old_written)
       if (w.is_object() && w.value("path", std::string()) == abs) record = &w;
     const bool in_folder_ours = !top.empty() && matches(old_outputs, top);
-    const bool unchanged = record && record->value("file", json()) == file_identity(n.path);
+    const bool unchanged = (record && record->value("file", json()) == file_identity(n.path)) ||
+                           (!has_record && named_by(old, n.flag, abs));  // a manifest from before the record
     const bool ours = n.companion ? unchanged || (!record && in_folder_ours) : unchanged || in_folder_ours;
     if (!ours && n.companion) {
       std::fprintf(stderr,
                    "%s: note: %s is kept as it is (not written by an earlier run into %s, or changed since): "
                    "this run does not write it; remove it to get a new one\n",
                    cmd.c_str(), named.c_str(), dir_.c_str());
-      if (!top.empty()) kept_.push_back(top);
+      // Only a companion at the folder's top is exempt from the foreign check (one deeper would
+      // exempt the user's whole subfolder).
+      if (!top.empty() && !fs::path(abs).lexically_relative(absolute_path(dir_)).has_parent_path())
+        kept_.push_back(top);
       kept_paths_.push_back(abs);
       continue;
     }
@@ -345,6 +401,11 @@ void OutFolder::claim_named(const json& old_written, const std::vector<std::stri
 bool OutFolder::writes(const std::string& named_path) const {
   return !named_path.empty() &&
          std::find(kept_paths_.begin(), kept_paths_.end(), absolute_path(named_path)) == kept_paths_.end();
+}
+
+void OutFolder::write(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  write_file(path, write);
+  write_manifest("running");  // its record: a run stopped from now on still knows the file as its own
 }
 
 void OutFolder::check_inputs() const {
@@ -385,15 +446,20 @@ void OutFolder::finish(const std::string& status) {
 
 void OutFolder::write_manifest(const std::string& status) {
   manifest_["status"] = status;
-  if (status != "running") {
-    manifest_["finished"] = utc_now();
-    json written = json::array();  // what the next run into this folder may replace
-    for (const NamedOutput& n : spec_.named)
-      if (writes(n.path))
-        if (json id = file_identity(n.path); !id.is_null())
-          written.push_back({{"flag", n.flag}, {"path", absolute_path(n.path)}, {"file", id}});
-    manifest_["written"] = written;
-  }
+  if (status != "running") manifest_["finished"] = utc_now();
+  // What the next run into this folder may replace, kept current at every write of the record
+  // (the start, each output written, the end), so that a stopped run's record has it too.
+  json written = json::array();
+  std::set<std::string> now;
+  for (const NamedOutput& n : spec_.named)
+    if (!n.path.empty() && writes(n.path) && !is_stream_path(n.path)) {
+      now.insert(absolute_path(n.path));
+      if (json id = file_identity(n.path); !id.is_null())
+        written.push_back({{"flag", n.flag}, {"path", absolute_path(n.path)}, {"file", id}});
+    }
+  for (const json& w : carried_)
+    if (!now.count(w.value("path", std::string()))) written.push_back(w);
+  manifest_["written"] = written;
   const auto text = [](const json& m) { return m.dump(2, ' ', false, json::error_handler_t::replace) + "\n"; };
   write_file(path(kManifest), [&](std::ostream& f) { f << text(manifest_); });
   // What a stop signal leaves: this record, "interrupted" (children.cpp writes it).
@@ -403,20 +469,33 @@ void OutFolder::write_manifest(const std::string& status) {
 }
 
 void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  // A descriptor the caller set up (/dev/stdout redirected to a file or a pipe) is written
+  // through itself, at its own offset, after what the process printed there; once stdout is an
+  // output, what the command prints afterwards goes to stderr, so the stream holds the file only.
+  if (const int fd = stream_fd(path); fd >= 0) {
+    std::fflush(stdout);
+    const int copy = ::dup(fd);
+    if (copy < 0) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+    {
+      __gnu_cxx::stdio_filebuf<char> buf(copy, std::ios::out);
+      std::ostream f(&buf);
+      write(f);
+      f.flush();
+      if (!f) throw std::runtime_error(path + ": write failed");
+    }
+    if (fd == 1) ::dup2(2, 1);
+    return;
+  }
   const fs::path parent = fs::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) fs::create_directories(parent, ec);
-  // A device or pipe (/dev/null, /dev/stdout) is written as it is. A file is written beside its
-  // path and renamed over it: a failed write leaves the old file whole, and a symbolic link is
+  // A device or pipe (/dev/null, a FIFO) is written as it is. A file is written beside its path
+  // and renamed over it: a failed write leaves the old file whole, and a symbolic link is
   // replaced, never written through (it could point at an input).
   const fs::file_status st = fs::symlink_status(path, ec);
-  const bool special = stream_path(path) || (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st));
   if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
-  const std::string tmp =
-      special
-          ? path
-          : (parent / (std::string(kTmpPrefix) + fs::path(path).filename().string() + "-" + std::to_string(::getpid())))
-                .string();
+  const std::string tmp = temp_path_for(path);
+  const bool special = tmp == path;
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");

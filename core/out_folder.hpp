@@ -56,16 +56,19 @@ class OutFolder {
   // Digests every input file again: one that changed since the start is an error naming it
   // (std::invalid_argument). Commands call it before they write their results.
   void check_inputs() const;
+  // write_file of a flag-named output, then the record updated (the manifest's "written").
+  void write(const std::string& path, const std::function<void(std::ostream&)>& write);
   // Records the end of the run in the manifest: "done", "failed", "interrupted".
   void finish(const std::string& status = "done");
 
  private:
   void write_manifest(const std::string& status);
-  void claim_named(const nlohmann::json& old_written, const std::vector<std::string>& fixed_outputs,
+  void claim_named(const nlohmann::json& old, const std::vector<std::string>& fixed_outputs,
                    const std::vector<std::string>& old_outputs);
   std::string dir_;
   FolderSpec spec_;
-  std::vector<std::string> kept_, kept_paths_;  // companions left as the user had them (top names, paths)
+  nlohmann::json carried_ = nlohmann::json::array();  // earlier runs' "written" records still true
+  std::vector<std::string> kept_, kept_paths_;        // companions left as the user had them (top names, paths)
   nlohmann::json manifest_;
   int fd_ = -1;
   bool resumed_ = false, finished_ = false;
@@ -82,5 +85,12 @@ std::vector<std::string> parent_outputs();
 // replaced, never written through; devices (/dev/null) are written directly. Creates the
 // parent folder. Throws std::runtime_error naming the path when it cannot be written.
 void write_file(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// A stream the caller set up rather than a file: /dev/stdout, /dev/stderr, /dev/null,
+// /dev/fd/N, /proc/self/fd/N, or (through links) a FIFO or a device. Written as it is.
+bool is_stream_path(const std::string& path);
+// What `path` is written through: a temporary beside it (renamed over it when whole), or the
+// path itself for a stream (write_file and the VCD writer).
+std::string temp_path_for(const std::string& path);
 
 }  // namespace tigris

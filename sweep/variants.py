@@ -118,7 +118,12 @@ def builtin(presets_dir=None):
                 exps is not None and not (isinstance(exps, list) and exps and all(isinstance(e, str) for e in exps)):
             raise VariantError(f"{path}: \"//preset\".\"variant\" takes \"experiments\" (a list of names) and "
                                f"\"leader_width\" (an integer >= 0), got {json.dumps(var)}")
-        out.append(Variant(name, meta.get("why", ""), _flat(d), lw, exps))
+        sets = _flat(d)
+        # leader.width is the configuration key of --leader-width: on the approximate points only
+        # (an exact run has no leaders), as "leader_width" did before it was a key.
+        if "leader.width" in sets:
+            lw = sets.pop("leader.width")
+        out.append(Variant(name, meta.get("why", ""), sets, lw, exps))
     return out
 
 

@@ -100,6 +100,25 @@ void merge_sample(const SearchOutput& golden, const std::vector<std::uint32_t>& 
 
 }  // namespace
 
+SamplingPlan job_plan(const PreparedJob& p, const SearchParams& params, std::size_t queries) {
+  return plan_sampling(p.cfg.sim, static_cast<std::uint32_t>(queries),
+                       static_cast<std::uint32_t>(hw::queries_in_flight(p.cfg, p.tree.top_height, p.job.mode, p.job.k,
+                                                                        p.job.approximate, p.job.first_leaf, queries)),
+                       params.approximate);
+}
+
+void check_every_query(const SamplingPlan& plan, bool waves, const std::string& every_query) {
+  if (!plan.sampled) return;
+  if (waves)
+    throw std::invalid_argument(
+        "waveforms and timelines show every query, and sampled simulation (sim.sampling) simulates a part: set "
+        "sim.sampling=off for them");
+  if (!every_query.empty())
+    throw std::invalid_argument(every_query + " needs every query simulated, and sampled simulation (sim.sampling) " +
+                                "simulates " + std::to_string(plan.stream.size()) + " of " +
+                                std::to_string(plan.queries) + ": set sim.sampling=off for it");
+}
+
 JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCloud& queries,
                    const SearchParams& params, const SimExtras& extras) {
   JobOutcome m;
@@ -110,21 +129,8 @@ JobOutcome run_job(const PreparedJob& p, const PointCloud& points, const PointCl
     m.golden = golden_search(p.tree, queries, exact);
     m.golden_seconds = seconds_since(t0);
   };
-  const SamplingPlan plan = plan_sampling(
-      p.cfg.sim, static_cast<std::uint32_t>(queries.size()),
-      static_cast<std::uint32_t>(hw::queries_in_flight(p.cfg, p.tree.top_height, p.job.mode, p.job.k, p.job.approximate,
-                                                       p.job.first_leaf, queries.size())),
-      params.approximate);
-  if (plan.sampled && (!extras.vcd_path.empty() || !extras.observers.empty()))
-    throw std::invalid_argument(
-        "waveforms and timelines show every query, and sampled simulation (sim.sampling) simulates a part: set "
-        "sim.sampling=off for them");
-  if (plan.sampled && !extras.every_query.empty())
-    throw std::invalid_argument(extras.every_query +
-                                " needs every query simulated, and sampled simulation (sim.sampling) "
-                                "simulates " +
-                                std::to_string(plan.stream.size()) + " of " + std::to_string(queries.size()) +
-                                ": set sim.sampling=off for it");
+  const SamplingPlan plan = job_plan(p, params, queries.size());
+  check_every_query(plan, !extras.vcd_path.empty() || !extras.observers.empty(), extras.every_query);
   PointCloud stream;  // sampled: the queries simulated
   for (std::uint32_t q : plan.stream) stream.push_back(queries[q]);
 

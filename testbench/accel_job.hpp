@@ -67,6 +67,13 @@ struct SimExtras {
   std::string every_query;  // an output that needs every query simulated ("--dump-schedule"): not sampled
 };
 
+// The job's sampling plan (sim.sampling over its queries and what it holds in flight).
+SamplingPlan job_plan(const PreparedJob& p, const SearchParams& params, std::size_t queries);
+// Throws when a sampled plan meets an output that shows every query: waveforms or a timeline
+// (`waves`), or `every_query` naming another ("--dump-schedule ..."). Commands call it before
+// they claim their folder; run_job again.
+void check_every_query(const SamplingPlan& plan, bool waves, const std::string& every_query);
+
 // What the job measured: the golden model's exact search, the simulation and the check.
 struct JobOutcome {
   SearchOutput golden;  // exact, in query order (an approximate job is measured against it)

@@ -21,7 +21,10 @@ import json
 import os
 import subprocess
 import sys
+import signal
 import tempfile
+import threading
+import time
 
 import numpy as np
 
@@ -39,8 +42,11 @@ def base_args(command, d):
 
 
 def snapshot(d):
+    """Every entry under d: a file by its digest, a folder as such (a refused run may leave none)."""
     out = {}
     for root, dirs, files in os.walk(d):
+        for f in dirs:
+            out[os.path.join(root, f)] = "folder"
         for f in files:
             p = os.path.join(root, f)
             if os.path.islink(p) or not os.path.isfile(p):
@@ -76,7 +82,8 @@ class Cases:
         changed = sorted(set(before.items()) ^ set(after.items()))
         msg = p.stdout + p.stderr
         problems = [f"exit {p.returncode}, want 2"] if p.returncode != 2 else []
-        problems += [f"no {needle!r} in the message"] if needle not in msg else []
+        needles = needle if isinstance(needle, tuple) else (needle,)
+        problems += [f"none of {needles} in the message"] if not any(n in msg for n in needles) else []
         problems += [f"files changed: {changed[:4]}"] if changed else []
         self.check(name, not problems, "; ".join(problems) + "\n    tigris " + " ".join(args) + "\n    " + msg)
 
@@ -133,11 +140,12 @@ def cli_cases(c, d, command, flags):
         f.write("not tigris's\n")
     for flag in flags:
         opt = "--" + flag
-        tries = [("the folder's record", os.path.join(out, "manifest.json"), "manifest.json"),
-                 ("an input", inputs[0], "input"),
+        tries = [("the folder's record", os.path.join(out, "manifest.json"), "writes itself"),
+                 ("an input", inputs[0], "would overwrite the input"),
                  ("a file nobody wrote", foreign, "was not written"),
-                 ("a named pipe nobody reads", fifo, "named pipe")]
-        tries += [(f"the command's own {n}", os.path.join(out, n), n) for n in own]
+                 ("a named pipe nobody reads", fifo, "named pipe that no process reads")]
+        tries += [(f"the command's own {n}", os.path.join(out, n), ("writes itself", "are the same file"))
+                  for n in own]
         for what, path, needle in tries:
             c.refused(f"{command} {opt} at {what}", [command] + base + ["--out", out, opt, path], needle)
         for other in flags:
@@ -147,10 +155,17 @@ def cli_cases(c, d, command, flags):
                           [command] + base + ["--out", out, opt, path, "--" + other, path], "same file")
         # A new path is written; a rerun into the same folder replaces its own file.
         path = os.path.join(d, f"{command}-{flag}.out")
+        stamp = None
         for attempt in ("written", "rewritten by a rerun"):
             p = c.run([command] + base + ["--out", out, opt, path])
-            c.check(f"{command} {opt}: {attempt}", p.returncode == 0 and os.path.getsize(path) > 0,
-                    f"exit {p.returncode}\n{p.stderr}")
+            st = os.stat(path) if os.path.exists(path) else None
+            with open(os.path.join(out, "manifest.json")) as f:
+                recorded = [w["path"] for w in json.load(f).get("written", [])]
+            ok = (p.returncode == 0 and st is not None and st.st_size > 0 and st.st_mtime_ns != stamp
+                  and os.path.realpath(path) in recorded)
+            c.check(f"{command} {opt}: {attempt}, recorded in the manifest", ok,
+                    f"exit {p.returncode}, {st}, written {recorded}\n{p.stderr}")
+            stamp = st.st_mtime_ns if st else None
         # ... but not by a run into another folder (it is not that run's file).
         c.refused(f"{command} {opt}: another folder's file", [command] + base + ["--out", out + "-2", opt, path],
                   "was not written")
@@ -169,14 +184,71 @@ def reproductions(c, d):
         kept = f.read() == "[*] the user's view\n"
     c.check("run --vcd beside the user's .gtkw: kept, with a note", p.returncode == 0 and kept and "is kept" in p.stderr,
             f"exit {p.returncode}, kept {kept}\n{p.stderr}")
-    # 14: a named pipe with a reader is written as a stream (the reader sees it whole).
+    # 14: a named pipe with a reader is written as a stream (the reader sees it whole). The read
+    # end is open before tigris starts (else tigris may find no reader yet, which it refuses).
     fifo = os.path.join(d, "read-pipe")
     os.mkfifo(fifo)
-    reader = subprocess.Popen(["cat", fifo], stdout=subprocess.PIPE)
-    p = c.run(["ref"] + base + ["--out", os.path.join(d, "fifo-out"), "--dump-results", fifo])
-    got = reader.communicate(timeout=TIMEOUT)[0].decode().splitlines()
+    fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    os.set_blocking(fd, True)
+    chunks = []
+    proc = subprocess.Popen([c.t, "ref"] + base + ["--out", os.path.join(d, "fifo-out"), "--dump-results", fifo],
+                            cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def drain():  # a read finds no writer (0 bytes) until tigris opens its end: read until it ends
+        while True:
+            b = os.read(fd, 1 << 16)
+            if b:
+                chunks.append(b)
+            elif proc.poll() is not None:
+                return
+            else:
+                time.sleep(0.01)
+
+    reader = threading.Thread(target=drain)
+    reader.start()
+    out_, err_ = proc.communicate(timeout=TIMEOUT)
+    reader.join(timeout=TIMEOUT)
+    os.close(fd)
+    p = subprocess.CompletedProcess(proc.args, proc.returncode, out_, err_)
+    got = b"".join(chunks).decode().splitlines()
     c.check("ref --dump-results into a named pipe with a reader", p.returncode == 0 and got[:1] == ["query,rank,index,dist2"]
             and len(got) > 1000, f"exit {p.returncode}, {len(got)} lines\n{p.stderr}")
+    # A stream the caller set up: stdout redirected to a file holds the CSV alone (the summary
+    # goes to stderr once stdout is an output); /dev/null discards, also twice, and a VCD into it.
+    with open(os.path.join(d, "stdout.csv"), "w") as f:
+        p = subprocess.run([c.t, "ref"] + base + ["--out", os.path.join(d, "stdout-out"), "--dump-results",
+                                                 "/dev/stdout"], cwd=d, stdout=f, stderr=subprocess.PIPE, text=True)
+    with open(os.path.join(d, "stdout.csv")) as f:
+        lines = f.read().splitlines()
+    c.check("ref --dump-results /dev/stdout > file: the CSV alone", p.returncode == 0 and lines[:1] ==
+            ["query,rank,index,dist2"] and all(line[:1].isdigit() for line in lines[1:]) and "tigris ref" in p.stderr,
+            f"exit {p.returncode}, {len(lines)} lines, last {lines[-2:]}\n{p.stderr}")
+    p = c.run(["run"] + base + ["--out", os.path.join(d, "null-out"), "--vcd", "/dev/null", "--dump-results",
+                                "/dev/null", "--dump-schedule", "/dev/null"])
+    c.check("run --vcd, --dump-results and --dump-schedule into /dev/null", p.returncode == 0, p.stderr)
+    # A run stopped by Ctrl-C keeps the record of what the folder's earlier run wrote: the same
+    # command again replaces its own file (it was refused as somebody's).
+    res = os.path.join(d, "stopped.csv")
+    stop_out = os.path.join(d, "stop-out")
+    args = [c.t, "run", "--mode", "knn", "--k", "51", "--out", stop_out, "--dump-results", res]  # seconds long
+    first = c.run(args[1:])
+    proc = subprocess.Popen(args, cwd=d, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    t0 = time.time()
+    while time.time() - t0 < TIMEOUT and proc.poll() is None:  # stopped once it holds the folder
+        try:
+            with open(os.path.join(stop_out, "manifest.json")) as f:
+                m = json.load(f)
+            if m.get("pid") == proc.pid and m.get("status") == "running":
+                break
+        except (OSError, ValueError):
+            pass
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=TIMEOUT)
+    again = c.run(args[1:])
+    c.check("run --dump-results after a Ctrl-C: the rerun replaces its own file",
+            first.returncode == 0 and proc.returncode == 130 and again.returncode == 0,
+            f"exit {first.returncode}, stopped {proc.returncode}, rerun {again.returncode}\n{again.stderr}")
     # 1: --compare --check-flags checks the flags and writes or removes nothing in a folder that
     # holds a comparison.
     cmp = os.path.join(d, "cmp")
@@ -203,6 +275,14 @@ def python_cases(c, d, tigris):
     funcs = [(n, f) for n, f in vars(T).items()
              if inspect.isfunction(f) and not n.startswith("_") and "keep" in inspect.signature(f).parameters]
     c.check("the module has functions with keep=", len(funcs) >= 2, str([n for n, _ in funcs]))
+    # The positive control: a new folder is taken, and taken again.
+    fresh = os.path.join(d, "py-run-fresh")
+    try:
+        T.run(keep=fresh, cloud=cloud, queries=cloud[:200])
+        T.run(keep=fresh, cloud=cloud, queries=cloud[:200])
+        c.check("python run(keep=) at a new folder, twice", os.path.exists(os.path.join(fresh, "manifest.json")))
+    except (T.TigrisError, ValueError) as e:
+        c.check("python run(keep=) at a new folder, twice", False, str(e))
     args = {"run": dict(cloud=cloud, queries=cloud[:200]), "register": dict(source=cloud, target=cloud)}
     for name, f in funcs:
         kw = args.get(name)
@@ -223,7 +303,7 @@ def python_cases(c, d, tigris):
                 f(keep=path, **kw)
                 ok, detail = False, "accepted"
             except (T.TigrisError, ValueError) as e:
-                ok, detail = True, str(e)
+                ok, detail = os.path.basename(path) in str(e), str(e)  # the message names the path
             changed = sorted(set(before.items()) ^ set(snapshot(d).items()))
             c.check(f"python {name}(keep=) at {what}: refused, nothing changed", ok and not changed,
                     f"{detail}; changed: {changed[:4]}")

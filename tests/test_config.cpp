@@ -370,7 +370,6 @@ TEST_CASE("config: bad --set forms are errors naming the --set text", "[config]"
   CHECK(err("clock_mhz=nan") == "--set 'clock_mhz=nan': 'clock_mhz' must be a decimal number, got 'nan'");
   // A named value by its name only (issue 54: -1 was taken as auto, -0 as off).
   CHECK_THAT(err("sim.sampling=-1"), Catch::Contains("write 'auto' for auto"));
-  CHECK_THAT(err("tree.top_height=-1"), Catch::Contains("write 'full' for full"));
   CHECK_THAT(err("sim.sampling=-0"), Catch::Contains("no negative value"));
   CHECK(err("node_cache.bytes=-1") ==
         "--set 'node_cache.bytes=-1': 'node_cache.bytes' must be a whole number of bytes, got '-1'");

@@ -3,8 +3,10 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
+#include "core/out_folder.hpp"
 #include "testbench/bottleneck.hpp"
 #include "testbench/run_inputs.hpp"
 #include "testbench/stat_formulas.hpp"
@@ -101,6 +103,24 @@ TEST_CASE("inputs: SHA-256 of a file is the digest sha256sum prints", "[report]"
   CHECK(in["path"] == path);
   std::remove(path.c_str());
   CHECK_THROWS_WITH(tigris::sha256_of_file(path), Catch::Contains(path));
+}
+
+TEST_CASE("output core: an input that changes during the run is named before any result is written", "[report]") {
+  namespace fs = std::filesystem;
+  const std::string dir = "test_run_report_folder", path = "test_run_report_source.bin";
+  fs::remove_all(dir);
+  { std::ofstream(path, std::ios::binary) << "frame 1"; }
+  {
+    tigris::FolderSpec spec{
+        "register", {}, json::object(), json::array({tigris::input_file("source", path)}), {"registration.json"},
+        false,      {}};
+    tigris::OutFolder folder(dir, spec);
+    CHECK_NOTHROW(folder.check_inputs());
+    { std::ofstream(path, std::ios::binary) << "frame 2"; }  // issue 54, 8: --source replaced mid-run
+    CHECK_THROWS_WITH(folder.check_inputs(), Catch::Contains("the input source (" + path + ") changed while"));
+  }
+  fs::remove_all(dir);
+  std::remove(path.c_str());
 }
 
 TEST_CASE("bottleneck: PI/RS dependency stalls are busy cycles, not added again", "[report]") {

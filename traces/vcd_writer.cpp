@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/out_folder.hpp"
+
 namespace tigris {
 
 namespace {
@@ -30,14 +32,7 @@ std::string binary(std::uint64_t v, int width) {
 // The file written in place of `path` until it is whole (the core's convention, as
 // core/out_folder.hpp's write_file): a killed run leaves no half file under the name and
 // never writes through a symbolic link; a device (/dev/null) is written directly.
-std::string temp_beside(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::symlink_status(path, ec);
-  if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st)) return path;
-  const fs::path p(path);
-  return (p.parent_path() / (".tigris-tmp-" + p.filename().string() + "-" + std::to_string(::getpid()))).string();
-}
+std::string temp_beside(const std::string& path) { return temp_path_for(path); }
 
 // Renames a finished temporary over its path.
 void commit(const std::string& tmp, const std::string& path) {

@@ -134,9 +134,10 @@ int run_ref_command(const CLI::App& app, const SearchOptions& o) {
   write_file(stats_path, [&](std::ostream& f) {
     f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   });
-  if (!o.dump_results.empty()) write_file(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
+  if (!o.dump_results.empty())
+    folder.write(o.dump_results, [&](std::ostream& f) { write_results_csv(f, out.results); });
   if (!o.dump_schedule.empty())
-    write_file(o.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, out.schedule); });
+    folder.write(o.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, out.schedule); });
 
   const double nq = static_cast<double>(w.queries.size());
   const auto& v = out.visits;

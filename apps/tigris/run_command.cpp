@@ -100,10 +100,12 @@ struct RunSetup {
 // What the run measured: the golden model's search, the simulation and its check.
 using RunMeasured = JobOutcome;
 
+constexpr const char* kEveryQuerySchedule = "--dump-schedule (the leaf visits of every query)";
+
 // The files run's flags name (claimed with the output folder).
 std::vector<NamedOutput> named_outputs(const RunOptions& o) {
   return {{"--vcd", o.vcd},
-          {"--vcd (GTKWave save file)", o.vcd.empty() ? "" : gtkw_path(o.vcd), true},
+          {"--vcd (GTKWave save file)", o.vcd.empty() || is_stream_path(o.vcd) ? "" : gtkw_path(o.vcd), true},
           {"--timeline", o.timeline},
           {"--dump-results", o.search.dump_results},
           {"--dump-schedule", o.search.dump_schedule}};
@@ -144,6 +146,9 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   cfg.tree.top_height = default_height_for(cfg.tree.top_height, height_chosen, w.cloud.size(), w.cloud_name);
   r.p = prepare_job(w.cloud, w.queries, r.params, cfg, o.search.limits,
                     w.cloud_name + " (" + std::to_string(w.cloud.size()) + " points): ");
+  // An output that needs every query is refused now, before the folder's earlier run is replaced.
+  check_every_query(job_plan(r.p, r.params, w.queries.size()), !o.vcd.empty() || !o.timeline.empty(),
+                    o.search.dump_schedule.empty() ? "" : kEveryQuerySchedule);
   return r;
 }
 
@@ -165,11 +170,11 @@ std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, 
                                         TimelineRecorder& timeline) {
   SimExtras extras;
   extras.vcd_path = o.vcd;
-  if (!o.vcd.empty() && folder.writes(gtkw_path(o.vcd))) extras.gtkw_path = gtkw_path(o.vcd);
+  if (!o.vcd.empty() && !is_stream_path(o.vcd) && folder.writes(gtkw_path(o.vcd))) extras.gtkw_path = gtkw_path(o.vcd);
   if (!o.vcd.empty())
     extras.provenance = provenance_lines(provenance_json(o.search.command_line, r.inputs, run_config_json(r)));
   if (o.sim_threads) extras.sim_threads = o.sim_threads;
-  if (!o.search.dump_schedule.empty()) extras.every_query = "--dump-schedule (the leaf visits of every query)";
+  if (!o.search.dump_schedule.empty()) extras.every_query = kEveryQuerySchedule;
   const auto queries = static_cast<std::uint32_t>(r.w.queries.size());
   if (!o.timeline.empty()) {
     extras.observers.push_back(&timeline);
@@ -335,7 +340,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
 
   folder.check_inputs();
   if (!o.search.dump_schedule.empty())
-    write_file(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
+    folder.write(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
   Accuracy accuracy;
   const nlohmann::json stats = run_stats(r, *m, o, accuracy);
   const std::string stats_path = o.search.out + "/stats.json";
@@ -343,13 +348,13 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
     f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   });
   if (!o.timeline.empty())
-    write_file(o.timeline, [&](std::ostream& f) {
+    folder.write(o.timeline, [&](std::ostream& f) {
       nlohmann::json trace = timeline.trace();
       trace["otherData"]["run"] = provenance_json(o.search.command_line, r.inputs, stats["config"]);
       f << trace.dump() << '\n';
     });
   if (!o.search.dump_results.empty())
-    write_file(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
+    folder.write(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
 
   print_run_summary(r, *m, o, stats, accuracy, stats_path, timeline);
   if (!m->verdict.match) {

@@ -354,6 +354,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   stats["sampled_jobs"] = sampled;  // their cycles and energy estimated (docs/sampling.md)
   stats["end_to_end"] = end_to_end;
   stats["wall_seconds"] = seconds_since(t0);
+  folder.check_inputs();
   write_file(stats_path,
              [&](std::ostream& f) { f << stats.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
 

@@ -248,6 +248,9 @@ def search(cloud, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=10
         thd = _tigris.default_approx_thd(mode, float(radius))
     elif approximate:
         thd = float(approx_thd)
+    for name, v in (("max_work", max_work), ("max_results", max_results)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not 0 <= v < float("inf"):
+            raise ValueError(f"{name} must be a number >= 0 (0: no bound), got {v!r}")
     d = _tigris.search(cloud, queries, mode, k, float(radius), max_nn, h, split_axis, approximate,
                        thd, leader_scope, leader_in_flight, leader_capacity, leader_width,
                        float(max_work), float(max_results))
