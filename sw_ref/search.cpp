@@ -72,7 +72,9 @@ void VisitTotals::add(const QueryVisits& v) {
 namespace {
 
 constexpr std::uint32_t kDone = 0xFFFFFFFFu;
-constexpr std::size_t kProgressStep = 4096;
+// Small: a query with k in the thousands takes milliseconds (more under the sanitizers), and
+// the Python module polls Ctrl-C here; the reporters limit their own rate.
+constexpr std::size_t kProgressStep = 64;
 
 // ---- Result collectors: offer() keeps the canonical answer, bound() prunes -------------------
 
