@@ -109,19 +109,6 @@ std::string config_path(const std::string& value, const std::string& dir) {
                               " (tigris presets says what each changes); a file needs a '/' or a .json name");
 }
 
-CLI::Validator preset_or_file() {
-  return CLI::Validator(
-      [](std::string& value) -> std::string {
-        try {
-          value = config_path(value);
-          return "";
-        } catch (const std::invalid_argument& e) {
-          return e.what();
-        }
-      },
-      "FILE|PRESET", "preset or file");
-}
-
 nlohmann::json describe_preset(const std::string& name) {
   const std::string file = config_path(name);
   const nlohmann::json j = read_json_file(file, /*ignore_comments=*/true);

@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 namespace tigris {
@@ -26,9 +25,6 @@ std::string config_path(const std::string& value);
 // The same with the presets in `dir` (a program outside PREFIX/bin: find_package(TigrisTLM)
 // gives TigrisTLM_PRESETS_DIR).
 std::string config_path(const std::string& value, const std::string& dir);
-// The same as a CLI11 transform, so a flag's value is the file from the start (manifests,
-// input checks and the reader all see the path).
-CLI::Validator preset_or_file();
 
 // One preset for `tigris presets` and the Python tools: name, file, why, "sets" (every dotted key
 // the file gives), "changes" (those differing from the built-in defaults: {key: [default, value]})

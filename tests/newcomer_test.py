@@ -485,6 +485,10 @@ def part_layers(d):
         for path, (incs, _) in files.items():
             bad = [i for i in incs if not allowed(i, rules)]
             check(not bad, f"{path} includes {bad}: {folder}/ may include only {rules}")
+    # Command-line parsing (CLI11) lives in apps/ and core/ only (issue 55).
+    for folder in set(LAYERS) - {"apps", "core"}:
+        for path, (_, text) in includes(folder).items():
+            check("CLI/CLI.hpp" not in text and "CLI::" not in text, f"{path} uses CLI11: flags belong to apps/")
     everything = includes("hw")
     check(len(everything) > 40, f"hw/ sources found: {len(everything)}")
     for path, (incs, text) in everything.items():

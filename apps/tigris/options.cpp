@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/arg_checks.hpp"
+#include "testbench/presets.hpp"
 
 namespace tigris {
 
@@ -187,6 +188,19 @@ CLI::Option* output_flag(CLI::Option* option) {
 CLI::Option* input_flag(CLI::Option* option) {
   path_roles()[option] = "input";
   return option->type_name("FILE");
+}
+
+CLI::Validator preset_or_file() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        try {
+          value = config_path(value);
+          return "";
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      "FILE|PRESET", "preset or file");
 }
 
 nlohmann::json flags_json(const CLI::App& command) {

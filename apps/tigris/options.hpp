@@ -44,6 +44,10 @@ void add_search_options(CLI::App& app, SearchOptions& o, bool replay = false);
 CLI::Option* output_flag(CLI::Option* option);
 CLI::Option* input_flag(CLI::Option* option);
 
+// --config as a CLI11 transform (testbench/presets.hpp's config_path), so the flag's value is
+// the file from the start: manifests, input checks and the reader all see the path.
+CLI::Validator preset_or_file();
+
 // Checks the flag combination (e.g. --k only with knn) and builds the parameters; throws
 // std::invalid_argument naming the flag. `scope`, `in_flight`: the leader scope and in-flight
 // policy when their flags are not given (run: from the configuration's leader block).
