@@ -25,6 +25,7 @@
 
 #include "core/arg_checks.hpp"
 #include "core/children.hpp"
+#include "core/flag_values.hpp"
 #include "core/json_file.hpp"
 #include "core/out_folder.hpp"
 #include "core/slurm_array.hpp"
@@ -44,17 +45,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::ordered_json;
-
-std::pair<std::size_t, std::size_t> parse_frames(const std::string& text, std::size_t scans) {
-  if (text.empty()) return {0, scans - 1};
-  long a = -1, b = -1;
-  char colon = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%ld%c%ld%c", &a, &colon, &b, &extra) != 3 || colon != ':' || a < 0 || b <= a)
-    throw std::invalid_argument("--frames must be A:B, the first and the last frame (A < B), got '" + text + "'");
-  if (static_cast<std::size_t>(b) >= scans)
-    throw std::invalid_argument("--frames " + text + ": the sequence has frames 0.." + std::to_string(scans - 1));
-  return {static_cast<std::size_t>(a), static_cast<std::size_t>(b)};
-}
 
 std::string frame_tag(std::size_t i) {
   char b[16];
@@ -336,7 +326,7 @@ int OdometryRun::run() {
 void OdometryRun::read_sequence() {
   seq = read_kitti_sequence(o.sequence);
   if (seq.scans.size() < 2) throw std::invalid_argument(o.sequence + ": a sequence needs two frames or more");
-  std::tie(first, last) = parse_frames(o.frames, seq.scans.size());
+  std::tie(first, last) = parse_frame_range(o.frames, seq.scans.size());
 }
 
 // Claims OUT for a sequence given with --sequence, keyed on every input the pairs read.

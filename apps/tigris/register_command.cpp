@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
+#include "core/flag_values.hpp"
 #include "options.hpp"
 #include "registration/pipeline.hpp"
 #include "testbench/accel_in_loop.hpp"
@@ -101,72 +102,6 @@ ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
   }
   for (const auto& [key, v] : s.info.items()) j[key] = v;
   return j;
-}
-
-std::pair<int, int> parse_frames(const std::string& text) {
-  int a = -1, b = -1;
-  char comma = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &comma, &b, &extra) != 3 || comma != ',' || a < 0 || b < 0)
-    throw std::invalid_argument("--kitti-frames must be SOURCE,TARGET frame numbers (e.g. 1,0), got '" + text + "'");
-  return {a, b};
-}
-
-double parse_number(const std::string& flag, const std::string& text) {
-  std::size_t used = 0;
-  double x = NAN;
-  try {
-    x = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(x) || x < 0)
-    throw std::invalid_argument(flag + " must be a number >= 0 (metres), got '" + text + "'");
-  return x;
-}
-
-// --inject-kth K: an integer >= 1.
-int parse_kth(const std::string& text) {
-  std::size_t used = 0;
-  long long k = 0;
-  try {
-    k = std::stoll(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || k < 1 || k > 100000)
-    throw std::invalid_argument("--inject-kth must be an integer K in 1..100000 (1: the nearest, no error), got '" +
-                                text + "'");
-  return static_cast<int>(k);
-}
-
-// --inject-shell R1,R2 against the normal radius r: 0 <= R1 < r < R2.
-std::pair<double, double> parse_shell(const std::string& text, double r) {
-  const auto comma = text.find(',');
-  const auto number = [&](const std::string& part, double& x) {
-    std::size_t used = 0;
-    try {
-      x = std::stod(part, &used);
-    } catch (const std::exception&) {
-      return false;
-    }
-    return used == part.size() && std::isfinite(x);
-  };
-  double r1 = NAN, r2 = NAN;
-  if (comma == std::string::npos || !number(text.substr(0, comma), r1) || !number(text.substr(comma + 1), r2))
-    throw std::invalid_argument("--inject-shell must be R1,R2 in metres (e.g. 0.1,0.4), got '" + text + "'");
-  char buf[160];
-  if (r1 < 0 || r1 >= r2) {
-    std::snprintf(buf, sizeof buf, "--inject-shell %s: needs 0 <= R1 < R2, got R1 = %g, R2 = %g", text.c_str(), r1, r2);
-    throw std::invalid_argument(buf);
-  }
-  if (r1 >= r || r2 <= r) {
-    std::snprintf(buf, sizeof buf,
-                  "--inject-shell %s: needs R1 < r < R2 around the normal radius r = %g (normals.radius), got "
-                  "R1 = %g, R2 = %g",
-                  text.c_str(), r, r1, r2);
-    throw std::invalid_argument(buf);
-  }
-  return {r1, r2};
 }
 
 }  // namespace
@@ -363,7 +298,7 @@ FramePair load_frames(const RegisterOptions& o) {
     f.truth = read_pose_file(o.ground_truth);
     f.truth_name = o.ground_truth;
   } else if (!o.kitti_poses.empty()) {
-    const auto [s, t] = parse_frames(o.kitti_frames);
+    const auto [s, t] = parse_frame_pair(o.kitti_frames);
     f.truth = kitti_relative_velo_pose(o.kitti_poses, s, t);
     f.truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
     // Both frames within a run of equal ground-truth steps from frame 0 (KITTI 00's first ~15).
