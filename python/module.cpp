@@ -65,12 +65,7 @@ PointCloud to_cloud(const FloatArray& a, const char* what) {
 
 py::dict visits_dict(const VisitTotals& v) {
   py::dict d;
-  d["top"] = v.top;
-  d["pruned"] = v.pruned;
-  d["leaf_points"] = v.leaf_points;
-  d["follower_points"] = v.follower_points;
-  d["leader_checks"] = v.leader_checks;
-  d["leaf_visits"] = v.leaf_visits;
+  for_each_count(v, [&](const char* name, std::uint64_t x) { d[name] = x; });
   return d;
 }
 

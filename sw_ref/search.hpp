@@ -60,6 +60,18 @@ struct VisitTotals {
   void add(const QueryVisits& v);
 };
 
+// The visit counters by name, in the one order every report lists them (stats.json,
+// registration.json, the Python module): f(name, value) for a QueryVisits or a VisitTotals.
+template <class Visits, class F>
+void for_each_count(const Visits& v, F&& f) {
+  f("top", v.top);
+  f("pruned", v.pruned);
+  f("leaf_points", v.leaf_points);
+  f("follower_points", v.follower_points);
+  f("leader_checks", v.leader_checks);
+  f("leaf_visits", v.leaf_visits);
+}
+
 // every_leaf counts leaf visits, first_leaf counts queries (a leader joins when it finishes).
 struct LeaderTotals {
   std::uint64_t leaders = 0;             // queries (exact scans) that joined a Leader Buffer

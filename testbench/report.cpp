@@ -18,34 +18,32 @@ nlohmann::json dist_json(const Distribution& d) {
   return {{"mean", d.mean}, {"p50", d.p50}, {"p99", d.p99}, {"max", d.max}};
 }
 
-template <class Field>
-nlohmann::json per_query(const SearchOutput& out, Field field) {
-  std::vector<std::uint64_t> v;
-  v.reserve(out.per_query.size());
-  for (const QueryVisits& q : out.per_query) v.push_back(field(q));
-  return dist_json(distribution(std::move(v)));
-}
+nlohmann::json per_query(std::vector<std::uint64_t> values) { return dist_json(distribution(std::move(values))); }
 
 }  // namespace
 
 nlohmann::json visits_json(const SearchOutput& out) {
-  const VisitTotals& t = out.visits;
-  nlohmann::json j = {{"top", t.top},
-                      {"pruned", t.pruned},
-                      {"leaf_points", t.leaf_points},
-                      {"follower_points", t.follower_points},
-                      {"leader_checks", t.leader_checks},
-                      {"leaf_visits", t.leaf_visits}};
-  j["per_query"] = {{"top", per_query(out, [](const QueryVisits& q) { return q.top; })},
-                    {"pruned", per_query(out, [](const QueryVisits& q) { return q.pruned; })},
-                    {"leaf_points", per_query(out, [](const QueryVisits& q) { return q.leaf_points; })},
-                    {"follower_points", per_query(out, [](const QueryVisits& q) { return q.follower_points; })},
-                    {"leader_checks", per_query(out, [](const QueryVisits& q) { return q.leader_checks; })},
-                    {"leaf_visits", per_query(out, [](const QueryVisits& q) { return q.leaf_visits; })},
-                    // Distance computations of any kind: what a search unit or recursion unit pays for.
-                    {"nodes", per_query(out, [](const QueryVisits& q) {
-                       return std::uint64_t{q.top} + q.leaf_points + q.follower_points + q.leader_checks;
-                     })}};
+  nlohmann::json j = visits_json(out.visits);
+  // Per counter, its distribution over the queries; "nodes": distance computations of any kind,
+  // what a search unit or recursion unit pays for.
+  std::vector<std::vector<std::uint64_t>> columns;
+  std::vector<std::uint64_t> nodes;
+  nodes.reserve(out.per_query.size());
+  for (const QueryVisits& q : out.per_query) {
+    std::size_t c = 0;
+    for_each_count(q, [&](const char*, std::uint32_t x) {
+      if (c == columns.size()) columns.emplace_back().reserve(out.per_query.size());
+      columns[c++].push_back(x);
+    });
+    nodes.push_back(std::uint64_t{q.top} + q.leaf_points + q.follower_points + q.leader_checks);
+  }
+  nlohmann::json& pq = j["per_query"] = nlohmann::json::object();
+  std::size_t c = 0;
+  for_each_count(QueryVisits{}, [&](const char* name, std::uint32_t) {
+    pq[name] = per_query(c < columns.size() ? std::move(columns[c]) : std::vector<std::uint64_t>{});
+    ++c;
+  });
+  pq["nodes"] = per_query(std::move(nodes));
   return j;
 }
 

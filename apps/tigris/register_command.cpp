@@ -61,13 +61,7 @@ ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
     j["trees_built"] = k.builds;
     j["build_seconds"] = k.build_seconds;
     j["search_seconds"] = k.search_seconds;
-    if (s.search != "flann")
-      j["visits"] = {{"top", k.visits.top},
-                     {"pruned", k.visits.pruned},
-                     {"leaf_visits", k.visits.leaf_visits},
-                     {"leaf_points", k.visits.leaf_points},
-                     {"follower_points", k.visits.follower_points},
-                     {"leader_checks", k.visits.leader_checks}};
+    if (s.search != "flann") j["visits"] = visits_json<ordered_json>(k.visits);
     if (s.search == "approx" && !in_loop)
       j["leaders"] = {{"leaders", k.leaders.leaders},
                       {"followers", k.leaders.followers},
@@ -86,13 +80,7 @@ ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
                           {"modeled_kdtree_seconds", modeled_kdtree_seconds(k)},
                           {"modeled_stage_seconds", s.seconds - k.search_seconds + modeled_kdtree_seconds(k)},
                           {"energy_pj", a.energy_pj},
-                          {"visits",
-                           {{"top", a.visits.top},
-                            {"pruned", a.visits.pruned},
-                            {"leaf_visits", a.visits.leaf_visits},
-                            {"leaf_points", a.visits.leaf_points},
-                            {"follower_points", a.visits.follower_points},
-                            {"leader_checks", a.visits.leader_checks}}}};
+                          {"visits", visits_json<ordered_json>(a.visits)}};
     }
   } else {
     j["search"] = "none";
