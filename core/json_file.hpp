@@ -16,23 +16,25 @@
 
 namespace tigris {
 
-// Parses `text`; errors are std::invalid_argument starting with `source`.
-inline nlohmann::json parse_json_text(const std::string& text, const std::string& source,
-                                      bool ignore_comments = false) {
-  using nlohmann::json;
+// Parses `text`; errors are std::invalid_argument starting with `source`. Json:
+// nlohmann::ordered_json keeps the file's key order.
+template <class Json = nlohmann::json>
+Json parse_json_text(const std::string& text, const std::string& source, bool ignore_comments = false) {
+  using json = Json;
   std::vector<std::set<std::string>> keys;  // the keys seen in each open object
-  const json::parser_callback_t check = [&](int depth, json::parse_event_t event, json& parsed) {
+  const typename json::parser_callback_t check = [&](int depth, typename json::parse_event_t event, json& parsed) {
     if (depth > 512) throw std::invalid_argument(source + ": JSON nested deeper than 512 levels; not a tigris file");
     if (event == json::parse_event_t::object_start) keys.emplace_back();
     if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
-    if (event == json::parse_event_t::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
-      throw std::invalid_argument(source + ": key '" + visible_text(parsed.get<std::string>()) +
+    if (event == json::parse_event_t::key && !keys.empty() &&
+        !keys.back().insert(parsed.template get<std::string>()).second)
+      throw std::invalid_argument(source + ": key '" + visible_text(parsed.template get<std::string>()) +
                                   "' appears twice in one object; give each key once");
     return true;
   };
   try {
     return json::parse(text, check, true, ignore_comments);
-  } catch (const json::exception& e) {
+  } catch (const typename json::exception& e) {
     // parse_error (syntax, with line and column), out_of_range (1e400): drop the library's tag.
     std::string what = e.what();
     const auto bracket = what.find("] ");

@@ -63,13 +63,21 @@ struct VisitTotals {
 // The visit counters by name, in the one order every report lists them (stats.json,
 // registration.json, the Python module): f(name, value) for a QueryVisits or a VisitTotals.
 template <class Visits, class F>
-void for_each_count(const Visits& v, F&& f) {
+void for_each_count(Visits&& v, F&& f) {  // a mutable v gives f its counters to set (a reader)
   f("top", v.top);
   f("pruned", v.pruned);
   f("leaf_points", v.leaf_points);
   f("follower_points", v.follower_points);
   f("leader_checks", v.leader_checks);
   f("leaf_visits", v.leaf_visits);
+}
+// The counters as a JSON object in that order, for any JSON type (nlohmann::ordered_json keeps
+// the order in a file); sw_ref itself includes no JSON library.
+template <class Json, class Visits>
+Json visits_json(const Visits& v) {
+  Json j = Json::object();
+  for_each_count(v, [&](const char* name, std::uint64_t x) { j[name] = x; });
+  return j;
 }
 
 // every_leaf counts leaf visits, first_leaf counts queries (a leader joins when it finishes).

@@ -23,7 +23,7 @@ nlohmann::json per_query(std::vector<std::uint64_t> values) { return dist_json(d
 }  // namespace
 
 nlohmann::json visits_json(const SearchOutput& out) {
-  nlohmann::json j = visits_json(out.visits);
+  nlohmann::json j = visits_json<nlohmann::json>(out.visits);
   // Per counter, its distribution over the queries; "nodes": distance computations of any kind,
   // what a search unit or recursion unit pays for.
   std::vector<std::vector<std::uint64_t>> columns;

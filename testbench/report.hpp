@@ -16,13 +16,6 @@ namespace tigris {
 
 // `visits`: totals and the per-query distribution (mean, p50, p99, max) of each count.
 nlohmann::json visits_json(const SearchOutput& out);
-// The totals alone, in for_each_count's order (Json: nlohmann::ordered_json keeps it in a file).
-template <class Json = nlohmann::json>
-Json visits_json(const VisitTotals& totals) {
-  Json j = Json::object();
-  for_each_count(totals, [&](const char* name, std::uint64_t x) { j[name] = x; });
-  return j;
-}
 // `leaders`: leader/follower decisions of the approximate search.
 nlohmann::json leaders_json(const SearchOutput& out);
 // `accuracy`: approximate against exact search of the same queries.

@@ -32,7 +32,9 @@
 #include "core/timer.hpp"
 #include "options.hpp"
 #include "python_tools.hpp"
+#include "registration/odometry.hpp"
 #include "registration/odometry_metrics.hpp"
+#include "registration/report.hpp"
 #include "synth_command.hpp"
 #include "testbench/presets.hpp"
 #include "testbench/report.hpp"
@@ -102,56 +104,22 @@ std::string last_line(const std::string& path) {
 }
 
 // A pair's registration.json: false when it is not there (the pair runs); a report that is
-// there but not whole (edited, truncated) is an error naming the file and the key.
-bool read_pair(const std::string& path, ordered_json& out) {
+// there but not whole (edited, truncated; in the loop, without the accelerator's figures) is an
+// error naming the file and the key.
+bool read_pair(const std::string& path, bool accel, registration::Report& out) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(path, ec))) return false;
-  out = parse_json_text(read_input(path, "a pair's registration report", kMaxSettingsBytes), path);
-  const auto need = [&](bool ok, const std::string& what) {
-    if (!ok)
-      throw std::invalid_argument(path + ": " + what +
-                                  "; not a whole tigris register report (remove the pair's "
-                                  "folder to register it again)");
-  };
-  need(out.is_object(), "not a JSON object");
-  need(out.contains("status") && out["status"].is_string(), "no 'status' text");
-  need(out.contains("transform") && (out["transform"].is_null() || out["transform"].is_array()), "no 'transform'");
-  need(out.contains("seconds") && out["seconds"].is_number() && out["seconds"].get<double>() >= 0,
-       "no 'seconds' (a number, at least 0)");
-  need(out.contains("stages") && out["stages"].is_object() && !out["stages"].empty(), "no 'stages'");
-  for (const auto& [name, st] : out["stages"].items()) {
-    need(st.is_object(), "stage '" + name + "' is not an object");
-    for (const char* key : {"seconds", "search_seconds", "searches"})
-      need(!st.contains(key) || (st[key].is_number() && st[key].get<double>() >= 0),
-           "stage '" + name + "': '" + key + "' is not a number at least 0");
+  const std::string again = " (remove the pair's folder to register it again)";
+  try {
+    out = registration::read_report(path);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(e.what() + again);
   }
-  if (out["transform"].is_array()) {
-    bool ok = out["transform"].size() == 4;
-    for (const auto& row : out["transform"])
-      ok = ok && row.is_array() && row.size() == 4 && std::all_of(row.begin(), row.end(), [](const ordered_json& x) {
-             return x.is_number() && std::isfinite(x.get<double>());
-           });
-    need(ok, "'transform' is not a 4x4 matrix of finite numbers");
-  }
+  if (accel && !out.in_loop())
+    throw std::invalid_argument(
+        path + ": no 'accelerator', which --search accel* writes; not a whole tigris register " + "report" + again);
   return true;
 }
-
-Pose pose_of(const ordered_json& m) {
-  Pose t;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      t(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
-  return t;
-}
-
-double stage_sum(const ordered_json& reg, const char* key) {
-  double s = 0.0;
-  for (const auto& [name, st] : reg.at("stages").items()) s += st.value(key, 0.0);
-  return s;
-}
-
-// NaN (no segment, no ground truth) as null in JSON.
-ordered_json number(double x) { return std::isfinite(x) ? ordered_json(x) : ordered_json(); }
 
 }  // namespace
 
@@ -268,13 +236,6 @@ int run_compare(const OdometryOptions& o, const std::vector<std::string>& flags,
   return code;
 }
 
-// Sums over the pairs, for metrics.json and the summary.
-struct PairTotals {
-  double seconds = 0, kd = 0, modeled_e2e = 0, modeled_kd = 0, energy = 0;
-  std::size_t not_converged = 0;
-  std::uint64_t jobs = 0, sampled_jobs = 0;  // accelerator jobs, and those sampled (estimated figures)
-};
-
 // One odometry of one back-end, its steps in the order run() takes them; the members are what
 // one step leaves for the next.
 struct OdometryRun {
@@ -282,18 +243,15 @@ struct OdometryRun {
   std::vector<std::string> flags;     // each pair's `tigris register` flags
   std::unique_ptr<OutFolder> folder;  // null until claimed (the synthetic drive claims it first)
   KittiSequence seq;
-  std::size_t first = 0, last = 0, pairs = 0;  // the frames registered, pairs = last - first
-  std::vector<ordered_json> regs;              // each pair's registration.json
-  std::vector<std::size_t> todo;               // the pairs still to register
-  std::vector<Pose> est, gt;                   // chained, and ground truth from frame first (empty: none)
-  bool accel = false;                          // --search accel*: the accelerator's modeled figures too
-  PairTotals sum;
-  ordered_json stages = ordered_json::object();  // per stage: sums over the pairs, then means
-  ordered_json m;                                // metrics.json
-  std::string note;                              // the summary's note line, if any
+  std::size_t first = 0, last = 0, pairs = 0;        // the frames registered, pairs = last - first
+  std::vector<registration::Report> regs;            // each pair's registration.json
+  std::vector<std::size_t> todo;                     // the pairs still to register
+  bool accel = false;                                // --search accel*: the accelerator's modeled figures too
+  std::unique_ptr<registration::Odometry> odometry;  // chained, once every pair is registered
 
   OdometryRun(OdometryOptions options, std::vector<std::string> pair_flags, std::unique_ptr<OutFolder> claimed)
-      : o(std::move(options)), flags(std::move(pair_flags)), folder(std::move(claimed)) {}
+      : o(std::move(options)), flags(std::move(pair_flags)), folder(std::move(claimed)),
+        accel(o.search == "accel" || o.search == "accel-approx") {}
   int run();
   void read_sequence();
   void claim_folder();
@@ -301,13 +259,8 @@ struct OdometryRun {
   bool run_pairs();
   bool run_on_slurm(SteadyClock::time_point t0, std::string& failure);
   void run_locally(SteadyClock::time_point t0, std::string& failure);
-  void chain_poses();
-  void write_trajectory();
-  void add_pair(std::size_t k, std::ostringstream& csv);
-  void write_pairs_csv();
-  void add_kitti_metrics(bool synthetic);
-  void write_metrics();
-  int print_summary();
+  int write_files();
+  int print_summary(const ordered_json& m, const std::string& note);
 };
 
 int OdometryRun::run() {
@@ -315,11 +268,8 @@ int OdometryRun::run() {
   claim_folder();
   plan_pairs();
   if (!run_pairs()) return 0;
-  chain_poses();
-  write_trajectory();
-  write_pairs_csv();
-  write_metrics();
-  return print_summary();
+  odometry = std::make_unique<registration::Odometry>(first, std::move(regs), seq.poses, accel);
+  return write_files();
 }
 
 // The sequence's listing, poses and calibration, and the frames to register.
@@ -361,7 +311,7 @@ void OdometryRun::plan_pairs() {
   pairs = last - first;
   regs.resize(pairs);
   for (std::size_t k = 0; k < pairs; ++k)
-    if (!read_pair(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json", regs[k])) todo.push_back(k);
+    if (!read_pair(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json", accel, regs[k])) todo.push_back(k);
   if (!seq.note.empty()) std::fprintf(stderr, "tigris odometry: note: %s\n", seq.note.c_str());
   std::fprintf(stderr, "tigris odometry: %s, frames %zu..%zu: %zu pairs (%zu already in %s), --jobs %d\n",
                o.sequence.c_str(), first, last, pairs, pairs - todo.size(), o.out.c_str(), o.jobs);
@@ -418,7 +368,7 @@ bool OdometryRun::run_on_slurm(SteadyClock::time_point t0, std::string& failure)
   });
   for (const std::size_t k : todo) {
     const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-    if (!read_pair(dir + "/registration.json", regs[k]) && failure.empty())
+    if (!read_pair(dir + "/registration.json", accel, regs[k]) && failure.empty())
       failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": no result from Slurm job " +
                 job + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + "; task logs in " + o.out + "/slurm/)";
   }
@@ -445,11 +395,11 @@ void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) 
         const std::size_t k = todo[i];
         ++done;
         const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-        const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", regs[k]);
+        const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", accel, regs[k]);
         const double elapsed = seconds_since(t0);
         std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s elapsed, about %.0f s left)\n", done,
                      todo.size(), frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
-                     ok ? regs[k]["status"].get<std::string>().c_str() : "FAILED", elapsed,
+                     ok ? regs[k].result.status.c_str() : "FAILED", elapsed,
                      elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done));
         if (!ok && failure.empty())
           failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
@@ -458,165 +408,13 @@ void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) 
       });
 }
 
-// The estimated poses from the pairs' transforms, and the ground truth anchored at frame first.
-void OdometryRun::chain_poses() {
-  // Chain: pose of frame first + k + 1 = pose of frame first + k * (its pair's transform).
-  est.push_back(Pose::Identity());
-  for (std::size_t k = 0; k < pairs; ++k) {
-    if (regs[k]["transform"].is_null())
-      throw std::invalid_argument("pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) +
-                                  " is degenerate (no transform: " + regs[k].value("problem", std::string()) +
-                                  "): the trajectory cannot be chained past it");
-    est.push_back(est.back() * pose_of(regs[k]["transform"]));
-  }
-  if (!seq.poses.empty()) {
-    const Pose anchor = seq.poses[first].inverse();
-    for (std::size_t i = first; i <= last; ++i) gt.push_back(anchor * seq.poses[i]);
-  }
-}
-
-// OUT/poses.txt and OUT/trajectory.csv.
-void OdometryRun::write_trajectory() {
-  write_file(o.out + "/poses.txt", [&](std::ostream& f) { write_kitti_poses(f, est, seq.velo_to_cam); });
-  // Positions in frame A's Velodyne frame (x forward, y left, z up), for the plots.
-  write_file(o.out + "/trajectory.csv", [&](std::ostream& f) {
-    f << "frame,est_x,est_y,est_z,gt_x,gt_y,gt_z\n";
-    char line[256];
-    for (std::size_t i = 0; i < est.size(); ++i) {
-      const Pose g = gt.empty() ? Pose::Constant(NAN) : gt[i];
-      std::snprintf(line, sizeof line, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", first + i, est[i](0, 3), est[i](1, 3),
-                    est[i](2, 3), g(0, 3), g(1, 3), g(2, 3));
-      f << line;
-    }
-  });
-}
-
-// Pair k: its stages into the per-stage sums, its figures into the totals, its line of pairs.csv.
-void OdometryRun::add_pair(std::size_t k, std::ostringstream& csv) {
-  const ordered_json& r = regs[k];
-  for (const auto& [name, st] : r.at("stages").items()) {
-    ordered_json& acc = stages[name];
-    if (acc.is_null()) acc = ordered_json::object();
-    const auto add = [&acc](const char* key, double v) { acc[key] = acc.value(key, 0.0) + v; };
-    add("seconds", st.value("seconds", 0.0));
-    add("kdtree_search_seconds", st.value("search_seconds", 0.0));
-    add("searches", st.value("searches", 0.0));
-    if (accel && st.contains("accelerator")) {
-      const ordered_json& a = st.at("accelerator");
-      add("accelerator_jobs", a.at("jobs").get<double>());
-      add("modeled_kdtree_seconds", a.at("modeled_kdtree_seconds").get<double>());
-      add("modeled_stage_seconds", a.at("modeled_stage_seconds").get<double>());
-      add("kdtree_energy_pj", a.at("energy_pj").get<double>());
-      add("fallback_searches", a.at("fallback_searches").get<double>());
-    }
-  }
-  const double seconds = r.at("seconds").get<double>(), kd = stage_sum(r, "search_seconds");
-  sum.seconds += seconds;
-  sum.kd += kd;
-  sum.not_converged += r.at("status") != "converged";
-  char line[512];
-  double rpe_t = NAN, rpe_r = NAN;
-  if (!gt.empty()) {
-    const PoseError e = pose_error(gt[k].inverse() * gt[k + 1], est[k].inverse() * est[k + 1]);
-    rpe_t = e.translation_m;
-    rpe_r = e.rotation_deg;
-  }
-  std::snprintf(line, sizeof line, "%zu,%zu,%zu,%s,%.6f,%.6f,%.4f,%.0f,%.6g,%.6g", k, first + k + 1, first + k,
-                r.at("status").get<std::string>().c_str(), seconds, kd, seconds > 0 ? kd / seconds : 0.0,
-                stage_sum(r, "searches"), rpe_t, rpe_r);
-  csv << line;
-  if (accel) {
-    const ordered_json& a = r.at("accelerator");
-    if (!a.at("fallback_searches").is_number_unsigned())  // a count: a negative or fractional one is no report's
-      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) +
-                                  "/registration.json: "
-                                  "accelerator.fallback_searches is not a count; not a whole tigris register report "
-                                  "(remove the pair's folder to register it again)");
-    sum.modeled_kd += a.at("modeled_kdtree_seconds").get<double>();
-    sum.modeled_e2e += a.at("modeled_end_to_end_seconds").get<double>();
-    sum.energy += a.at("kdtree_energy_pj").get<double>();
-    const std::uint64_t sampled = a.value("sampled_jobs", std::uint64_t{0});  // none before sampling existed
-    sum.jobs += a.value("jobs", std::uint64_t{0});
-    sum.sampled_jobs += sampled;
-    std::snprintf(line, sizeof line, ",%.6g,%.6g,%.6g,%llu,%llu", a.at("modeled_kdtree_seconds").get<double>(),
-                  a.at("modeled_end_to_end_seconds").get<double>(), a.at("kdtree_energy_pj").get<double>(),
-                  static_cast<unsigned long long>(a.at("fallback_searches").get<std::uint64_t>()),
-                  static_cast<unsigned long long>(sampled));
-    csv << line;
-  }
-  csv << '\n';
-}
-
-// OUT/pairs.csv, one line a pair; sums the pairs' figures on the way.
-void OdometryRun::write_pairs_csv() {
-  // Per pair.
-  accel = o.search == "accel" || o.search == "accel-approx";
-  std::ostringstream csv;
-  csv << "pair,source,target,status,seconds,kdtree_seconds,kdtree_share,searches,rpe_translation_m,rpe_rotation_deg";
-  if (accel)
-    csv << ",modeled_kdtree_seconds,modeled_end_to_end_seconds,kdtree_energy_pj,fallback_searches,sampled_jobs";
-  csv << '\n';
-  for (std::size_t k = 0; k < pairs; ++k) {
-    try {  // a hand-edited report: the error names its file
-      add_pair(k, csv);
-    } catch (const nlohmann::json::exception& e) {
-      throw std::invalid_argument(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json: " +
-                                  std::string(e.what()).substr(std::string(e.what()).find("] ") + 2) +
-                                  "; not a whole tigris register report (remove the pair's folder to register it "
-                                  "again)");
-    }
-  }
-  write_file(o.out + "/pairs.csv", [&](std::ostream& f) { f << csv.str(); });
-}
-
-// The KITTI devkit's errors, ATE and RPE against the ground truth (gt not empty), into m; a
-// warning into note when the ground truth looks synthetic and the drive is not.
-void OdometryRun::add_kitti_metrics(bool synthetic) {
-  const registration::OdometryMetrics x = registration::odometry_metrics(gt, est);
-  ordered_json lengths = ordered_json::array();
-  for (const auto& l : x.per_length)
-    lengths.push_back({{"length_m", l.length_m},
-                       {"segments", l.segments},
-                       {"t_err_percent", number(l.t_err_percent)},
-                       {"r_err_deg_per_m", number(l.r_err_deg_per_m)}});
-  m["kitti"] = {{"t_err_percent", number(x.t_err_percent)},
-                {"r_err_deg_per_m", number(x.r_err_deg_per_m)},
-                {"segments", x.segments},
-                {"trajectory_length_m", x.trajectory_length_m},
-                {"too_short", x.too_short},
-                {"per_length", lengths},
-                {"how",
-                 "the KITTI odometry devkit: segments of 100..800 m of ground-truth path starting every "
-                 "10 frames; translational error in % and rotational error in deg/m, averaged over every "
-                 "segment"}};
-  if (x.too_short)
-    m["kitti"]["note"] =
-        "the trajectory is shorter than 100 m: no segment fits, so there are no KITTI metrics "
-        "(null, not 0)";
-  ordered_json segs = ordered_json::array();  // every devkit segment, for the plots
-  for (const registration::SegmentError& e : registration::sequence_errors(gt, est))
-    segs.push_back({{"first_frame", first + e.first_frame},
-                    {"length_m", e.length_m},
-                    {"speed_m_per_s", e.speed_m_per_s},
-                    {"t_err_percent", 100.0 * e.t_err_per_m},
-                    {"r_err_deg_per_m", e.r_err_rad_per_m * 180.0 / M_PI}});
-  m["kitti"]["segment_list"] = segs;
-  m["ate"] = {{"rmse_m", number(x.ate_rmse_m)},
-              {"unaligned_rmse_m", number(x.ate_anchored_rmse_m)},
-              {"unaligned_max_m", number(x.ate_max_m)}};
-  m["rpe"] = {{"mean_translation_m", number(x.mean_rpe_translation_m)},
-              {"mean_rotation_deg", number(x.mean_rpe_rotation_deg)}};
-  // On every ground-truth pose from frame A, also those past the scans the folder holds.
-  const std::size_t steps =
-      equal_steps(std::vector<Pose>(seq.poses.begin() + static_cast<std::ptrdiff_t>(first), seq.poses.end()));
-  if (steps >= kEqualStepsWarn && !synthetic) {
-    m["ground_truth_warning"] = equal_steps_warning(steps);
-    note = equal_steps_warning(steps);
-  }
-}
-
-// OUT/metrics.json: the run, the totals, the per-stage means and the errors against the ground truth.
-void OdometryRun::write_metrics() {
+// OUT/poses.txt, trajectory.csv, pairs.csv and metrics.json; then the summary.
+int OdometryRun::write_files() {
+  const registration::Odometry& odo = *odometry;
+  write_file(o.out + "/poses.txt", [&](std::ostream& f) { write_kitti_poses(f, odo.estimated(), seq.velo_to_cam); });
+  write_file(o.out + "/trajectory.csv", [&](std::ostream& f) { odo.write_trajectory_csv(f); });
+  write_file(o.out + "/pairs.csv", [&](std::ostream& f) { odo.write_pairs_csv(f); });
+  ordered_json m;
   m["command"] = "odometry";
   m["command_line"] = o.command_line;
   m["sequence"] = o.sequence;
@@ -630,41 +428,16 @@ void OdometryRun::write_metrics() {
   m["frames"] = {first, last};
   m["pairs"] = pairs;
   m["register_flags"] = flags;
-  m["not_converged_pairs"] = sum.not_converged;
-  m["totals"] = {{"seconds", sum.seconds},
-                 {"kdtree_search_seconds", sum.kd},
-                 {"kdtree_share", sum.seconds > 0 ? sum.kd / sum.seconds : 0.0}};
-  if (accel)
-    m["accelerator"] = {{"modeled_kdtree_seconds", sum.modeled_kd},
-                        {"modeled_end_to_end_seconds", sum.modeled_e2e},
-                        {"kdtree_energy_pj", sum.energy},
-                        {"jobs", sum.jobs},
-                        {"sampled_jobs", sum.sampled_jobs},  // their figures estimated (docs/sampling.md)
-                        {"per_pair_mean",
-                         {{"modeled_kdtree_seconds", sum.modeled_kd / pairs},
-                          {"modeled_end_to_end_seconds", sum.modeled_e2e / pairs},
-                          {"kdtree_energy_pj", sum.energy / pairs}}}};
-  // Per stage: the mean over the pairs (with accel, a stage's seconds and KD-tree search seconds
-  // hold the simulation's wall time; its modeled figures are the accelerator's).
-  for (auto& [name, acc] : stages.items()) {
-    ordered_json mean;
-    for (const auto& [key, v] : acc.items()) mean[key] = v.get<double>() / static_cast<double>(pairs);
-    acc = {{"per_pair_mean", mean}};
-  }
-  m["stages"] = stages;
-  if (gt.empty()) {
-    m["ground_truth"] = nullptr;
-    note = "no poses.txt: no error metrics";
-  } else {
-    add_kitti_metrics(synthetic);
-  }
+  const std::string note = odo.add_metrics(m, synthetic);
   write_file(o.out + "/metrics.json",
              [&](std::ostream& f) { f << m.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+  return print_summary(m, note);
 }
 
 // The summary on stdout, the plots (a warning when they cannot be drawn), and OUT finished;
 // exit 1 when a pair did not converge.
-int OdometryRun::print_summary() {
+int OdometryRun::print_summary(const ordered_json& m, const std::string& note) {
+  const registration::Odometry::Totals& sum = odometry->totals();
   std::printf("tigris odometry: %s, frames %zu..%zu (%zu pairs, %zu not converged), %s\n", o.sequence.c_str(), first,
               last, pairs, sum.not_converged, o.search.empty() ? "search exact" : ("search " + o.search).c_str());
   if (accel)
@@ -674,7 +447,7 @@ int OdometryRun::print_summary() {
                 sum.seconds > 0 ? 100.0 * sum.kd / sum.seconds : 0.0);
   if (accel) {
     std::printf("  on the accelerator (modeled): KD-tree %.4f s, end to end %.3f s, KD-tree energy %.1f uJ\n",
-                sum.modeled_kd, sum.modeled_e2e, sum.energy * 1e-6);
+                sum.modeled_kd, sum.modeled_e2e, sum.energy_pj * 1e-6);
     if (sum.sampled_jobs > 0)
       std::printf(
           "  sampled %llu of %llu accelerator jobs: their cycles and energy, and these totals, are estimates "

@@ -15,6 +15,7 @@
 #include "core/flag_values.hpp"
 #include "options.hpp"
 #include "registration/pipeline.hpp"
+#include "registration/report.hpp"
 #include "testbench/accel_in_loop.hpp"
 #include "testbench/config.hpp"
 #include "testbench/presets.hpp"
@@ -31,66 +32,6 @@ namespace tigris {
 namespace {
 
 using nlohmann::ordered_json;
-
-ordered_json matrix_json(const Eigen::Matrix4d& t) {
-  ordered_json rows = ordered_json::array();
-  for (int r = 0; r < 4; ++r) {
-    ordered_json row = ordered_json::array();
-    for (int c = 0; c < 4; ++c) row.push_back(t(r, c));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-// A stage's KD-tree time with the accelerator in the loop: its jobs as modeled (search and host
-// transfers) plus the searches it could not batch, at their CPU time.
-double modeled_kdtree_seconds(const registration::SearchCounters& k) {
-  return k.accel.modeled_search_seconds + k.accel.modeled_host_seconds + k.accel.fallback_seconds;
-}
-
-ordered_json stage_json(const registration::StageReport& s, bool in_loop) {
-  ordered_json j;
-  j["seconds"] = s.seconds;
-  const registration::SearchCounters& k = s.kdtree;
-  if (!s.search.empty()) {
-    j["search"] = s.search;
-    // PCL's batch calls loop over single points: each search is one query point.
-    j["searches"] = k.searches;
-    j["queries"] = k.searches;
-    j["neighbors"] = k.neighbors;
-    j["trees_built"] = k.builds;
-    j["build_seconds"] = k.build_seconds;
-    j["search_seconds"] = k.search_seconds;
-    if (s.search != "flann") j["visits"] = visits_json<ordered_json>(k.visits);
-    if (s.search == "approx" && !in_loop)
-      j["leaders"] = {{"leaders", k.leaders.leaders},
-                      {"followers", k.leaders.followers},
-                      {"leader_buffer_full", k.leaders.leader_buffer_full}};
-    if (in_loop) {
-      // search_seconds above holds the jobs' simulation: the stage's figures on the hardware are these.
-      const auto& a = k.accel;
-      j["visits_note"] = "visits: the golden model's, of the fallback searches only";
-      j["accelerator"] = {{"jobs", a.jobs},
-                          {"queries", a.queries},
-                          {"fallback_searches", a.fallback_searches},
-                          {"fallback_cpu_seconds", a.fallback_seconds},
-                          {"cycles", a.cycles},
-                          {"modeled_search_seconds", a.modeled_search_seconds},
-                          {"modeled_host_seconds", a.modeled_host_seconds},
-                          {"modeled_kdtree_seconds", modeled_kdtree_seconds(k)},
-                          {"modeled_stage_seconds", s.seconds - k.search_seconds + modeled_kdtree_seconds(k)},
-                          {"energy_pj", a.energy_pj},
-                          {"visits", visits_json<ordered_json>(a.visits)}};
-    }
-  } else {
-    j["search"] = "none";
-    j["searches"] = 0;
-    j["queries"] = 0;
-    j["search_seconds"] = 0.0;
-  }
-  for (const auto& [key, v] : s.info.items()) j[key] = v;
-  return j;
-}
 
 }  // namespace
 
@@ -344,49 +285,6 @@ ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, c
   return j;
 }
 
-// The accelerator's part of registration.json: its jobs, modeled KD-tree time and end to end.
-struct LoopFigures {
-  double modeled_e2e = 0, modeled_kd = 0, energy_pj = 0;
-};
-
-LoopFigures loop_figures(const registration::RegistrationResult& r) {
-  LoopFigures f;
-  f.modeled_e2e = r.total_seconds;
-  for (const auto& s : r.stages) {
-    f.modeled_e2e += modeled_kdtree_seconds(s.kdtree) - s.kdtree.search_seconds;
-    f.modeled_kd += modeled_kdtree_seconds(s.kdtree);
-    f.energy_pj += s.kdtree.accel.energy_pj;
-  }
-  return f;
-}
-
-ordered_json accelerator_json(const registration::RegistrationResult& r, const hw::AcceleratorConfig& accel_cfg,
-                              const ordered_json& accel_jobs) {
-  std::uint64_t jobs = 0, fallbacks = 0;
-  for (const auto& s : r.stages) {
-    jobs += s.kdtree.accel.jobs;
-    fallbacks += s.kdtree.accel.fallback_searches;
-  }
-  const LoopFigures f = loop_figures(r);
-  std::uint64_t sampled = 0;
-  for (const auto& j : accel_jobs) sampled += j.value("sampled", false);
-  return {{"jobs", jobs},
-          {"sampled_jobs", sampled},  // their cycles and energy estimated (docs/sampling.md)
-          {"sampling", sampling_setting(accel_cfg.sim.sampling)},
-          {"fallback_searches", fallbacks},
-          {"modeled_kdtree_seconds", f.modeled_kd},
-          {"kdtree_energy_pj", f.energy_pj},
-          {"modeled_end_to_end_seconds", f.modeled_e2e},
-          {"wall_seconds", r.total_seconds},
-          {"how",
-           "modeled end to end = the stages' CPU time without their KD-tree searches + the accelerator's "
-           "modeled search and host-transfer time + the CPU time of the searches it could not batch (golden "
-           "model); tree builds stay on the CPU; wall_seconds includes simulating the jobs"},
-          {"every_job", "checked against the golden model, bit for bit"},
-          {"config", ordered_json::parse(config_to_json(accel_cfg).dump())},
-          {"job_list", accel_jobs}};
-}
-
 // Writes the workload trace of the registration (--record-trace); returns registration.json's "trace".
 ordered_json write_trace(const RegisterOptions& o, registration::TraceRecorder& recorder, const ordered_json& doc,
                          const registration::RegistrationResult& r) {
@@ -413,55 +311,27 @@ ordered_json write_trace(const RegisterOptions& o, registration::TraceRecorder& 
   return {{"path", o.record_trace}, {"jobs", t.jobs.size()}, {"clouds", t.clouds.size()}};
 }
 
-// registration.json: the pair, the result, each stage's time and searches, the accelerator's
-// figures (in the loop), the error against the ground truth (`err`) and the configuration.
-ordered_json registration_doc(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
-                              const FramePair& f, const registration::RegistrationResult& r, double work_spent,
-                              const ordered_json& accelerator, std::optional<PoseError>& err) {
-  ordered_json doc;
-  doc["command"] = "register";
-  doc["source"] = {{"name", f.source_name}, {"points", f.source.size()}};
-  doc["target"] = {{"name", f.target_name}, {"points", f.target.size()}};
-  doc["preset"] = o.preset;
-  doc["search"] = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
-  // The injected error (also in config.inject): null when none.
-  doc["injection"] = {{"rpce_kth", config.inject.rpce_kth},
-                      {"normals_shell",
-                       config.inject.normals_shell_outer > 0
-                           ? ordered_json::array({config.inject.normals_shell_inner, config.inject.normals_shell_outer})
-                           : ordered_json()},
-                      {"normals_radius", config.normals.radius}};
-  doc["status"] = r.status;
-  if (!r.problem.empty()) doc["problem"] = r.problem;
-  doc["transform"] = r.status == "degenerate" ? ordered_json() : matrix_json(r.transform);
-  doc["initial_transform"] = matrix_json(r.initial);
-  doc["seconds"] = r.total_seconds;
-  double kd_seconds = 0.0;
-  ordered_json stages = ordered_json::object();
-  for (const auto& s : r.stages) {
-    stages[s.name] = stage_json(s, in_loop);
-    kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
-  }
-  doc["stages"] = stages;
-  doc["kdtree_seconds"] = kd_seconds;
-  doc["kdtree_work"] = {{"distances_and_neighbors", work_spent}, {"max_work", o.max_work}};
-  doc["kdtree_share"] = r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0;
-  if (in_loop) doc["accelerator"] = accelerator;
-  if (f.truth && r.status != "degenerate") {
-    err = pose_error(*f.truth, r.transform);
-    const PoseError initial = pose_error(*f.truth, r.initial);
-    doc["ground_truth"] = {{"source", f.truth_name}, {"transform", matrix_json(*f.truth)}};
-    if (!f.truth_warning.empty()) doc["ground_truth"]["warning"] = f.truth_warning;
-    doc["error"] = {{"translation_m", err->translation_m},
-                    {"rotation_deg", err->rotation_deg},
-                    {"travelled_m", err->travelled_m},
-                    {"translation_m_per_m", err->translation_per_m},
-                    {"rotation_deg_per_m", err->rotation_deg_per_m},
-                    {"initial_translation_m", initial.translation_m},
-                    {"initial_rotation_deg", initial.rotation_deg}};
-  }
-  doc["config"] = ordered_json::parse(registration::to_json(config).dump());
-  return doc;
+// The typed report of the registration (registration/report.hpp writes registration.json).
+registration::Report make_report(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
+                                 const FramePair& f, const registration::RegistrationResult& r, double work_spent,
+                                 const hw::AcceleratorConfig& accel_cfg, const ordered_json& accel_jobs) {
+  registration::Report rep;
+  rep.source = {f.source_name, f.source.size()};
+  rep.target = {f.target_name, f.target.size()};
+  rep.preset = o.preset;
+  rep.search = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
+  rep.injection = {config.inject.rpce_kth, config.inject.normals_shell_inner, config.inject.normals_shell_outer,
+                   config.normals.radius};
+  rep.result = r;
+  rep.work_spent = work_spent;
+  rep.max_work = o.max_work;
+  if (in_loop)
+    rep.accelerator =
+        registration::Report::Accelerator{ordered_json::parse(sampling_setting(accel_cfg.sim.sampling).dump()),
+                                          ordered_json::parse(config_to_json(accel_cfg).dump()), accel_jobs};
+  if (f.truth) rep.truth = registration::Report::Truth{f.truth_name, *f.truth, f.truth_warning};
+  rep.config = registration::to_json(config);
+  return rep;
 }
 
 // The summary on stdout: stages, the accelerator's figures, the transform and its error.
@@ -487,10 +357,10 @@ void print_registration(const RegisterOptions& o, const registration::PipelineCo
       std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
                   static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
                   static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
-                  modeled_kdtree_seconds(s.kdtree),
-                  s.seconds - s.kdtree.search_seconds + modeled_kdtree_seconds(s.kdtree), a.energy_pj * 1e-6);
+                  registration::modeled_kdtree_seconds(s.kdtree), registration::modeled_stage_seconds(s),
+                  a.energy_pj * 1e-6);
     }
-    const LoopFigures l = loop_figures(r);
+    const registration::LoopFigures l = registration::loop_figures(r);
     std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
                 l.modeled_e2e, l.modeled_kd, l.energy_pj * 1e-6, r.total_seconds);
   } else {
@@ -600,20 +470,18 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                 "check the injection, radii and k of the configuration");
   }
 
-  std::optional<PoseError> err;
-  ordered_json doc = registration_doc(o, config, in_loop, f, r, budget->spent,
-                                      in_loop ? accelerator_json(r, accel_cfg, accel_jobs) : ordered_json(), err);
+  registration::Report report = make_report(o, config, in_loop, f, r, budget->spent, accel_cfg, accel_jobs);
   folder.check_inputs();
-  if (hooks.recorder) doc["trace"] = write_trace(o, *hooks.recorder, doc, r);
+  if (hooks.recorder) report.trace = write_trace(o, *hooks.recorder, registration::to_json(report), r);
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& out) {
-    out << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
+    out << registration::to_json(report).dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
   });  // paths: any bytes
-  print_registration(o, config, in_loop, f, r, injection, err, path);
+  print_registration(o, config, in_loop, f, r, injection, report.error(), path);
   if (in_loop) {
-    const auto& a = doc["accelerator"];
-    const auto sampled = a["sampled_jobs"].get<std::uint64_t>(), jobs = a["jobs"].get<std::uint64_t>();
-    const std::string setting = a["sampling"].is_string() ? a["sampling"].get<std::string>() : a["sampling"].dump();
+    const std::uint64_t sampled = report.sampled_jobs(), jobs = registration::loop_figures(r).jobs;
+    const ordered_json& a = report.accelerator->sampling;
+    const std::string setting = a.is_string() ? a.get<std::string>() : a.dump();
     if (sampled > 0)
       std::printf(
           "  sampled %llu of %llu accelerator jobs (sim.sampling %s): their cycles and energy are estimates; "

@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/children.hpp"
-#include "core/json_file.hpp"
 #include "register_command.hpp"
+#include "registration/report.hpp"
 #include "testbench/cpu_baseline.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
@@ -53,10 +53,15 @@ std::vector<std::string> variant_args(const std::vector<std::string>& argv, cons
   return rerun_args(argv, {"--compare"}, drop, {"--search", v.search, "--out", out});
 }
 
-double search_seconds(const ordered_json& reg) {
+double search_seconds(const registration::Report& reg) {
   double s = 0.0;
-  for (const auto& [name, st] : reg["stages"].items()) s += st.value("search_seconds", 0.0);
+  for (const registration::StageReport& st : reg.result.stages) s += st.kdtree.search_seconds;
   return s;
+}
+
+// The CPU back-ends are deterministic: runs that register differently are a bug, not noise.
+bool same_transform(const registration::Report& a, const registration::Report& b) {
+  return a.degenerate() == b.degenerate() && (a.degenerate() || a.result.transform == b.result.transform);
 }
 
 }  // namespace
@@ -100,7 +105,7 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   }
   OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs, false, {}});
   Machine machine = machine_before();
-  std::vector<std::vector<ordered_json>> regs(std::size(kVariants));
+  std::vector<std::vector<registration::Report>> regs(std::size(kVariants));
   ordered_json runs = ordered_json::object();
   int worst = 0;
   for (int k = 1; k <= o.repeat; ++k)
@@ -118,10 +123,9 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                                     std::to_string(code) + "; its message is above)");
       worst = std::max(worst, code);
       const std::string path = out + "/registration.json";
-      regs[i].push_back(parse_json_text(read_input(path, "the back-end's report", kMaxSettingsBytes), path));
+      regs[i].push_back(registration::read_report(path));
       runs[v.search].push_back(path);
-      // The CPU back-ends are deterministic: a repeat that registers differently is a bug, not noise.
-      if (regs[i].back()["transform"] != regs[i].front()["transform"])
+      if (!same_transform(regs[i].back(), regs[i].front()))
         throw std::runtime_error(std::string("--compare: the ") + v.search + " back-end's run " + std::to_string(k) +
                                  " found another transform than its run 1 (" + path +
                                  "): the registration is not "
@@ -134,19 +138,20 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
   std::vector<std::pair<std::string, Spread>> timed;
   for (std::size_t i = 0; i < std::size(kVariants); ++i) {
     const Variant& v = kVariants[i];
-    const ordered_json& reg = regs[i].front();
-    const bool accel = reg.contains("accelerator");
+    const registration::Report& reg = regs[i].front();
+    const bool accel = reg.in_loop();
     std::vector<double> kd, e2e;
-    for (const ordered_json& r : regs[i]) {
-      kd.push_back(accel ? r["accelerator"]["modeled_kdtree_seconds"].get<double>() : search_seconds(r));
-      e2e.push_back(accel ? r["accelerator"]["modeled_end_to_end_seconds"].get<double>() : r["seconds"].get<double>());
+    for (const registration::Report& r : regs[i]) {
+      const registration::LoopFigures l = registration::loop_figures(r.result);
+      kd.push_back(accel ? l.modeled_kd : search_seconds(r));
+      e2e.push_back(accel ? l.modeled_e2e : r.result.total_seconds);
     }
     times.emplace_back(spread_of(kd), spread_of(e2e));
     if (v.cpu) timed.emplace_back(std::string(v.search) + "'s KD-tree time", times.back().first);
     ordered_json row;
     row["back_end"] = v.search;
     row["label"] = v.label;
-    row["status"] = reg["status"];
+    row["status"] = reg.result.status;
     row["runs"] = regs[i].size();
     row["kdtree_seconds"] = times.back().first.median;
     row["end_to_end_seconds"] = times.back().second.median;
@@ -154,14 +159,14 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
     row["end_to_end_seconds_spread"] = to_json(times.back().second);
     row["timing"] = accel ? "modeled (the accelerator's jobs; the rest measured on this CPU, once)"
                           : "measured on this CPU: the median of the runs";
-    row["kdtree_energy_pj"] = accel ? reg["accelerator"]["kdtree_energy_pj"] : ordered_json();
-    row["tree_build_seconds"] = 0.0;
-    for (const auto& [name, st] : reg["stages"].items())
-      row["tree_build_seconds"] = row["tree_build_seconds"].get<double>() + st.value("build_seconds", 0.0);
-    row["error"] = reg.contains("error") ? ordered_json{{"translation_m", reg["error"]["translation_m"]},
-                                                        {"rotation_deg", reg["error"]["rotation_deg"]}}
-                                         : ordered_json();
-    row["transform"] = reg["transform"];
+    row["kdtree_energy_pj"] = accel ? ordered_json(registration::loop_figures(reg.result).energy_pj) : ordered_json();
+    double build = 0.0;
+    for (const registration::StageReport& st : reg.result.stages) build += st.kdtree.build_seconds;
+    row["tree_build_seconds"] = build;
+    const auto err = reg.error();
+    row["error"] =
+        err ? ordered_json{{"translation_m", err->translation_m}, {"rotation_deg", err->rotation_deg}} : ordered_json();
+    row["transform"] = registration::transform_json(reg);
     rows.push_back(row);
   }
   // Against the CPU baseline, PCL's FLANN (the first row): the ratio of medians, and the widest
