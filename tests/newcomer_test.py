@@ -474,6 +474,55 @@ def allowed(inc, rules):
     return any(inc == r or inc.startswith(r + "/") for r in rules)
 
 
+# What a folder's libraries may link beyond what it includes: the harness links the RTL
+# Recursion Unit whole (a plug-in that registers itself) and includes nothing of it.
+LINK_EXTRA = {"testbench": ["rtl"]}
+
+
+def link_graph():
+    """{target: (folder, CMakeLists path, [tigris_* targets it links])} of every folder with layering rules."""
+    targets, links = {}, {}
+    for folder in LAYERS:
+        for dirpath, _, files in os.walk(os.path.join(ROOT, folder)):
+            if "CMakeLists.txt" not in files or "/build" in dirpath:
+                continue
+            path = os.path.join(dirpath, "CMakeLists.txt")
+            text = re.sub(r"#[^\n]*", "", open(path).read())
+            for name in re.findall(r"(?:add_library|add_executable|pybind11_add_module)\(\s*(\w+)", text):
+                targets[name] = (folder, os.path.relpath(path, ROOT))
+            for name, args in re.findall(r"target_link_libraries\(\s*(\w+)([^)]*)\)", text):
+                links.setdefault(name, []).extend(re.findall(r"\btigris_\w+", args))
+    return {t: (f, p, links.get(t, [])) for t, (f, p) in targets.items()}
+
+
+def check_links():
+    # Every library links only libraries of the folders below it, and the graph has no cycle:
+    # the link order follows the layers (a plug-in uses the model; the harness links it whole).
+    graph = link_graph()
+    check({"tigris_hw", "tigris_testbench", "tigris_registration", "tigris"} <= set(graph),
+          f"libraries found: {sorted(graph)}")
+    for name, (folder, path, linked) in graph.items():
+        rules = LAYERS[folder] + LINK_EXTRA.get(folder, [])
+        for lib in linked:
+            check(lib in graph, f"{path}: {name} links {lib}, which no folder with layering rules builds")
+            other = graph.get(lib, (folder,))[0]
+            check(other == folder or any(r == other or r.startswith(other + "/") for r in rules),
+                  f"{path}: {name} ({folder}/) links {lib} ({other}/): {folder}/ may use only {rules}")
+    state = {}
+
+    def visit(name, trail):
+        state[name] = "open"
+        for lib in graph.get(name, ("", "", []))[2]:
+            check(state.get(lib) != "open", f"link cycle: {' -> '.join(trail + [name, lib])}")
+            if lib in graph and lib not in state:
+                visit(lib, trail + [name])
+        state[name] = "done"
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [])
+
+
 def part_layers(d):
     # Every folder of sources has its rules, and every file keeps to its folder's.
     folders = {e for e in os.listdir(ROOT) if os.path.isdir(os.path.join(ROOT, e)) and includes(e)}
@@ -485,6 +534,7 @@ def part_layers(d):
         for path, (incs, _) in files.items():
             bad = [i for i in incs if not allowed(i, rules)]
             check(not bad, f"{path} includes {bad}: {folder}/ may include only {rules}")
+    check_links()
     # Command-line parsing (CLI11) lives in apps/ and core/ only (issue 55).
     for folder in set(LAYERS) - {"apps", "core"}:
         for path, (_, text) in includes(folder).items():

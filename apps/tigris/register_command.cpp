@@ -116,6 +116,18 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                "(odometry and --compare check the flags they forward this way)");
 }
 
+nlohmann::json register_inputs(const RegisterOptions& o) {
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
+                                   {"target", o.target},
+                                   {"config", o.config},
+                                   {"ground truth", o.ground_truth},
+                                   {"KITTI poses", o.kitti_poses},
+                                   {"accelerator config", o.accel_config}})
+    if (!path.empty()) inputs.push_back(input_file(role, path));
+  return inputs;
+}
+
 namespace {
 
 // The pipeline's configuration from the preset, --config, --set and the flags over them.
@@ -333,46 +345,65 @@ registration::Report make_report(const RegisterOptions& o, const registration::P
   rep.config = registration::to_json(config);
   return rep;
 }
+// The accelerator's figures per stage and in all, and whether jobs were sampled.
+void print_loop(const registration::Report& rep) {
+  const registration::RegistrationResult& r = rep.result;
+  std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
+  std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles", "kd s",
+              "stage s", "energy uJ");
+  for (const auto& s : r.stages) {
+    if (s.search.empty()) continue;
+    const auto& a = s.kdtree.accel;
+    std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
+                static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
+                static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
+                registration::modeled_kdtree_seconds(s.kdtree), registration::modeled_stage_seconds(s),
+                a.energy_pj * 1e-6);
+  }
+  const registration::LoopFigures l = registration::loop_figures(r);
+  std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
+              l.modeled_e2e, l.modeled_kd, l.energy_pj * 1e-6, r.total_seconds);
+}
+
+// How the accelerator's jobs were simulated (after the summary: estimates must be read as such).
+void print_sampling(const registration::Report& rep) {
+  const std::uint64_t sampled = rep.sampled_jobs(), jobs = registration::loop_figures(rep.result).jobs;
+  const ordered_json& a = rep.accelerator->sampling;
+  const std::string setting = a.is_string() ? a.get<std::string>() : a.dump();
+  if (sampled > 0)
+    std::printf(
+        "  sampled %llu of %llu accelerator jobs (sim.sampling %s): their cycles and energy are estimates; "
+        "--accel-set sim.sampling=off simulates every query\n",
+        static_cast<unsigned long long>(sampled), static_cast<unsigned long long>(jobs), setting.c_str());
+  else
+    std::printf("  every query of the %llu accelerator jobs simulated (sim.sampling %s%s)\n",
+                static_cast<unsigned long long>(jobs), setting.c_str(),
+                setting == "off" ? "" : ": no job long enough to sample");
+}
 
 // The summary on stdout: stages, the accelerator's figures, the transform and its error.
-void print_registration(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
-                        const FramePair& f, const registration::RegistrationResult& r, const std::string& injection,
-                        const std::optional<PoseError>& err, const std::string& path) {
-  std::printf("tigris register: preset %s, search %s, %zu -> %zu points%s\n", o.preset.c_str(),
-              registration::to_string(config.search.backend), f.source.size(), f.target.size(), injection.c_str());
+void print_registration(const registration::PipelineConfig& config, const registration::Report& rep,
+                        const std::string& injection, const std::string& path) {
+  const registration::RegistrationResult& r = rep.result;
+  std::printf("tigris register: preset %s, search %s, %llu -> %llu points%s\n", rep.preset.c_str(),
+              registration::to_string(config.search.backend), static_cast<unsigned long long>(rep.source.points),
+              static_cast<unsigned long long>(rep.target.points), injection.c_str());
   std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
-  double kd_seconds = 0.0;
-  for (const auto& s : r.stages) {
+  for (const auto& s : r.stages)
     std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,
                 static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
-    kd_seconds += s.kdtree.search_seconds + s.kdtree.build_seconds;
-  }
-  if (in_loop) {
-    std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
-    std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles", "kd s",
-                "stage s", "energy uJ");
-    for (const auto& s : r.stages) {
-      if (s.search.empty()) continue;
-      const auto& a = s.kdtree.accel;
-      std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
-                  static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
-                  static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
-                  registration::modeled_kdtree_seconds(s.kdtree), registration::modeled_stage_seconds(s),
-                  a.energy_pj * 1e-6);
-    }
-    const registration::LoopFigures l = registration::loop_figures(r);
-    std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
-                l.modeled_e2e, l.modeled_kd, l.energy_pj * 1e-6, r.total_seconds);
-  } else {
+  if (rep.in_loop())
+    print_loop(rep);
+  else
     std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
-                100.0 * (r.total_seconds > 0 ? kd_seconds / r.total_seconds : 0.0));
-  }
+                100.0 * (r.total_seconds > 0 ? rep.kdtree_seconds() / r.total_seconds : 0.0));
   if (r.status != "degenerate") {
     std::printf("  transform (target <- source)%s:\n", r.status == "converged" ? "" : ", NOT CONVERGED");
     for (int i = 0; i < 3; ++i)
       std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
                   r.transform(i, 3));
   }
+  const std::optional<PoseError> err = rep.error();
   if (err && std::isfinite(err->translation_per_m))
     std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
                 err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
@@ -382,8 +413,58 @@ void print_registration(const RegisterOptions& o, const registration::PipelineCo
         "  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
         "does not move)\n",
         err->translation_m, err->rotation_deg);
-  if (err && !f.truth_warning.empty()) std::printf("  warning: %s\n", f.truth_warning.c_str());
+  if (err && !rep.truth->warning.empty()) std::printf("  warning: %s\n", rep.truth->warning.c_str());
   std::printf("  wrote %s\n", path.c_str());
+  if (rep.in_loop()) print_sampling(rep);
+}
+
+// The registration, its progress on stderr (stage by stage, the work bound), each accelerator
+// job's row into `accel_jobs`.
+struct PipelineRun {
+  registration::RegistrationResult result;
+  double work_spent = 0;                                  // distances and neighbours, against --max-work
+  std::shared_ptr<registration::TraceRecorder> recorder;  // --record-trace
+  bool mismatch = false;  // a job's results differed from the golden model's (reported; exit 1)
+};
+
+PipelineRun run_pipeline(const RegisterOptions& o, const registration::PipelineConfig& config, const FramePair& f,
+                         std::shared_ptr<ModelInTheLoop> model, ordered_json& accel_jobs) {
+  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
+  // would flood stderr: the counts are in registration.json instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  auto budget = std::make_shared<registration::WorkBudget>();
+  budget->limit = o.max_work;
+  std::string stage_now;
+  budget->progress = [&](const registration::WorkBudget& b) {
+    std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
+                 stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
+  };
+  registration::PipelineHooks hooks;
+  hooks.on_stage = [&](const std::string& stage) {
+    stage_now = stage;
+    std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
+  };
+  hooks.budget = budget;
+  PipelineRun run;
+  if (!o.record_trace.empty()) run.recorder = hooks.recorder = std::make_shared<registration::TraceRecorder>();
+  if (model) {
+    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
+      accel_jobs.push_back(accel_job_row(n, job, rep, stage_now));
+    };
+    hooks.accelerator = std::move(model);
+  }
+  try {
+    run.result = registration::register_clouds(f.source, f.target, config, hooks);
+  } catch (const registration::AcceleratorFailure& e) {
+    std::fprintf(stderr, "tigris register: MISMATCH in stage %s: %s\n", stage_now.c_str(), e.what());
+    run.mismatch = true;
+  } catch (const registration::WorkLimitExceeded& e) {
+    throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
+                                "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
+                                "check the injection, radii and k of the configuration");
+  }
+  run.work_spent = budget->spent;
+  return run;
 }
 
 }  // namespace
@@ -410,15 +491,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   const hw::AcceleratorConfig accel_cfg = check_register_flags(app, o, in_loop);
   if (o.check_flags) return 0;
 
-  nlohmann::json inputs = nlohmann::json::array();
-  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
-                                   {"target", o.target},
-                                   {"config", o.config},
-                                   {"ground truth", o.ground_truth},
-                                   {"KITTI poses", o.kitti_poses},
-                                   {"accelerator config", o.accel_config}})
-    if (!path.empty()) inputs.push_back(input_file(role, path));
-  FolderSpec spec{"register", {}, nlohmann::json::object(), inputs, {"registration.json"}, false, {}};
+  FolderSpec spec{"register", {}, nlohmann::json::object(), register_inputs(o), {"registration.json"}, false, {}};
   spec.named = {{"--record-trace", o.record_trace}};
   OutFolder folder(o.out, spec);
 
@@ -429,69 +502,23 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                                              o.jobs > 0 ? o.jobs : default_sim_threads());
   const FramePair f = load_frames(o);
 
-  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
-  // would flood stderr: the counts are in registration.json instead.
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   const std::string injection = injection_text(config);
   std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
                f.source_name.c_str(), f.source.size(), f.target_name.c_str(), f.target.size(), o.preset.c_str(),
                registration::to_string(config.search.backend), injection.c_str());
-  auto budget = std::make_shared<registration::WorkBudget>();
-  budget->limit = o.max_work;
-  std::string stage_now;
-  budget->progress = [&](const registration::WorkBudget& b) {
-    std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
-                 stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
-  };
-  registration::PipelineHooks hooks;
-  hooks.on_stage = [&](const std::string& stage) {
-    stage_now = stage;
-    std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
-  };
-  hooks.budget = budget;
-  if (!o.record_trace.empty()) hooks.recorder = std::make_shared<registration::TraceRecorder>();
   ordered_json accel_jobs = ordered_json::array();
-  if (in_loop) {
-    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
-      accel_jobs.push_back(accel_job_row(n, job, rep, stage_now));
-    };
-    hooks.accelerator = model;
-    model.reset();
-  }
-  registration::RegistrationResult r;
-  try {
-    r = registration::register_clouds(f.source, f.target, config, hooks);
-  } catch (const registration::AcceleratorFailure& e) {
-    std::fprintf(stderr, "tigris register: MISMATCH in stage %s: %s\n", stage_now.c_str(), e.what());
-    return 1;
-  } catch (const registration::WorkLimitExceeded& e) {
-    throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
-                                "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
-                                "check the injection, radii and k of the configuration");
-  }
+  PipelineRun run = run_pipeline(o, config, f, std::move(model), accel_jobs);
+  if (run.mismatch) return 1;
+  const registration::RegistrationResult& r = run.result;
 
-  registration::Report report = make_report(o, config, in_loop, f, r, budget->spent, accel_cfg, accel_jobs);
+  registration::Report report = make_report(o, config, in_loop, f, r, run.work_spent, accel_cfg, accel_jobs);
   folder.check_inputs();
-  if (hooks.recorder) report.trace = write_trace(o, *hooks.recorder, registration::to_json(report), r);
+  if (run.recorder) report.trace = write_trace(o, *run.recorder, registration::to_json(report), r);
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& out) {
     out << registration::to_json(report).dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
   });  // paths: any bytes
-  print_registration(o, config, in_loop, f, r, injection, report.error(), path);
-  if (in_loop) {
-    const std::uint64_t sampled = report.sampled_jobs(), jobs = registration::loop_figures(r).jobs;
-    const ordered_json& a = report.accelerator->sampling;
-    const std::string setting = a.is_string() ? a.get<std::string>() : a.dump();
-    if (sampled > 0)
-      std::printf(
-          "  sampled %llu of %llu accelerator jobs (sim.sampling %s): their cycles and energy are estimates; "
-          "--accel-set sim.sampling=off simulates every query\n",
-          static_cast<unsigned long long>(sampled), static_cast<unsigned long long>(jobs), setting.c_str());
-    else
-      std::printf("  every query of the %llu accelerator jobs simulated (sim.sampling %s%s)\n",
-                  static_cast<unsigned long long>(jobs), setting.c_str(),
-                  setting == "off" ? "" : ": no job long enough to sample");
-  }
+  print_registration(config, report, injection, path);
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
                  r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),

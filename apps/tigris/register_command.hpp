@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 namespace tigris {
 
@@ -43,6 +44,9 @@ struct RegisterOptions {
 };
 
 void add_register_options(CLI::App& app, RegisterOptions& o);
+// The files the registration reads (source, target, configurations, ground truth), with their
+// roles, for the output folder's record of its inputs.
+nlohmann::json register_inputs(const RegisterOptions& o);
 int run_register_command(const CLI::App& app, const RegisterOptions& o);
 
 // `tigris register --compare`: the same registration with PCL's FLANN and the golden model on

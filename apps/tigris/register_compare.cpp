@@ -87,27 +87,20 @@ void check_compare_flags(const CLI::App& app, const RegisterOptions& o) {
 
 }  // namespace
 
-int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
-  check_compare_flags(app, o);
-  if (o.check_flags) return 0;  // a check only: the folder is not claimed, nothing written or removed
-  nlohmann::json inputs = nlohmann::json::array();
-  for (const auto& [role, path] : {std::pair<const char*, std::string>{"source", o.source},
-                                   {"target", o.target},
-                                   {"config", o.config},
-                                   {"ground truth", o.ground_truth},
-                                   {"KITTI poses", o.kitti_poses},
-                                   {"accelerator config", o.accel_config}})
-    if (!path.empty()) inputs.push_back(input_file(role, path));
-  std::vector<std::string> outputs{"comparison.json"};
-  for (const Variant& v : kVariants) {
-    outputs.push_back(std::string(v.search) + "/");
-    if (v.cpu) outputs.push_back(std::string(v.search) + "-repeat-*/");
-  }
-  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), inputs, outputs, false, {}});
-  Machine machine = machine_before();
-  std::vector<std::vector<registration::Report>> regs(std::size(kVariants));
-  ordered_json runs = ordered_json::object();
+namespace {
+
+// Every back-end's registration.json, repeat by repeat, and the worst exit code (0, or 1: a
+// back-end did not converge).
+struct VariantRuns {
+  std::vector<std::vector<registration::Report>> regs =
+      std::vector<std::vector<registration::Report>>(std::size(kVariants));
+  ordered_json paths = ordered_json::object();  // comparison.json's "runs"
   int worst = 0;
+};
+
+// The back-ends in child processes: the CPU ones --repeat times, interleaved with the others.
+VariantRuns run_variants(const RegisterOptions& o) {
+  VariantRuns runs;
   for (int k = 1; k <= o.repeat; ++k)
     for (std::size_t i = 0; i < std::size(kVariants); ++i) {
       const Variant& v = kVariants[i];
@@ -121,72 +114,89 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       if (code != 0 && code != 1)
         throw std::invalid_argument(std::string("--compare: the ") + v.search + " registration failed (exit " +
                                     std::to_string(code) + "; its message is above)");
-      worst = std::max(worst, code);
+      runs.worst = std::max(runs.worst, code);
       const std::string path = out + "/registration.json";
-      regs[i].push_back(registration::read_report(path));
-      runs[v.search].push_back(path);
-      if (!same_transform(regs[i].back(), regs[i].front()))
+      std::vector<registration::Report>& regs = runs.regs[i];
+      regs.push_back(registration::read_report(path));
+      runs.paths[v.search].push_back(path);
+      if (!same_transform(regs.back(), regs.front()))
         throw std::runtime_error(std::string("--compare: the ") + v.search + " back-end's run " + std::to_string(k) +
                                  " found another transform than its run 1 (" + path +
-                                 "): the registration is not "
-                                 "deterministic");
+                                 "): the registration is not deterministic");
     }
-  machine_after(machine);
+  return runs;
+}
 
+// The table: a row a back-end, with the spreads of its KD-tree and end-to-end times.
+struct Table {
   ordered_json rows = ordered_json::array();
-  std::vector<std::pair<Spread, Spread>> times;  // KD-tree, end to end of each row
-  std::vector<std::pair<std::string, Spread>> timed;
+  std::vector<std::pair<Spread, Spread>> times;       // KD-tree, end to end of each row
+  std::vector<std::pair<std::string, Spread>> timed;  // the CPU rows' KD-tree times, for the warnings
+};
+
+ordered_json variant_row(const Variant& v, const std::vector<registration::Report>& regs,
+                         const std::pair<Spread, Spread>& times) {
+  const registration::Report& reg = regs.front();
+  const bool accel = reg.in_loop();
+  ordered_json row;
+  row["back_end"] = v.search;
+  row["label"] = v.label;
+  row["status"] = reg.result.status;
+  row["runs"] = regs.size();
+  row["kdtree_seconds"] = times.first.median;
+  row["end_to_end_seconds"] = times.second.median;
+  row["kdtree_seconds_spread"] = to_json(times.first);
+  row["end_to_end_seconds_spread"] = to_json(times.second);
+  row["timing"] = accel ? "modeled (the accelerator's jobs; the rest measured on this CPU, once)"
+                        : "measured on this CPU: the median of the runs";
+  row["kdtree_energy_pj"] = accel ? ordered_json(registration::loop_figures(reg.result).energy_pj) : ordered_json();
+  double build = 0.0;
+  for (const registration::StageReport& st : reg.result.stages) build += st.kdtree.build_seconds;
+  row["tree_build_seconds"] = build;
+  const auto err = reg.error();
+  row["error"] =
+      err ? ordered_json{{"translation_m", err->translation_m}, {"rotation_deg", err->rotation_deg}} : ordered_json();
+  row["transform"] = registration::transform_json(reg);
+  return row;
+}
+
+Table comparison_table(const VariantRuns& runs) {
+  Table t;
   for (std::size_t i = 0; i < std::size(kVariants); ++i) {
     const Variant& v = kVariants[i];
-    const registration::Report& reg = regs[i].front();
-    const bool accel = reg.in_loop();
+    const bool accel = runs.regs[i].front().in_loop();
     std::vector<double> kd, e2e;
-    for (const registration::Report& r : regs[i]) {
+    for (const registration::Report& r : runs.regs[i]) {
       const registration::LoopFigures l = registration::loop_figures(r.result);
       kd.push_back(accel ? l.modeled_kd : search_seconds(r));
       e2e.push_back(accel ? l.modeled_e2e : r.result.total_seconds);
     }
-    times.emplace_back(spread_of(kd), spread_of(e2e));
-    if (v.cpu) timed.emplace_back(std::string(v.search) + "'s KD-tree time", times.back().first);
-    ordered_json row;
-    row["back_end"] = v.search;
-    row["label"] = v.label;
-    row["status"] = reg.result.status;
-    row["runs"] = regs[i].size();
-    row["kdtree_seconds"] = times.back().first.median;
-    row["end_to_end_seconds"] = times.back().second.median;
-    row["kdtree_seconds_spread"] = to_json(times.back().first);
-    row["end_to_end_seconds_spread"] = to_json(times.back().second);
-    row["timing"] = accel ? "modeled (the accelerator's jobs; the rest measured on this CPU, once)"
-                          : "measured on this CPU: the median of the runs";
-    row["kdtree_energy_pj"] = accel ? ordered_json(registration::loop_figures(reg.result).energy_pj) : ordered_json();
-    double build = 0.0;
-    for (const registration::StageReport& st : reg.result.stages) build += st.kdtree.build_seconds;
-    row["tree_build_seconds"] = build;
-    const auto err = reg.error();
-    row["error"] =
-        err ? ordered_json{{"translation_m", err->translation_m}, {"rotation_deg", err->rotation_deg}} : ordered_json();
-    row["transform"] = registration::transform_json(reg);
-    rows.push_back(row);
+    t.times.emplace_back(spread_of(kd), spread_of(e2e));
+    if (v.cpu) t.timed.emplace_back(std::string(v.search) + "'s KD-tree time", t.times.back().first);
+    t.rows.push_back(variant_row(v, runs.regs[i], t.times.back()));
   }
   // Against the CPU baseline, PCL's FLANN (the first row): the ratio of medians, and the widest
   // range the runs allow.
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    auto& row = rows[i];
-    row["kdtree_speedup_vs_flann_range"] = ratio_range(times[0].first, times[i].first);
-    row["end_to_end_reduction_vs_flann_percent_range"] = reduction_range_percent(times[0].second, times[i].second);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    auto& row = t.rows[i];
+    row["kdtree_speedup_vs_flann_range"] = ratio_range(t.times[0].first, t.times[i].first);
+    row["end_to_end_reduction_vs_flann_percent_range"] = reduction_range_percent(t.times[0].second, t.times[i].second);
     row["kdtree_speedup_vs_flann"] = row["kdtree_speedup_vs_flann_range"]["median"];
     row["end_to_end_reduction_vs_flann_percent"] = row["end_to_end_reduction_vs_flann_percent_range"]["median"];
   }
-  const std::vector<std::string> warnings = baseline_warnings(machine, timed);
+  return t;
+}
+
+ordered_json comparison_doc(const RegisterOptions& o, const Machine& machine, const std::vector<std::string>& warnings,
+                            const Table& t, const VariantRuns& runs) {
   ordered_json doc;
   doc["command"] = "register --compare";
   doc["command_line"] = o.command_line;
   doc["repeat"] = o.repeat;
   doc["machine"] = to_json(machine);
   doc["warnings"] = warnings;
-  doc["rows"] = rows;
-  doc["runs"] = runs;
+  doc["rows"] = t.rows;
+  doc["runs"] = runs.paths;
   doc["notes"] = {"KD-tree time: the 3D KD-tree searches (tree builds stay on the CPU in every row, measured)",
                   "CPU rows: the median of --repeat runs, interleaved with the other back-ends; *_spread gives "
                   "min, max and every sample; a speed-up's range is base min / row max .. base max / row min",
@@ -194,17 +204,16 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
                   "search and host-transfer time + searches that could not be batched at their CPU time; run once "
                   "(the modeled part is deterministic)",
                   "CPU energy is not modeled: the energy column is the accelerator's only"};
-  // Every back-end read the inputs digested here at the start (each child digests them again).
-  folder.check_inputs();
-  write_file(o.out + "/comparison.json",
-             [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+  return doc;
+}
 
+void print_table(const RegisterOptions& o, const Machine& machine, const Table& t) {
   std::printf("tigris register --compare: preset %s, %s\n", o.preset.c_str(),
               o.source.empty() ? "the built-in synthetic pair" : (o.source + " -> " + o.target).c_str());
   std::printf("  %-26s %-24s %-18s %-24s %-22s %11s %9s %9s\n", "back-end", "KD-tree s [min-max]", "KD x [range]",
               "end to end s [min-max]", "vs FLANN [range]", "KD energy", "error m", "error deg");
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const auto& row = rows[i];
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const auto& row = t.rows[i];
     char energy[32] = "n/a (CPU)", err_m[32] = "-", err_deg[32] = "-";
     if (!row["kdtree_energy_pj"].is_null())
       std::snprintf(energy, sizeof energy, "%.1f uJ", row["kdtree_energy_pj"].get<double>() * 1e-6);
@@ -217,19 +226,44 @@ int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
       if (x.is_number()) x = -x.get<double>();
     std::swap(vs["min"], vs["max"]);
     std::printf("  %-26s %-24s %-18s %-24s %-22s %11s %9s %9s%s\n", row["label"].get<std::string>().c_str(),
-                spread_cell(times[i].first, "%.4f").c_str(),
+                spread_cell(t.times[i].first, "%.4f").c_str(),
                 i == 0 ? "base" : (range_cell(row["kdtree_speedup_vs_flann_range"], "%.3g") + "x").c_str(),
-                spread_cell(times[i].second, "%.3f").c_str(), i == 0 ? "base" : (range_cell(vs, "%+.1f") + "%").c_str(),
-                energy, err_m, err_deg, row["status"] == "converged" ? "" : "  (not converged)");
+                spread_cell(t.times[i].second, "%.3f").c_str(),
+                i == 0 ? "base" : (range_cell(vs, "%+.1f") + "%").c_str(), energy, err_m, err_deg,
+                row["status"] == "converged" ? "" : "  (not converged)");
   }
   std::printf(
       "  KD-tree: searches only (tree builds stay on the CPU); CPU rows: median [min-max] of %d runs, measured;\n"
       "  accelerator rows: modeled, run once; CPU energy is not modeled.\n"
       "  machine: %s\n  Table: %s/comparison.json\n",
       o.repeat, machine_line(machine).c_str(), o.out.c_str());
+}
+
+}  // namespace
+
+int run_register_compare(const CLI::App& app, const RegisterOptions& o) {
+  check_compare_flags(app, o);
+  if (o.check_flags) return 0;  // a check only: the folder is not claimed, nothing written or removed
+  std::vector<std::string> outputs{"comparison.json"};
+  for (const Variant& v : kVariants) {
+    outputs.push_back(std::string(v.search) + "/");
+    if (v.cpu) outputs.push_back(std::string(v.search) + "-repeat-*/");
+  }
+  OutFolder folder(o.out, {"register", {}, nlohmann::json::object(), register_inputs(o), outputs, false, {}});
+  Machine machine = machine_before();
+  const VariantRuns runs = run_variants(o);
+  machine_after(machine);
+  const Table t = comparison_table(runs);
+  const std::vector<std::string> warnings = baseline_warnings(machine, t.timed);
+  const ordered_json doc = comparison_doc(o, machine, warnings, t, runs);
+  // Every back-end read the inputs digested here at the start (each child digests them again).
+  folder.check_inputs();
+  write_file(o.out + "/comparison.json",
+             [&](std::ostream& f) { f << doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n'; });
+  print_table(o, machine, t);
   for (const std::string& w : warnings) std::fprintf(stderr, "tigris register --compare: warning: %s\n", w.c_str());
   folder.finish();
-  return worst;
+  return runs.worst;
 }
 
 }  // namespace tigris

@@ -111,6 +111,19 @@ std::vector<NamedOutput> named_outputs(const RunOptions& o) {
           {"--dump-schedule", o.search.dump_schedule}};
 }
 
+}  // namespace
+
+hw::AcceleratorConfig accelerator_config(const CLI::App& app, const RunOptions& o) {
+  hw::AcceleratorConfig cfg;
+  if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
+  for (const std::string& s : o.settings) apply_setting(cfg, s);
+  if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
+  if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
+  return cfg;
+}
+
+namespace {
+
 // Configure: the flags, the configuration (file, --set, flags over them), the workload and its
 // tree; refuses a job that does not fit the buffers or exceeds the work limits.
 RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
@@ -119,12 +132,8 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   check_distinct_paths({{"--cloud", o.search.cloud}, {"--queries", o.search.queries}, {"--config", o.config_file}},
                        outputs);
   RunSetup r;
-  hw::AcceleratorConfig cfg;
-  if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
-  for (const std::string& s : o.settings) apply_setting(cfg, s);
+  hw::AcceleratorConfig cfg = accelerator_config(app, o);
   r.params = search_params(app, o.search, cfg.leader.scope, cfg.leader.in_flight);
-  if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
-  if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
   // The Leader Buffer's capacity is hardware: --leader-capacity sets leader.capacity_per_leaf.
   if (app.count("--leader-capacity")) cfg.leader.capacity_per_leaf = o.search.leader_capacity;
   if (app.count("--leader-width")) cfg.leader.width = o.search.leader_width;  // so is the leaders' list width

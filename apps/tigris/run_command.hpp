@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hw/config.hpp"
 #include "options.hpp"
 
 namespace tigris {
@@ -28,5 +29,8 @@ struct RunOptions {
 
 void add_run_options(CLI::App& app, RunOptions& o);
 int run_run_command(const CLI::App& app, const RunOptions& options);
+// The accelerator's configuration: --config, then --set, then --height and --split-axis over
+// them (run and run --trace; not yet validated: run lays its leader flags over it first).
+hw::AcceleratorConfig accelerator_config(const CLI::App& app, const RunOptions& o);
 
 }  // namespace tigris

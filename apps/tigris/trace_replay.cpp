@@ -240,58 +240,38 @@ void print_replay(const trace::Trace& t, const RunOptions& o, std::size_t replay
 
 }  // namespace
 
-int run_trace_replay(const CLI::App& app, const RunOptions& o) {
-  for (const char* flag : {"--cloud", "--queries", "--mode", "--k", "--radius", "--max-nn", "--approx-thd",
-                           "--leader-width", "--dump-results", "--dump-schedule", "--vcd", "--timeline", "--seed"})
-    if (app.count(flag))
-      throw std::invalid_argument(std::string(flag) +
-                                  " does not go with --trace: the trace's jobs say what is searched");
-  hw::AcceleratorConfig cfg;
-  if (!o.config_file.empty()) apply_config_file(cfg, o.config_file);
-  for (const std::string& s : o.settings) apply_setting(cfg, s);
-  if (app.count("--height")) cfg.tree.top_height = parse_height(o.search.height);
-  if (app.count("--split-axis")) cfg.tree.split_axis = parse_split_rule(o.search.split_axis);
-  validate_config(cfg);
-  const bool height_chosen =
-      app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+namespace {
 
-  const trace::Trace t = trace::read_trace(o.trace);
-  const std::vector<JobPlan> plan = plan_replay(t, o);
-  const std::string stats_path = o.search.out + "/stats.json";
-  json inputs = json::array({input_file("trace", o.trace)});
-  if (!o.config_file.empty()) inputs.push_back(input_file("config", o.config_file));
-  // A fresh start: an earlier replay's jobs/ never sits beside this one's stats.json.
-  OutFolder folder(o.search.out, {"run", {}, json::object(), inputs, {"stats.json", "jobs/"}, false, {}});
-
-  // Each job in a child process (SystemC elaborates once per process), o.jobs at a time.
+// Each job in a child process (SystemC elaborates once per process), o.jobs at a time; every job
+// writes its report into OUT/jobs/. Returns the jobs' exit codes.
+std::vector<int> replay_jobs(const trace::Trace& t, const RunOptions& o, const std::vector<JobPlan>& plan,
+                             const hw::AcceleratorConfig& cfg, bool height_chosen) {
   const int parallel = std::max(1, o.jobs);
   const int sim_threads = parallel > 1 ? 1 : (o.sim_threads ? o.sim_threads : default_sim_threads());
   std::fflush(nullptr);
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t done = 0;
-  const std::vector<int> codes = run_pool(
-      plan.size(), parallel,
-      [&](std::size_t k) {
-        return fork_child([&]() -> int {
-          int code = 2;
-          json r;
-          const trace::Job& j = t.jobs[plan[k].index];
-          try {
-            r = replay_job(t, j, plan[k], cfg, height_chosen, o.search.limits, sim_threads, code);
-          } catch (const std::exception& e) {
-            r = {{"job", plan[k].index}, {"stage", j.stage}, {"error", e.what()}};
-            code = 2;
-          }
-          try {
-            write_file(job_path(o.search.out, plan[k].index),
-                       [&](std::ostream& f) { f << r.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
-          } catch (const std::exception& e) {
-            std::fprintf(stderr, "tigris run: %s\n", e.what());
-            code = 2;
-          }
-          return code;
-        });
-      },
+  const auto replay_one = [&](std::size_t k) -> int {
+    int code = 2;
+    json r;
+    const trace::Job& j = t.jobs[plan[k].index];
+    try {
+      r = replay_job(t, j, plan[k], cfg, height_chosen, o.search.limits, sim_threads, code);
+    } catch (const std::exception& e) {
+      r = {{"job", plan[k].index}, {"stage", j.stage}, {"error", e.what()}};
+      code = 2;
+    }
+    try {
+      write_file(job_path(o.search.out, plan[k].index),
+                 [&](std::ostream& f) { f << r.dump(1, ' ', false, json::error_handler_t::replace) << '\n'; });
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "tigris run: %s\n", e.what());
+      code = 2;
+    }
+    return code;
+  };
+  return run_pool(
+      plan.size(), parallel, [&](std::size_t k) { return fork_child([&]() -> int { return replay_one(k); }); },
       [&](std::size_t k, int code) {
         const trace::Job& j = t.jobs[plan[k].index];
         std::fprintf(stderr, "tigris run --trace: job %zu/%zu (#%zu, %s%s, %s, %zu queries): %s (%.0f s)\n", ++done,
@@ -305,15 +285,11 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                      seconds_since(t0));
         return true;
       });
+}
 
-  Collected c = collect_jobs(t, o, plan, codes);
-  json& per_stage = c.per_stage;
-  const json& total = c.total;
-  const json& jobs = c.jobs;
-  const bool all_match = c.all_match;
-
-  // End to end: the recorded registration with its replayed stages' KD-tree searches replaced
-  // by the modeled search and host transfers; tree builds stay on the CPU.
+// End to end: the recorded registration with its replayed stages' KD-tree searches replaced by
+// the modeled search and host transfers; tree builds stay on the CPU. Adds each stage's speed-up.
+json end_to_end_json(const trace::Trace& t, json& per_stage) {
   double cpu_kd = 0.0, modeled = 0.0;
   for (auto& [name, s] : per_stage.items()) {
     cpu_kd += s["cpu_search_seconds"].get<double>();
@@ -323,7 +299,7 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
         std::max(1e-12, s["modeled_search_seconds"].get<double>() + s["modeled_host_seconds"].get<double>());
   }
   const double e2e_cpu = t.total_seconds, e2e_accel = t.total_seconds - cpu_kd + modeled;
-  json end_to_end = {
+  return {
       {"cpu_seconds", e2e_cpu},
       {"cpu_kdtree_search_seconds", cpu_kd},
       {"accelerator_kdtree_seconds", modeled},
@@ -335,6 +311,45 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
       {"cpu_backend", t.meta.contains("search") && t.meta["search"].is_string() ? t.meta["search"].get<std::string>()
                       : t.jobs.empty()                                          ? std::string()
                                                                                 : t.jobs.front().backend}};
+}
+
+// The first job that did not match, on stderr.
+void report_first_mismatch(const json& jobs) {
+  for (const json& r : jobs)
+    if (r.value("verdict", "") != "match") {
+      std::fprintf(stderr, "tigris run --trace: job %s (%s) %s; first:\n", r["job"].dump().c_str(),
+                   r["stage"].get<std::string>().c_str(), r.value("verdict", "").c_str());
+      if (r.contains("mismatches"))
+        for (const auto& m : r["mismatches"]["first"]) std::fprintf(stderr, "  %s\n", m.get<std::string>().c_str());
+      return;
+    }
+}
+
+}  // namespace
+
+int run_trace_replay(const CLI::App& app, const RunOptions& o) {
+  for (const char* flag : {"--cloud", "--queries", "--mode", "--k", "--radius", "--max-nn", "--approx-thd",
+                           "--leader-width", "--dump-results", "--dump-schedule", "--vcd", "--timeline", "--seed"})
+    if (app.count(flag))
+      throw std::invalid_argument(std::string(flag) +
+                                  " does not go with --trace: the trace's jobs say what is searched");
+  hw::AcceleratorConfig cfg = accelerator_config(app, o);
+  validate_config(cfg);
+  const bool height_chosen =
+      app.count("--height") > 0 || cfg.tree.top_height != hw::AcceleratorConfig{}.tree.top_height;
+
+  const trace::Trace t = trace::read_trace(o.trace);
+  const std::vector<JobPlan> plan = plan_replay(t, o);
+  const std::string stats_path = o.search.out + "/stats.json";
+  json inputs = json::array({input_file("trace", o.trace)});
+  if (!o.config_file.empty()) inputs.push_back(input_file("config", o.config_file));
+  // A fresh start: an earlier replay's jobs/ never sits beside this one's stats.json.
+  OutFolder folder(o.search.out, {"run", {}, json::object(), inputs, {"stats.json", "jobs/"}, false, {}});
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<int> codes = replay_jobs(t, o, plan, cfg, height_chosen);
+  Collected c = collect_jobs(t, o, plan, codes);
+  const json end_to_end = end_to_end_json(t, c.per_stage);
   json stats;
   stats["command"] = "run --trace";
   stats["command_line"] = o.search.command_line;
@@ -344,13 +359,13 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
                     {"replayed", plan.size()},
                     {"stages", o.trace_stages.empty() ? "all" : o.trace_stages},
                     {"recorded", t.meta}};
-  stats["verdict"] = all_match ? "match" : "mismatch";
+  stats["verdict"] = c.all_match ? "match" : "mismatch";
   stats["config"] = config_to_json(cfg);
-  stats["stages"] = per_stage;
-  stats["total"] = total;
-  stats["jobs"] = jobs;
+  stats["stages"] = c.per_stage;
+  stats["total"] = c.total;
+  stats["jobs"] = c.jobs;
   std::size_t sampled = 0;
-  for (const json& j : jobs) sampled += j.contains("sampling") && j["sampling"].value("sampled", false);
+  for (const json& j : c.jobs) sampled += j.contains("sampling") && j["sampling"].value("sampled", false);
   stats["sampled_jobs"] = sampled;  // their cycles and energy estimated (docs/sampling.md)
   stats["end_to_end"] = end_to_end;
   stats["wall_seconds"] = seconds_since(t0);
@@ -362,15 +377,8 @@ int run_trace_replay(const CLI::App& app, const RunOptions& o) {
   if (cfg.sim.sampling != 0)
     std::printf("  sampled %zu of %zu jobs (sim.sampling %s): their cycles, energy and the totals are estimates\n",
                 sampled, plan.size(), sampling_setting(cfg.sim.sampling).dump().c_str());
-  if (!all_match) {
-    for (const json& r : jobs)
-      if (r.value("verdict", "") != "match") {
-        std::fprintf(stderr, "tigris run --trace: job %s (%s) %s; first:\n", r["job"].dump().c_str(),
-                     r["stage"].get<std::string>().c_str(), r.value("verdict", "").c_str());
-        if (r.contains("mismatches"))
-          for (const auto& m : r["mismatches"]["first"]) std::fprintf(stderr, "  %s\n", m.get<std::string>().c_str());
-        break;
-      }
+  if (!c.all_match) {
+    report_first_mismatch(c.jobs);
     folder.finish("failed");
     return 1;
   }

@@ -16,7 +16,9 @@ FrontEnd::FrontEnd(sc_core::sc_module_name name, const AcceleratorConfig& config
   const RecursionUnitModels::Entry* model = RecursionUnitModels::find(config.fe.recursion_unit_model);
   if (!model) throw std::invalid_argument("fe.recursion_unit_model: no model '" + config.fe.recursion_unit_model + "'");
   engine_ = model->make(config);
-  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler, scans, engine_.get()};
+  if (!engine_)
+    throw std::logic_error("fe.recursion_unit_model '" + config.fe.recursion_unit_model + "' made no engine");
+  const RecursionUnit::Links links{*this, qdn, result_buffer, meter, observer, scheduler, scans, *engine_};
   const int n = config.fe.recursion_units;
   rus.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {

@@ -1,7 +1,8 @@
 // Recursion Unit (paper section 5.2): walks one query's top-tree part of the depth-first
 // search at a time, stages FQ RS RN CD PI CL. One activation (from taking the query out of the
-// FQQ to sending it to a leaf set, or finishing it) is one work item whose cycles come from the
-// cost table; the buffers charge their accesses as one transaction each.
+// FQQ to sending it to a leaf set, or finishing it) is one work item, walked by the unit's
+// engine (walk_engine.hpp: the transaction-level walk or the RTL RU); the unit hands the query
+// on, keeps its statistics and sends a finished query's results.
 #pragma once
 
 #include <cstdint>
@@ -46,7 +47,7 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
     JobObserver& observer;
     Scheduler& scheduler;
     ScanService& scans;  // the query's slot may still be written by its last scan (deferred results)
-    WalkEngine* engine;  // walks the activations instead of walk() (the RTL RU), or null
+    WalkEngine& engine;  // walks the activations (fe.recursion_unit_model: tlm or rtl)
   };
   RecursionUnit(sc_core::sc_module_name name, int id, const AcceleratorConfig& config, const JobDescriptor& job,
                 Links links);
@@ -80,11 +81,10 @@ class RecursionUnit : public sc_core::sc_module, private Scheduler::Client {
  private:
   enum class State { Idle, Walking, Blocked };
   void on_done();
-  // Walks the activation from cycle `now` (the transaction-level walk, or the engine's); sets
-  // token_ and finished_, adds the walk's statistics. Returns (its pipeline cycles with the
-  // grant stalls, the cycle its last access is complete, the grant stalls).
+  // Walks the activation from cycle `now` through the engine; sets token_ and finished_, adds
+  // the walk's statistics. Returns (its pipeline cycles with the grant stalls, the cycle its
+  // last access is complete, the grant stalls).
   std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> walk(std::uint64_t now);
-  std::tuple<std::uint64_t, std::uint64_t, std::uint64_t> engine_walk(std::uint64_t now);
   void clear_results();  // a new query's slot (NN/kNN) or radius staging starts empty
 
   int id_;

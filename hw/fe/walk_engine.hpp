@@ -1,9 +1,10 @@
 // Which model walks a Recursion Unit's activations (`fe.recursion_unit_model`): the
-// transaction-level walk (recursion_unit.cpp: cycles from the cost table, one charge per buffer)
-// or the RTL Recursion Unit (rtl/: Verilated, clocked cycle by cycle through a transactor whose
-// grants come from the same bank calendars). Both read and write the same buffers through DMI,
-// so results and visit counts must agree bit for bit; their cycles are the RTL cross-check
-// (docs/validation.md).
+// transaction-level walk (tlm_walk.cpp, the default: cycles from the cost table, accesses
+// granted by the bank calendars) or the RTL Recursion Unit (rtl/: Verilated, clocked cycle by
+// cycle through a transactor whose grants come from the same bank calendars). The Recursion Unit
+// has one code path: it hands every activation to its engine and keeps the statistics from the
+// Outcome. Both read and write the same buffers through DMI, so results and visit counts must
+// agree bit for bit; their cycles are the RTL cross-check (docs/validation.md).
 #pragma once
 
 #include <cstdint>
@@ -19,7 +20,7 @@ struct ResultRecord;
 
 namespace tigris::hw {
 
-// (Declared only: every program that reads configurations links the "tlm" registration.)
+class BankedSram;
 class BufferPort;
 class ResultSlots;
 class TreeView;
@@ -41,6 +42,9 @@ class WalkEngine {
     ResultSlots& slots;
     std::vector<tlm_if::ResultRecord>& hits;  // radius hits found at top nodes
     std::uint32_t replicated_nodes;           // heap nodes below this are in the RU's own copy
+    // The buffers behind points, queries and stacks when they are global buffers (else null):
+    // a one-word access then takes BankedSram's inline path (BufferPort::request).
+    BankedSram *points_sram, *queries_sram, *stacks_sram;
   };
   struct Outcome {
     std::uint64_t end = 0;           // the cycle the pipeline is free again (grant stalls included)
@@ -54,8 +58,7 @@ class WalkEngine {
   virtual Outcome walk(QueryToken& token, std::uint64_t now, const Ports& ports) = 0;
 };
 
-// RecursionUnitModels (hw/policy_registry.hpp): "tlm" makes no engine (the Recursion Unit's
-// own walk; registered in walk_engine.cpp); "rtl" is registered by the RTL library when the
-// build has Verilator (rtl/).
+// RecursionUnitModels (hw/policy_registry.hpp): "tlm" is registered in walk_engine.cpp, linked
+// whole with the policies; "rtl" by the RTL library when the build has Verilator (rtl/).
 
 }  // namespace tigris::hw
