@@ -495,6 +495,29 @@ def link_graph():
     return {t: (f, p, links.get(t, [])) for t, (f, p) in targets.items()}
 
 
+def check_layout():
+    # The layout is written once, in docs/architecture.md ("Where the code is"): every folder of
+    # the tree is there, every file it names exists, and the READMEs point to it.
+    doc = open(os.path.join(ROOT, "docs", "architecture.md")).read()
+    start = doc.index("## Where the code is")
+    block = doc[start:doc.index("\n## ", start + 5)]
+    listed = set(re.findall(r"^([\w.-]+)/", block, re.M))
+    tracked = subprocess.run(["git", "-C", ROOT, "ls-files"], capture_output=True, text=True).stdout.split()
+    folders = {f.split("/")[0] for f in tracked if "/" in f and not f.startswith(".")}
+    check(folders <= listed, f"docs/architecture.md's layout lacks the folders {sorted(folders - listed)}")
+    check(listed <= folders, f"docs/architecture.md's layout names folders the tree lacks: {sorted(listed - folders)}")
+    names = {os.path.basename(f) for f in tracked}
+    stems = {n.rsplit(".", 1)[0] for n in names}
+    for head, alts, ext in re.findall(r"([\w]*)\{([\w,]+)\}([\w]*)\.(?:cpp|hpp)", block):
+        for alt in alts.split(","):
+            check(head + alt + ext in stems, f"docs/architecture.md's layout names {head}{{{alts}}}{ext}: no {head + alt + ext}.*")
+    for name, ext in re.findall(r"(?<![\w{},])([a-z]\w*)\.(\*|cpp|hpp|py|sh|sv)(?!\w)", block):
+        check(name in stems if ext == "*" else f"{name}.{ext}" in names,
+              f"docs/architecture.md's layout names {name}.{ext}, which the tree does not have")
+    for readme in ("README.md", "hw/README.md"):
+        check("architecture.md" in open(os.path.join(ROOT, readme)).read(), f"{readme} does not point to the layout")
+
+
 def check_links():
     # Every library links only libraries of the folders below it, and the graph has no cycle:
     # the link order follows the layers (a plug-in uses the model; the harness links it whole).
@@ -535,6 +558,7 @@ def part_layers(d):
             bad = [i for i in incs if not allowed(i, rules)]
             check(not bad, f"{path} includes {bad}: {folder}/ may include only {rules}")
     check_links()
+    check_layout()
     # Command-line parsing (CLI11) lives in apps/ and core/ only (issue 55).
     for folder in set(LAYERS) - {"apps", "core"}:
         for path, (_, text) in includes(folder).items():
