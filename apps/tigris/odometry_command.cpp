@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
+#include "core/child_batch.hpp"
 #include "core/children.hpp"
 #include "core/flag_values.hpp"
 #include "core/json_file.hpp"
@@ -93,14 +94,6 @@ std::vector<std::string> odometry_outputs(bool compare) {
             "sequence/",       "flann-repeat-*/", "exact-repeat-*/", "approx-repeat-*/"};
   return {"poses.txt",  "trajectory.csv", "pairs.csv", "metrics.json", "trajectory.png",
           "errors.png", "pairs/",         "slurm/",    "sequence/"};
-}
-
-std::string last_line(const std::string& path) {
-  std::ifstream f(path);
-  std::string line, last;
-  while (std::getline(f, line))
-    if (!line.empty()) last = line;
-  return last;
 }
 
 // A pair's registration.json: false when it is not there (the pair runs); a report that is
@@ -257,8 +250,6 @@ struct OdometryRun {
   void claim_folder();
   void plan_pairs();
   bool run_pairs();
-  bool run_on_slurm(SteadyClock::time_point t0, std::string& failure);
-  void run_locally(SteadyClock::time_point t0, std::string& failure);
   int write_files();
   int print_summary(const ordered_json& m, const std::string& note);
 };
@@ -320,92 +311,58 @@ void OdometryRun::plan_pairs() {
                                 ": wait for it (squeue -j " + job + ") or cancel it (scancel " + job + ")");
 }
 
-// Registers the pairs to do, on Slurm or here; false: submitted with --no-wait (OUT is finished).
+// Registers the pairs to do, each a `tigris register` in OUT/pairs/<target frame>/, here or
+// as one Slurm array; false: submitted with --no-wait (OUT is finished).
 bool OdometryRun::run_pairs() {
+  ChildBatch batch;
+  batch.count = todo.size();
+  batch.dir = [&](std::size_t i) { return o.out + "/pairs/" + frame_tag(first + todo[i]); };
+  batch.result = "registration.json";
+  batch.args = [&](std::size_t i, bool on_slurm) {
+    const std::size_t k = todo[i];
+    const auto path = [&](const std::string& p) { return on_slurm ? fs::absolute(p).string() : p; };
+    std::vector<std::string> args{"register", "--source", path(seq.scans[first + k + 1]), "--target",
+                                  path(seq.scans[first + k])};
+    args.insert(args.end(), flags.begin(), flags.end());
+    if (!on_slurm && o.jobs > 1) args.insert(args.end(), {"--jobs", "1"});  // the pairs share the cores already
+    const std::string dir = batch.dir(i);
+    args.insert(args.end(), {"--out", on_slurm ? fs::absolute(dir).lexically_normal().string() : dir});
+    return args;
+  };
+  batch.parallel = o.jobs;
+  batch.slurm = o.slurm;
+  batch.out = o.out;
+  batch.name = "tigris-odometry";
+  batch.noun = "pairs";
   const auto t0 = std::chrono::steady_clock::now();
+  std::size_t done = 0;
   std::string failure;
-  if (o.slurm.slurm && !todo.empty()) {
-    if (!run_on_slurm(t0, failure)) return false;
-  } else {
-    run_locally(t0, failure);
-  }
-  if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
-  return true;
-}
-
-// The pairs to do as one Slurm job array; false: submitted with --no-wait.
-bool OdometryRun::run_on_slurm(SteadyClock::time_point t0, std::string& failure) {
-  // One job array; each task runs `tigris register` exactly as the local processes do.
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  std::vector<ArrayCommand> commands;
-  for (const std::size_t k : todo) {
-    const std::string dir = fs::absolute(o.out + "/pairs/" + frame_tag(first + k)).lexically_normal().string();
-    fs::create_directories(dir);
-    ArrayCommand c;
-    c.argv = {self,       "register",
-              "--source", fs::absolute(seq.scans[first + k + 1]).string(),
-              "--target", fs::absolute(seq.scans[first + k]).string()};
-    c.argv.insert(c.argv.end(), flags.begin(), flags.end());
-    c.argv.insert(c.argv.end(), {"--out", dir});
-    c.log = dir + "/log.txt";
-    c.parent_outputs = "log.txt";
-    commands.push_back(c);
-  }
-  const std::string job = submit_array(o.slurm, commands, o.out, "tigris-odometry");
-  if (o.slurm.no_wait) {
-    std::printf("job %s\ncollect when it has ended: rerun the same command (the pairs done are reused)\n", job.c_str());
+  const bool waited = run_batch(batch, [&](const TaskEnd& e) {
+    const std::size_t k = todo[e.k];
+    const std::string dir = batch.dir(e.k), pair = frame_tag(first + k + 1) + " -> " + frame_tag(first + k);
+    const bool ok =
+        (e.code == 0 || e.code == 1 || !e.job.empty()) && read_pair(dir + "/" + batch.result, accel, regs[k]);
+    if (e.job.empty()) {  // here: a line a pair as it ends
+      const double elapsed = seconds_since(t0);
+      ++done;
+      std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s): %s (%.0f s elapsed, about %.0f s left)\n", done,
+                   todo.size(), pair.c_str(), ok ? regs[k].result.status.c_str() : "FAILED", elapsed,
+                   elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done));
+    }
+    if (!ok && failure.empty())
+      failure = "pair " + pair + ": " +
+                (e.job.empty() ? "tigris register exited " + std::to_string(e.code) + " (" + dir +
+                                     "/log.txt: " + last_log_line(dir) + ")"
+                               : "no result from Slurm job " + e.job + " (" + dir + "/log.txt: " + last_log_line(dir) +
+                                     "; task logs in " + o.out + "/slurm/)");
+    return failure.empty();  // here, a failure stops the scheduling
+  });
+  if (!waited) {
     folder->finish("submitted");
     return false;
   }
-  std::size_t seen = 0;
-  wait_array(job, [&] {
-    std::size_t n = 0;
-    for (const std::size_t k : todo) n += fs::exists(o.out + "/pairs/" + frame_tag(first + k) + "/registration.json");
-    if (n != seen)
-      std::fprintf(stderr, "tigris odometry: Slurm job %s: %zu/%zu pairs (%.0f s)\n", job.c_str(), n, todo.size(),
-                   seconds_since(t0));
-    seen = n;
-  });
-  for (const std::size_t k : todo) {
-    const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-    if (!read_pair(dir + "/registration.json", accel, regs[k]) && failure.empty())
-      failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": no result from Slurm job " +
-                job + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + "; task logs in " + o.out + "/slurm/)";
-  }
+  if (!failure.empty()) throw std::invalid_argument(failure + "; the pairs done are kept, a rerun resumes");
   return true;
-}
-
-// The pairs to do as child processes here, --jobs at a time; the first failure stops the scheduling.
-void OdometryRun::run_locally(SteadyClock::time_point t0, std::string& failure) {
-  std::size_t done = 0;
-  run_pool(
-      todo.size(), o.jobs,
-      [&](std::size_t i) {
-        const std::size_t k = todo[i];
-        const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-        fs::create_directories(dir);
-        std::vector<std::string> args{"/proc/self/exe",         "register", "--source",
-                                      seq.scans[first + k + 1], "--target", seq.scans[first + k]};
-        args.insert(args.end(), flags.begin(), flags.end());
-        if (o.jobs > 1) args.insert(args.end(), {"--jobs", "1"});  // the pairs share the cores already
-        args.insert(args.end(), {"--out", dir});
-        return start_child(args, dir + "/log.txt", "log.txt");
-      },
-      [&](std::size_t i, int code) {
-        const std::size_t k = todo[i];
-        ++done;
-        const std::string dir = o.out + "/pairs/" + frame_tag(first + k);
-        const bool ok = (code == 0 || code == 1) && read_pair(dir + "/registration.json", accel, regs[k]);
-        const double elapsed = seconds_since(t0);
-        std::fprintf(stderr, "tigris odometry: pair %zu/%zu (%s -> %s): %s (%.0f s elapsed, about %.0f s left)\n", done,
-                     todo.size(), frame_tag(first + k + 1).c_str(), frame_tag(first + k).c_str(),
-                     ok ? regs[k].result.status.c_str() : "FAILED", elapsed,
-                     elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done));
-        if (!ok && failure.empty())
-          failure = "pair " + frame_tag(first + k + 1) + " -> " + frame_tag(first + k) + ": tigris register exited " +
-                    std::to_string(code) + " (" + dir + "/log.txt: " + last_line(dir + "/log.txt") + ")";
-        return failure.empty();  // a failure stops the scheduling
-      });
 }
 
 // OUT/poses.txt, trajectory.csv, pairs.csv and metrics.json; then the summary.
