@@ -59,6 +59,32 @@ LoopFigures loop_figures(const RegistrationResult& r) {
   return f;
 }
 
+Report::Injection injection_of(const PipelineConfig& config) {
+  return {config.inject.rpce_kth, config.inject.normals_shell_inner, config.inject.normals_shell_outer,
+          config.normals.radius};
+}
+
+ordered_json job_row(std::uint64_t n, const AccelJob& job, const nlohmann::json& rep, const std::string& stage) {
+  const nlohmann::json sampling = rep.value("sampling", nlohmann::json::object());
+  ordered_json j;
+  j["job"] = n;
+  j["stage"] = stage;
+  j["mode"] = to_string(job.params.mode);
+  j["k"] = job.params.effective_k();
+  j["radius"] = job.params.radius;
+  j["approximate"] = job.params.approximate;
+  j["queries"] = job.queries->size();
+  j["points"] = job.points->size();
+  j["verdict"] = rep.value("verdict", "");
+  j["cycles"] = rep.value("cycles", 0);
+  j["cycles_ci95"] = rep.value("cycles_ci95", nlohmann::json());  // [cycles, cycles] unless sampled
+  j["sampled"] = sampling.value("sampled", false);
+  j["simulated_queries"] = sampling.value("simulated", 0);
+  j["modeled_seconds"] = rep.value("modeled_seconds", nlohmann::json());
+  j["energy_pj"] = rep.value("energy_pj", 0.0);
+  return j;
+}
+
 ordered_json matrix_json(const Eigen::Matrix4d& t) {
   ordered_json rows = ordered_json::array();
   for (int r = 0; r < 4; ++r) {

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "accelerator_port.hpp"
 #include "pipeline.hpp"
 #include "workloads/pose.hpp"
 
@@ -72,6 +73,13 @@ struct LoopFigures {
   std::uint64_t jobs = 0, fallback_searches = 0;
 };
 LoopFigures loop_figures(const RegistrationResult& r);
+
+// The injected error of a configuration (config.inject), as the report holds it.
+Report::Injection injection_of(const PipelineConfig& config);
+// An accelerator job's row of the report's job_list: what it searched and what the model's
+// job report (testbench/accel_job.hpp) says of it.
+nlohmann::ordered_json job_row(std::uint64_t n, const AccelJob& job, const nlohmann::json& rep,
+                               const std::string& stage);
 
 nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& t);
 // The transform as registration.json holds it: null when degenerate.

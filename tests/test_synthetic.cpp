@@ -8,6 +8,7 @@
 #include <iostream>
 #include <vector>
 
+#include "workloads/frame_pair.hpp"
 #include "workloads/synthetic.hpp"
 
 namespace {
@@ -253,4 +254,25 @@ TEST_CASE("synthetic: other scan settings and bad settings", "[synthetic]") {
   bad = SyntheticConfig{};
   bad.yaw_deg = std::nanf("");
   CHECK_THROWS_AS(tigris::make_synthetic_pair(bad), tigris::InputError);
+}
+
+TEST_CASE("register's frame pair: the built-in pair with its known pose, or files naming the one at fault",
+          "[frame_pair]") {
+  using tigris::FramePair, tigris::FramePairSpec, tigris::load_frame_pair;
+  const FramePair f = load_frame_pair({});
+  CHECK(f.source_name == "synthetic:frame1 (seed 1)");
+  CHECK(f.target_name == "synthetic:frame0 (seed 1)");
+  CHECK(f.source.size() > 100000);
+  REQUIRE(f.truth);
+  CHECK((*f.truth)(3, 3) == 1.0);
+  CHECK(f.truth_warning.empty());
+  FramePairSpec spec;
+  spec.source = "/nonexistent/a.bin";
+  spec.target = "/nonexistent/b.bin";
+  try {
+    load_frame_pair(spec);
+    FAIL("no error");
+  } catch (const std::exception& e) {
+    CHECK(std::string(e.what()).find("/nonexistent/a.bin") != std::string::npos);
+  }
 }

@@ -16,6 +16,7 @@
 #include "options.hpp"
 #include "registration/pipeline.hpp"
 #include "registration/report.hpp"
+#include "registration/report_summary.hpp"
 #include "testbench/accel_in_loop.hpp"
 #include "testbench/config.hpp"
 #include "testbench/presets.hpp"
@@ -24,9 +25,7 @@
 #include "testbench/sampling.hpp"
 #include "testbench/simulation.hpp"
 #include "traces/workload_trace.hpp"
-#include "workloads/io/cloud_io.hpp"
-#include "workloads/pose.hpp"
-#include "workloads/synthetic.hpp"
+#include "workloads/frame_pair.hpp"
 
 namespace tigris {
 namespace {
@@ -205,63 +204,8 @@ hw::AcceleratorConfig check_register_flags(const CLI::App& app, const RegisterOp
   return accel_cfg;
 }
 
-// The two frames and the ground truth, when there is one.
-struct FramePair {
-  PointCloud source, target;
-  std::string source_name, target_name;
-  std::optional<Pose> truth;
-  std::string truth_name, truth_warning;
-};
-
-FramePair load_frames(const RegisterOptions& o) {
-  FramePair f;
-  if (o.source.empty()) {
-    SyntheticConfig sc;
-    sc.seed = o.seed;
-    const SyntheticPair pair = make_synthetic_pair(sc);
-    f.source = pair.frame1;
-    f.target = pair.frame0;
-    const std::string tag = " (seed " + std::to_string(o.seed) + ")";
-    f.source_name = "synthetic:frame1" + tag;
-    f.target_name = "synthetic:frame0" + tag;
-    Pose t;
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) t(r, c) = pair.frame1_to_frame0[static_cast<std::size_t>(4 * r + c)];
-    f.truth = t;
-    f.truth_name = "synthetic pair's known pose";
-  } else {
-    f.source = load_cloud(o.source);
-    f.target = load_cloud(o.target);
-    f.source_name = o.source;
-    f.target_name = o.target;
-  }
-  if (!o.ground_truth.empty()) {
-    f.truth = read_pose_file(o.ground_truth);
-    f.truth_name = o.ground_truth;
-  } else if (!o.kitti_poses.empty()) {
-    const auto [s, t] = parse_frame_pair(o.kitti_frames);
-    f.truth = kitti_relative_velo_pose(o.kitti_poses, s, t);
-    f.truth_name = o.kitti_poses + " frames " + o.kitti_frames + " (camera -> Velodyne axes)";
-    // Both frames within a run of equal ground-truth steps from frame 0 (KITTI 00's first ~15).
-    const std::size_t steps = equal_steps(read_kitti_poses(o.kitti_poses));
-    if (steps >= kEqualStepsWarn && static_cast<std::size_t>(std::max(s, t)) <= steps)
-      f.truth_warning = equal_steps_warning(steps);
-  }
-  return f;
-}
-
-// The injected error, as the summary lines say it ("" when none).
-std::string injection_text(const registration::PipelineConfig& config) {
-  std::string injection;
-  if (config.inject.rpce_kth > 1)
-    injection += ", RPCE returns the K-th nearest (K = " + std::to_string(config.inject.rpce_kth) + ")";
-  if (config.inject.normals_shell_outer > 0) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, ", normals search the shell %g..%g m (r %g)", config.inject.normals_shell_inner,
-                  config.inject.normals_shell_outer, config.normals.radius);
-    injection += buf;
-  }
-  return injection;
+FramePairSpec frame_spec(const RegisterOptions& o) {
+  return {o.source, o.target, o.seed, o.ground_truth, o.kitti_poses, o.kitti_frames};
 }
 
 // A line per accelerator job on stderr, and the job's row of registration.json.
@@ -278,23 +222,7 @@ ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, c
       job.points->size(), rep.value("verdict", "?").c_str(), sampled ? "~" : "", 1e3 * modeled,
       rep.value("wall_seconds", 0.0),
       sampled ? (" (sampled: " + std::to_string(sampling.value("simulated", 0)) + " queries simulated)").c_str() : "");
-  ordered_json j;
-  j["job"] = n;
-  j["stage"] = stage;
-  j["mode"] = to_string(job.params.mode);
-  j["k"] = job.params.effective_k();
-  j["radius"] = job.params.radius;
-  j["approximate"] = job.params.approximate;
-  j["queries"] = job.queries->size();
-  j["points"] = job.points->size();
-  j["verdict"] = rep.value("verdict", "");
-  j["cycles"] = rep.value("cycles", 0);
-  j["cycles_ci95"] = rep.value("cycles_ci95", nlohmann::json());  // [cycles, cycles] unless sampled
-  j["sampled"] = sampled;
-  j["simulated_queries"] = sampling.value("simulated", 0);
-  j["modeled_seconds"] = rep.value("modeled_seconds", nlohmann::json());
-  j["energy_pj"] = rep.value("energy_pj", 0.0);
-  return j;
+  return registration::job_row(n, job, rep, stage);
 }
 
 // Writes the workload trace of the registration (--record-trace); returns registration.json's "trace".
@@ -332,8 +260,7 @@ registration::Report make_report(const RegisterOptions& o, const registration::P
   rep.target = {f.target_name, f.target.size()};
   rep.preset = o.preset;
   rep.search = in_loop ? o.search : std::string(registration::to_string(config.search.backend));
-  rep.injection = {config.inject.rpce_kth, config.inject.normals_shell_inner, config.inject.normals_shell_outer,
-                   config.normals.radius};
+  rep.injection = registration::injection_of(config);
   rep.result = r;
   rep.work_spent = work_spent;
   rep.max_work = o.max_work;
@@ -345,79 +272,6 @@ registration::Report make_report(const RegisterOptions& o, const registration::P
   rep.config = registration::to_json(config);
   return rep;
 }
-// The accelerator's figures per stage and in all, and whether jobs were sampled.
-void print_loop(const registration::Report& rep) {
-  const registration::RegistrationResult& r = rep.result;
-  std::printf("  on the accelerator (modeled; every job bit-exact against the golden model):\n");
-  std::printf("  %-16s %5s %9s %9s %12s %10s %10s %10s\n", "stage", "jobs", "queries", "fallback", "cycles", "kd s",
-              "stage s", "energy uJ");
-  for (const auto& s : r.stages) {
-    if (s.search.empty()) continue;
-    const auto& a = s.kdtree.accel;
-    std::printf("  %-16s %5llu %9llu %9llu %12llu %10.5f %10.4f %10.2f\n", s.name.c_str(),
-                static_cast<unsigned long long>(a.jobs), static_cast<unsigned long long>(a.queries),
-                static_cast<unsigned long long>(a.fallback_searches), static_cast<unsigned long long>(a.cycles),
-                registration::modeled_kdtree_seconds(s.kdtree), registration::modeled_stage_seconds(s),
-                a.energy_pj * 1e-6);
-  }
-  const registration::LoopFigures l = registration::loop_figures(r);
-  std::printf("  end to end %.4f s modeled (KD-tree %.5f s, %.1f uJ); %.1f s of wall time, simulation included\n",
-              l.modeled_e2e, l.modeled_kd, l.energy_pj * 1e-6, r.total_seconds);
-}
-
-// How the accelerator's jobs were simulated (after the summary: estimates must be read as such).
-void print_sampling(const registration::Report& rep) {
-  const std::uint64_t sampled = rep.sampled_jobs(), jobs = registration::loop_figures(rep.result).jobs;
-  const ordered_json& a = rep.accelerator->sampling;
-  const std::string setting = a.is_string() ? a.get<std::string>() : a.dump();
-  if (sampled > 0)
-    std::printf(
-        "  sampled %llu of %llu accelerator jobs (sim.sampling %s): their cycles and energy are estimates; "
-        "--accel-set sim.sampling=off simulates every query\n",
-        static_cast<unsigned long long>(sampled), static_cast<unsigned long long>(jobs), setting.c_str());
-  else
-    std::printf("  every query of the %llu accelerator jobs simulated (sim.sampling %s%s)\n",
-                static_cast<unsigned long long>(jobs), setting.c_str(),
-                setting == "off" ? "" : ": no job long enough to sample");
-}
-
-// The summary on stdout: stages, the accelerator's figures, the transform and its error.
-void print_registration(const registration::PipelineConfig& config, const registration::Report& rep,
-                        const std::string& injection, const std::string& path) {
-  const registration::RegistrationResult& r = rep.result;
-  std::printf("tigris register: preset %s, search %s, %llu -> %llu points%s\n", rep.preset.c_str(),
-              registration::to_string(config.search.backend), static_cast<unsigned long long>(rep.source.points),
-              static_cast<unsigned long long>(rep.target.points), injection.c_str());
-  std::printf("  %-16s %9s %10s %11s\n", "stage", "seconds", "kd-queries", "kd-seconds");
-  for (const auto& s : r.stages)
-    std::printf("  %-16s %9.3f %10llu %11.3f\n", s.name.c_str(), s.seconds,
-                static_cast<unsigned long long>(s.kdtree.searches), s.kdtree.search_seconds + s.kdtree.build_seconds);
-  if (rep.in_loop())
-    print_loop(rep);
-  else
-    std::printf("  total %.3f s, KD-tree share %.1f%%\n", r.total_seconds,
-                100.0 * (r.total_seconds > 0 ? rep.kdtree_seconds() / r.total_seconds : 0.0));
-  if (r.status != "degenerate") {
-    std::printf("  transform (target <- source)%s:\n", r.status == "converged" ? "" : ", NOT CONVERGED");
-    for (int i = 0; i < 3; ++i)
-      std::printf("    %10.6f %10.6f %10.6f %10.4f\n", r.transform(i, 0), r.transform(i, 1), r.transform(i, 2),
-                  r.transform(i, 3));
-  }
-  const std::optional<PoseError> err = rep.error();
-  if (err && std::isfinite(err->translation_per_m))
-    std::printf("  error vs ground truth: translation %.4f m, rotation %.4f deg (%.4f m/m, %.4f deg/m over %.3f m)\n",
-                err->translation_m, err->rotation_deg, err->translation_per_m, err->rotation_deg_per_m,
-                err->travelled_m);
-  else if (err)
-    std::printf(
-        "  error vs ground truth: translation %.4f m, rotation %.4f deg (per metre: n/a, the ground truth "
-        "does not move)\n",
-        err->translation_m, err->rotation_deg);
-  if (err && !rep.truth->warning.empty()) std::printf("  warning: %s\n", rep.truth->warning.c_str());
-  std::printf("  wrote %s\n", path.c_str());
-  if (rep.in_loop()) print_sampling(rep);
-}
-
 // The registration, its progress on stderr (stage by stage, the work bound), each accelerator
 // job's row into `accel_jobs`.
 struct PipelineRun {
@@ -500,12 +354,12 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   if (in_loop)
     model = std::make_shared<ModelInTheLoop>(accel_cfg, WorkLimits{}, default_sim_threads(),
                                              o.jobs > 0 ? o.jobs : default_sim_threads());
-  const FramePair f = load_frames(o);
+  const FramePair f = load_frame_pair(frame_spec(o));
 
-  const std::string injection = injection_text(config);
   std::fprintf(stderr, "tigris register: %s (%zu points) -> %s (%zu points), preset %s, search %s%s\n",
                f.source_name.c_str(), f.source.size(), f.target_name.c_str(), f.target.size(), o.preset.c_str(),
-               registration::to_string(config.search.backend), injection.c_str());
+               registration::to_string(config.search.backend),
+               registration::injection_text(registration::injection_of(config)).c_str());
   ordered_json accel_jobs = ordered_json::array();
   PipelineRun run = run_pipeline(o, config, f, std::move(model), accel_jobs);
   if (run.mismatch) return 1;
@@ -518,7 +372,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   write_file(path, [&](std::ostream& out) {
     out << registration::to_json(report).dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';
   });  // paths: any bytes
-  print_registration(config, report, injection, path);
+  registration::print_summary(stdout, report, registration::to_string(config.search.backend), path);
   if (r.status != "converged") {
     std::fprintf(stderr, "tigris register: warning: %s: %s (status %s in %s; exit 1)\n",
                  r.status == "degenerate" ? "no transform" : "the transform is not a registration", r.problem.c_str(),

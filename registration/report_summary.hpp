@@ -1,0 +1,20 @@
+// The registration's summary as `tigris register` prints it from its report (report.hpp):
+// the stages' time and KD-tree work, the accelerator's modeled figures in the loop, the
+// transform and its error against the ground truth.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include "report.hpp"
+
+namespace tigris::registration {
+
+// The injected error as the summary lines say it (", RPCE returns ..."; "" when none).
+std::string injection_text(const Report::Injection& i);
+
+// `backend`: the golden back-end the searches used (exact or approx, in the loop too); `path`:
+// where the report was written.
+void print_summary(std::FILE* out, const Report& r, const std::string& backend, const std::string& path);
+
+}  // namespace tigris::registration
