@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <ostream>
 #include <string>
@@ -46,6 +47,10 @@ class Odometry {
   // ground_truth_warning when its first steps are equal and `synthetic_truth` is false) or
   // ground_truth null. Returns the summary's note ("" when none).
   std::string add_metrics(nlohmann::ordered_json& m, bool synthetic_truth) const;
+  // The summary `tigris odometry` prints: the frames, the totals, the accelerator's modeled
+  // figures, the errors from metrics.json's figures `m`, and `note`. `search`: the back-end.
+  void print_summary(std::FILE* out, const nlohmann::ordered_json& m, const std::string& sequence,
+                     const std::string& search, const std::string& note) const;
 
  private:
   void add_pair(std::size_t k);

@@ -2,6 +2,7 @@
 // the sums over pairs and stages, pairs.csv and metrics.json's figures, the degenerate pair.
 #include <catch2/catch.hpp>
 
+#include <cstdio>
 #include <sstream>
 #include <string>
 
@@ -74,6 +75,16 @@ TEST_CASE("odometry chains the pairs' transforms and sums them", "[odometry]") {
   CHECK(m["kitti"]["too_short"] == true);
   CHECK(m["rpe"]["mean_translation_m"].get<double>() == Approx(0.0).margin(1e-12));  // exact pairs
   CHECK_FALSE(m.contains("accelerator"));
+
+  std::FILE* f = std::tmpfile();
+  odo.print_summary(f, m, "seq", "exact", "");
+  std::rewind(f);
+  char line[256] = {};
+  REQUIRE(std::fgets(line, sizeof line, f));
+  CHECK(std::string(line) == "tigris odometry: seq, frames 2..4 (2 pairs, 0 not converged), search exact\n");
+  REQUIRE(std::fgets(line, sizeof line, f));
+  CHECK(std::string(line) == "  registration 4.00 s in all, KD-tree search 2.00 s (50.0%)\n");
+  std::fclose(f);
 }
 
 TEST_CASE("odometry in the loop sums the accelerator's figures", "[odometry]") {

@@ -395,36 +395,7 @@ int OdometryRun::write_files() {
 // exit 1 when a pair did not converge.
 int OdometryRun::print_summary(const ordered_json& m, const std::string& note) {
   const registration::Odometry::Totals& sum = odometry->totals();
-  std::printf("tigris odometry: %s, frames %zu..%zu (%zu pairs, %zu not converged), %s\n", o.sequence.c_str(), first,
-              last, pairs, sum.not_converged, o.search.empty() ? "search exact" : ("search " + o.search).c_str());
-  if (accel)
-    std::printf("  registration %.2f s of wall time in all, the accelerator's simulation included\n", sum.seconds);
-  else
-    std::printf("  registration %.2f s in all, KD-tree search %.2f s (%.1f%%)\n", sum.seconds, sum.kd,
-                sum.seconds > 0 ? 100.0 * sum.kd / sum.seconds : 0.0);
-  if (accel) {
-    std::printf("  on the accelerator (modeled): KD-tree %.4f s, end to end %.3f s, KD-tree energy %.1f uJ\n",
-                sum.modeled_kd, sum.modeled_e2e, sum.energy_pj * 1e-6);
-    if (sum.sampled_jobs > 0)
-      std::printf(
-          "  sampled %llu of %llu accelerator jobs: their cycles and energy, and these totals, are estimates "
-          "(--accel-set sim.sampling=off simulates every query)\n",
-          static_cast<unsigned long long>(sum.sampled_jobs), static_cast<unsigned long long>(sum.jobs));
-  }
-  if (m.contains("kitti")) {
-    const auto& k = m["kitti"];
-    if (k["too_short"].get<bool>())
-      std::printf("  KITTI metrics: none, the trajectory (%.1f m) is shorter than 100 m\n",
-                  k["trajectory_length_m"].get<double>());
-    else
-      std::printf("  KITTI metrics over %zu segments of %.0f m of path: translation %.3f%%, rotation %.5f deg/m\n",
-                  k["segments"].get<std::size_t>(), k["trajectory_length_m"].get<double>(),
-                  k["t_err_percent"].get<double>(), k["r_err_deg_per_m"].get<double>());
-    std::printf("  ATE %.4f m (aligned), %.4f m unaligned; mean RPE %.4f m, %.4f deg per pair\n",
-                m["ate"]["rmse_m"].get<double>(), m["ate"]["unaligned_rmse_m"].get<double>(),
-                m["rpe"]["mean_translation_m"].get<double>(), m["rpe"]["mean_rotation_deg"].get<double>());
-  }
-  if (!note.empty()) std::printf("  note: %s\n", note.c_str());
+  odometry->print_summary(stdout, m, o.sequence, o.search.empty() ? "exact" : o.search, note);
   std::string why;
   const int plotted = run_python_module("odometry_plots", {o.out}, why);
   if (plotted != 0)
