@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -208,7 +209,6 @@ std::vector<std::string> parent_outputs() {
 }
 
 OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_(std::move(spec)) {
-  const std::string cmd = "tigris " + spec_.command;
   const std::string what = "--out " + dir_;
   if (dir_.empty()) throw std::invalid_argument("--out: give a folder");
   // The parent's files are named for this process only: its own children get none.
@@ -222,106 +222,133 @@ OutFolder::OutFolder(const std::string& dir, FolderSpec spec) : dir_(dir), spec_
   if (ec) throw std::invalid_argument(what + ": cannot create the folder: " + ec.message());
   fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) throw std::invalid_argument(what + ": cannot open the folder: " + std::strerror(errno));
-  const std::string manifest_path = path(kManifest);
-  // The earlier run's record, read once the folder is ours (or to name the run that holds it).
-  json old;
-  bool had_manifest = false;
-  const auto read_old = [&] {
-    had_manifest = fs::exists(fs::symlink_status(manifest_path, ec));
-    if (had_manifest)
-      old = parse_json_text(read_input(manifest_path, "the folder's manifest", kMaxSettingsBytes), manifest_path);
-  };
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    ::close(fd_);
-    fd_ = -1;
-    std::string holder;
-    try {
-      read_old();
-      if (old.is_object() && old.contains("pid"))
-        holder = " (tigris " + old.value("command", std::string("?")) + ", pid " + old["pid"].dump() + ")";
-    } catch (const std::exception&) {
-    }
-    throw std::invalid_argument(what + ": another run is writing into this folder" + holder +
-                                "; wait until it has finished, or use another --out");
-  }
+  const std::optional<json> old = lock_and_read();
   try {
-    read_old();
-  } catch (const std::exception& e) {
-    ::close(fd_);
-    fd_ = -1;
-    throw std::invalid_argument(std::string(e.what()) + "; this folder's record is unreadable: use another --out");
-  }
-  try {
-    if (had_manifest && (!old.is_object() || old.value("tigris_manifest", 0) != 1))
-      throw std::invalid_argument(manifest_path + ": not a tigris manifest; " + dir_ +
-                                  " was not written by tigris: use another --out");
-    if (had_manifest && old.value("command", std::string()) != spec_.command)
-      throw std::invalid_argument(what + " holds the output of tigris " + old.value("command", std::string("?")) +
-                                  ", not of " + cmd + ": use another --out");
-    const std::vector<std::string> old_outputs = strings_of(old.is_object() ? old["outputs"] : json());
-    claim_named(old, std::vector<std::string>(spec_.outputs), old_outputs);
-    // An input inside the folder under a name this run (or the earlier one) writes would be
-    // overwritten or removed.
-    for (const json& in : spec_.inputs) {
-      if (!in.contains("path")) continue;
-      const std::string top = top_in_folder(dir_, in["path"].get<std::string>());
-      if (top.empty()) continue;
-      if (top == kManifest || matches(spec_.outputs, top) || matches(old_outputs, top))
-        throw std::invalid_argument("the input " + in.value("role", std::string("file")) + " (" +
-                                    in["path"].get<std::string>() + ") lies in " + what + " under a name " + cmd +
-                                    " writes (" + top + "): move it out of the folder, or use another --out");
-    }
-    std::vector<std::string> foreign, ours;
-    for (const auto& e : fs::directory_iterator(dir_, ec)) {
-      const std::string name = e.path().filename().string();
-      if (name == kManifest || matches(parents, name)) continue;
-      if (name.rfind(kTmpPrefix, 0) == 0) {  // a killed run's half-written file
-        fs::remove_all(e.path(), ec);
-        continue;
-      }
-      if (std::find(kept_.begin(), kept_.end(), name) != kept_.end()) continue;  // the user's companion
-      (matches(old_outputs, name) ? ours : foreign).push_back(name);
-    }
-    std::sort(foreign.begin(), foreign.end());
-    if (!foreign.empty())
-      throw std::invalid_argument(what + " holds " + (foreign.size() == 1 ? "a file" : "files") + " " + cmd +
-                                  " did not write (" + listed(foreign) + "): use a new or empty folder");
-    for (const std::string& p : spec_.outputs)
-      if (matches(parents, p.back() == '/' ? p.substr(0, p.size() - 1) : p))
-        throw std::invalid_argument(what + ": " + p + " is the parent tool's file (TIGRIS_PARENT_OUTPUTS)");
-    if (had_manifest && spec_.resumable) {
-      const std::vector<std::string> diff = changes(old, spec_);
-      if (!diff.empty()) {
-        std::string msg = what + " holds a " + cmd +
-                          " run with other settings or inputs, so its results would mix "
-                          "with this run's:";
-        for (const std::string& d : diff) msg += "\n  " + d;
-        throw std::invalid_argument(msg + "\nuse another --out, or remove " + dir_ + " to start afresh");
-      }
-      resumed_ = !ours.empty();
-    } else {
-      for (const std::string& name : ours) fs::remove_all(path(name), ec);  // a fresh start
-    }
-    manifest_ = {{"tigris_manifest", 1},
-                 {"command", spec_.command},
-                 {"argv", spec_.argv.empty() ? command_line_record() : spec_.argv},
-                 {"cwd", fs::current_path(ec).string()},
-                 {"commit", build_commit()},
-                 {"settings", spec_.settings},
-                 {"inputs", spec_.inputs},
-                 {"outputs", spec_.outputs},
-                 {"status", "running"},
-                 {"pid", ::getpid()},
-                 {"started", utc_now()},
-                 {"finished", nullptr}};
-    write_manifest("running");
-    set_rerun_note(spec_.resumable);
+    claim(old, parents);
   } catch (...) {
     ::close(fd_);
     fd_ = -1;
     if (created && fs::is_empty(dir_, ec)) fs::remove(dir_, ec);
     throw;
   }
+}
+
+// The folder locked, then the earlier run's manifest (none: a new folder); a folder another
+// run holds is refused naming that run.
+std::optional<json> OutFolder::lock_and_read() {
+  const std::string manifest_path = path(kManifest);
+  const auto read_old = [&]() -> std::optional<json> {
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(manifest_path, ec))) return std::nullopt;
+    return parse_json_text(read_input(manifest_path, "the folder's manifest", kMaxSettingsBytes), manifest_path);
+  };
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    std::string holder;
+    try {
+      const std::optional<json> old = read_old();
+      if (old && old->is_object() && old->contains("pid"))
+        holder = " (tigris " + old->value("command", std::string("?")) + ", pid " + (*old)["pid"].dump() + ")";
+    } catch (const std::exception&) {
+    }
+    throw std::invalid_argument("--out " + dir_ + ": another run is writing into this folder" + holder +
+                                "; wait until it has finished, or use another --out");
+  }
+  try {
+    return read_old();
+  } catch (const std::exception& e) {
+    ::close(fd_);
+    fd_ = -1;
+    throw std::invalid_argument(std::string(e.what()) + "; this folder's record is unreadable: use another --out");
+  }
+}
+
+// Claims the locked folder over the earlier run's record `old`: refuses what would lose data,
+// clears or keeps the earlier outputs (resume), and writes this run's manifest.
+void OutFolder::claim(const std::optional<json>& old_manifest, const std::vector<std::string>& parents) {
+  const std::string cmd = "tigris " + spec_.command, what = "--out " + dir_;
+  const bool had_manifest = old_manifest.has_value();
+  const json old = old_manifest.value_or(json());
+  if (had_manifest && (!old.is_object() || old.value("tigris_manifest", 0) != 1))
+    throw std::invalid_argument(path(kManifest) + ": not a tigris manifest; " + dir_ +
+                                " was not written by tigris: use another --out");
+  if (had_manifest && old.value("command", std::string()) != spec_.command)
+    throw std::invalid_argument(what + " holds the output of tigris " + old.value("command", std::string("?")) +
+                                ", not of " + cmd + ": use another --out");
+  const std::vector<std::string> old_outputs = strings_of(old.is_object() ? old["outputs"] : json());
+  claim_named(old, std::vector<std::string>(spec_.outputs), old_outputs);
+  refuse_inputs_inside(old_outputs);
+  const std::vector<std::string> ours = earlier_outputs(old_outputs, parents);
+  for (const std::string& p : spec_.outputs)
+    if (matches(parents, p.back() == '/' ? p.substr(0, p.size() - 1) : p))
+      throw std::invalid_argument(what + ": " + p + " is the parent tool's file (TIGRIS_PARENT_OUTPUTS)");
+  std::error_code ec;
+  if (had_manifest && spec_.resumable) {
+    const std::vector<std::string> diff = changes(old, spec_);
+    if (!diff.empty()) {
+      std::string msg = what + " holds a " + cmd +
+                        " run with other settings or inputs, so its results would mix "
+                        "with this run's:";
+      for (const std::string& d : diff) msg += "\n  " + d;
+      throw std::invalid_argument(msg + "\nuse another --out, or remove " + dir_ + " to start afresh");
+    }
+    resumed_ = !ours.empty();
+  } else {
+    for (const std::string& name : ours) fs::remove_all(path(name), ec);  // a fresh start
+  }
+  manifest_ = {{"tigris_manifest", 1},
+               {"command", spec_.command},
+               {"argv", spec_.argv.empty() ? command_line_record() : spec_.argv},
+               {"cwd", fs::current_path(ec).string()},
+               {"commit", build_commit()},
+               {"settings", spec_.settings},
+               {"inputs", spec_.inputs},
+               {"outputs", spec_.outputs},
+               {"status", "running"},
+               {"pid", ::getpid()},
+               {"started", utc_now()},
+               {"finished", nullptr}};
+  write_manifest("running");
+  set_rerun_note(spec_.resumable);
+}
+
+// An input inside the folder under a name this run (or the earlier one) writes would be
+// overwritten or removed.
+void OutFolder::refuse_inputs_inside(const std::vector<std::string>& old_outputs) const {
+  for (const json& in : spec_.inputs) {
+    if (!in.contains("path")) continue;
+    const std::string top = top_in_folder(dir_, in["path"].get<std::string>());
+    if (top.empty()) continue;
+    if (top == kManifest || matches(spec_.outputs, top) || matches(old_outputs, top))
+      throw std::invalid_argument("the input " + in.value("role", std::string("file")) + " (" +
+                                  in["path"].get<std::string>() + ") lies in --out " + dir_ + " under a name tigris " +
+                                  spec_.command + " writes (" + top +
+                                  "): move it out of the folder, or use another --out");
+  }
+}
+
+// The earlier run's outputs in the folder; a file no tigris run wrote there is refused (a killed
+// run's half-written file is removed, the parent's files and the user's companions stay).
+std::vector<std::string> OutFolder::earlier_outputs(const std::vector<std::string>& old_outputs,
+                                                    const std::vector<std::string>& parents) const {
+  std::vector<std::string> foreign, ours;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == kManifest || matches(parents, name)) continue;
+    if (name.rfind(kTmpPrefix, 0) == 0) {  // a killed run's half-written file
+      fs::remove_all(e.path(), ec);
+      continue;
+    }
+    if (std::find(kept_.begin(), kept_.end(), name) != kept_.end()) continue;  // the user's companion
+    (matches(old_outputs, name) ? ours : foreign).push_back(name);
+  }
+  std::sort(foreign.begin(), foreign.end());
+  if (!foreign.empty())
+    throw std::invalid_argument("--out " + dir_ + " holds " + (foreign.size() == 1 ? "a file" : "files") + " tigris " +
+                                spec_.command + " did not write (" + listed(foreign) + "): use a new or empty folder");
+  return ours;
 }
 
 void OutFolder::claim_named(const json& old, const std::vector<std::string>& fixed_outputs,

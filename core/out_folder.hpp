@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,11 @@ class OutFolder {
 
  private:
   void write_manifest(const std::string& status);
+  std::optional<nlohmann::json> lock_and_read();
+  void claim(const std::optional<nlohmann::json>& old, const std::vector<std::string>& parents);
+  void refuse_inputs_inside(const std::vector<std::string>& old_outputs) const;
+  std::vector<std::string> earlier_outputs(const std::vector<std::string>& old_outputs,
+                                           const std::vector<std::string>& parents) const;
   void claim_named(const nlohmann::json& old, const std::vector<std::string>& fixed_outputs,
                    const std::vector<std::string>& old_outputs);
   std::string dir_;
