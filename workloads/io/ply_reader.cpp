@@ -67,6 +67,59 @@ struct Header {
   std::size_t data_line = 0;  // the line number of end_header
 };
 
+// A 'property' line of element `e`: a scalar or a list, its size added to the element's.
+Property read_property(const Line& line, Element& e, const std::string& label) {
+  const std::size_t n = line.number, nw = line.words.size();
+  Property p;
+  if (nw == 3) {
+    if (!ply_type(line.words[1], p.type))
+      fail_line(label, n, "corrupt PLY header: unknown property type '" + printable(line.words[1]) + "'");
+    p.name = std::string(line.words[2]);
+    e.bytes += static_cast<std::uint64_t>(scalar_size(p.type));
+  } else if (nw == 5 && line.words[1] == "list") {
+    p.list = true;
+    if (!ply_type(line.words[2], p.count_type))
+      fail_line(label, n, "corrupt PLY header: unknown list count type '" + printable(line.words[2]) + "'");
+    if (io_detail::scalar_is_float(p.count_type))
+      fail_line(label, n,
+                "corrupt PLY header: a list count must be of an integer type, not '" + printable(line.words[2]) + "'");
+    if (!ply_type(line.words[3], p.type))
+      fail_line(label, n, "corrupt PLY header: unknown list item type '" + printable(line.words[3]) + "'");
+    p.name = std::string(line.words[4]);
+    e.has_list = true;
+    e.bytes += static_cast<std::uint64_t>(scalar_size(p.count_type));
+  } else {
+    fail_line(label, n,
+              "corrupt PLY header: expected 'property TYPE NAME' or 'property list "
+              "COUNT_TYPE ITEM_TYPE NAME'");
+  }
+  return p;
+}
+
+// The vertex element and its x, y, z properties (scalars), and a point count the model takes.
+void find_vertex(Header& h, const std::string& label) {
+  bool found = false;
+  for (std::size_t i = 0; i < h.elements.size(); ++i)
+    if (h.elements[i].name == "vertex") {
+      h.vertex = i;
+      found = true;
+    }
+  if (!found) fail(label, "the PLY file has no vertex element (no points)");
+  const Element& v = h.elements[h.vertex];
+  static const char* const kAxes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t p = 0; p < v.props.size(); ++p)
+      if (v.props[p].name == kAxes[a]) h.xyz[a] = static_cast<int>(p);
+    if (h.xyz[a] < 0) fail_line(label, v.line, std::string("the vertex element has no '") + kAxes[a] + "' property");
+    if (v.props[static_cast<std::size_t>(h.xyz[a])].list)
+      fail_line(label, v.line,
+                std::string("the vertex property '") + kAxes[a] + "' is a list; x, y, z must be scalars");
+  }
+  if (v.count == 0) fail_line(label, v.line, "the point cloud is empty (element vertex 0)");
+  if (v.count > kMaxPoints)
+    fail_line(label, v.line, "too many points (" + std::to_string(v.count) + "; at most 2^32 - 2)");
+}
+
 Header read_header(const char* data, std::size_t size, const std::string& label) {
   Header h;
   LineReader lines(data, size);
@@ -118,30 +171,7 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
     } else if (key == "property") {
       if (h.elements.empty()) fail_line(label, n, "corrupt PLY header: a property before any element");
       Element& e = h.elements.back();
-      Property p;
-      if (nw == 3) {
-        if (!ply_type(line.words[1], p.type))
-          fail_line(label, n, "corrupt PLY header: unknown property type '" + printable(line.words[1]) + "'");
-        p.name = std::string(line.words[2]);
-        e.bytes += static_cast<std::uint64_t>(scalar_size(p.type));
-      } else if (nw == 5 && line.words[1] == "list") {
-        p.list = true;
-        if (!ply_type(line.words[2], p.count_type))
-          fail_line(label, n, "corrupt PLY header: unknown list count type '" + printable(line.words[2]) + "'");
-        if (io_detail::scalar_is_float(p.count_type))
-          fail_line(
-              label, n,
-              "corrupt PLY header: a list count must be of an integer type, not '" + printable(line.words[2]) + "'");
-        if (!ply_type(line.words[3], p.type))
-          fail_line(label, n, "corrupt PLY header: unknown list item type '" + printable(line.words[3]) + "'");
-        p.name = std::string(line.words[4]);
-        e.has_list = true;
-        e.bytes += static_cast<std::uint64_t>(scalar_size(p.count_type));
-      } else {
-        fail_line(label, n,
-                  "corrupt PLY header: expected 'property TYPE NAME' or 'property list "
-                  "COUNT_TYPE ITEM_TYPE NAME'");
-      }
+      Property p = read_property(line, e, label);
       if (!property_names.insert(p.name).second)
         fail_line(label, n,
                   "corrupt PLY header: property '" + printable(p.name) + "' appears twice in element '" +
@@ -160,26 +190,7 @@ Header read_header(const char* data, std::size_t size, const std::string& label)
   if (!have_format) fail(label, "corrupt PLY header: no format line");
   h.data_start = lines.pos();
 
-  bool found = false;
-  for (std::size_t i = 0; i < h.elements.size(); ++i)
-    if (h.elements[i].name == "vertex") {
-      h.vertex = i;
-      found = true;
-    }
-  if (!found) fail(label, "the PLY file has no vertex element (no points)");
-  const Element& v = h.elements[h.vertex];
-  static const char* const kAxes[3] = {"x", "y", "z"};
-  for (int a = 0; a < 3; ++a) {
-    for (std::size_t p = 0; p < v.props.size(); ++p)
-      if (v.props[p].name == kAxes[a]) h.xyz[a] = static_cast<int>(p);
-    if (h.xyz[a] < 0) fail_line(label, v.line, std::string("the vertex element has no '") + kAxes[a] + "' property");
-    if (v.props[static_cast<std::size_t>(h.xyz[a])].list)
-      fail_line(label, v.line,
-                std::string("the vertex property '") + kAxes[a] + "' is a list; x, y, z must be scalars");
-  }
-  if (v.count == 0) fail_line(label, v.line, "the point cloud is empty (element vertex 0)");
-  if (v.count > kMaxPoints)
-    fail_line(label, v.line, "too many points (" + std::to_string(v.count) + "; at most 2^32 - 2)");
+  find_vertex(h, label);
   return h;
 }
 
