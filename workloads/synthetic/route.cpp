@@ -48,6 +48,45 @@ void Route::at(double s, double& x, double& y, double& hx, double& hy) const {
   hy = sn * p.hx + cs * p.hy;
 }
 
+namespace {
+
+// A turn at the crossing street `c`: the straight up to the corner, the quarter arc and the
+// corner's speed limit into `route`; the state (axis, k, m, heading, the straight's start and arc
+// length, as plan_route keeps them) moves onto the crossing street. Returns the arc's start.
+double take_turn(Route& route, const Street& c, int turn, int& axis, int& k, int& m, Heading& h, double& sx, double& sy,
+                 double& s0) {
+  const auto dir_of = [](Heading v, int a) { return a == 0 ? v.hx : v.hy; };
+  const Heading nh = turn > 0 ? left_of(h) : right_of(h);
+  const double radius = turn > 0 ? 11.0 : 7.0;
+  // The corner: where the current lane line meets the new street's lane line.
+  const double lane_new = c.pos + kLaneOffset * (axis == 0 ? right_of(nh).hx : right_of(nh).hy);
+  double cx = sx, cy = sy;
+  (axis == 0 ? cx : cy) = lane_new;
+  const double in_x = cx - radius * h.hx, in_y = cy - radius * h.hy;
+  const double straight = (in_x - sx) * h.hx + (in_y - sy) * h.hy;
+  if (!(straight > 1.0)) throw std::logic_error("synthetic route: a turn closer than its radius (a bug)");
+  route.pieces.push_back(RoutePiece{s0, straight, sx, sy, h.hx, h.hy, 0, 0.0});
+  const double s_arc = s0 + straight, arc = 0.5 * kPi * radius;
+  route.pieces.push_back(RoutePiece{s_arc, arc, in_x, in_y, h.hx, h.hy, turn, radius});
+  SpeedLimit l;
+  l.s_from = s_arc;
+  l.s_to = s_arc + arc;
+  l.v_max = turn > 0 ? 6.0 : 4.5;
+  route.limits.push_back(l);
+  // Continue on the crossing street from the corner's exit.
+  sx = cx + radius * nh.hx;
+  sy = cy + radius * nh.hy;
+  s0 = s_arc + arc;
+  const int new_k = m;
+  m = k + static_cast<int>(dir_of(nh, 1 - axis));
+  k = new_k;
+  axis = 1 - axis;
+  h = nh;
+  return s_arc;
+}
+
+}  // namespace
+
 Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m) {
   det::Rng rng(seed, stream_id(kRouteTag, 0, 0));
   const std::vector<Street>* across[2] = {&grid.xs(), &grid.ys()};  // the crossings
@@ -104,33 +143,7 @@ Route plan_route(std::uint64_t seed, const StreetGrid& grid, double min_length_m
     if (turn == 0) {
       m = straight_next;
     } else {
-      const Heading nh = turn > 0 ? left_of(h) : right_of(h);
-      const double radius = turn > 0 ? 11.0 : 7.0;
-      // The corner: where the current lane line meets the new street's lane line.
-      const double lane_new = c.pos + kLaneOffset * (axis == 0 ? right_of(nh).hx : right_of(nh).hy);
-      double cx = sx, cy = sy;
-      (axis == 0 ? cx : cy) = lane_new;
-      const double in_x = cx - radius * h.hx, in_y = cy - radius * h.hy;
-      const double straight = (in_x - sx) * h.hx + (in_y - sy) * h.hy;
-      if (!(straight > 1.0)) throw std::logic_error("synthetic route: a turn closer than its radius (a bug)");
-      route.pieces.push_back(RoutePiece{s0, straight, sx, sy, h.hx, h.hy, 0, 0.0});
-      const double s_arc = s0 + straight, arc = 0.5 * kPi * radius;
-      route.pieces.push_back(RoutePiece{s_arc, arc, in_x, in_y, h.hx, h.hy, turn, radius});
-      SpeedLimit l;
-      l.s_from = s_arc;
-      l.s_to = s_arc + arc;
-      l.v_max = turn > 0 ? 6.0 : 4.5;
-      route.limits.push_back(l);
-      s_stop = std::min(s_stop, s_arc - 0.5);
-      // Continue on the crossing street from the corner's exit.
-      sx = cx + radius * nh.hx;
-      sy = cy + radius * nh.hy;
-      s0 = s_arc + arc;
-      const int new_k = m;
-      m = k + static_cast<int>(dir_of(nh, 1 - axis));
-      k = new_k;
-      axis = 1 - axis;
-      h = nh;
+      s_stop = std::min(s_stop, take_turn(route, c, turn, axis, k, m, h, sx, sy, s0) - 0.5);
     }
     if (stop) {
       SpeedLimit l;
