@@ -82,6 +82,79 @@ void add_car(Scene& scene, double cx, double cy, double length, double width, do
   scene.boxes.push_back(Box{cx - 0.5 * length, cx + 0.5 * length, cy - 0.5 * width, cy + 0.5 * width, 0.0, height});
 }
 
+// Buildings closing the street at both ends (x_front ahead, x_back behind), split in a few blocks.
+void add_end_buildings(Scene& scene, Rng& rng, double x_front, double x_back) {
+  for (int end = 0; end < 2; ++end) {
+    const double xn = end == 0 ? x_front : x_back;  // near face
+    double y = -60.0;
+    while (y < 60.0) {
+      double y_end = std::min(y + rng.uniform(15.0, 40.0), 60.0);
+      if (60.0 - y_end < 8.0) y_end = 60.0;
+      const double setback = rng.chance(0.5) ? 0.0 : rng.uniform(0.0, 3.0);
+      const double depth = rng.uniform(10.0, 20.0);
+      const double height = rng.uniform(10.0, 25.0);
+      Box b{0.0, 0.0, y, y_end, 0.0, height};
+      if (end == 0) {
+        b.x0 = xn + setback;
+        b.x1 = xn + setback + depth;
+      } else {
+        b.x0 = xn - setback - depth;
+        b.x1 = xn - setback;
+      }
+      scene.boxes.push_back(b);
+      y = y_end;
+    }
+  }
+}
+
+// One side of the street (side +1: +y) with its curb at |y| = curb: parked cars, poles and lamp
+// posts, street trees; none across the cross street [cross0, cross1].
+void add_street_side(Scene& scene, Rng& rng, int side, double curb, double x_back, double x_front, double cross0,
+                     double cross1) {
+  // Parked cars along the curb (no parking across the cross street).
+  double x = x_back + 4.0;
+  while (x < x_front - 8.0) {
+    if (x > cross0 - 8.0 && x < cross1 + 2.0) {
+      x = cross1 + 2.0;
+      continue;
+    }
+    if (rng.chance(0.65)) {
+      const bool van = rng.chance(0.12);
+      const double length = van ? rng.uniform(5.0, 6.0) : rng.uniform(3.9, 4.6);
+      const double width = van ? rng.uniform(1.9, 2.0) : rng.uniform(1.7, 1.9);
+      const double height = van ? rng.uniform(2.0, 2.4) : rng.uniform(1.4, 1.6);
+      add_car(scene, x + 0.5 * length, side * (curb - 0.25 - 0.5 * width), length, width, height);
+      x += length + rng.uniform(0.8, 3.0);
+    } else {
+      x += rng.uniform(2.0, 6.0);
+    }
+  }
+  // Poles and lamp posts at the curb.
+  x = x_back + rng.uniform(2.0, 10.0);
+  while (x < x_front - 2.0) {
+    if (x < cross0 || x > cross1) {
+      const double py = side * (curb + rng.uniform(0.4, 0.7));
+      const double radius = rng.uniform(0.08, 0.15);
+      const double height = rng.uniform(5.0, 9.0);
+      scene.cylinders.push_back(Cylinder{x, py, radius, 0.0, height});
+    }
+    x += rng.uniform(15.0, 25.0);
+  }
+  // Street trees on the sidewalk: trunk (cylinder) and crown (sphere).
+  x = x_back + rng.uniform(3.0, 12.0);
+  while (x < x_front - 3.0) {
+    if ((x < cross0 - 2.0 || x > cross1 + 2.0) && rng.chance(0.5)) {
+      const double ty = side * (curb + rng.uniform(1.2, 1.8));
+      const double trunk_h = rng.uniform(2.2, 3.5);
+      const double crown_r = rng.uniform(1.2, 2.2);
+      const double trunk_r = rng.uniform(0.12, 0.25);
+      scene.cylinders.push_back(Cylinder{x, ty, trunk_r, 0.0, trunk_h});
+      scene.spheres.push_back(Sphere{x, ty, trunk_h + 0.7 * crown_r, crown_r});
+    }
+    x += rng.uniform(8.0, 20.0);
+  }
+}
+
 Scene make_scene(std::uint64_t seed) {
   Rng rng(seed, kSceneStream);
   Scene scene;
@@ -107,74 +180,8 @@ Scene make_scene(std::uint64_t seed) {
     add_building_row(scene, rng, x_back, cross0, side, back, 8.0, 12.0, 10.0, 24.0, 0.0, false);
     add_building_row(scene, rng, cross1, x_front, side, back, 8.0, 12.0, 10.0, 24.0, 0.0, false);
   }
-  // Cross-street buildings closing the street at both ends, split in a few blocks.
-  for (int end = 0; end < 2; ++end) {
-    const double xn = end == 0 ? x_front : x_back;  // near face
-    double y = -60.0;
-    while (y < 60.0) {
-      double y_end = std::min(y + rng.uniform(15.0, 40.0), 60.0);
-      if (60.0 - y_end < 8.0) y_end = 60.0;
-      const double setback = rng.chance(0.5) ? 0.0 : rng.uniform(0.0, 3.0);
-      const double depth = rng.uniform(10.0, 20.0);
-      const double height = rng.uniform(10.0, 25.0);
-      Box b{0.0, 0.0, y, y_end, 0.0, height};
-      if (end == 0) {
-        b.x0 = xn + setback;
-        b.x1 = xn + setback + depth;
-      } else {
-        b.x0 = xn - setback - depth;
-        b.x1 = xn - setback;
-      }
-      scene.boxes.push_back(b);
-      y = y_end;
-    }
-  }
-
-  for (int k = 0; k < 2; ++k) {
-    const int side = k == 0 ? 1 : -1;
-    // Parked cars along the curb (no parking across the cross street).
-    double x = x_back + 4.0;
-    while (x < x_front - 8.0) {
-      if (x > cross0 - 8.0 && x < cross1 + 2.0) {
-        x = cross1 + 2.0;
-        continue;
-      }
-      if (rng.chance(0.65)) {
-        const bool van = rng.chance(0.12);
-        const double length = van ? rng.uniform(5.0, 6.0) : rng.uniform(3.9, 4.6);
-        const double width = van ? rng.uniform(1.9, 2.0) : rng.uniform(1.7, 1.9);
-        const double height = van ? rng.uniform(2.0, 2.4) : rng.uniform(1.4, 1.6);
-        add_car(scene, x + 0.5 * length, side * (curb[k] - 0.25 - 0.5 * width), length, width, height);
-        x += length + rng.uniform(0.8, 3.0);
-      } else {
-        x += rng.uniform(2.0, 6.0);
-      }
-    }
-    // Poles and lamp posts at the curb.
-    x = x_back + rng.uniform(2.0, 10.0);
-    while (x < x_front - 2.0) {
-      if (x < cross0 || x > cross1) {
-        const double py = side * (curb[k] + rng.uniform(0.4, 0.7));
-        const double radius = rng.uniform(0.08, 0.15);
-        const double height = rng.uniform(5.0, 9.0);
-        scene.cylinders.push_back(Cylinder{x, py, radius, 0.0, height});
-      }
-      x += rng.uniform(15.0, 25.0);
-    }
-    // Street trees on the sidewalk: trunk (cylinder) and crown (sphere).
-    x = x_back + rng.uniform(3.0, 12.0);
-    while (x < x_front - 3.0) {
-      if ((x < cross0 - 2.0 || x > cross1 + 2.0) && rng.chance(0.5)) {
-        const double ty = side * (curb[k] + rng.uniform(1.2, 1.8));
-        const double trunk_h = rng.uniform(2.2, 3.5);
-        const double crown_r = rng.uniform(1.2, 2.2);
-        const double trunk_r = rng.uniform(0.12, 0.25);
-        scene.cylinders.push_back(Cylinder{x, ty, trunk_r, 0.0, trunk_h});
-        scene.spheres.push_back(Sphere{x, ty, trunk_h + 0.7 * crown_r, crown_r});
-      }
-      x += rng.uniform(8.0, 20.0);
-    }
-  }
+  add_end_buildings(scene, rng, x_front, x_back);
+  for (int k = 0; k < 2; ++k) add_street_side(scene, rng, k == 0 ? 1 : -1, curb[k], x_back, x_front, cross0, cross1);
   // One or two cars in the oncoming lane (+y side), ahead of or behind the sensor.
   const int traffic = rng.chance(0.5) ? 1 : 2;
   for (int i = 0; i < traffic; ++i) {
