@@ -216,6 +216,102 @@ struct Pose {
   double x, y, cos_yaw, sin_yaw;  // sensor position (ground frame) and heading
 };
 
+// The primitives a horizontal ray from (ox, oy) along (ux, uy) crosses, as intervals of
+// horizontal distance: boxes by a 2D slab test, cylinders and spheres by their footprint circle.
+void crossed_2d(const Scene& scene, double ox, double oy, double ux, double uy, std::vector<Candidate>& cands) {
+  const int n_boxes = static_cast<int>(scene.boxes.size());
+  cands.clear();
+  // Boxes: 2D slab test.
+  for (int i = 0; i < n_boxes; ++i) {
+    const Box& b = scene.boxes[static_cast<std::size_t>(i)];
+    double lo = 0.0, hi = kInf;
+    bool miss = false;
+    const double o[2] = {ox, oy}, u[2] = {ux, uy};
+    const double bmin[2] = {b.x0, b.y0}, bmax[2] = {b.x1, b.y1};
+    for (int a = 0; a < 2 && !miss; ++a) {
+      if (std::fabs(u[a]) < 1e-15) {
+        if (o[a] < bmin[a] || o[a] > bmax[a]) miss = true;
+        continue;
+      }
+      double t0 = (bmin[a] - o[a]) / u[a];
+      double t1 = (bmax[a] - o[a]) / u[a];
+      if (t0 > t1) std::swap(t0, t1);
+      lo = std::max(lo, t0);
+      hi = std::min(hi, t1);
+      if (lo > hi) miss = true;
+    }
+    if (!miss) cands.push_back(Candidate{lo, hi, 0, i});
+  }
+  // Cylinders: 2D circle.
+  for (std::size_t i = 0; i < scene.cylinders.size(); ++i) {
+    const Cylinder& c = scene.cylinders[i];
+    const double dx = ox - c.cx, dy = oy - c.cy;
+    const double b = dx * ux + dy * uy;
+    const double disc = b * b - ((dx * dx + dy * dy) - c.r * c.r);
+    if (disc < 0.0) continue;
+    const double sq = std::sqrt(disc);
+    const double s1 = -b + sq;
+    if (s1 < 0.0) continue;
+    cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 0, n_boxes + static_cast<int>(i)});
+  }
+  // Spheres: their footprint circle.
+  for (std::size_t i = 0; i < scene.spheres.size(); ++i) {
+    const Sphere& sp = scene.spheres[i];
+    const double dx = ox - sp.cx, dy = oy - sp.cy;
+    const double b = dx * ux + dy * uy;
+    const double disc = b * b - ((dx * dx + dy * dy) - sp.r * sp.r);
+    if (disc < 0.0) continue;
+    const double sq = std::sqrt(disc);
+    const double s1 = -b + sq;
+    if (s1 < 0.0) continue;
+    cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 1, static_cast<int>(i)});
+  }
+}
+
+// The horizontal distance of the first surface a ring's ray hits among the sorted candidates
+// (prisms' z ranges in prism_z0/z1), the ground included; beyond max_range when none.
+double first_hit(const Scene& scene, const Ring& ring, const std::vector<Candidate>& cands,
+                 const std::vector<double>& prism_z0, const std::vector<double>& prism_z1, double ox, double oy,
+                 double ux, double uy, double max_range) {
+  const double h = kSensorHeight;
+  // Anything beyond max_range is no return, so there is no need to look further.
+  double best = (max_range + 1.0) * ring.cos_e;
+  if (ring.tan_e < 0.0) best = std::min(best, h / -ring.tan_e);  // ground plane z = 0
+  for (const Candidate& c : cands) {
+    if (c.s_in >= best) break;
+    if (c.kind == 0) {
+      // Vertical prism: intersect the footprint interval with the z slab.
+      const double z0 = prism_z0[static_cast<std::size_t>(c.index)];
+      const double z1 = prism_z1[static_cast<std::size_t>(c.index)];
+      double lo = c.s_in, hi = c.s_out;
+      if (ring.tan_e > 0.0) {
+        lo = std::max(lo, (z0 - h) / ring.tan_e);
+        hi = std::min(hi, (z1 - h) / ring.tan_e);
+      } else if (ring.tan_e < 0.0) {
+        lo = std::max(lo, (z1 - h) / ring.tan_e);
+        hi = std::min(hi, (z0 - h) / ring.tan_e);
+      } else if (h < z0 || h > z1) {
+        continue;
+      }
+      if (lo <= hi && lo < best) best = lo;
+    } else {
+      // Sphere: 3D quadratic in the range t; direction d = (cos_e u, sin_e).
+      const Sphere& sp = scene.spheres[static_cast<std::size_t>(c.index)];
+      const double dx = ox - sp.cx, dy = oy - sp.cy, dz = h - sp.cz;
+      const double b = (dx * (ring.cos_e * ux) + dy * (ring.cos_e * uy)) + dz * ring.sin_e;
+      const double disc = b * b - (((dx * dx + dy * dy) + dz * dz) - sp.r * sp.r);
+      if (disc < 0.0) continue;
+      const double sq = std::sqrt(disc);
+      double t = -b - sq;
+      if (t < 0.0) t = -b + sq;
+      if (t < 0.0) continue;
+      const double s = t * ring.cos_e;
+      if (s < best) best = s;
+    }
+  }
+  return best;
+}
+
 // Casts one full revolution from `pose`; out[ring * azimuth_steps + j] gets the range of the
 // first surface hit, or a negative value when there is none within max_range.
 void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& rings, const std::vector<double>& az_cos,
@@ -234,8 +330,7 @@ void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& ri
     prism_z0.push_back(c.z0);
     prism_z1.push_back(c.z1);
   }
-  const int n_boxes = static_cast<int>(scene.boxes.size());
-  const double ox = pose.x, oy = pose.y, h = kSensorHeight;
+  const double ox = pose.x, oy = pose.y;
   std::vector<Candidate> cands;
   cands.reserve(prism_z0.size() + scene.spheres.size());
 
@@ -244,93 +339,14 @@ void cast_scan(const Scene& scene, const Pose& pose, const std::vector<Ring>& ri
     const double ux = pose.cos_yaw * az_cos[j] - pose.sin_yaw * az_sin[j];
     const double uy = pose.sin_yaw * az_cos[j] + pose.cos_yaw * az_sin[j];
 
-    cands.clear();
-    // Boxes: 2D slab test.
-    for (int i = 0; i < n_boxes; ++i) {
-      const Box& b = scene.boxes[static_cast<std::size_t>(i)];
-      double lo = 0.0, hi = kInf;
-      bool miss = false;
-      const double o[2] = {ox, oy}, u[2] = {ux, uy};
-      const double bmin[2] = {b.x0, b.y0}, bmax[2] = {b.x1, b.y1};
-      for (int a = 0; a < 2 && !miss; ++a) {
-        if (std::fabs(u[a]) < 1e-15) {
-          if (o[a] < bmin[a] || o[a] > bmax[a]) miss = true;
-          continue;
-        }
-        double t0 = (bmin[a] - o[a]) / u[a];
-        double t1 = (bmax[a] - o[a]) / u[a];
-        if (t0 > t1) std::swap(t0, t1);
-        lo = std::max(lo, t0);
-        hi = std::min(hi, t1);
-        if (lo > hi) miss = true;
-      }
-      if (!miss) cands.push_back(Candidate{lo, hi, 0, i});
-    }
-    // Cylinders: 2D circle.
-    for (std::size_t i = 0; i < scene.cylinders.size(); ++i) {
-      const Cylinder& c = scene.cylinders[i];
-      const double dx = ox - c.cx, dy = oy - c.cy;
-      const double b = dx * ux + dy * uy;
-      const double disc = b * b - ((dx * dx + dy * dy) - c.r * c.r);
-      if (disc < 0.0) continue;
-      const double sq = std::sqrt(disc);
-      const double s1 = -b + sq;
-      if (s1 < 0.0) continue;
-      cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 0, n_boxes + static_cast<int>(i)});
-    }
-    // Spheres: their footprint circle.
-    for (std::size_t i = 0; i < scene.spheres.size(); ++i) {
-      const Sphere& sp = scene.spheres[i];
-      const double dx = ox - sp.cx, dy = oy - sp.cy;
-      const double b = dx * ux + dy * uy;
-      const double disc = b * b - ((dx * dx + dy * dy) - sp.r * sp.r);
-      if (disc < 0.0) continue;
-      const double sq = std::sqrt(disc);
-      const double s1 = -b + sq;
-      if (s1 < 0.0) continue;
-      cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 1, static_cast<int>(i)});
-    }
+    crossed_2d(scene, ox, oy, ux, uy, cands);
     // Nearest first, so the ring loop can stop early. (The order of equal s_in does not matter:
     // the result is the minimum hit distance, whichever primitive provides it.)
     std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.s_in < b.s_in; });
 
     for (std::size_t r = 0; r < n_rings; ++r) {
       const Ring& ring = rings[r];
-      // Anything beyond max_range is no return, so there is no need to look further.
-      double best = (max_range + 1.0) * ring.cos_e;
-      if (ring.tan_e < 0.0) best = std::min(best, h / -ring.tan_e);  // ground plane z = 0
-      for (const Candidate& c : cands) {
-        if (c.s_in >= best) break;
-        if (c.kind == 0) {
-          // Vertical prism: intersect the footprint interval with the z slab.
-          const double z0 = prism_z0[static_cast<std::size_t>(c.index)];
-          const double z1 = prism_z1[static_cast<std::size_t>(c.index)];
-          double lo = c.s_in, hi = c.s_out;
-          if (ring.tan_e > 0.0) {
-            lo = std::max(lo, (z0 - h) / ring.tan_e);
-            hi = std::min(hi, (z1 - h) / ring.tan_e);
-          } else if (ring.tan_e < 0.0) {
-            lo = std::max(lo, (z1 - h) / ring.tan_e);
-            hi = std::min(hi, (z0 - h) / ring.tan_e);
-          } else if (h < z0 || h > z1) {
-            continue;
-          }
-          if (lo <= hi && lo < best) best = lo;
-        } else {
-          // Sphere: 3D quadratic in the range t; direction d = (cos_e u, sin_e).
-          const Sphere& sp = scene.spheres[static_cast<std::size_t>(c.index)];
-          const double dx = ox - sp.cx, dy = oy - sp.cy, dz = h - sp.cz;
-          const double b = (dx * (ring.cos_e * ux) + dy * (ring.cos_e * uy)) + dz * ring.sin_e;
-          const double disc = b * b - (((dx * dx + dy * dy) + dz * dz) - sp.r * sp.r);
-          if (disc < 0.0) continue;
-          const double sq = std::sqrt(disc);
-          double t = -b - sq;
-          if (t < 0.0) t = -b + sq;
-          if (t < 0.0) continue;
-          const double s = t * ring.cos_e;
-          if (s < best) best = s;
-        }
-      }
+      const double best = first_hit(scene, ring, cands, prism_z0, prism_z1, ox, oy, ux, uy, max_range);
       const double range = best / ring.cos_e;
       if (range <= max_range) out[r * n_az + j] = range;
     }
