@@ -242,30 +242,21 @@ void crossed_2d(const Scene& scene, double ox, double oy, double ux, double uy, 
     }
     if (!miss) cands.push_back(Candidate{lo, hi, 0, i});
   }
-  // Cylinders: 2D circle.
-  for (std::size_t i = 0; i < scene.cylinders.size(); ++i) {
-    const Cylinder& c = scene.cylinders[i];
-    const double dx = ox - c.cx, dy = oy - c.cy;
+  // Cylinders and spheres: their footprint circle (kind 0: a prism after the boxes; 1: a sphere).
+  const auto circle = [&](double cx, double cy, double r, int kind, int index) {
+    const double dx = ox - cx, dy = oy - cy;
     const double b = dx * ux + dy * uy;
-    const double disc = b * b - ((dx * dx + dy * dy) - c.r * c.r);
-    if (disc < 0.0) continue;
+    const double disc = b * b - ((dx * dx + dy * dy) - r * r);
+    if (disc < 0.0) return;
     const double sq = std::sqrt(disc);
     const double s1 = -b + sq;
-    if (s1 < 0.0) continue;
-    cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 0, n_boxes + static_cast<int>(i)});
-  }
-  // Spheres: their footprint circle.
-  for (std::size_t i = 0; i < scene.spheres.size(); ++i) {
-    const Sphere& sp = scene.spheres[i];
-    const double dx = ox - sp.cx, dy = oy - sp.cy;
-    const double b = dx * ux + dy * uy;
-    const double disc = b * b - ((dx * dx + dy * dy) - sp.r * sp.r);
-    if (disc < 0.0) continue;
-    const double sq = std::sqrt(disc);
-    const double s1 = -b + sq;
-    if (s1 < 0.0) continue;
-    cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, 1, static_cast<int>(i)});
-  }
+    if (s1 < 0.0) return;
+    cands.push_back(Candidate{std::max(-b - sq, 0.0), s1, kind, index});
+  };
+  for (std::size_t i = 0; i < scene.cylinders.size(); ++i)
+    circle(scene.cylinders[i].cx, scene.cylinders[i].cy, scene.cylinders[i].r, 0, n_boxes + static_cast<int>(i));
+  for (std::size_t i = 0; i < scene.spheres.size(); ++i)
+    circle(scene.spheres[i].cx, scene.spheres[i].cy, scene.spheres[i].r, 1, static_cast<int>(i));
 }
 
 // The horizontal distance of the first surface a ring's ray hits among the sorted candidates
