@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "input_file.hpp"
+
 namespace tigris {
 
 namespace {
@@ -48,6 +50,15 @@ std::string sha256_of_file(const std::string& path) {
 
 std::string sha256_of_text(const std::string& text) {
   return sha256_hex([&](const auto& update) { update(text.data(), text.size()); });
+}
+
+nlohmann::json input_file(const std::string& role, const std::string& path) {
+  const std::uint64_t bytes = check_input(path, "the " + role);  // a FIFO or device: an error, never a hang
+  return {{"role", role}, {"path", path}, {"bytes", bytes}, {"sha256", sha256_of_file(path)}};
+}
+
+nlohmann::json builtin_input(const std::string& role, const std::string& name) {
+  return {{"role", role}, {"builtin", name}};
 }
 
 }  // namespace tigris

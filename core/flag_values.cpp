@@ -81,4 +81,18 @@ std::pair<std::size_t, std::size_t> parse_frame_range(const std::string& text, s
   return {static_cast<std::size_t>(a), static_cast<std::size_t>(b)};
 }
 
+int parse_height(const std::string& text) {
+  if (text == "full") return -1;
+  std::size_t used = 0;
+  int h = -1;
+  try {
+    h = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || h < 0 || h > 30)
+    throw std::invalid_argument("--height must be 'full' or a whole number from 0 to 30, got '" + text + "'");
+  return h;
+}
+
 }  // namespace tigris

@@ -9,6 +9,9 @@
 
 namespace tigris {
 
+// --height: a whole number from 0 to 30, or "full" (-1).
+int parse_height(const std::string& text);
+
 // --kitti-frames SOURCE,TARGET: two frame numbers >= 0 ("1,0").
 std::pair<int, int> parse_frame_pair(const std::string& text);
 

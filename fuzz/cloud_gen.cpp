@@ -153,17 +153,11 @@ PlyProp random_ply_prop(ByteSource& s, const std::string& name) {
   return p;
 }
 
-}  // namespace
+const char* const kPlyFormats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+const char* const kPcdData[] = {"ascii", "binary", "binary_compressed"};
 
-Generated generate_ply(ByteSource& s) {
-  Generated g;
-  const int format = static_cast<int>(s.range(0, 2));  // ascii, little, big
-  const bool crlf = s.chance(25);
-  const std::string eol = crlf ? "\r\n" : "\n";
-  static const char* const kFormats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
-  g.variant = std::string("ply ") + kFormats[format] + (crlf ? " crlf" : "");
-
-  // Elements: the vertex element somewhere among up to three others.
+// The elements: the vertex element somewhere among up to three others.
+std::vector<PlyElem> random_ply_elements(ByteSource& s) {
   static const char* const kOther[] = {"face", "edge", "material", "camera", "range_grid"};
   const int n_other = static_cast<int>(s.range(0, 3));
   const int vertex_at = static_cast<int>(s.range(0, static_cast<std::uint64_t>(n_other)));
@@ -205,28 +199,35 @@ Generated generate_ply(ByteSource& s) {
     }
     elems.push_back(el);
   }
+  return elems;
+}
 
-  // Header.
+// The header, comments anywhere between its lines.
+void write_ply_header(ByteSource& s, const std::vector<PlyElem>& elems, int format, const std::string& eol,
+                      std::string& bytes) {
   auto comment = [&]() {
-    if (s.chance(15)) g.bytes += (s.flag() ? "comment made by the fuzzer" : "obj_info generated") + eol;
+    if (s.chance(15)) bytes += (s.flag() ? "comment made by the fuzzer" : "obj_info generated") + eol;
   };
   auto tname = [&](int t) { return std::string(kPlyNames[t][s.byte() & 1]); };
-  g.bytes = "ply" + eol;
+  bytes = "ply" + eol;
   comment();
-  g.bytes += std::string("format ") + kFormats[format] + " 1.0" + eol;
+  bytes += std::string("format ") + kPlyFormats[format] + " 1.0" + eol;
   for (const PlyElem& e : elems) {
     comment();
-    g.bytes += "element " + e.name + " " + std::to_string(e.count) + eol;
+    bytes += "element " + e.name + " " + std::to_string(e.count) + eol;
     for (const PlyProp& p : e.props) {
       comment();
-      g.bytes += p.list ? "property list " + tname(p.count_type) + " " + tname(p.type) + " " + p.name + eol
-                        : "property " + tname(p.type) + " " + p.name + eol;
+      bytes += p.list ? "property list " + tname(p.count_type) + " " + tname(p.type) + " " + p.name + eol
+                      : "property " + tname(p.type) + " " + p.name + eol;
     }
   }
   comment();
-  g.bytes += "end_header" + eol;
+  bytes += "end_header" + eol;
+}
 
-  // Data.
+// The elements' values (every element's, in order); the vertices' coordinates into g.points.
+void write_ply_data(ByteSource& s, const std::vector<PlyElem>& elems, int format, const std::string& eol,
+                    Generated& g) {
   for (const PlyElem& e : elems) {
     for (std::uint64_t i = 0; i < e.count; ++i) {
       float xyz[3] = {0, 0, 0};
@@ -257,24 +258,34 @@ Generated generate_ply(ByteSource& s) {
       if (e.vertex) g.points.push_back(tigris::Point3{xyz[0], xyz[1], xyz[2]});
     }
   }
+}
+
+}  // namespace
+
+Generated generate_ply(ByteSource& s) {
+  Generated g;
+  const int format = static_cast<int>(s.range(0, 2));  // ascii, little, big
+  const bool crlf = s.chance(25);
+  const std::string eol = crlf ? "\r\n" : "\n";
+  g.variant = std::string("ply ") + kPlyFormats[format] + (crlf ? " crlf" : "");
+  const std::vector<PlyElem> elems = random_ply_elements(s);
+  write_ply_header(s, elems, format, eol, g.bytes);
+  write_ply_data(s, elems, format, eol, g);
   return g;
 }
 
-Generated generate_pcd(ByteSource& s) {
-  Generated g;
-  const int data = static_cast<int>(s.range(0, 2));  // ascii, binary, binary_compressed
-  const bool crlf = s.chance(20);
-  const std::string eol = crlf ? "\r\n" : "\n";
-  static const char* const kData[] = {"ascii", "binary", "binary_compressed"};
-  g.variant = std::string("pcd ") + kData[data] + (crlf ? " crlf" : "");
+namespace {
 
-  struct Field {
-    std::string name;
-    int type;
-    std::uint64_t count;
-    int axis;
-  };
-  std::vector<Field> fields;
+struct PcdField {
+  std::string name;
+  int type;
+  std::uint64_t count;
+  int axis;  // 0..2 for x, y, z; -1: another field
+};
+
+// The fields: x, y and z among up to four others of random types and counts.
+std::vector<PcdField> random_pcd_fields(ByteSource& s) {
+  std::vector<PcdField> fields;
   static const char* const kExtra[] = {"intensity", "_", "rgb", "normal_x", "_", "label", "curvature"};
   const int extras = static_cast<int>(s.range(0, 4));
   for (int k = 0; k < extras; ++k)
@@ -283,13 +294,18 @@ Generated generate_pcd(ByteSource& s) {
   for (int a = 0; a < 3; ++a) {
     const std::size_t at = static_cast<std::size_t>(s.range(0, fields.size()));
     fields.insert(fields.begin() + static_cast<std::ptrdiff_t>(at),
-                  Field{kAxes[a], static_cast<int>(s.range(0, 9)), 1, a});
+                  PcdField{kAxes[a], static_cast<int>(s.range(0, 9)), 1, a});
   }
   // Extra fields named like an axis would repeat it: rename.
-  for (Field& f : fields)
+  for (PcdField& f : fields)
     if (f.axis < 0 && (f.name == "x" || f.name == "y" || f.name == "z")) f.name = "_";
+  return fields;
+}
 
-  const std::uint64_t points = s.range(1, 24);
+// The header's lines: FIELDS, SIZE, TYPE, COUNT, then WIDTH, HEIGHT, VIEWPOINT and POINTS (some
+// left out, in any order), comments and an empty line anywhere, DATA last.
+std::vector<std::string> pcd_header(ByteSource& s, const std::vector<PcdField>& fields, std::uint64_t points,
+                                    int data) {
   std::uint64_t width = points, height = 1;
   if (s.chance(30))
     for (std::uint64_t h = s.range(1, points); h >= 1; --h)
@@ -306,12 +322,12 @@ Generated generate_pcd(ByteSource& s) {
     height = 1;
   }
   bool all_count_one = true;
-  for (const Field& f : fields) all_count_one = all_count_one && f.count == 1;
+  for (const PcdField& f : fields) all_count_one = all_count_one && f.count == 1;
 
   // Header lines; WIDTH, HEIGHT, VIEWPOINT and POINTS may come in any order.
   auto join = [&](auto get) {
     std::string out;
-    for (const Field& f : fields) out += " " + get(f);
+    for (const PcdField& f : fields) out += " " + get(f);
     return out;
   };
   std::vector<std::string> header;
@@ -320,11 +336,11 @@ Generated generate_pcd(ByteSource& s) {
     static const char* const kVersions[] = {"0.7", ".7", "0.6", "0.5"};
     header.push_back(std::string("VERSION ") + kVersions[s.range(0, 3)]);
   }
-  header.push_back(std::string(s.chance(10) ? "COLUMNS" : "FIELDS") + join([](const Field& f) { return f.name; }));
-  header.push_back("SIZE" + join([](const Field& f) { return std::to_string(kTypes[f.type].size); }));
-  header.push_back("TYPE" + join([](const Field& f) { return std::string(1, kTypes[f.type].kind); }));
+  header.push_back(std::string(s.chance(10) ? "COLUMNS" : "FIELDS") + join([](const PcdField& f) { return f.name; }));
+  header.push_back("SIZE" + join([](const PcdField& f) { return std::to_string(kTypes[f.type].size); }));
+  header.push_back("TYPE" + join([](const PcdField& f) { return std::string(1, kTypes[f.type].kind); }));
   if (!all_count_one || s.chance(70))
-    header.push_back("COUNT" + join([](const Field& f) { return std::to_string(f.count); }));
+    header.push_back("COUNT" + join([](const PcdField& f) { return std::to_string(f.count); }));
   std::vector<std::string> dims_lines;
   if (with_width) dims_lines.push_back("WIDTH " + std::to_string(width));
   if (with_height) dims_lines.push_back("HEIGHT " + std::to_string(height));
@@ -338,16 +354,19 @@ Generated generate_pcd(ByteSource& s) {
   if (s.chance(10))
     header.insert(header.begin() + static_cast<std::ptrdiff_t>(s.range(0, header.size())), "# a comment");
   if (s.chance(5)) header.insert(header.begin() + static_cast<std::ptrdiff_t>(s.range(1, header.size())), "");
-  header.push_back(std::string("DATA ") + kData[data]);
-  for (const std::string& l : header) g.bytes += l + eol;
+  header.push_back(std::string("DATA ") + kPcdData[data]);
+  return header;
+}
 
-  // Values, point by point.
+// The values, point by point (binary_compressed: field after field, LZF); the points into g.points.
+void write_pcd_values(ByteSource& s, const std::vector<PcdField>& fields, std::uint64_t points, int data,
+                      const std::string& eol, Generated& g) {
   std::vector<std::vector<Val>> vals(fields.size());
   for (std::uint64_t i = 0; i < points; ++i) {
     float xyz[3] = {0, 0, 0};
     std::string line;
     for (std::size_t fi = 0; fi < fields.size(); ++fi) {
-      const Field& f = fields[fi];
+      const PcdField& f = fields[fi];
       for (std::uint64_t c = 0; c < f.count; ++c) {
         Val v = make_value(s, kTypes[f.type], f.axis >= 0);
         if (f.axis >= 0) xyz[f.axis] = v.as_float;
@@ -366,6 +385,20 @@ Generated generate_pcd(ByteSource& s) {
     const std::string packed = lzf_compress(raw);
     g.bytes += le_bytes(packed.size(), 4) + le_bytes(raw.size(), 4) + packed;
   }
+}
+
+}  // namespace
+
+Generated generate_pcd(ByteSource& s) {
+  Generated g;
+  const int data = static_cast<int>(s.range(0, 2));  // ascii, binary, binary_compressed
+  const bool crlf = s.chance(20);
+  const std::string eol = crlf ? "\r\n" : "\n";
+  g.variant = std::string("pcd ") + kPcdData[data] + (crlf ? " crlf" : "");
+  const std::vector<PcdField> fields = random_pcd_fields(s);
+  const std::uint64_t points = s.range(1, 24);
+  for (const std::string& l : pcd_header(s, fields, points, data)) g.bytes += l + eol;
+  write_pcd_values(s, fields, points, data, eol, g);
   return g;
 }
 

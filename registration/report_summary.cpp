@@ -94,4 +94,19 @@ void print_summary(std::FILE* out, const Report& rep, const std::string& backend
   if (rep.in_loop()) print_sampling(out, rep);
 }
 
+void print_job_line(std::FILE* out, std::uint64_t n, const AccelJob& job, const nlohmann::json& rep,
+                    const std::string& stage) {
+  const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
+  const nlohmann::json sampling = rep.value("sampling", nlohmann::json::object());
+  const bool sampled = sampling.value("sampled", false);
+  std::fprintf(
+      out,
+      "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %s%.3g ms modeled, %.1f s "
+      "simulated%s\n",
+      stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
+      job.points->size(), rep.value("verdict", "?").c_str(), sampled ? "~" : "", 1e3 * modeled,
+      rep.value("wall_seconds", 0.0),
+      sampled ? (" (sampled: " + std::to_string(sampling.value("simulated", 0)) + " queries simulated)").c_str() : "");
+}
+
 }  // namespace tigris::registration

@@ -37,15 +37,6 @@ std::vector<std::string> provenance_lines(const nlohmann::json& p) {
   return lines;
 }
 
-nlohmann::json input_file(const std::string& role, const std::string& path) {
-  const std::uint64_t bytes = check_input(path, "the " + role);  // a FIFO or device: an error, never a hang
-  return {{"role", role}, {"path", path}, {"bytes", bytes}, {"sha256", sha256_of_file(path)}};
-}
-
-nlohmann::json builtin_input(const std::string& role, const std::string& name) {
-  return {{"role", role}, {"builtin", name}};
-}
-
 nlohmann::json search_inputs(const std::string& cloud_path, const std::string& queries_path,
                              const std::string& cloud_name, const std::string& queries_name,
                              const std::string& config_path) {

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/digest.hpp"  // sha256_of_file, sha256_of_text
+#include "core/digest.hpp"  // sha256_of_file, sha256_of_text, input_file, builtin_input
 
 namespace tigris {
 
@@ -19,11 +19,6 @@ nlohmann::json provenance_json(const std::string& command_line, const nlohmann::
 // The same as short lines for a text header: "command tigris run ...", "cloud a.bin (sha256
 // 0123abcd4567)", "config sha256 ...", "commit ...".
 std::vector<std::string> provenance_lines(const nlohmann::json& provenance);
-
-// {"role", "path", "bytes", "sha256"} of a file.
-nlohmann::json input_file(const std::string& role, const std::string& path);
-// {"role", "builtin"}: a workload made by the program (the synthetic frames).
-nlohmann::json builtin_input(const std::string& role, const std::string& name);
 
 // The inputs of a search run: cloud and queries (files, or the built-in names when the paths
 // are empty; queries of a cloud alone are the cloud itself), then the configuration file.

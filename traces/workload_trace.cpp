@@ -361,6 +361,82 @@ std::vector<std::uint8_t> encode(const Trace& trace) {
   return std::move(file.b);
 }
 
+namespace {
+
+// The metadata section: the registration's report, its total and per-stage times.
+void read_meta(In& in, Trace& t) {
+  const nlohmann::json m = in.json();
+  try {
+    t.meta = m.at("meta");
+    if (!t.meta.is_object()) in.fail("metadata: 'meta' is not an object");
+    t.total_seconds = m.at("total_seconds").get<double>();
+    const nlohmann::json& stages = m.at("stages");
+    // (nlohmann iterates null as empty and an object as its values)
+    if (!stages.is_array()) in.fail("metadata: 'stages' is not an array");
+    for (const auto& st : stages)
+      t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
+                          st.at("kdtree_search_seconds").get<double>(), st.at("kdtree_build_seconds").get<double>()});
+    // Times are measured: finite and not negative (a forged -5e12 s would print as a speed-up).
+    const auto bad = [](double x) { return !std::isfinite(x) || x < 0; };
+    if (bad(t.total_seconds)) in.fail("metadata: total_seconds is negative or not finite");
+    for (const Stage& st : t.stages)
+      if (st.name.empty() || bad(st.seconds) || bad(st.kdtree_search_seconds) || bad(st.kdtree_build_seconds))
+        in.fail("metadata: stage '" + visible_text(st.name, 40) + "' has no name or negative or non-finite seconds");
+  } catch (const nlohmann::json::exception& e) {
+    in.fail(std::string("metadata: ") + visible_text(e.what()));
+  }
+}
+
+// A cloud section: its points, checked against their hash; stored once.
+void read_cloud(In& in, Trace& t, std::map<std::uint64_t, std::size_t>& cloud_at) {
+  Cloud c;
+  c.hash = in.u64();
+  const std::uint64_t n_points = in.u64();
+  if (n_points > (in.size - in.pos) / sizeof(Point3))
+    in.fail("truncated: " + std::to_string(n_points) + " points announced");
+  c.points.resize(n_points);
+  const std::uint8_t* bytes = in.take(n_points * sizeof(Point3));
+  if (n_points > 0)
+    std::memcpy(c.points.data(), bytes, n_points * sizeof(Point3));  // an empty vector's data() may be null
+  if (content_hash(c.points) != c.hash) in.fail("corrupt: the points do not match their hash " + hash_text(c.hash));
+  for (const Point3& p : c.points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) in.fail("a point is not finite");
+  if (!cloud_at.emplace(c.hash, t.clouds.size()).second) in.fail("cloud " + hash_text(c.hash) + " is stored twice");
+  t.clouds.push_back(std::move(c));
+}
+
+// A job section: the search, its clouds (stored before it) and its results, each index within its cloud.
+void read_job(In& in, Trace& t, const std::map<std::uint64_t, std::size_t>& cloud_at) {
+  Job j = job_from(in, in.json());
+  const auto tree = cloud_at.find(j.tree), queries = cloud_at.find(j.queries);
+  if (tree == cloud_at.end() || queries == cloud_at.end()) in.fail("the job names a cloud stored nowhere before it");
+  const std::uint64_t nq = in.u64();
+  if (nq != t.clouds[queries->second].points.size())
+    in.fail(std::to_string(nq) + " result counts for " + std::to_string(t.clouds[queries->second].points.size()) +
+            " queries");
+  j.counts.resize(nq);
+  std::uint64_t total = 0;
+  for (auto& c : j.counts) total += (c = in.u32());
+  if (total > in.size - in.pos) in.fail("truncated: " + std::to_string(total) + " result indices announced");
+  j.indices.resize(total);
+  const std::uint64_t points = t.clouds[tree->second].points.size();
+  // Indices are uint32: a cloud of more points still takes only the first 2^32.
+  const std::uint64_t limit = std::min<std::uint64_t>(points, std::uint64_t{1} << 32);
+  std::uint64_t prev = 0;  // the previous index, < limit: prev + delta is checked without overflowing
+  for (auto& i : j.indices) {
+    const std::int64_t delta = unzigzag(in.varint());
+    const std::uint64_t step = delta < 0 ? 0 - static_cast<std::uint64_t>(delta) : static_cast<std::uint64_t>(delta);
+    if (delta < 0 ? step > prev : step >= limit - prev)
+      in.fail("a result index " + std::to_string(prev) + (delta < 0 ? " - " : " + ") + std::to_string(step) +
+              " beyond its cloud of " + std::to_string(points) + " points");
+    prev = delta < 0 ? prev - step : prev + step;
+    i = static_cast<std::uint32_t>(prev);
+  }
+  t.jobs.push_back(std::move(j));
+}
+
+}  // namespace
+
 Trace decode(const std::uint8_t* data, std::size_t size, const std::string& label) {
   const auto fail = [&](std::uint64_t at, const std::string& what) -> void {
     throw InputError(label + ": byte " + std::to_string(at) + ": " + what);
@@ -412,74 +488,12 @@ Trace decode(const std::uint8_t* data, std::size_t size, const std::string& labe
     static const char* names[] = {"", "metadata", "cloud", "job"};
     In in{raw.data(), raw.size(), 0,
           label + ": byte " + std::to_string(body) + " (section " + std::to_string(s) + ", " + names[kind] + ")"};
-    if (kind == kMeta) {
-      const nlohmann::json m = in.json();
-      try {
-        t.meta = m.at("meta");
-        if (!t.meta.is_object()) in.fail("metadata: 'meta' is not an object");
-        t.total_seconds = m.at("total_seconds").get<double>();
-        const nlohmann::json& stages = m.at("stages");
-        // (nlohmann iterates null as empty and an object as its values)
-        if (!stages.is_array()) in.fail("metadata: 'stages' is not an array");
-        for (const auto& st : stages)
-          t.stages.push_back({st.at("name").get<std::string>(), st.at("seconds").get<double>(),
-                              st.at("kdtree_search_seconds").get<double>(),
-                              st.at("kdtree_build_seconds").get<double>()});
-        // Times are measured: finite and not negative (a forged -5e12 s would print as a speed-up).
-        const auto bad = [](double x) { return !std::isfinite(x) || x < 0; };
-        if (bad(t.total_seconds)) in.fail("metadata: total_seconds is negative or not finite");
-        for (const Stage& st : t.stages)
-          if (st.name.empty() || bad(st.seconds) || bad(st.kdtree_search_seconds) || bad(st.kdtree_build_seconds))
-            in.fail("metadata: stage '" + visible_text(st.name, 40) +
-                    "' has no name or negative or non-finite seconds");
-      } catch (const nlohmann::json::exception& e) {
-        in.fail(std::string("metadata: ") + visible_text(e.what()));
-      }
-    } else if (kind == kCloud) {
-      Cloud c;
-      c.hash = in.u64();
-      const std::uint64_t n_points = in.u64();
-      if (n_points > (in.size - in.pos) / sizeof(Point3))
-        in.fail("truncated: " + std::to_string(n_points) + " points announced");
-      c.points.resize(n_points);
-      const std::uint8_t* bytes = in.take(n_points * sizeof(Point3));
-      if (n_points > 0)
-        std::memcpy(c.points.data(), bytes, n_points * sizeof(Point3));  // an empty vector's data() may be null
-      if (content_hash(c.points) != c.hash) in.fail("corrupt: the points do not match their hash " + hash_text(c.hash));
-      for (const Point3& p : c.points)
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) in.fail("a point is not finite");
-      if (!cloud_at.emplace(c.hash, t.clouds.size()).second) in.fail("cloud " + hash_text(c.hash) + " is stored twice");
-      t.clouds.push_back(std::move(c));
-    } else {
-      Job j = job_from(in, in.json());
-      const auto tree = cloud_at.find(j.tree), queries = cloud_at.find(j.queries);
-      if (tree == cloud_at.end() || queries == cloud_at.end())
-        in.fail("the job names a cloud stored nowhere before it");
-      const std::uint64_t nq = in.u64();
-      if (nq != t.clouds[queries->second].points.size())
-        in.fail(std::to_string(nq) + " result counts for " + std::to_string(t.clouds[queries->second].points.size()) +
-                " queries");
-      j.counts.resize(nq);
-      std::uint64_t total = 0;
-      for (auto& c : j.counts) total += (c = in.u32());
-      if (total > in.size - in.pos) in.fail("truncated: " + std::to_string(total) + " result indices announced");
-      j.indices.resize(total);
-      const std::uint64_t points = t.clouds[tree->second].points.size();
-      // Indices are uint32: a cloud of more points still takes only the first 2^32.
-      const std::uint64_t limit = std::min<std::uint64_t>(points, std::uint64_t{1} << 32);
-      std::uint64_t prev = 0;  // the previous index, < limit: prev + delta is checked without overflowing
-      for (auto& i : j.indices) {
-        const std::int64_t delta = unzigzag(in.varint());
-        const std::uint64_t step =
-            delta < 0 ? 0 - static_cast<std::uint64_t>(delta) : static_cast<std::uint64_t>(delta);
-        if (delta < 0 ? step > prev : step >= limit - prev)
-          in.fail("a result index " + std::to_string(prev) + (delta < 0 ? " - " : " + ") + std::to_string(step) +
-                  " beyond its cloud of " + std::to_string(points) + " points");
-        prev = delta < 0 ? prev - step : prev + step;
-        i = static_cast<std::uint32_t>(prev);
-      }
-      t.jobs.push_back(std::move(j));
-    }
+    if (kind == kMeta)
+      read_meta(in, t);
+    else if (kind == kCloud)
+      read_cloud(in, t, cloud_at);
+    else
+      read_job(in, t, cloud_at);
     if (in.pos != in.size) in.fail("unread bytes at the end of the section");
     at = body + zbytes;
   }

@@ -112,20 +112,6 @@ void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t 
                  command, p.k, points, cloud_name.c_str(), points);
 }
 
-int parse_height(const std::string& text) {
-  if (text == "full") return -1;
-  std::size_t used = 0;
-  int h = -1;
-  try {
-    h = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || h < 0 || h > 30)
-    throw std::invalid_argument("--height must be 'full' or a whole number from 0 to 30, got '" + text + "'");
-  return h;
-}
-
 SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderScope scope, LeaderInFlight in_flight) {
   SearchParams p;
   p.mode = parse_mode(o.mode);

@@ -6,8 +6,10 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+
 #include <nlohmann/json.hpp>
 
+#include "core/flag_values.hpp"  // parse_height
 #include "sw_ref/kdtree.hpp"
 #include "sw_ref/search.hpp"
 #include "sw_ref/work_guard.hpp"
@@ -56,9 +58,6 @@ SearchParams search_params(const CLI::App& app, const SearchOptions& o, LeaderSc
 
 // A note on stderr when a kNN search asks for more neighbours than the cloud has.
 void note_k_above_cloud(const char* command, const SearchParams& p, std::size_t points, const std::string& cloud_name);
-
-// --height: a number from 0 to the full height, or "full" (-1).
-int parse_height(const std::string& text);
 
 // A command's flags for tools (`tigris COMMAND --list-flags`): {"command", "flags": [{"flag"
 // (without dashes), "takes_value", "type" (CLI11's: INT, FLOAT, TEXT, ...; "" for a switch),

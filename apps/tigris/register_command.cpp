@@ -8,13 +8,14 @@
 #include <optional>
 #include <stdexcept>
 
-#include <pcl/console/print.h>
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
 #include "core/flag_values.hpp"
 #include "options.hpp"
 #include "registration/pipeline.hpp"
+#include "registration/pipeline_flags.hpp"
+#include "registration/register_run.hpp"
 #include "registration/report.hpp"
 #include "registration/report_summary.hpp"
 #include "testbench/accel_in_loop.hpp"
@@ -131,14 +132,6 @@ namespace {
 
 // The pipeline's configuration from the preset, --config, --set and the flags over them.
 registration::PipelineConfig pipeline_config(const RegisterOptions& o, bool in_loop) {
-  registration::PipelineConfig config = registration::preset(o.preset);
-  if (!o.config.empty()) registration::apply_file(config, o.config);
-  for (const std::string& s : o.sets) registration::apply_set(config, s);
-  // accel / accel-approx: the golden back-end's searches (exact / approx) on the model.
-  if (!o.search.empty())
-    config.search.backend = registration::parse_backend(o.search == "accel"          ? "exact"
-                                                        : o.search == "accel-approx" ? "approx"
-                                                                                     : o.search);
   if (!in_loop && (!o.accel_config.empty() || !o.accel_sets.empty()))
     throw std::invalid_argument(std::string(o.accel_config.empty() ? "--accel-set" : "--accel-config") +
                                 " configures the accelerator in the loop: it needs --search accel or accel-approx");
@@ -146,34 +139,8 @@ registration::PipelineConfig pipeline_config(const RegisterOptions& o, bool in_l
     throw std::invalid_argument(
         "--record-trace records the CPU's searches: use --search flann, exact or approx "
         "(then tigris run --trace replays them on the accelerator)");
-  if (!o.height.empty()) {
-    const int h = parse_height(o.height);
-    config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
-  }
-  if (!o.approx_thd.empty()) {
-    if (!o.search.empty() && o.search != "approx" && o.search != "accel-approx")
-      throw std::invalid_argument("--approx-thd needs --search approx or accel-approx (got --search " + o.search + ")");
-    const double t = parse_number("--approx-thd", o.approx_thd);
-    config.search.backend = registration::Backend::Approx;
-    // Through the keys, so the flag has the key's range and registration.json reads back.
-    registration::apply_set(config, "search.nn_thd=" + o.approx_thd, "--approx-thd");
-    config.search.radius_thd = std::min(1.0, 0.4 * t / 1.2);
-  }
-  const bool injecting = !o.inject_kth.empty() || !o.inject_shell.empty();
-  if (!o.inject_kth.empty()) config.inject.rpce_kth = parse_kth(o.inject_kth);
-  if (!o.inject_shell.empty()) {
-    parse_shell(o.inject_shell, config.normals.radius);  // the form R1,R2 and R1 < r < R2
-    const std::size_t at = o.inject_shell.find(',');
-    registration::apply_set(config, "inject.normals_shell_inner=" + o.inject_shell.substr(0, at), "--inject-shell");
-    registration::apply_set(config, "inject.normals_shell_outer=" + o.inject_shell.substr(at + 1), "--inject-shell");
-  }
-  if (injecting && config.search.backend == registration::Backend::Approx)
-    throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
-                                " needs --search exact, flann or accel (error injection measures exact search; "
-                                "got search " +
-                                (in_loop ? o.search : std::string("approx")) + ")");
-  registration::validate(config, "tigris register");
-  return config;
+  return registration::config_from_flags(
+      {o.preset, o.config, o.sets, o.search, o.height, o.approx_thd, o.inject_kth, o.inject_shell});
 }
 
 // The flags that only go together, and the accelerator's configuration (checked before any work).
@@ -208,49 +175,6 @@ FramePairSpec frame_spec(const RegisterOptions& o) {
   return {o.source, o.target, o.seed, o.ground_truth, o.kitti_poses, o.kitti_frames};
 }
 
-// A line per accelerator job on stderr, and the job's row of registration.json.
-ordered_json accel_job_row(std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep,
-                           const std::string& stage) {
-  const double modeled = rep.contains("modeled_seconds") ? rep["modeled_seconds"]["total"].get<double>() : 0.0;
-  const nlohmann::json sampling = rep.value("sampling", nlohmann::json::object());
-  const bool sampled = sampling.value("sampled", false);
-  std::fprintf(
-      stderr,
-      "tigris register: %s: accelerator job %llu (%s, %zu queries on %zu points): %s, %s%.3g ms modeled, %.1f s "
-      "simulated%s\n",
-      stage.c_str(), static_cast<unsigned long long>(n), to_string(job.params.mode), job.queries->size(),
-      job.points->size(), rep.value("verdict", "?").c_str(), sampled ? "~" : "", 1e3 * modeled,
-      rep.value("wall_seconds", 0.0),
-      sampled ? (" (sampled: " + std::to_string(sampling.value("simulated", 0)) + " queries simulated)").c_str() : "");
-  return registration::job_row(n, job, rep, stage);
-}
-
-// Writes the workload trace of the registration (--record-trace); returns registration.json's "trace".
-ordered_json write_trace(const RegisterOptions& o, registration::TraceRecorder& recorder, const ordered_json& doc,
-                         const registration::RegistrationResult& r) {
-  trace::Trace t = recorder.finish();
-  t.meta = nlohmann::json::parse(
-      doc.dump(-1, ' ', false,
-               ordered_json::error_handler_t::replace));  // the registration's report, without its stages' details
-  t.meta.erase("stages");
-  t.meta["command_line"] = o.command_line;
-  t.total_seconds = r.total_seconds;
-  for (const auto& s : r.stages) {  // the time spent recording is not the registration's
-    const double overhead = recorder.overhead(s.name);
-    t.stages.push_back({s.name, s.seconds - overhead, s.kdtree.search_seconds, s.kdtree.build_seconds});
-    t.total_seconds -= overhead;
-  }
-  t.meta["seconds"] = t.total_seconds;  // registration.json's, which includes the recording
-  t.meta["seconds_recording"] = r.total_seconds - t.total_seconds;
-  const std::vector<std::uint8_t> bytes = trace::encode(t);
-  write_file(o.record_trace, [&](std::ostream& f) {
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  });
-  std::fprintf(stderr, "tigris register: trace %s: %zu jobs, %zu clouds\n", o.record_trace.c_str(), t.jobs.size(),
-               t.clouds.size());
-  return {{"path", o.record_trace}, {"jobs", t.jobs.size()}, {"clouds", t.clouds.size()}};
-}
-
 // The typed report of the registration (registration/report.hpp writes registration.json).
 registration::Report make_report(const RegisterOptions& o, const registration::PipelineConfig& config, bool in_loop,
                                  const FramePair& f, const registration::RegistrationResult& r, double work_spent,
@@ -272,55 +196,6 @@ registration::Report make_report(const RegisterOptions& o, const registration::P
   rep.config = registration::to_json(config);
   return rep;
 }
-// The registration, its progress on stderr (stage by stage, the work bound), each accelerator
-// job's row into `accel_jobs`.
-struct PipelineRun {
-  registration::RegistrationResult result;
-  double work_spent = 0;                                  // distances and neighbours, against --max-work
-  std::shared_ptr<registration::TraceRecorder> recorder;  // --record-trace
-  bool mismatch = false;  // a job's results differed from the golden model's (reported; exit 1)
-};
-
-PipelineRun run_pipeline(const RegisterOptions& o, const registration::PipelineConfig& config, const FramePair& f,
-                         std::shared_ptr<ModelInTheLoop> model, ordered_json& accel_jobs) {
-  // PCL's own messages (e.g. SHOT's "local reference frame is not valid" per dropped key point)
-  // would flood stderr: the counts are in registration.json instead.
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  auto budget = std::make_shared<registration::WorkBudget>();
-  budget->limit = o.max_work;
-  std::string stage_now;
-  budget->progress = [&](const registration::WorkBudget& b) {
-    std::fprintf(stderr, "tigris register: %s: %llu searches so far, %.3g distances and neighbours (--max-work %.3g)\n",
-                 stage_now.c_str(), static_cast<unsigned long long>(b.searches), b.spent, b.limit);
-  };
-  registration::PipelineHooks hooks;
-  hooks.on_stage = [&](const std::string& stage) {
-    stage_now = stage;
-    std::fprintf(stderr, "tigris register: %s...\n", stage.c_str());
-  };
-  hooks.budget = budget;
-  PipelineRun run;
-  if (!o.record_trace.empty()) run.recorder = hooks.recorder = std::make_shared<registration::TraceRecorder>();
-  if (model) {
-    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
-      accel_jobs.push_back(accel_job_row(n, job, rep, stage_now));
-    };
-    hooks.accelerator = std::move(model);
-  }
-  try {
-    run.result = registration::register_clouds(f.source, f.target, config, hooks);
-  } catch (const registration::AcceleratorFailure& e) {
-    std::fprintf(stderr, "tigris register: MISMATCH in stage %s: %s\n", stage_now.c_str(), e.what());
-    run.mismatch = true;
-  } catch (const registration::WorkLimitExceeded& e) {
-    throw std::invalid_argument(std::string(e.what()) + " in stage " + stage_now +
-                                "; raise --max-work (0: no limit) if the registration is meant to be that large, or "
-                                "check the injection, radii and k of the configuration");
-  }
-  run.work_spent = budget->spent;
-  return run;
-}
-
 }  // namespace
 
 int run_register_command(const CLI::App& app, const RegisterOptions& o) {
@@ -361,13 +236,20 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
                registration::to_string(config.search.backend),
                registration::injection_text(registration::injection_of(config)).c_str());
   ordered_json accel_jobs = ordered_json::array();
-  PipelineRun run = run_pipeline(o, config, f, std::move(model), accel_jobs);
+  std::string stage;  // the stage running
+  if (model)
+    model->on_job = [&](std::uint64_t n, const registration::AccelJob& job, const nlohmann::json& rep) {
+      registration::print_job_line(stderr, n, job, rep, stage);
+      accel_jobs.push_back(registration::job_row(n, job, rep, stage));
+    };
+  const registration::RegisterRun run =
+      registration::run_registration(f.source, f.target, config, o.max_work, !o.record_trace.empty(), model, stage);
   if (run.mismatch) return 1;
   const registration::RegistrationResult& r = run.result;
 
   registration::Report report = make_report(o, config, in_loop, f, r, run.work_spent, accel_cfg, accel_jobs);
   folder.check_inputs();
-  if (run.recorder) report.trace = write_trace(o, *run.recorder, registration::to_json(report), r);
+  if (run.recorder) report.trace = registration::write_trace(o.record_trace, *run.recorder, report, o.command_line);
   const std::string path = o.out + "/registration.json";
   write_file(path, [&](std::ostream& out) {
     out << registration::to_json(report).dump(2, ' ', false, ordered_json::error_handler_t::replace) << '\n';

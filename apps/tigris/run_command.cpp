@@ -19,6 +19,7 @@
 #include "testbench/presets.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
+#include "testbench/run_record.hpp"
 #include "testbench/run_report.hpp"
 #include "testbench/sampling.hpp"
 #include "testbench/scoreboard.hpp"
@@ -32,8 +33,6 @@
 #include "workloads/workload.hpp"
 
 namespace tigris {
-
-namespace {}  // namespace
 
 void add_run_options(CLI::App& app, RunOptions& o) {
   add_search_options(app, o.search);
@@ -88,17 +87,6 @@ void add_run_options(CLI::App& app, RunOptions& o) {
 }
 
 namespace {
-
-// What `tigris run` simulates: the checked configuration, the workload, its tree and the job.
-struct RunSetup {
-  SearchParams params;
-  Workload w;
-  nlohmann::json inputs;
-  PreparedJob p;  // configuration, tree, image, job, work estimate
-};
-
-// What the run measured: the golden model's search, the simulation and its check.
-using RunMeasured = JobOutcome;
 
 constexpr const char* kEveryQuerySchedule = "--dump-schedule (the leaf visits of every query)";
 
@@ -161,22 +149,12 @@ RunSetup configure_run(const CLI::App& app, const RunOptions& o) {
   return r;
 }
 
-// The configuration as stats.json records it: the accelerator's keys, and the search and
-// approximation settings of this run. Its SHA-256 identifies the configuration in every output.
-nlohmann::json run_config_json(const RunSetup& r) {
-  nlohmann::json config = config_to_json(r.p.cfg);
-  const nlohmann::json search_config = search_config_json(r.params, r.p.tree);
-  config["search"] = search_config["search"];
-  config["approx"] = search_config["approx"];  // the threshold and leader width of this run
-  return config;
-}
-
 // Simulate: the golden model's exact search in query order (what an exact run must reproduce;
 // an approximate run is checked against the replay of its own schedule and measured against
 // these exact results), then the accelerator, then the check. Nullopt after a deadlock, which
 // it reports.
-std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, const OutFolder& folder,
-                                        TimelineRecorder& timeline) {
+std::optional<JobOutcome> simulate_run(const RunSetup& r, const RunOptions& o, const OutFolder& folder,
+                                       TimelineRecorder& timeline) {
   SimExtras extras;
   extras.vcd_path = o.vcd;
   if (!o.vcd.empty() && !is_stream_path(o.vcd) && folder.writes(gtkw_path(o.vcd))) extras.gtkw_path = gtkw_path(o.vcd);
@@ -201,115 +179,12 @@ std::optional<RunMeasured> simulate_run(const RunSetup& r, const RunOptions& o, 
   }
   ProgressReporter progress("tigris run: queries finished");
   extras.progress = [&](std::uint32_t done, std::uint32_t total) { progress(done, total); };
-  RunMeasured m = run_job(r.p, r.w.cloud, r.w.queries, r.params, extras);
+  JobOutcome m = run_job(r.p, r.w.cloud, r.w.queries, r.params, extras);
   if (!m.sim.finished) {
     std::cerr << "tigris run: DEADLOCK: the simulation ran out of events with work left:\n" << m.sim.deadlock;
     return std::nullopt;
   }
   return m;
-}
-
-// The stats JSON (docs/stats.md): the run, the accelerator's statistics, the derived fields from
-// their formulas, the bottleneck and the configuration that produced them.
-nlohmann::json run_stats(const RunSetup& r, const RunMeasured& m, const RunOptions& o, Accuracy& accuracy) {
-  const SearchOutput& hw_view = m.sim.visits;
-  nlohmann::json stats;
-  stats["command"] = "run";
-  stats["command_line"] = o.search.command_line;
-  stats["inputs"] = r.inputs;
-  stats["workload"] = {{"cloud", r.w.cloud_name}, {"queries", r.w.queries_name}, {"points", r.w.cloud.size()}};
-  stats["cycles"] = m.sim.cycles;  // sampled: the estimate (sampling says how it was made)
-  stats["cycles_ci95"] = m.sim.sampling["cycles_ci95"];
-  stats["sampling"] = m.sim.sampling;
-  stats["queries"] = r.w.queries.size();
-  stats["verdict"] = m.verdict.match ? "match" : "mismatch";
-  stats["mismatches"] = {
-      {"results", m.verdict.result_mismatches}, {"visits", m.verdict.visit_mismatches}, {"first", m.verdict.first}};
-  stats["visits"] = visits_json(hw_view);
-  if (r.params.approximate) {
-    accuracy = measure_accuracy(r.params.mode, m.golden.results, m.sim.results);
-    stats["leaders"] = leaders_json(hw_view);
-    stats["accuracy"] = accuracy_json(accuracy);
-  }
-  stats["units"] = m.sim.units;
-  stats["buffers"] = m.sim.buffers;
-  stats["energy_pj"] = m.sim.energy;
-  stats["area_mm2"] = m.sim.area;
-  stats["latency_cycles"] = m.sim.latency;
-  stats["config"] = run_config_json(r);
-  const nlohmann::json prov = provenance_json(o.search.command_line, r.inputs, stats["config"]);
-  stats["config_sha256"] = prov["config_sha256"];
-  stats["commit"] = prov["commit"];
-  add_derived(stats);
-  stats["tree"] = tree_json(r.p.tree);  // the bound names what the hottest Point Buffer banks hold
-  stats["bottleneck"] = bottleneck_json(stats);
-  stats["wall_seconds"] = {{"golden", m.golden_seconds}, {"simulation", m.sim_seconds}};
-  if (const std::string bad = non_finite_field(stats); !bad.empty())
-    throw std::invalid_argument("the model computed a non-finite " + bad +
-                                " (NaN or infinity) from this configuration; check the energy.*, area.* and "
-                                "cost.* keys that feed it (tigris run --list-config)");
-  return stats;
-}
-
-// The summary lines of a run on stdout.
-void print_run_summary(const RunSetup& r, const RunMeasured& m, const RunOptions& o, const nlohmann::json& stats,
-                       const Accuracy& accuracy, const std::string& stats_path, const TimelineRecorder& timeline) {
-  const hw::AcceleratorConfig& cfg = r.p.cfg;
-  const SearchParams& params = r.params;
-  const SearchOutput& hw_view = m.sim.visits;
-  const auto& u = stats["units"];
-  const bool sampled = stats["sampling"]["sampled"].get<bool>();
-  std::printf("tigris run: %s search of %zu queries in %zu points: %s\n", to_string(params.mode), r.w.queries.size(),
-              r.w.cloud.size(), m.verdict.match ? "MATCH (every query bit-exact)" : "MISMATCH");
-  std::fputs(inputs_summary(stats["inputs"]).c_str(), stdout);
-  std::printf("  config  %d RU, %d SU x %d PE (%s, Node Cache %s), top height %d of %d, %.0f MHz\n",
-              cfg.fe.recursion_units, cfg.be.search_units, cfg.be.pes_per_su, cfg.be.issue_policy.c_str(),
-              cfg.node_cache.bytes == 0 ? "off" : cfg.node_cache.policy.c_str(), r.p.tree.top_height,
-              r.p.tree.full_height, cfg.clock_mhz);
-  std::printf("  cycles  %s%llu (%.3f ms at %.0f MHz); lower bound %.0f\n", sampled ? "~" : "",
-              static_cast<unsigned long long>(m.sim.cycles), stats["seconds"].get<double>() * 1e3, cfg.clock_mhz,
-              stats["lower_bound_cycles"].get<double>());
-  std::fputs(sampling_summary(stats["sampling"]).c_str(), stdout);
-  std::printf("  bound   %s\n", stats["bottleneck"]["summary"].get<std::string>().c_str());
-  std::printf("  units   RU utilization %.1f%%, SU utilization %.1f%%, PE utilization %.1f%%\n",
-              100 * u["recursion_units"]["utilization"].get<double>(),
-              100 * u["search_units"]["utilization"].get<double>(),
-              100 * u["search_units"]["pe_utilization"].get<double>());
-  std::printf("  visits  top %llu, pruned %llu, leaf points %llu\n",
-              static_cast<unsigned long long>(hw_view.visits.top),
-              static_cast<unsigned long long>(hw_view.visits.pruned),
-              static_cast<unsigned long long>(hw_view.visits.leaf_points));
-  const auto& lat = m.sim.latency;
-  std::printf(
-      "  latency query mean %.0f, p50 %llu, p99 %llu, max %llu cycles; BQB wait mean %.0f, p99 %llu, max %llu%s\n",
-      lat["query"]["mean"].get<double>(), lat["query"]["p50"].get<unsigned long long>(),
-      lat["query"]["p99"].get<unsigned long long>(), lat["query"]["max"].get<unsigned long long>(),
-      lat["bqb_wait"]["mean"].get<double>(), lat["bqb_wait"]["p99"].get<unsigned long long>(),
-      lat["bqb_wait"]["max"].get<unsigned long long>(), sampled ? " (of the simulated queries)" : "");
-  if (params.approximate) {
-    std::printf(
-        "  approx  thd %.3g m, capacity %d: %llu leaders, %llu followers, %llu buffer-full; "
-        "leader checks %llu, follower points %llu\n",
-        static_cast<double>(params.approx_thd), params.leader_capacity,
-        static_cast<unsigned long long>(hw_view.leaders.leaders),
-        static_cast<unsigned long long>(hw_view.leaders.followers),
-        static_cast<unsigned long long>(hw_view.leaders.leader_buffer_full),
-        static_cast<unsigned long long>(hw_view.visits.leader_checks),
-        static_cast<unsigned long long>(hw_view.visits.follower_points));
-    if (params.mode == Mode::Radius)
-      std::printf("  accuracy vs exact: recall %.4f, precision %.4f, %.1f%% of queries exact\n", accuracy.recall(),
-                  accuracy.precision(), 100 * accuracy.exact_match_fraction());
-    else
-      std::printf("  accuracy vs exact: %.1f%% of queries exact, extra distance mean %.4f m, max %.3f m\n",
-                  100 * accuracy.exact_match_fraction(), accuracy.mean_extra_m, accuracy.max_extra_m);
-  }
-  std::fputs(energy_area_summary(stats).c_str(), stdout);
-  std::printf("  time    simulation %.2f s, golden model %.2f s\n  stats   %s\n", m.sim_seconds, m.golden_seconds,
-              stats_path.c_str());
-  if (!o.timeline.empty())
-    std::printf("  timeline %s (slices: %s; counters: every query; open in ui.perfetto.dev)\n", o.timeline.c_str(),
-                timeline.trace_note().c_str());
-  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
 }
 
 }  // namespace
@@ -341,7 +216,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   const std::uint32_t shown =
       o.timeline_queries == 0 ? static_cast<std::uint32_t>(r.w.queries.size()) : o.timeline_queries;
   TimelineRecorder timeline(1000.0 / r.p.cfg.clock_mhz, shown);
-  const std::optional<RunMeasured> m = simulate_run(r, o, folder, timeline);
+  const std::optional<JobOutcome> m = simulate_run(r, o, folder, timeline);
   if (!m) {
     folder.finish("failed");
     return 1;
@@ -351,7 +226,7 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   if (!o.search.dump_schedule.empty())
     folder.write(o.search.dump_schedule, [&](std::ostream& f) { write_schedule_csv(f, m->sim.visits.schedule); });
   Accuracy accuracy;
-  const nlohmann::json stats = run_stats(r, *m, o, accuracy);
+  const nlohmann::json stats = run_stats(r, *m, o.search.command_line, accuracy);
   const std::string stats_path = o.search.out + "/stats.json";
   write_file(stats_path, [&](std::ostream& f) {
     f << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
@@ -365,7 +240,11 @@ int run_run_command(const CLI::App& app, const RunOptions& o) {
   if (!o.search.dump_results.empty())
     folder.write(o.search.dump_results, [&](std::ostream& f) { write_results_csv(f, m->sim.results); });
 
-  print_run_summary(r, *m, o, stats, accuracy, stats_path, timeline);
+  print_run_summary(r, *m, stats, accuracy, stats_path);
+  if (!o.timeline.empty())
+    std::printf("  timeline %s (slices: %s; counters: every query; open in ui.perfetto.dev)\n", o.timeline.c_str(),
+                timeline.trace_note().c_str());
+  if (!o.vcd.empty()) std::printf("  waves   %s (open: gtkwave %s)\n", o.vcd.c_str(), gtkw_path(o.vcd).c_str());
   if (!m->verdict.match) {
     std::fprintf(stderr, "tigris run: %llu queries with other results, %llu with other visit counts; first:\n",
                  static_cast<unsigned long long>(m->verdict.result_mismatches),

@@ -13,16 +13,63 @@
 namespace tigris::hw {
 namespace {
 
+// The walk's buffer accesses, each requested when its step issues and held until granted;
+// `done` is when the last of them ends.
+struct WalkAccess {
+  const WalkEngine::Ports& p;
+  const AcceleratorConfig::Sram& sram;
+  sc_core::sc_time period;
+  std::uint64_t stack_base;
+  std::uint64_t done;
+
+  std::uint64_t pop_read(std::uint64_t cycle, std::uint32_t at) {
+    return p.stacks.request(p.stacks_sram, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), false,
+                            sram.query_stack.latency_cycles, period, done);
+  }
+  std::uint64_t push_write(std::uint64_t cycle, std::uint32_t at) {
+    return p.stacks.request(p.stacks_sram, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), true,
+                            sram.query_stack.latency_cycles, period, done);
+  }
+  std::uint64_t point_read(std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes) {
+    return p.points.request(p.points_sram, cycle, byte, bytes, false, sram.points.latency_cycles, period, done);
+  }
+  std::uint64_t query_read(std::uint64_t cycle, std::uint32_t query) {
+    return p.queries.request(p.queries_sram, cycle, std::uint64_t{query} * sizeof(tlm_if::QueryRecord),
+                             sizeof(tlm_if::QueryRecord), false, sram.queries.latency_cycles, period, done);
+  }
+};
+
 class TlmWalk final : public WalkEngine {
  public:
   explicit TlmWalk(const AcceleratorConfig& config) : config_(config), cost_(config.cost), period_(config.period()) {}
   Outcome walk(QueryToken& token, std::uint64_t now, const Ports& p) override;
 
  private:
+  std::uint64_t fetch_query(QueryToken& token, std::uint64_t now, const Ports& p, WalkAccess& access,
+                            StackEntry* stack) const;
+
   const AcceleratorConfig& config_;
   const CostTable& cost_;
   sc_core::sc_time period_;
 };
+
+// FQ: fetch the query point and its stack address; a new query's root goes into its stack.
+// Returns when the fetch (and the push) are granted.
+std::uint64_t TlmWalk::fetch_query(QueryToken& token, std::uint64_t now, const Ports& p, WalkAccess& access,
+                                   StackEntry* stack) const {
+  const tlm_if::QueryRecord& r = p.query_records[token.query];
+  std::uint64_t granted = access.query_read(now, token.query);
+  token.point = Point3{r.x, r.y, r.z};
+  if (!token.started) {
+    token.started = true;
+    token.sp = 0;
+    if (p.tree.node_nonempty(0)) {
+      granted = std::max(granted, access.push_write(now, 0));
+      stack[token.sp++] = {0, 0.0f};
+    }
+  }
+  return granted;
+}
 
 WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Ports& p) {
   Outcome o;
@@ -30,39 +77,13 @@ WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Po
   const JobDescriptor& job = p.job;
   const TreeView& tree = p.tree;
   StackEntry* stack = p.stacks_data + std::uint64_t{token.slot} * job.stack_entries;
-  const std::uint64_t stack_base = job.stack_base(token.slot);
   const bool forwarding = config_.fe.forwarding, bypassing = config_.fe.bypassing;
-  const auto& sram = config_.sram;
   // Every access is requested when its step issues and held until granted: a busy bank or
   // port stalls the whole walk there (`stall` so far), as the RTL RU's ports do (rtl/).
-  std::uint64_t done = now, stall = 0;
-  const auto pop_read = [&](std::uint64_t cycle, std::uint32_t at) {
-    return p.stacks.request(p.stacks_sram, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), false,
-                            sram.query_stack.latency_cycles, period_, done);
-  };
-  const auto push_write = [&](std::uint64_t cycle, std::uint32_t at) {
-    return p.stacks.request(p.stacks_sram, cycle, stack_base + at * sizeof(StackEntry), sizeof(StackEntry), true,
-                            sram.query_stack.latency_cycles, period_, done);
-  };
-  const auto point_read = [&](std::uint64_t cycle, std::uint64_t byte, std::uint32_t bytes) {
-    return p.points.request(p.points_sram, cycle, byte, bytes, false, sram.points.latency_cycles, period_, done);
-  };
-
-  // FQ: fetch the query point and its stack address; a new query's root goes into its stack.
-  const tlm_if::QueryRecord& r = p.query_records[token.query];
-  std::uint64_t granted =
-      p.queries.request(p.queries_sram, now, std::uint64_t{token.query} * sizeof(tlm_if::QueryRecord),
-                        sizeof(tlm_if::QueryRecord), false, sram.queries.latency_cycles, period_, done);
-  token.point = Point3{r.x, r.y, r.z};
+  WalkAccess access{p, config_.sram, period_, job.stack_base(token.slot), now};
+  std::uint64_t stall = 0;
+  const std::uint64_t granted = fetch_query(token, now, p, access, stack);
   const Point3 q = token.point;
-  if (!token.started) {
-    token.started = true;
-    token.sp = 0;
-    if (tree.node_nonempty(0)) {
-      granted = std::max(granted, push_write(now, 0));
-      stack[token.sp++] = {0, 0.0f};
-    }
-  }
   stall += granted - now;
   std::uint64_t cycles = static_cast<std::uint64_t>(cost_.ru_fetch_query);
   // The walk keeps its state in locals (written back on leaving): the pruning bound changes
@@ -88,11 +109,11 @@ WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Po
       cycles += static_cast<std::uint64_t>(cost_.ru_drain + cost_.result_writeback);
       break;
     }
-    if (pushed) end = std::max(end, push_write(t, sp - 1));
+    if (pushed) end = std::max(end, access.push_write(t, sp - 1));
     if (!forwarded) {
       // RS: pop the top of stack. RN: its distance information says whether it can be pruned.
       const StackEntry tos = stack[--sp];
-      if (!pushed) end = node_from = std::max(end, pop_read(t, sp));
+      if (!pushed) end = node_from = std::max(end, access.pop_read(t, sp));
       pushed = false;
       if (tos.plane2 > bound) {
         ++pruned;
@@ -106,7 +127,7 @@ WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Po
     if (node >= top_nodes) {
       // CL: the query leaves for the back-end with the leaf set it must scan (its size read).
       token.leaf = node - top_nodes;
-      end = std::max(end, point_read(node_from, tree.dir_address(token.leaf), sizeof(tlm_if::LeafDirEntry)));
+      end = std::max(end, access.point_read(node_from, tree.dir_address(token.leaf), sizeof(tlm_if::LeafDirEntry)));
       stall += end - t;
       cycles += static_cast<std::uint64_t>(cost_.ru_drain);
       break;
@@ -117,7 +138,7 @@ WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Po
     if (node < p.replicated_nodes)  // the RU's own copy of the first levels
       ++o.replica_reads;
     else
-      end = std::max(end, point_read(node_from, tree.node_address(node), sizeof(tlm_if::PointEntry)));
+      end = std::max(end, access.point_read(node_from, tree.node_address(node), sizeof(tlm_if::PointEntry)));
     stall += end - t;
     ++top;
     cycles += node_cycles;
@@ -146,7 +167,7 @@ WalkEngine::Outcome TlmWalk::walk(QueryToken& token, std::uint64_t now, const Po
   o.nodes = top;
   o.pruned = pruned;
   o.end = now + cycles + stall;
-  o.done = std::max(done, o.end);
+  o.done = std::max(access.done, o.end);
   o.grant_stalls = stall;
   return o;
 }
