@@ -105,7 +105,8 @@ void OdometryRun::plan_pairs() {
   pairs_ = last_ - first_;
   regs_.resize(pairs_);
   for (std::size_t k = 0; k < pairs_; ++k)
-    if (!read_pair(o.out + "/pairs/" + frame_tag(first_ + k) + "/registration.json", o.accel, regs_[k])) todo_.push_back(k);
+    if (!read_pair(o.out + "/pairs/" + frame_tag(first_ + k) + "/registration.json", o.accel, regs_[k]))
+      todo_.push_back(k);
   if (!seq_.note.empty()) std::fprintf(stderr, "tigris odometry: note: %s\n", seq_.note.c_str());
   std::fprintf(stderr, "tigris odometry: %s, frames %zu..%zu: %zu pairs (%zu already in %s), --jobs %d\n",
                o.sequence.c_str(), first_, last_, pairs_, pairs_ - todo_.size(), o.out.c_str(), o.jobs);
@@ -182,8 +183,8 @@ void OdometryRun::write_files() {
   // A drive tigris synth wrote has exact poses: equal steps there are steady driving.
   const bool synthetic = fs::exists(o.sequence + "/drive.json");
   m["ground_truth_source"] = seq_.poses.empty() ? "none"
-                             : synthetic       ? "exact (a synthetic drive, tigris synth: drive.json)"
-                                               : "poses.txt";
+                             : synthetic        ? "exact (a synthetic drive, tigris synth: drive.json)"
+                                                : "poses.txt";
   if (!seq_.note.empty()) m["sequence_note"] = seq_.note;
   m["frames"] = {first_, last_};
   m["pairs"] = pairs_;

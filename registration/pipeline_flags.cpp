@@ -4,25 +4,22 @@
 #include <stdexcept>
 
 #include "core/flag_values.hpp"
+#include "search_backends.hpp"
 
 namespace tigris::registration {
 
 PipelineConfig config_from_flags(const PipelineFlags& o) {
-  const bool in_loop = o.search == "accel" || o.search == "accel-approx";
   PipelineConfig config = preset(o.preset);
   if (!o.config.empty()) apply_file(config, o.config);
   for (const std::string& s : o.sets) apply_set(config, s);
   // accel / accel-approx: the golden back-end's searches (exact / approx) on the model.
-  if (!o.search.empty())
-    config.search.backend = parse_backend(o.search == "accel"          ? "exact"
-                                                        : o.search == "accel-approx" ? "approx"
-                                                                                     : o.search);
+  if (!o.search.empty()) config.search.backend = parse_backend(search_backend(o.search).golden);
   if (!o.height.empty()) {
     const int h = parse_height(o.height);
     config.search.top_height = h < 0 ? 30 : h;  // 'full': the plug-in clamps to each cloud's
   }
   if (!o.approx_thd.empty()) {
-    if (!o.search.empty() && o.search != "approx" && o.search != "accel-approx")
+    if (!o.search.empty() && !search_backend(o.search).approximate)
       throw std::invalid_argument("--approx-thd needs --search approx or accel-approx (got --search " + o.search + ")");
     const double t = parse_number("--approx-thd", o.approx_thd);
     config.search.backend = Backend::Approx;
@@ -42,7 +39,7 @@ PipelineConfig config_from_flags(const PipelineFlags& o) {
     throw std::invalid_argument(std::string(!o.inject_kth.empty() ? "--inject-kth" : "--inject-shell") +
                                 " needs --search exact, flann or accel (error injection measures exact search; "
                                 "got search " +
-                                (in_loop ? o.search : std::string("approx")) + ")");
+                                (in_loop(o.search) ? o.search : std::string("approx")) + ")");
   validate(config, "tigris register");
   return config;
 }

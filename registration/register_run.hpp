@@ -17,7 +17,7 @@ namespace tigris::registration {
 
 struct RegisterRun {
   RegistrationResult result;
-  double work_spent = 0;                   // distances and neighbours, against max_work
+  double work_spent = 0;                    // distances and neighbours, against max_work
   std::shared_ptr<TraceRecorder> recorder;  // when recording
   bool mismatch = false;  // an accelerator job's results differed from the golden model's (reported; exit 1)
 };

@@ -124,7 +124,7 @@ void accumulate(json& s, const json& j) {
 }
 
 ReplayResult collect_jobs(const trace::Trace& t, const TraceReplay& o, const std::vector<ReplayedJob>& plan,
-                       const std::vector<int>& codes) {
+                          const std::vector<int>& codes) {
   ReplayResult c;
   std::string first_error;
   for (std::size_t k = 0; k < plan.size(); ++k) {

@@ -40,8 +40,8 @@ struct ReplayedJob {
 
 // The jobs' reports, summed per stage and in total, and the registration end to end.
 struct ReplayResult {
-  nlohmann::json jobs = nlohmann::json::array(), per_stage = nlohmann::json::object(),
-                 total = nlohmann::json::object(), end_to_end;
+  nlohmann::json jobs = nlohmann::json::array(), per_stage = nlohmann::json::object(), total = nlohmann::json::object(),
+                 end_to_end;
   bool all_match = true;
   std::size_t sampled = 0;  // jobs whose cycles and energy are estimates (docs/sampling.md)
 };
@@ -53,8 +53,7 @@ std::vector<ReplayedJob> plan_replay(const trace::Trace& t, const TraceReplay& o
 ReplayResult replay_trace(const trace::Trace& t, const TraceReplay& o, const std::vector<ReplayedJob>& plan);
 // stats.json's fields of a replay (docs/stats.md): trace, verdict, config, stages, total, jobs,
 // sampled_jobs, end_to_end.
-nlohmann::json replay_stats(const trace::Trace& t, const TraceReplay& o, std::size_t replayed,
-                            const ReplayResult& c);
+nlohmann::json replay_stats(const trace::Trace& t, const TraceReplay& o, std::size_t replayed, const ReplayResult& c);
 // The summary on stdout (a row per stage in the pipeline's order, the total, end to end); the
 // first mismatching job on stderr.
 void print_replay(const trace::Trace& t, const TraceReplay& o, std::size_t replayed, const ReplayResult& c,

@@ -36,6 +36,7 @@
 #include "registration/odometry_metrics.hpp"
 #include "registration/odometry_run.hpp"
 #include "registration/report.hpp"
+#include "registration/search_backends.hpp"
 #include "synth_command.hpp"
 #include "testbench/presets.hpp"
 #include "testbench/report.hpp"
@@ -108,7 +109,7 @@ void add_odometry_options(CLI::App& app, OdometryOptions& o) {
   input_flag(app.add_option("--config", o.config, "Pipeline configuration JSON (as tigris register)"));
   app.add_option("--set", o.sets, "Set one pipeline key (repeatable, as tigris register)")->allow_extra_args(false);
   app.add_option("--search", o.search, "3D KD-tree back-end: flann, exact, approx, accel or accel-approx")
-      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
+      ->check(CLI::IsMember(registration::search_backend_names()));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (as tigris register)");
   app.add_option("--approx-thd", o.approx_thd, "Approximate NN threshold in metres (as tigris register)");
   input_flag(app.add_option("--accel-config", o.accel_config,
@@ -230,7 +231,7 @@ int run_odometry_command(const CLI::App& app, const OdometryOptions& given) {
   settings.frames = o.frames;
   settings.out = o.out;
   settings.flags = flags;
-  settings.accel = o.search == "accel" || o.search == "accel-approx";
+  settings.accel = registration::in_loop(o.search);
   settings.jobs = o.jobs;
   settings.slurm = o.slurm;
   settings.config_inputs = config_inputs(o);

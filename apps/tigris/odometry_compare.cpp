@@ -18,6 +18,7 @@
 #include "core/children.hpp"
 #include "core/json_file.hpp"
 #include "odometry_command.hpp"
+#include "registration/search_backends.hpp"
 #include "testbench/cpu_baseline.hpp"
 #include "testbench/report.hpp"
 
@@ -26,15 +27,10 @@ namespace {
 
 using nlohmann::ordered_json;
 
-struct Backend {
-  const char* search;
-  const char* label;
-  bool cpu;  // measured (timed --repeat times); else modeled, run once
-};
-constexpr Backend kBackends[] = {{"flann", "CPU, PCL's FLANN", true},
-                                 {"exact", "CPU, golden model (exact)", true},
-                                 {"approx", "CPU, golden model (approximate)", true},
-                                 {"accel", "accelerator (exact), modeled", false}};
+using Backend = registration::SearchBackend;
+// The back-ends compared, in the table's order (registration/search_backends.hpp).
+const std::vector<Backend> kBackends = {registration::search_backend("flann"), registration::search_backend("exact"),
+                                        registration::search_backend("approx"), registration::search_backend("accel")};
 
 double at(const ordered_json& j, std::initializer_list<const char*> path) {
   const ordered_json* p = &j;
@@ -62,8 +58,8 @@ std::vector<OdometryOptions> compare_variants(const OdometryOptions& o) {
     OdometryOptions x = o;
     x.compare = false;
     x.search = b.search;
-    if (x.search != "approx") x.approx_thd.clear();
-    if (x.search != "accel") {
+    if (!b.approximate) x.approx_thd.clear();
+    if (!b.in_loop()) {
       x.accel_config.clear();
       x.accel_sets.clear();
     }
@@ -85,16 +81,16 @@ struct Runs {
 Runs run_backends(const OdometryOptions& o) {
   Runs runs;
   std::vector<std::vector<ordered_json>>& metrics = runs.metrics;
-  metrics.resize(std::size(kBackends));
+  metrics.resize(kBackends.size());
   for (int k = 1; k <= o.repeat; ++k)
-    for (std::size_t i = 0; i < std::size(kBackends); ++i) {
+    for (std::size_t i = 0; i < kBackends.size(); ++i) {
       const Backend& b = kBackends[i];
       if (k > 1 && !b.cpu) continue;
       const std::string search = b.search,
                         out = o.out + "/" + search + (k == 1 ? std::string() : "-repeat-" + std::to_string(k));
       std::vector<std::string> drop{"--out", "--search", "--sequence", "--synthetic", "--seed", "--repeat"};
-      if (search != "approx") drop.push_back("--approx-thd");
-      if (search != "accel") drop.insert(drop.end(), {"--accel-config", "--accel-set"});
+      if (!b.approximate) drop.push_back("--approx-thd");
+      if (!b.in_loop()) drop.insert(drop.end(), {"--accel-config", "--accel-set"});
       std::fprintf(
           stderr, "tigris odometry --compare: %s%s (--search %s --out %s)\n", b.label,
           b.cpu && o.repeat > 1 ? (", run " + std::to_string(k) + " of " + std::to_string(o.repeat)).c_str() : "",
@@ -123,10 +119,10 @@ Runs run_backends(const OdometryOptions& o) {
 ordered_json backend_rows(const Runs& runs, std::vector<std::pair<Spread, Spread>>& times,
                           std::vector<std::pair<std::string, Spread>>& timed) {
   ordered_json rows = ordered_json::array();
-  for (std::size_t i = 0; i < std::size(kBackends); ++i) {
+  for (std::size_t i = 0; i < kBackends.size(); ++i) {
     const Backend& b = kBackends[i];
     const ordered_json& m = runs.metrics[i].front();
-    const bool accel = std::string(b.search) == "accel";
+    const bool accel = b.in_loop();
     std::vector<double> kd, e2e;
     for (const ordered_json& x : runs.metrics[i]) {
       kd.push_back(accel ? at(x, {"accelerator", "modeled_kdtree_seconds"})

@@ -18,6 +18,7 @@
 #include "registration/register_run.hpp"
 #include "registration/report.hpp"
 #include "registration/report_summary.hpp"
+#include "registration/search_backends.hpp"
 #include "testbench/accel_in_loop.hpp"
 #include "testbench/config.hpp"
 #include "testbench/presets.hpp"
@@ -53,7 +54,7 @@ void add_register_options(CLI::App& app, RegisterOptions& o) {
                  "model on the CPU), accel or accel-approx (the accelerator model in the loop: each "
                  "stage's query set runs as one simulated job, checked against the golden model); "
                  "default: search.backend (exact)")
-      ->check(CLI::IsMember({"flann", "exact", "approx", "accel", "accel-approx"}));
+      ->check(CLI::IsMember(registration::search_backend_names()));
   app.add_option("--height", o.height, "Top-tree height 0..30 or 'full' (default: search.top_height, 10)");
   app.add_option("--approx-thd", o.approx_thd,
                  "Approximate NN threshold in metres (sets search.nn_thd; search.radius_thd becomes "
@@ -206,7 +207,7 @@ int run_register_command(const CLI::App& app, const RegisterOptions& o) {
   if (o.compare) return run_register_compare(app, o);
   if (app.count("--repeat"))
     throw std::invalid_argument("--repeat goes with --compare (it times the CPU back-ends of the comparison)");
-  const bool in_loop = o.search == "accel" || o.search == "accel-approx";
+  const bool in_loop = registration::in_loop(o.search);
   const registration::PipelineConfig config = pipeline_config(o, in_loop);
   if (o.list_config && o.json) {
     std::cout << registration::key_reference_json(config).dump(2) << '\n';

@@ -18,6 +18,7 @@
 #include "core/children.hpp"
 #include "register_command.hpp"
 #include "registration/report.hpp"
+#include "registration/search_backends.hpp"
 #include "testbench/cpu_baseline.hpp"
 #include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
@@ -27,15 +28,11 @@ namespace {
 
 using nlohmann::ordered_json;
 
-struct Variant {
-  const char* search;  // --search
-  const char* label;   // in the table
-  bool cpu;            // measured on the CPU (timed --repeat times); else modeled, run once
-};
-constexpr Variant kVariants[] = {{"flann", "CPU, PCL's FLANN", true},
-                                 {"exact", "CPU, golden model (exact)", true},
-                                 {"accel", "accelerator, exact", false},
-                                 {"accel-approx", "accelerator, approximate", false}};
+using Variant = registration::SearchBackend;
+// The back-ends compared, in the table's order (registration/search_backends.hpp).
+const std::vector<Variant> kVariants = {registration::search_backend("flann"), registration::search_backend("exact"),
+                                        registration::search_backend("accel"),
+                                        registration::search_backend("accel-approx")};
 
 // Repeat 1 in OUT/<back-end>/ (the layout of one run), repeat k in OUT/<back-end>-repeat-k/.
 std::string run_dir(const std::string& out, const Variant& v, int k) {
@@ -46,10 +43,9 @@ std::string run_dir(const std::string& out, const Variant& v, int k) {
 // the approximate run only, --accel-config and --accel-set for the accelerator runs only, then
 // --search and --out of the variant.
 std::vector<std::string> variant_args(const std::vector<std::string>& argv, const Variant& v, const std::string& out) {
-  const std::string search = v.search;
   std::vector<std::string> drop{"--out", "--repeat"};
-  if (search != "accel-approx") drop.push_back("--approx-thd");
-  if (search.rfind("accel", 0) != 0) drop.insert(drop.end(), {"--accel-config", "--accel-set"});
+  if (!v.approximate) drop.push_back("--approx-thd");
+  if (!v.in_loop()) drop.insert(drop.end(), {"--accel-config", "--accel-set"});
   return rerun_args(argv, {"--compare"}, drop, {"--search", v.search, "--out", out});
 }
 
@@ -93,7 +89,7 @@ namespace {
 // back-end did not converge).
 struct VariantRuns {
   std::vector<std::vector<registration::Report>> regs =
-      std::vector<std::vector<registration::Report>>(std::size(kVariants));
+      std::vector<std::vector<registration::Report>>(kVariants.size());
   ordered_json paths = ordered_json::object();  // comparison.json's "runs"
   int worst = 0;
 };
@@ -102,7 +98,7 @@ struct VariantRuns {
 VariantRuns run_variants(const RegisterOptions& o) {
   VariantRuns runs;
   for (int k = 1; k <= o.repeat; ++k)
-    for (std::size_t i = 0; i < std::size(kVariants); ++i) {
+    for (std::size_t i = 0; i < kVariants.size(); ++i) {
       const Variant& v = kVariants[i];
       if (k > 1 && !v.cpu) continue;
       const std::string out = run_dir(o.out, v, k);
@@ -162,7 +158,7 @@ ordered_json variant_row(const Variant& v, const std::vector<registration::Repor
 
 Table comparison_table(const VariantRuns& runs) {
   Table t;
-  for (std::size_t i = 0; i < std::size(kVariants); ++i) {
+  for (std::size_t i = 0; i < kVariants.size(); ++i) {
     const Variant& v = kVariants[i];
     const bool accel = runs.regs[i].front().in_loop();
     std::vector<double> kd, e2e;
