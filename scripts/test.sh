@@ -4,6 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh "$@"
 cd "${TIGRIS_BUILD_DIR:-build}"
-# TIGRIS_CTEST_ARGS: extra ctest arguments, e.g. "-LE matrix" to skip the long stall matrix.
+# TIGRIS_CTEST_ARGS: extra ctest arguments, e.g. "-L quick" for the quick tier (docs/testing.md).
 # shellcheck disable=SC2086
 ctest --output-on-failure -j"$(nproc)" ${TIGRIS_CTEST_ARGS:-}
