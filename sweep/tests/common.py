@@ -1,5 +1,6 @@
-"""Shared helpers of the sweep package's tests (each test file runs standalone:
-python3 sweep/tests/test_X.py --tigris build/bin/tigris [--keep]). Every test file imports this
+"""Shared helpers of the sweep package's tests, which pytest runs (conftest.py at the top of the
+tree gives --tigris and --keep; each file also runs standalone: python3 sweep/tests/test_X.py
+--tigris build/bin/tigris [--keep]). Every test file imports this
 module first: it puts the repository (the folder that holds the `sweep` package) on sys.path,
 the one place the tests do, so they `import sweep.report as report`, `from sweep import
 evaldata`, `from sweep.core import folders`; the tools run as `python3 -m sweep.<tool>`
@@ -54,15 +55,20 @@ def package_env(env=None):
 
 
 def options():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", default=os.environ.get("TIGRIS") or
-                    os.path.join(HERE, "..", "..", "build", "bin", "tigris"))
-    ap.add_argument("--keep", action="store_true", help="keep the temporary folder")
-    a = ap.parse_args()
-    a.tigris = os.path.abspath(a.tigris)
-    if not os.access(a.tigris, os.X_OK):
-        sys.exit(f"no tigris binary at {a.tigris} (give --tigris)")
-    return a
+    """The run's options (conftest.py: pytest's --tigris and --keep; standalone, the environment):
+    a.tigris, the binary under test; a.keep, keep the temporary folders."""
+    tigris = os.path.abspath(os.environ.get("TIGRIS_TEST_BINARY") or os.environ.get("TIGRIS") or
+                             os.path.join(HERE, "..", "..", "build", "bin", "tigris"))
+    if not os.access(tigris, os.X_OK):
+        sys.exit(f"no tigris binary at {tigris} (give --tigris)")
+    return argparse.Namespace(tigris=tigris, keep=os.environ.get("TIGRIS_TEST_KEEP") == "1")
+
+
+def main(path):
+    """A test file run standalone (python3 sweep/tests/test_X.py [--tigris PATH] [--keep] [-k NAME]):
+    pytest on that file."""
+    import pytest
+    sys.exit(pytest.main([path, *sys.argv[1:]]))
 
 
 class Workdir:
@@ -117,19 +123,6 @@ def read_csv(path):
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     return rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
-
-
-def run_tests(tests):
-    """Runs test functions in order; prints each with its time; exit 1 on the first failure."""
-    import time
-    for t in tests:
-        t0 = time.monotonic()
-        try:
-            t()
-        except Exception:
-            print(f"FAIL {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)
-            raise
-        print(f"ok   {t.__name__} ({time.monotonic() - t0:.1f} s)", flush=True)
 
 
 def footer_clear(fig, gid="tigris-footer"):

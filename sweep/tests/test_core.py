@@ -8,11 +8,22 @@ binary needed; about 10 s.
 
     python3 sweep/tests/test_core.py [--keep]"""
 import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
-from common import LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env, run_tests
+import pytest
+from common import main, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env
 from sweep import core
 
-KEEP = "--keep" in sys.argv[1:]
+KEEP = os.environ.get("TIGRIS_TEST_KEEP") == "1"
 D = tempfile.mkdtemp(prefix="tigris-core-")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _folder():
+    """D for every test here, removed at the end unless --keep."""
+    yield
+    if KEEP:
+        print(f"(files kept in {D})")
+    else:
+        subprocess.run(["rm", "-rf", D])
 
 
 def path(*p):
@@ -509,13 +520,4 @@ def test_pipeline_stages():
 
 
 if __name__ == "__main__":
-    try:
-        run_tests([test_input_kinds, test_json_inputs, test_identity_and_atomic_write, test_claim_and_manifest,
-                   test_foreign_and_other_command, test_inputs_are_not_outputs, test_lock, test_resume_or_fresh,
-                   test_children_groups_and_death_signal, test_pool_stops_on_signal, test_sbatch_failure_and_flags,
-                   test_shortening, test_provenance, test_pipeline_stages])
-    finally:
-        if KEEP:
-            print(f"(files kept in {D})")
-        else:
-            subprocess.run(["rm", "-rf", D])
+    main(__file__)

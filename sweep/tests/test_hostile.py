@@ -6,7 +6,7 @@ a changed workload. Each case: the exit code and a message naming the key, file 
 a traceback. Last, 2,000 seeded mutations of a valid spec through the validator (exit 0 or a
 clean exit 2, bounded time)."""
 import contextlib, io, json, os, random, re, resource, signal, subprocess, sys, time
-from common import (Workdir, options, package_env, read_csv, run_tests, small_workload, sweep, tool_command,
+from common import (main, Workdir, options, package_env, read_csv, small_workload, sweep, tool_command,
                     write_cloud, write_spec)
 
 a = options()
@@ -1038,12 +1038,4 @@ def test_preset_and_file_of_one_name():
 
 
 if __name__ == "__main__":
-    run_tests([test_empty_paths, test_one_setting_two_ways, test_hostile_spec_files, test_unwritable_folders,
-               test_damaged_plan, test_cloud_alone_and_queries_alone, test_dry_check_progress,
-               test_collect_and_signals_mid_sweep, test_reproduce_every_point_failed,
-               test_reproduce_keeps_its_workload, test_reproduce_tiny_cloud,
-               test_sweep_spec_inside_out, test_concurrent_sweeps, test_changed_input_resume,
-               test_pipeline_dse_space_and_frames, test_diff_hostile, test_plot_hostile, test_inputs_that_are_devices,
-               test_list_flags, test_parent_only_sigterm, test_plot_two_sources_one_key,
-               test_plot_default_folder_per_input, test_read_while_written, test_sweep_dir_without_core,
-               test_preset_and_file_of_one_name, test_spec_fuzz])
+    main(__file__)

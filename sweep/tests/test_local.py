@@ -2,7 +2,7 @@
 """Sweep driver, local back-end: a 4-point grid with --jobs 2 gives a CSV of 4 rows with the
 column contract; a failing point is recorded and the sweep goes on; collect reproduces the CSV."""
 import json, os
-from common import Workdir, options, read_csv, run_tests, small_workload, sweep, write_spec
+from common import main, Workdir, options, read_csv, small_workload, sweep, write_spec
 
 a = options()
 SPEC = {"base": {"cloud": "cloud.bin", "queries": "queries.bin", "mode": "nn",
@@ -148,4 +148,4 @@ def test_ref_points_and_switches():
 
 
 if __name__ == "__main__":
-    run_tests([test_four_points, test_failed_point_recorded, test_mismatch_and_signal, test_ref_points_and_switches])
+    main(__file__)

@@ -13,7 +13,7 @@ import sys
 import tempfile
 import unittest
 
-from common import SWEEP, footer_clear, run_tool
+from common import SWEEP, footer_clear, run_tool, main
 
 SCRIPT = os.path.join(SWEEP, "odometry_plots.py")   # its sys.argv[0] when run as python3 -m sweep.odometry_plots
 
@@ -162,4 +162,4 @@ class OdometryPlots(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    main(__file__)

@@ -8,8 +8,8 @@ columns, and a tiny design space end to end with a Pareto point's configuration 
 """
 import json, os, subprocess
 
-from common import (LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, PAPER_TITLES, Workdir, footer_clear, options,
-                    read_csv, run_tests, run_tool, sweep, tool_command, write_spec)
+from common import (main, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, PAPER_TITLES, Workdir, footer_clear, options,
+                    read_csv, run_tool, sweep, tool_command, write_spec)
 from sweep import core
 from sweep import pipeline_dse as dse
 from sweep import tigris_sweep as ts
@@ -319,4 +319,4 @@ def test_tiny_dse():
 
 
 if __name__ == "__main__":
-    run_tests([test_list_stages, test_pareto, test_old_names, test_sample, test_figures_footer, test_bad_space, test_no_valid_point, test_register_sweep, test_tiny_dse])
+    main(__file__)

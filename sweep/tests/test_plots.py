@@ -13,7 +13,7 @@ import sys
 import tempfile
 import unittest
 
-from common import footer_clear, run_tool
+from common import footer_clear, run_tool, main
 
 try:
     import matplotlib  # noqa: F401
@@ -359,4 +359,4 @@ class CommandLine(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    main(__file__)

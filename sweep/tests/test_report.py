@@ -8,7 +8,7 @@ import os
 import tempfile
 import unittest
 
-from common import PAPER_TITLES, run_tool
+from common import PAPER_TITLES, run_tool, main
 import plot_fixtures as fx
 from sweep import evaldata as ed
 from sweep import report
@@ -509,4 +509,4 @@ class PipelineClaims(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    main(__file__)

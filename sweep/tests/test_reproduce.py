@@ -12,7 +12,7 @@ import tempfile
 import textwrap
 import unittest
 
-from common import HERE, REPO, run_tool
+from common import HERE, REPO, run_tool, main
 from sweep import reproduce
 
 # A stand-in for tigris_sweep.py (plot_fixtures.py is copied beside it): expands the spec (grid product, then points, over base) and
@@ -289,4 +289,4 @@ class Flow(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    main(__file__)

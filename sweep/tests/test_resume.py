@@ -3,7 +3,7 @@
 kept; a rerun runs only the missing points; a grown grid runs only the new points; another base
 into the same folder is refused."""
 import json, os, signal, subprocess, time
-from common import Workdir, options, read_csv, run_tests, small_workload, sweep, tool_command, write_spec
+from common import main, Workdir, options, read_csv, small_workload, sweep, tool_command, write_spec
 
 a = options()
 
@@ -98,4 +98,4 @@ def test_grown_and_changed_spec():
 
 
 if __name__ == "__main__":
-    run_tests([test_interrupt_and_resume, test_grown_and_changed_spec])
+    main(__file__)

@@ -4,8 +4,9 @@ sweep as one job array (chunks of points) gives the same CSV as the local back-e
 aside; --no-wait returns at once and `collect` gathers the finished array; sbatch's errors are
 shown. Skips (exit 77) with the reason when the cluster cannot start (not root and no sudo, no
 packages), unless TIGRIS_REQUIRE_SLURM=1. The cluster is stopped by PID whatever happens."""
-import os, subprocess, sys, time
-from common import SKIP, Workdir, options, read_csv, run_tests, small_workload, sweep, tool_command, write_spec
+import os, subprocess, time
+import pytest
+from common import Workdir, main, options, read_csv, small_workload, sweep, tool_command, write_spec
 
 a = options()
 LOCAL_SLURM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "local_slurm.sh")
@@ -25,7 +26,7 @@ def same_csv(x, y):
         assert not diff, f"{r['point']}: {[(c, r[c], s[c]) for c in diff]}"
 
 
-def test_slurm(env, d):
+def slurm_vs_local(env, d):
     small_workload(d)
     spec = write_spec(d, SPEC)
     local, array, nowait = (os.path.join(d, n) for n in ("local", "array", "nowait"))
@@ -65,7 +66,7 @@ def test_slurm(env, d):
     assert p.returncode == 3 and "sbatch failed" in p.stderr and "partition" in p.stderr, p.stderr
 
 
-def test_dse(env, d):
+def dse_slurm_vs_local(env, d):
     """tigris pipeline-dse on Slurm: every point's errors, statuses and knobs equal the local run's
     (times are measurements, so the frontiers may differ by noise and are not compared)."""
     space = write_spec(d, {"base": {"preset": "dp4"}, "anchors": [],
@@ -87,7 +88,10 @@ def test_dse(env, d):
     assert len(rows["local"]) == len(rows["array"]) == 3
 
 
-def main():
+@pytest.fixture(scope="module")
+def cluster():
+    """(environment with SLURM_CONF, folder) of a one-node cluster, stopped by PID at the end;
+    the tests skip with the reason when it cannot start (unless TIGRIS_REQUIRE_SLURM=1)."""
     with Workdir(a, "slurm") as d:
         cluster = os.path.join(d, "cluster")
         t0 = time.monotonic()
@@ -95,25 +99,27 @@ def main():
         if p.returncode != 0 or not p.stdout.startswith("export SLURM_CONF="):
             reason = (p.stderr.strip().splitlines() or ["no message"])[-1]
             msg = f"local Slurm cluster did not start (exit {p.returncode}): {reason}"
-            if os.environ.get("TIGRIS_REQUIRE_SLURM") == "1":
-                sys.exit(f"FAIL: {msg}\n{p.stderr}")
-            print(f"SKIP: {msg}\n{p.stderr[-3000:]}")
             subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True)
-            sys.exit(SKIP)
+            if os.environ.get("TIGRIS_REQUIRE_SLURM") == "1":
+                pytest.fail(f"{msg}\n{p.stderr}")
+            print(p.stderr[-3000:])
+            pytest.skip(msg)
         print(f"cluster up in {time.monotonic() - t0:.1f} s", flush=True)
-        env = dict(os.environ, SLURM_CONF=p.stdout.strip().split("=", 1)[1])
         try:
-            def test_slurm_vs_local():
-                test_slurm(env, d)
-
-            def test_pipeline_dse_slurm_vs_local():
-                test_dse(env, d)
-            run_tests([test_slurm_vs_local, test_pipeline_dse_slurm_vs_local])
+            yield dict(os.environ, SLURM_CONF=p.stdout.strip().split("=", 1)[1]), d
         finally:
             s = subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True, timeout=120)
             print(s.stderr.strip())
             assert s.returncode == 0 and not os.path.exists(os.path.join(cluster, "pids")), s.stderr
 
 
+def test_slurm_vs_local(cluster):
+    slurm_vs_local(*cluster)
+
+
+def test_pipeline_dse_slurm_vs_local(cluster):
+    dse_slurm_vs_local(*cluster)
+
+
 if __name__ == "__main__":
-    main()
+    main(__file__)

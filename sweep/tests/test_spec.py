@@ -2,7 +2,7 @@
 """Sweep driver: bad specs and arguments exit 2 with a message naming the key or path in the
 spec, before any point runs and without making the sweep folder."""
 import os
-from common import Workdir, options, run_tests, small_workload, sweep, write_spec
+from common import main, Workdir, options, small_workload, sweep, write_spec
 
 a = options()
 
@@ -87,4 +87,4 @@ def test_bad_arguments():
 
 
 if __name__ == "__main__":
-    run_tests([test_bad_specs, test_bad_json, test_bad_arguments])
+    main(__file__)

@@ -2,7 +2,7 @@
 """sweep/variants.py and `reproduce --variants`: verdicts and the classification of claims over
 design variants (from hand-made claims and hand-made CSVs), the variants' specs, user variants
 and their errors, and a small variant run end to end with tigris (the synthetic pair).
-Run: python3 sweep/tests/test_variants.py [--tigris PATH]"""
+Run: python3 sweep/tests/test_variants.py [--tigris PATH] (pytest)"""
 import csv
 import json
 import os
@@ -12,14 +12,12 @@ import sys
 import tempfile
 import unittest
 
-from common import footer_clear, tool_command
+from common import footer_clear, tool_command, main
 
-TIGRIS = None
-if "--tigris" in sys.argv:
-    i = sys.argv.index("--tigris")
-    TIGRIS = os.path.abspath(sys.argv[i + 1])
+# The binary under test (conftest.py's --tigris), also for the tools' own binary lookup.
+TIGRIS = os.environ.get("TIGRIS_TEST_BINARY")
+if TIGRIS:
     os.environ["TIGRIS"] = TIGRIS
-    del sys.argv[i:i + 2]
 
 import plot_fixtures as fx  # noqa: E402
 from sweep import evaldata as ed  # noqa: E402
@@ -559,4 +557,4 @@ class EndToEnd(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    main(__file__)
