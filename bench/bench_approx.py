@@ -123,7 +123,7 @@ def main():
     area = rows[0][2].get("area_mm2")
     if area:
         print("\n### Area (mm2, 16 nm)\n")
-        print(f"| | SRAM | logic | total |\n|---|---:|---:|---:|\n| paper | 8.38 | 7.19 | 15.57 |")
+        print("| | SRAM | logic | total |\n|---|---:|---:|---:|\n| paper | 8.38 | 7.19 | 15.57 |")
         print(f"| model | {area['sram']:.2f} | {area['logic']:.2f} | {area['total']:.2f} |")
         print("\n| block | mm2 |\n|---|---:|")
         for kind, blocks in area.get("by_block", {}).items():

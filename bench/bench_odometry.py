@@ -98,8 +98,8 @@ def main():
             with open(os.path.join(out, "wall.txt"), "w") as f:
                 f.write(f"{time.monotonic() - t0:.1f} s with --jobs {a.jobs}\n")
 
-    print(f"| run | pairs | t_err % | r_err deg/m | ATE m (aligned) | ATE m (unaligned) | mean RPE m / deg | "
-          f"CPU s (sum; median [min-max] of the runs) | KD-tree share | wall |")
+    print("| run | pairs | t_err % | r_err deg/m | ATE m (aligned) | ATE m (unaligned) | mean RPE m / deg | "
+          "CPU s (sum; median [min-max] of the runs) | KD-tree share | wall |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     rows = {}
     for p in presets:

@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake g++ make pkg-config libsystemc-dev libeigen3-dev libpcl-dev catch2
           nlohmann-json3-dev libcli11-dev libnanoflann-dev libflann-dev liblz4-dev libzstd-dev
-          libbenchmark-dev libssl-dev python3 python3-dev python3-numpy python3-matplotlib python3-pytest
+          libbenchmark-dev libssl-dev python3 python3-dev python3-numpy python3-matplotlib python3-pytest python3-flake8
           pybind11-dev dpkg-dev graphviz clang-format verilator yosys)
 missing=()
 for p in "${packages[@]}"; do

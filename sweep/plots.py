@@ -20,7 +20,6 @@ line and, for each CSV, its SHA-256 and the command line and commit in the manif
 sweep folder.
 """
 import argparse
-import math
 import os
 import sys
 

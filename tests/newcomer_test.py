@@ -316,7 +316,7 @@ def part_waves(d):
     names = ["rus_busy", "rus_sram_stall", "rus_bqb_full_stall", "rus_writeback_stall", "busy_pes"]
     area, final = vcd_averages(os.path.join(out, "w.vcd"), names)
     ps = 1e6 / s["config"]["clock_mhz"]
-    ru, su, cyc = s["units"]["recursion_units"], s["units"]["search_units"], s["cycles"]
+    ru, su = s["units"]["recursion_units"], s["units"]["search_units"]
     want = {"rus_busy": ru["busy_cycles"], "rus_sram_stall": ru["stall_cycles"]["sram"],
             "rus_bqb_full_stall": ru["stall_cycles"]["bqb_full"],
             "rus_writeback_stall": ru["stall_cycles"]["result_writeback"], "busy_pes": su["pe_busy_cycles"]}
@@ -349,7 +349,7 @@ def part_timeline(d):
           and run.get("commit") == s["commit"] and run.get("inputs") == s["inputs"],
           f"the timeline's otherData.run says what made it: {run}")
     ev = t["traceEvents"]
-    w, cyc = t["otherData"]["counter_bin_cycles"], s["cycles"]
+    w = t["otherData"]["counter_bin_cycles"]
     sums = {}
     for e in ev:
         if e["ph"] == "C":

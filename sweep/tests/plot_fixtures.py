@@ -166,7 +166,6 @@ def hand_made_csvs(folder, layout="driver"):
         4.8% saved: yes / yes.
       energy split (default row): PE 50% (rank 1), DRAM 2% vs 0.2% -> within 2x no."""
     os.makedirs(folder, exist_ok=True)
-    n = 115200
     out = {}
 
     def row(settings, **kw):

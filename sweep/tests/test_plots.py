@@ -3,9 +3,7 @@
 SVG files), rows picked by the settings swept, skipped figures, the command line, and the footer
 saying what made a figure (sweep/core/provenance.py) in plots.py's and tigris plot's figures.
 Run: python3 sweep/tests/test_plots.py (needs Debian's python3-matplotlib)."""
-import contextlib
 import hashlib
-import io
 import json
 import os
 import shutil

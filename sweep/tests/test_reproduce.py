@@ -4,7 +4,6 @@ the paper's accounting beside them, the driver command lines (local and Slurm), 
 and the run -> figures -> REPORT.md flow with a stand-in driver (so no tigris run is needed),
 the paper's accounting's column and counts included.
 Run: python3 sweep/tests/test_reproduce.py"""
-import itertools
 import json
 import os
 import shutil
