@@ -16,10 +16,14 @@
 #include <string>
 #include <vector>
 
+#include "test_util.hpp"
 #include "traces/results_csv.hpp"
 #include "workloads/io/cloud_io.hpp"
 #include "workloads/io/lzf.hpp"
 #include "workloads/synthetic.hpp"
+
+using tigris::test::bits;
+using tigris::test::same_bits;
 
 namespace {
 
@@ -75,19 +79,6 @@ std::string kitti_bytes(const std::vector<std::array<float, 3>>& points) {
       for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((u >> (8 * i)) & 0xFFu));
     }
   return bytes;
-}
-
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-
-bool same_bits(const PointCloud& a, const PointCloud& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) || bits(a[i].z) != bits(b[i].z)) return false;
-  return true;
 }
 
 // load_cloud(path) must throw InputError whose message names the file (and holds `detail`).

@@ -17,19 +17,17 @@
 #include <random>
 #include <string>
 
+#include "test_util.hpp"
 #include "workloads/io/cloud_io.hpp"
+
+using tigris::test::bits;
+using tigris::test::same_bits;
 
 namespace {
 
 namespace fs = std::filesystem;
 using tigris::Point3;
 using tigris::PointCloud;
-
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
 
 struct TempDir {
   fs::path path = fs::temp_directory_path() / ("tigris_test_io_pcl_" + std::to_string(::getpid()));

@@ -8,8 +8,12 @@
 #include <iostream>
 #include <vector>
 
+#include "test_util.hpp"
 #include "workloads/frame_pair.hpp"
 #include "workloads/synthetic.hpp"
+
+using tigris::test::bits;
+using tigris::test::same_bits;
 
 namespace {
 
@@ -18,19 +22,6 @@ using tigris::PointCloud;
 using tigris::SyntheticConfig;
 using tigris::SyntheticPair;
 using tigris::Transform;
-
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-
-bool same_bits(const PointCloud& a, const PointCloud& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) || bits(a[i].z) != bits(b[i].z)) return false;
-  return true;
-}
 
 // FNV-1a over the bit patterns of every coordinate: a fingerprint of a cloud.
 std::uint64_t fingerprint(const PointCloud& cloud) {

@@ -8,7 +8,11 @@
 #include <cstring>
 #include <vector>
 
+#include "test_util.hpp"
 #include "workloads/synthetic/drive.hpp"
+
+using tigris::test::bits;
+using tigris::test::same_bits;
 
 namespace {
 
@@ -23,13 +27,6 @@ DriveConfig small(int frames, std::uint64_t seed = 1) {
   c.seed = seed;
   c.azimuth_steps = 360;  // 1 degree: fast, same geometry
   return c;
-}
-
-bool same_bits(const PointCloud& a, const PointCloud& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::memcmp(&a[i], &b[i], sizeof a[i]) != 0) return false;
-  return true;
 }
 
 // Least-squares plane z = a x + b y + c through the road in front of the car (the lane: no

@@ -3,12 +3,28 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <string>
 
 #include "sw_ref/cloud.hpp"
 
 namespace tigris::test {
+
+// A float's bit pattern (bit-exact comparisons: -0 and NaN payloads count).
+inline std::uint32_t bits(float f) {
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+// The same points, coordinate by coordinate, bit for bit.
+inline bool same_bits(const PointCloud& a, const PointCloud& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (bits(a[i].x) != bits(b[i].x) || bits(a[i].y) != bits(b[i].y) || bits(a[i].z) != bits(b[i].z)) return false;
+  return true;
+}
 
 // A portable uniform float in [lo, hi) from 24 random bits (std distributions are not portable).
 inline float uniform(std::mt19937_64& rng, float lo, float hi) {
