@@ -8,7 +8,6 @@ not the command's may change. The Python commands' cases are in sweep/tests/test
 Usage: hostile_core.py --tigris PATH [-k SUBSTRING]   (exit 0 when every case holds)
 """
 import argparse
-import hashlib
 import json
 import os
 import shutil
@@ -18,40 +17,9 @@ import sys
 import tempfile
 import time
 
+from support import alive, descendants, digest
+
 TIMEOUT = 300  # per command; the sanitizer build is ~10x slower
-
-
-def digest(path):
-    with open(path, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()
-
-
-def descendants(pid):
-    """Every process below pid (through /proc's parent links)."""
-    parent = {}
-    for d in os.listdir("/proc"):
-        if d.isdigit():
-            try:
-                with open(f"/proc/{d}/stat") as f:
-                    parent[int(d)] = int(f.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, IndexError, ValueError):
-                pass
-    out, todo = set(), [pid]
-    while todo:
-        p = todo.pop()
-        for c, pp in parent.items():
-            if pp == p and c not in out:
-                out.add(c)
-                todo.append(c)
-    return out
-
-
-def alive(pid):
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 class Cases:

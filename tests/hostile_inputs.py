@@ -9,7 +9,6 @@ the ones with another exit code or a check of what was (not) written.
 Usage: hostile_inputs.py --tigris PATH [-k SUBSTRING]   (exit 0 when every case holds)
 """
 import argparse
-import hashlib
 import json
 import math
 import os
@@ -19,6 +18,8 @@ import subprocess
 import sys
 import tempfile
 import time
+
+from support import digest
 
 TIMEOUT = 120  # seconds per case; a sanitizer build is ~10x slower than Release
 SANITIZER_MARKS = ("AddressSanitizer", "LeakSanitizer", "runtime error:", "Segmentation fault",
@@ -172,11 +173,6 @@ def ply(path, pts):
 def read_json(path):
     with open(path) as fh:
         return json.load(fh)
-
-
-def digest(path):
-    with open(path, "rb") as fh:
-        return hashlib.sha256(fh.read()).hexdigest()
 
 
 def make_register_files(d, f):

@@ -13,6 +13,8 @@ REPO = os.path.dirname(SWEEP)                    # the folder that holds it
 if REPO not in sys.path:
     sys.path.insert(0, REPO)
 from sweep.core import paper_stages, parse_stages, python_module_command  # noqa: E402
+sys.path.insert(0, os.path.join(REPO, "tests"))  # the tree's shared test helpers
+from support import alive, descendants, digest  # noqa: E402,F401
 
 SKIP = 77                                        # ctest SKIP_RETURN_CODE
 

@@ -9,7 +9,7 @@ binary needed; about 10 s.
     python3 sweep/tests/test_core.py [--keep]"""
 import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
 import pytest
-from common import main, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env
+from common import main, alive, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env
 from sweep import core
 
 KEEP = os.environ.get("TIGRIS_TEST_KEEP") == "1"
@@ -266,14 +266,6 @@ def test_resume_or_fresh():
 
 # ----------------------------------------------------------------------------------------------
 # Children
-
-def alive(pid):
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
-
 
 def wait_gone(pids, limit=3.0):
     t0 = time.monotonic()

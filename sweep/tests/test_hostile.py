@@ -5,8 +5,8 @@ during a sweep, SIGHUP and SIGTERM, reproduce on a tiny cloud, with every point 
 a changed workload. Each case: the exit code and a message naming the key, file or flag; never
 a traceback. Last, 2,000 seeded mutations of a valid spec through the validator (exit 0 or a
 clean exit 2, bounded time)."""
-import contextlib, io, json, os, random, re, resource, signal, subprocess, sys, time
-from common import (main, Workdir, options, package_env, read_csv, small_workload, sweep, tool_command,
+import contextlib, io, json, os, random, re, resource, shutil, signal, subprocess, sys, time
+from common import (main, Workdir, alive, descendants, digest, options, package_env, read_csv, small_workload, sweep, tool_command,
                     write_cloud, write_spec)
 
 a = options()
@@ -24,18 +24,6 @@ def clean(p, code, *words):
 def reproduce(*args, cwd=None, timeout=300):
     cmd, env = tool_command("reproduce", *args)
     return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd, timeout=timeout, env=env)
-
-
-def alive(pid):
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    try:                                         # a zombie has ended
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 # A tigris whose real runs with --seed 9 first sleep (recording the shell's and sleep's PIDs),
@@ -534,31 +522,6 @@ def tool(name, *args, cwd=None, timeout=60, env=None):
     return p
 
 
-def digest(path):
-    with open(path, "rb") as f:
-        return f.read()
-
-
-def descendants(pid):
-    """Every process below pid (through /proc's parent links)."""
-    parent = {}
-    for e in os.listdir("/proc"):
-        if e.isdigit():
-            try:
-                with open(f"/proc/{e}/stat") as f:
-                    parent[int(e)] = int(f.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, IndexError, ValueError):
-                pass
-    out, todo = set(), [pid]
-    while todo:
-        q = todo.pop()
-        for c, pp in parent.items():
-            if pp == q and c not in out:
-                out.add(c)
-                todo.append(c)
-    return out
-
-
 # A tigris whose real runs (not the dry check, the lists or synth) sleep: a run to stop mid-way.
 SLEEPY = """#!/bin/sh
 case " $* " in
@@ -940,8 +903,7 @@ def test_plot_default_folder_per_input():
         two = os.path.join(d, "two")
         os.mkdir(two)
         for name, src in (("a.csv", s1), ("b.csv", s2)):
-            with open(os.path.join(two, name), "wb") as f:
-                f.write(digest(os.path.join(src, "sweep.csv")))
+            shutil.copyfile(os.path.join(src, "sweep.csv"), os.path.join(two, name))
         clean(tool("plot", os.path.join(two, "a.csv"), "--which", "sweep", timeout=300), 0, "a-plots")
         first = tree(os.path.join(two, "a-plots"))
         assert "sweep_height.png" in first, first
@@ -1003,8 +965,7 @@ def test_sweep_dir_without_core():
         here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         for f in os.listdir(here):
             if f.endswith(".py"):
-                with open(os.path.join(pkg, f), "wb") as g:
-                    g.write(digest(os.path.join(here, f)))
+                shutil.copyfile(os.path.join(here, f), os.path.join(pkg, f))
         for args in (["plot", "--help"], ["diff", "a", "b"], ["sweep", "--list-flags"]):
             p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=60,
                                env=dict(os.environ, TIGRIS_SWEEP_DIR=pkg))
@@ -1021,8 +982,7 @@ def test_preset_and_file_of_one_name():
         presets = json.loads(subprocess.run([a.tigris, "presets", "--json"], capture_output=True, text=True,
                                             check=True).stdout)["presets"]
         name, file = presets[0]["name"], presets[0]["file"]
-        with open(os.path.join(d, name), "wb") as f:
-            f.write(digest(file))
+        shutil.copyfile(file, os.path.join(d, name))
         spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"},
                               "grid": {"config": [name, "./" + name]}})
         kept = {p: digest(p) for p in (spec, os.path.join(d, name), file)}
