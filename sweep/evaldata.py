@@ -22,6 +22,9 @@ import math
 import os
 import sys
 
+from . import core
+from . import tigris_sweep as ts
+
 # Spec column -> effective name; the model's defaults of these, asked of the tigris binary, are
 # DEFAULTS below.
 SPEC_NAMES = {
@@ -65,7 +68,6 @@ class _ModelDefaults(collections.abc.Mapping):
 
     def _load(self):
         if self._d is None:
-            from . import tigris_sweep as ts
             path = ts.default_tigris()
             try:
                 run = ts.tigris_at(path, "run")
@@ -172,7 +174,6 @@ def setting_positions(path, cols):
     side = os.path.join(os.path.dirname(os.path.abspath(path)), "sweep.json")
     base = None
     if os.path.lexists(side):
-        from . import core
         info = core.read_json_input(side, "the sweep.json beside the CSV")   # damaged: an error naming it
         if isinstance(info, dict) and info.get("columns") == cols:
             base = set(info.get("base_keys") or []) | set(info.get("swept_keys") or [])
@@ -199,7 +200,6 @@ class Sweep:
         self.paths = list(paths)
         assume = dict(assume or {})
         self.rows, self.columns, self.setting_columns = [], [], []
-        from . import core
         for p in self.paths:
             with io.StringIO(core.read_text_input(p, "a sweep CSV"), newline="") as f:
                 r = csv.reader(f)

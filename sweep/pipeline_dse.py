@@ -43,7 +43,9 @@ interrupted.
 import argparse, csv, io, json, math, os, random, re, shlex, signal, subprocess, sys
 
 from . import core
-from .tigris_sweep import default_tigris
+from . import report
+from .dse_data import PARETO, pareto_number
+from .tigris_sweep import Spec, SpecError, default_tigris, joined_sbatch_args
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 PROG = "tigris pipeline-dse"
@@ -226,40 +228,6 @@ def pareto(items):
             continue
         front.append(i)
     return sorted(front, key=lambda i: (items[i][0], items[i][1]))
-
-
-# The Pareto points' names: F1..Fn ("frontier point"). Not DPn: the paper's design points are
-# DP1..DP8 (its DP4 and DP7 are the presets dp4 and dp7); not Pn: the sampled points are P001...
-PARETO = "F"
-OLD_PARETO = re.compile(r"DP(\d+)")   # the names of folders written before the rename
-
-
-def pareto_name(name):
-    """A Pareto point's name as written now: an older folder's "DP3" reads "F3" (a name of
-    today, an empty one, anything else: unchanged)."""
-    m = OLD_PARETO.fullmatch(name) if isinstance(name, str) else None
-    return f"{PARETO}{m.group(1)}" if m else name
-
-
-def pareto_number(name):
-    """3 of "F3" (and of an older "DP3"): the Pareto points' order, by time."""
-    return int(re.sub(r"^\D+", "", pareto_name(name)))
-
-
-def renamed(summary):
-    """A dse.json's summary with its Pareto points under today's names ("dp" of each Pareto
-    point and preset: "DP3" -> "F3"), as a copy; anything not a summary is returned as it is.
-    A Pareto point's "config" is left alone: it is the path of a file on disk."""
-    if not isinstance(summary, dict):
-        return summary
-    out = dict(summary)
-    if isinstance(out.get("dps"), list):
-        out["dps"] = [dict(d, dp=pareto_name(d["dp"])) if isinstance(d, dict) and "dp" in d else d
-                      for d in out["dps"]]
-    if isinstance(out.get("presets"), dict):
-        out["presets"] = {k: dict(p, dp=pareto_name(p["dp"])) if isinstance(p, dict) and "dp" in p else p
-                          for k, p in out["presets"].items()}
-    return out
 
 
 def number_dps(points, fronts):
@@ -521,7 +489,6 @@ def plot(out, points, fronts, dps, title, footer=(), stage_order=None):
 def write_report(out, summary):
     """DIR/REPORT.md: the paper's section-3 claims against this exploration, in the words and
     verdicts of `tigris reproduce`'s report (which adds the same section with --dse DIR)."""
-    from . import report
     lines, claims = report.pipeline_section(summary, out, out, standalone=True)
     held = [c for c in claims if c.direction]
     lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
@@ -531,7 +498,6 @@ def write_report(out, summary):
 
 
 def parse_args(argv):
-    from .tigris_sweep import joined_sbatch_args  # the sweep's own reading of --sbatch-arg
     argv = joined_sbatch_args(argv)
     ap = argparse.ArgumentParser(prog=PROG, description="The paper's section 3: samples the registration "
                                  "pipeline's design space, runs every point as tigris odometry over one sequence "
@@ -677,7 +643,6 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
     if rc not in (0, 1):
         say(f"the sweep stopped (exit {rc}); finished points are kept: rerun the same command to resume")
         return rc
-    from .tigris_sweep import Spec, SpecError  # the sweep's own point ids, so none is guessed
     try:
         ids = [p["id"] for p in Spec(spec_path, tigris).expand()]
     except SpecError as e:

@@ -15,7 +15,10 @@ import math
 import os
 import sys
 
+from . import core
+from . import dse_data
 from . import evaldata as ed
+from . import tigris_sweep as ts
 from . import variants as vt
 from .evaldata import num
 
@@ -949,18 +952,6 @@ def all_claims(sw):
 # ----------------------------------------------------------------------------------------------
 # The pipeline's design space (the paper's section 3), from a `tigris pipeline-dse` folder
 
-def stage_order(dse):
-    """The stages' titles in the pipeline's order, as a pipeline-dse's dse.json gives them: its
-    "stage_order" (the binary's `tigris register --list-stages`), or in a folder written before
-    it had one, the order of the first design point's "stages" (pipeline_dse writes every
-    point's in that order). No copy of the list here: a stage added to the pipeline is reported."""
-    order = dse.get("stage_order")
-    if isinstance(order, list) and all(isinstance(s, str) for s in order):
-        return list(order)
-    dps = dse.get("dps") if isinstance(dse.get("dps"), list) else []
-    return list(next((d["stages"] for d in dps if isinstance(d, dict) and isinstance(d.get("stages"), dict)), {}))
-
-
 def _shares(dp, order):
     total = sum(v for v in dp["stages"].values() if v) or None
     return {s: (dp["stages"].get(s) or 0) / total for s in order} if total else None
@@ -979,8 +970,8 @@ def _own_compute(dp, order):
 
 def claims_pipeline(dse):
     """The paper's section-3 claims against a pipeline-dse's Pareto points (its dse.json), the
-    stages in its order (stage_order)."""
-    order = stage_order(dse)
+    stages in its order (dse_data.stage_order)."""
+    order = dse_data.stage_order(dse)
     dps = [d for d in dse.get("dps", []) if _shares(d, order)]
     how = (f"`tigris pipeline-dse` ({dse.get('sampling')}; {dse.get('points')} points on the {dse.get('sequence')}): "
            "the Pareto points (DP1..DPn) of mean registration seconds per pair against mean relative pose error "
@@ -1067,9 +1058,8 @@ def claims_pipeline(dse):
 def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
     """The section's lines and claims; `standalone`: the report of the exploration's own folder
     (a title of its own, the folder not named). Pareto points are named F1..Fn (an older
-    folder's DP1..DPn read so: pipeline_dse.renamed)."""
-    from . import pipeline_dse
-    dse = pipeline_dse.renamed(dse)
+    folder's DP1..DPn read so: dse_data.renamed)."""
+    dse = dse_data.renamed(dse)
     claims = claims_pipeline(dse)
     rel = lambda f: os.path.relpath(os.path.join(dse_dir, f), fig_rel) if fig_rel else os.path.join(dse_dir, f)  # noqa: E731
     source = f"`{dse.get('command_line')}`" if standalone else f"`{dse_dir}` (`{dse.get('command_line')}`)"
@@ -1078,7 +1068,7 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
          f"From {source}: {dse.get('points')} points, {dse.get('ok')} ok, "
          f"{dse.get('not_converged')} with a pair not converged, {dse.get('failed')} failed; "
          f"{len(dse.get('dps', []))} Pareto points (the paper found 8)"
-         + (f", named {pipeline_dse.PARETO}1..{pipeline_dse.PARETO}{len(dse['dps'])} by time (not the paper's "
+         + (f", named {dse_data.PARETO}1..{dse_data.PARETO}{len(dse['dps'])} by time (not the paper's "
             "DP1..DP8, whose DP4 and DP7 are the presets dp4 and dp7)" if dse.get("dps") else "") + ".", "",
          claim_table(claims).replace("| model.md |", "| paper § |"), "",
          f"![error against time]({rel('fig4.png')})", "", f"![the Pareto points' time]({rel('fig5.png')})", "",
@@ -1087,25 +1077,6 @@ def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
         L.append(f"| {d['dp']} | {d['point']} | {d['seconds_per_pair']:.2f} | {d['rpe_translation_m'] * 1e3:.3f} | "
                  f"{d['rpe_rotation_deg']:.4f} | {pct(d['kdtree_share'] or 0, 0)} |")
     return L + [""], claims
-
-
-def read_dse(path):
-    """A pipeline-dse folder's dse.json, its Pareto points under today's names (an older
-    folder's "DP3" reads "F3": pipeline_dse.renamed); ValueError naming the file when it is not one."""
-    from . import core
-    from . import pipeline_dse
-    f = os.path.join(path, "dse.json")
-    try:
-        dse = core.read_json_input(f)
-    except core.Refused as e:
-        raise ValueError(f"{e} (not a tigris pipeline-dse folder)")
-    if not isinstance(dse, dict) or not isinstance(dse.get("dps"), list):
-        raise ValueError(f"{f}: no \"dps\" list: not written by tigris pipeline-dse")
-    order = dse.get("stage_order", [])
-    if not (isinstance(order, list) and all(isinstance(s, str) for s in order) and len(set(order)) == len(order)):
-        raise ValueError(f"{f}: \"stage_order\" is not a list of distinct stage titles: not written by tigris "
-                         "pipeline-dse")
-    return pipeline_dse.renamed(dse)
 
 
 def md_cell(s):
@@ -1387,7 +1358,6 @@ def own_claims(redundancy, headline, accel_registrations=None):
 
 def variants_section(cols, figures_dir, out, draw, log=ed.note):
     """REPORT.md's robustness section and, when drawing, figures_dir/variants.png."""
-    from . import tigris_sweep as ts
     tig = ts.tigris_at(ts.default_tigris(), "run")
     defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
     rel = None
@@ -1407,7 +1377,7 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
     accounting, every claim's column beside the default's."""
     sw = ed.Sweep(csvs)
     claims = all_claims(sw)
-    dse = (dse_dir, read_dse(dse_dir)) if dse_dir else None
+    dse = (dse_dir, dse_data.read_dse(dse_dir)) if dse_dir else None
     figs = skipped = None
     figures_dir = figures_dir or os.path.join(out, "figures")
     if draw:
@@ -1422,7 +1392,6 @@ def write_report(csvs, out, figures_dir=None, draw=True, title=None, log=ed.note
         v, acsvs, areg = accounting
         paper = (v, {c.cid: c for c in variant_claims(v, acsvs) + own_claims(redundancy, headline, areg)})
     path = os.path.join(out, "REPORT.md")
-    from . import core
     core.atomic_write(path, render(sw, claims, figs, skipped, fig_rel=out, title=title, dse=dse, robust=robust,
                                    command=command, paper=paper))
     log(f"report: wrote {path}")

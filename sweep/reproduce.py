@@ -38,6 +38,10 @@ import signal
 import sys
 
 from . import core
+from . import dse_data
+from . import report
+from . import tigris_sweep as ts
+from . import variants as vt
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 DRIVER = os.path.join(HERE, "tigris_sweep.py")   # the sweep driver, run as python3 -m sweep.tigris_sweep
@@ -220,7 +224,6 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries, omit=()):
     from the default's sweep folder; one in `omit` has no entry (its claims are not measured
     under the variant). DIR/variants/<name>/variant.json records the definition its results
     belong to: a rerun with another definition under that name is refused."""
-    from . import variants as vt
     exps = experiments(quick)
     made = []
     for v in chosen:
@@ -262,7 +265,6 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries, omit=()):
 def accounting_plan(out, plan, defaults, quick, cloud, queries):
     """The paper's accounting's (variant, entries) of variant_plan: its keys are no experiment's
     axis, so it needs no model defaults to apply (`defaults` may be empty)."""
-    from . import variants as vt
     try:
         v = vt.accounting(ACCOUNTING)
     except vt.VariantError as e:
@@ -322,7 +324,6 @@ def parse_args(argv):
     core.role(ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds "
                               "the paper's section-3 claims measured there"), "input")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
-    from . import variants as vt
     try:
         shipped = ", ".join(vt.by_name())
     except vt.VariantError as e:
@@ -394,9 +395,8 @@ def main(argv=None):
     try:
         folder.check_path()
         if a.dse:                                # a typo found now, not after every sweep
-            from . import report
             try:
-                report.read_dse(a.dse)
+                dse_data.read_dse(a.dse)
             except ValueError as e:
                 raise Refused(f"--dse: {e}")
         w = workload(out, a.cloud, a.queries)
@@ -434,8 +434,6 @@ def choose_variants(a):
     """The variants to run ([] without --variants) and the model's defaults they replace."""
     if a.variants is None and not a.variants_file:
         return [], {}
-    from . import variants as vt
-    from . import tigris_sweep as ts
     try:
         tig = ts.tigris_at(a.tigris or ts.default_tigris(), "run")
     except ts.SpecError as e:
@@ -517,7 +515,6 @@ def run(a, out, plan, vplan=(), aplan=None):
     if not csvs:
         print("reproduce: no sweep.csv to report on", file=sys.stderr)
         return 1
-    from . import report
     try:
         import matplotlib  # noqa: F401
         draw = True

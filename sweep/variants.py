@@ -28,6 +28,8 @@ import math
 import os
 import re
 
+from . import core
+
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,62}$")
 DEFAULT = "default"
 VARIANT_FILE = "variant.json"  # in DIR/variants/<name>/: the definition its results belong to
@@ -190,7 +192,6 @@ def load(path, known_experiments, key_info, flag_keys=()):
     key_info: `tigris run --list-config --json`'s entries by key (type, range, values);
     flag_keys: keys the experiments set through a flag (e.g. tree.top_height by --height), which
     a variant may not set too."""
-    from . import core
     try:
         data = core.read_json_input(path, "--variants-file")
     except core.Refused as e:
@@ -595,7 +596,6 @@ def default_footer(columns):
     """The footer of a figure drawn by this process (tigris reproduce, sweep/report.py) from the
     claims it measured: its command line, the commit, the configurations."""
     import sys
-    from . import core
     return core.footer_lines(core.provenance(argv=sys.argv),
                              details=[f"{len(columns)} configurations: {', '.join(c.name for c in columns)}"])
 
@@ -611,7 +611,6 @@ def figure(columns, defaults, path, footer=None):
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch, Rectangle
-    from . import core
     rows = matrix(columns, defaults)
     kinds = VERDICTS
     grid = [[kinds.index(v) for v, _ in cells] for _, _, cells, _, _ in rows]

@@ -11,6 +11,7 @@ import json, os, subprocess
 from common import (main, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, PAPER_TITLES, Workdir, footer_clear, options,
                     read_csv, run_tool, sweep, tool_command, write_spec)
 from sweep import core
+from sweep import dse_data
 from sweep import pipeline_dse as dse
 from sweep import tigris_sweep as ts
 
@@ -56,17 +57,17 @@ def test_pareto():
 
 def test_old_names():
     """A dse.json of an earlier version names its Pareto points DP1..DPn: read as F1..Fn."""
-    assert [dse.pareto_name(n) for n in ("DP2", "DP14", "F2", "", "dp4", "DP", "P002", None)] == \
+    assert [dse_data.pareto_name(n) for n in ("DP2", "DP14", "F2", "", "dp4", "DP", "P002", None)] == \
         ["F2", "F14", "F2", "", "dp4", "DP", "P002", None]
-    assert dse.pareto_number("DP10") == 10 and dse.pareto_number("F3") == 3
+    assert dse_data.pareto_number("DP10") == 10 and dse_data.pareto_number("F3") == 3
     old = {"dps": [{"dp": "DP1", "point": "P011", "config": "/x/pareto/DP1.json"}, {"dp": "DP2", "point": "P013"}],
            "presets": {"dp4": {"dp": "", "status": "ok"}, "dp7": {"dp": "DP2", "status": "ok"}}, "points": 3}
-    new = dse.renamed(old)
+    new = dse_data.renamed(old)
     assert [d["dp"] for d in new["dps"]] == ["F1", "F2"], new
     assert new["dps"][0]["config"] == "/x/pareto/DP1.json"          # a file's path stays what it is
     assert new["presets"]["dp7"]["dp"] == "F2" and new["presets"]["dp4"]["dp"] == "" and new["points"] == 3
     assert old["dps"][0]["dp"] == "DP1", "the reader's copy is renamed, not the caller's"
-    assert dse.renamed(new) == new and dse.renamed(None) is None
+    assert dse_data.renamed(new) == new and dse_data.renamed(None) is None
 
 
 SPACE = [{"key": "a.m", "values": ["x", "y"]},
@@ -154,7 +155,7 @@ def test_figures_footer():
             core.save_figure = real_save
         assert [s_[0] for s_ in saved] == ["fig4.png", "fig5.png"], saved
         # The Pareto points drawn by their names, F1..Fn: no DPn anywhere in either figure.
-        names = sorted(dps.values(), key=dse.pareto_number)
+        names = sorted(dps.values(), key=dse_data.pareto_number)
         assert names == [f"F{k}" for k in range(1, len(names) + 1)] and len(names) >= 2, names
         assert all(t in drawn[1][1] for t in PAPER_TITLES), drawn[1]    # fig5's legend: every stage
         for name, texts in drawn:
@@ -309,7 +310,7 @@ def test_tiny_dse():
         with open(os.path.join(out, "dse.json"), "w") as fh:
             json.dump(old, fh)
         from sweep import report
-        lines, claims = report.pipeline_section(report.read_dse(out), out, out, standalone=True)
+        lines, claims = report.pipeline_section(dse_data.read_dse(out), out, out, standalone=True)
         md = "\n".join(lines)
         assert "| F1 | " in md and "| DP1 |" not in md, md
         os.rename(cfg, os.path.join(out, "pareto", "DP1.json"))

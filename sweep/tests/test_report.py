@@ -10,6 +10,7 @@ import unittest
 
 from common import PAPER_TITLES, run_tool, main
 import plot_fixtures as fx
+from sweep import dse_data
 from sweep import evaldata as ed
 from sweep import report
 from sweep import variants as vt
@@ -436,7 +437,7 @@ class PipelineClaims(unittest.TestCase):
         reported, and the order breaks ties (the first of equal stages is the largest)."""
         tie = (0, 3, 0, 3, 0, 0, 1, 0)                   # normal estimation = descriptor calculation
         dse = self.dse([self.dp("F1", 0.7, tie), self.dp("F2", 0.7, tie)])
-        self.assertEqual(report.stage_order(dse), list(self.STAGES))
+        self.assertEqual(dse_data.stage_order(dse), list(self.STAGES))
         c = {x.cid: x for x in report.claims_pipeline(dse)}
         self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: normal estimation on 2 of 2")
         flipped = dict(dse, stage_order=["descriptor calculation"] + [s for s in self.STAGES
@@ -453,7 +454,7 @@ class PipelineClaims(unittest.TestCase):
         self.assertIn("down-sampling over half the time on every Pareto point", c["pipe_no_dominant"].explanation)
         self.assertIn("the largest of the rest: down-sampling 67%", c["pipe_big3"].explanation)
         # Without stage_order: the first Pareto point's order, which has it first too.
-        self.assertEqual(report.stage_order(self.dse(new))[0], "down-sampling")
+        self.assertEqual(dse_data.stage_order(self.dse(new))[0], "down-sampling")
 
     def test_committed_dse_order(self):
         """The committed exploration (docs/pipeline-dse, written before dse.json had a
@@ -461,9 +462,9 @@ class PipelineClaims(unittest.TestCase):
         d = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs", "pipeline-dse")
         if not os.path.isfile(os.path.join(d, "dse.json")):
             self.skipTest("no docs/pipeline-dse/dse.json")
-        dse = report.read_dse(d)
+        dse = dse_data.read_dse(d)
         self.assertNotIn("stage_order", dse)
-        self.assertEqual(report.stage_order(dse), list(self.STAGES))
+        self.assertEqual(dse_data.stage_order(dse), list(self.STAGES))
 
     def test_old_dse_reads_new_names(self):
         """A dse.json of an earlier pipeline-dse names its Pareto points DP1..DPn: read_dse and the
@@ -477,7 +478,7 @@ class PipelineClaims(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             with open(os.path.join(d, "dse.json"), "w") as f:
                 json.dump(old, f)
-            dse = report.read_dse(d)
+            dse = dse_data.read_dse(d)
             self.assertEqual([x["dp"] for x in dse["dps"]], ["F1", "F2"])
             self.assertEqual(dse["presets"]["dp4"]["dp"], "F1")
             lines, claims = report.pipeline_section(dse, d, d, standalone=True)
@@ -497,15 +498,15 @@ class PipelineClaims(unittest.TestCase):
     def test_bad_dse_folder(self):
         with tempfile.TemporaryDirectory() as d:
             with self.assertRaisesRegex(ValueError, "not a tigris pipeline-dse folder"):
-                report.read_dse(d)
+                dse_data.read_dse(d)
             with open(os.path.join(d, "dse.json"), "w") as f:
                 f.write("{}")
             with self.assertRaisesRegex(ValueError, "no \"dps\" list"):
-                report.read_dse(d)
+                dse_data.read_dse(d)
             with open(os.path.join(d, "dse.json"), "w") as f:
                 f.write('{"dps": [], "stage_order": ["RPCE", 3]}')
             with self.assertRaisesRegex(ValueError, "stage_order"):
-                report.read_dse(d)
+                dse_data.read_dse(d)
 
 
 if __name__ == "__main__":
