@@ -3,6 +3,7 @@ names, old and new, the stages' order, and the one reader (report and reproduce 
 pipeline_dse writes it)."""
 import os
 import re
+from typing import Any
 
 from . import core
 
@@ -12,19 +13,19 @@ PARETO = "F"
 OLD_PARETO = re.compile(r"DP(\d+)")   # the names of folders written before the rename
 
 
-def pareto_name(name):
+def pareto_name(name: Any) -> Any:
     """A Pareto point's name as written now: an older folder's "DP3" reads "F3" (a name of
     today, an empty one, anything else: unchanged)."""
     m = OLD_PARETO.fullmatch(name) if isinstance(name, str) else None
     return f"{PARETO}{m.group(1)}" if m else name
 
 
-def pareto_number(name):
+def pareto_number(name: str) -> int:
     """3 of "F3" (and of an older "DP3"): the Pareto points' order, by time."""
     return int(re.sub(r"^\D+", "", pareto_name(name)))
 
 
-def renamed(summary):
+def renamed(summary: Any) -> Any:
     """A dse.json's summary with its Pareto points under today's names ("dp" of each Pareto
     point and preset: "DP3" -> "F3"), as a copy; anything not a summary is returned as it is.
     A Pareto point's "config" is left alone: it is the path of a file on disk."""
@@ -40,7 +41,7 @@ def renamed(summary):
     return out
 
 
-def stage_order(dse):
+def stage_order(dse: dict[str, Any]) -> list[str]:
     """The stages' titles in the pipeline's order, as a pipeline-dse's dse.json gives them: its
     "stage_order" (the binary's `tigris register --list-stages`), or in a folder written before
     it had one, the order of the first design point's "stages" (pipeline_dse writes every
@@ -52,7 +53,7 @@ def stage_order(dse):
     return list(next((d["stages"] for d in dps if isinstance(d, dict) and isinstance(d.get("stages"), dict)), {}))
 
 
-def read_dse(path):
+def read_dse(path: str) -> dict[str, Any]:
     """A pipeline-dse folder's dse.json, its Pareto points under today's names (an older
     folder's "DP3" reads "F3": renamed); ValueError naming the file when it is not one."""
     f = os.path.join(path, "dse.json")

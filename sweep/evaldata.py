@@ -22,8 +22,13 @@ import math
 import os
 import sys
 
+from typing import Any, Callable, Iterable, Optional
+
 from . import core
 from . import tigris_sweep as ts
+
+Row = dict[str, Any]  # a CSV row: column -> text, plus `_csv`, `_set` and (ok rows) `eff`
+Eff = dict[str, Any]  # a row's effective settings: name -> value (defaults filled in)
 
 # Spec column -> effective name; the model's defaults of these, asked of the tigris binary, are
 # DEFAULTS below.
@@ -112,15 +117,15 @@ CONFIG_BLOCKS = {"clock_mhz", "tree", "fe", "be", "leader", "node_cache", "sram"
                  "dram", "stall", "cost", "energy", "area"}
 
 
-def note(msg):
+def note(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def is_empty(v):
+def is_empty(v: Any) -> bool:
     return v is None or (isinstance(v, str) and v.strip().lower() in ("", "none", "null", "nan"))
 
 
-def num(row, col):
+def num(row: Row, col: str) -> Optional[float]:
     """A float from a row's column, None when missing, empty or not a number."""
     v = row.get(col)
     if is_empty(v):
@@ -132,7 +137,7 @@ def num(row, col):
     return None if math.isnan(f) else f
 
 
-def parse_bool(v):
+def parse_bool(v: Any) -> bool:
     s = str(v).strip().lower()
     if s in ("true", "1", "yes", "on"):
         return True
@@ -141,19 +146,19 @@ def parse_bool(v):
     raise ValueError(f"not a boolean: {v!r}")
 
 
-def parse_height(v):
+def parse_height(v: Any) -> int | str:
     s = str(v).strip().lower()
     if s in ("full", "-1", "-1.0"):
         return CANONICAL
     return int(float(s))
 
 
-def parse_number(v):
+def parse_number(v: Any) -> int | float:
     f = float(v)
     return int(f) if f.is_integer() else f
 
 
-def _approx(v, mode, radius):
+def _approx(v: Any, mode: str, radius: Optional[float]) -> Optional[float]:
     s = str(v).strip().lower()
     if s in ("exact", "false", "off"):
         return None
@@ -162,7 +167,7 @@ def _approx(v, mode, radius):
     return float(s)
 
 
-def setting_positions(path, cols):
+def setting_positions(path: str, cols: list[str]) -> set[int]:
     """Indexes of a CSV's setting columns: `point` and the swept keys before `status`; the base
     settings (cloud, queries, mode, base keys), which tigris_sweep.py writes after
     `wall_seconds`, named by the sweep.json beside the CSV, or else the columns right after
@@ -194,7 +199,7 @@ class Sweep:
     """Rows of one or more sweep CSVs. rows: every row (dicts of strings, plus `_csv`), ok: the
     rows with status ok, deduplicated, each with `eff`; setting_columns: the settings named."""
 
-    def __init__(self, paths, assume=None):
+    def __init__(self, paths: Iterable[str], assume: Optional[dict[str, str]] = None) -> None:
         """assume: setting column -> value for rows whose CSV lacks that column (a design
         variant's keys, on the default's rows of experiments the variant leaves alone)."""
         self.paths = list(paths)
@@ -256,10 +261,10 @@ class Sweep:
             seen.add(key)
             self.ok.append(r)
 
-    def has_column(self, col):
+    def has_column(self, col: str) -> bool:
         return col in self.columns or col in self.setting_columns
 
-    def effective(self, row):
+    def effective(self, row: Row) -> Eff:
         eff = dict(DEFAULTS)
         raw = {}
         settings = row["_set"]
@@ -306,10 +311,10 @@ class Sweep:
         return eff
 
     @staticmethod
-    def key(eff):
+    def key(eff: Eff) -> tuple[tuple[str, str], ...]:
         return tuple(sorted((k, repr(v)) for k, v in eff.items()))
 
-    def workloads(self):
+    def workloads(self) -> list[tuple[str, str]]:
         if self.ok:
             return sorted({(r["eff"]["cloud"], r["eff"]["queries"]) for r in self.ok})
         # No ok row (every point failed, or its figures are not numbers): the CSV's own settings.
@@ -318,7 +323,7 @@ class Sweep:
                         "" if raw(r, "queries") == "synthetic" else raw(r, "queries")) for r in self.rows})
 
 
-def workload_text(sw):
+def workload_text(sw: Sweep) -> str:
     """What a sweep ran on, for figure titles: its workloads and the settings every row shares."""
     names = []
     for cloud, queries in sw.workloads() or [("", "")]:
@@ -337,7 +342,7 @@ def workload_text(sw):
     return "; ".join(names) + (" | " + ", ".join(fixed) if fixed else "")
 
 
-def default_value(name, eff):
+def default_value(name: str, eff: Eff) -> Any:
     """The default of an effective setting, given the row's mode."""
     if name == "radius":
         return DEFAULTS.radius if eff.get("mode") == "radius" else None
@@ -346,11 +351,12 @@ def default_value(name, eff):
     return DEFAULTS.get(name, "")
 
 
-def n_default(eff):
+def n_default(eff: Eff) -> int:
     return sum(1 for k, v in eff.items() if v == default_value(k, eff))
 
 
-def select(rows, axes, where=None):
+def select(rows: Iterable[Row], axes: Iterable[str],
+           where: Optional[Callable[[Eff], bool]] = None) -> tuple[list[Row], str]:
     """The rows that vary only along `axes`: rows are grouped by their other effective settings
     and the largest group wins (ties: the group closer to the defaults). `where(eff)` filters
     first. Returns (rows, note) where note says what was left out."""
@@ -372,7 +378,7 @@ def select(rows, axes, where=None):
     return best, msg
 
 
-def find(rows, **want):
+def find(rows: Iterable[Row], **want: Any) -> Optional[Row]:
     """The row whose effective settings are the defaults except `want` (keys: effective names;
     radius/k follow the mode). Other setting columns must be empty, unless they hold one value
     in all `rows` (a base key of the sweeps; so do cloud and queries). None when absent."""
@@ -399,7 +405,7 @@ def find(rows, **want):
     return None
 
 
-def nodes_per_query(row):
+def nodes_per_query(row: Row) -> Optional[float]:
     """Nodes visited per query: top-tree nodes + leaf-set points + follower points + leader
     checks (every distance computation; `visits.per_query.nodes.mean`)."""
     v = num(row, "visits.per_query.nodes.mean")
@@ -413,7 +419,7 @@ def nodes_per_query(row):
     return sum(parts) / q
 
 
-def buffer_traffic(row, columns):
+def buffer_traffic(row: Row, columns: Iterable[str]) -> dict[str, float]:
     """On-chip memory traffic in bytes by buffer: read + write bytes of every `buffers.<b>`
     (the Node Cache: read + fill bytes), DRAM excluded. Buffers found from the column names."""
     out = {}
@@ -432,7 +438,7 @@ BUFFER_LABELS = {"points": "Point Buffer", "node_cache": "Node Cache", "queries"
                  "leader_buffer": "Leader Buffer"}
 
 
-def search_label(eff):
+def search_label(eff: Eff) -> str:
     if eff["mode"] == "radius":
         return f"radius {eff['radius']:.2f} m"
     if eff["mode"] == "knn":
@@ -440,11 +446,11 @@ def search_label(eff):
     return "NN"
 
 
-def fmt_bytes(b):
+def fmt_bytes(b: float) -> str:
     return f"{b / 1e6:,.1f} MB"
 
 
-def bound_facts(row):
+def bound_facts(row: Row) -> str:
     """What bounds a run: the `bottleneck.summary` the model wrote into its stats.json (the one
     classification, testbench/bottleneck.cpp); points of an older tigris lack it."""
     text = row.get("bottleneck.summary")
