@@ -17,6 +17,7 @@ interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM; finished points kept).
 import argparse, csv, datetime, difflib, hashlib, io, itertools, json, math, os, re, shlex
 import shutil, signal, socket, subprocess, sys, tempfile, time
 from decimal import Decimal
+from typing import Any, Callable
 
 from . import core
 
@@ -186,12 +187,12 @@ def typed(text):
 # ----------------------------------------------------------------------------------------------
 # The tigris binary: its run flags and configuration keys, with their defaults
 
-def is_preset_name(v):
+def is_preset_name(v: str) -> bool:
     """A configuration value naming a preset, as tigris reads it: no '/' and no .json ending."""
     return "/" not in v and not v.endswith(".json")
 
 
-def default_tigris():
+def default_tigris() -> str:
     """$TIGRIS (the binary that started this tool), else the binary of the prefix or build tree
     this package sits in (PREFIX/share/tigris/sweep -> PREFIX/bin/tigris), else the source
     tree's build/bin/tigris."""
@@ -204,7 +205,7 @@ def default_tigris():
     return os.path.join(repo, "build", "bin", "tigris")
 
 
-def tigris_at(path, command="run", _seen={}):
+def tigris_at(path: str, command: str = "run", _seen: dict = {}) -> "Tigris":
     """The Tigris of a binary and sub-command, asked once per process (the spec fuzz test
     validates thousands)."""
     key = (os.path.abspath(path), command)
@@ -217,7 +218,7 @@ class Tigris:
     """A tigris binary's flags and configuration keys for one sub-command, as the binary lists
     them for tools (`tigris COMMAND --list-flags`, `tigris COMMAND --list-config --json`), so the
     sweep never carries a copy of them."""
-    def __init__(self, path, command=COMMANDS["run"]):
+    def __init__(self, path: str, command: "Command" = COMMANDS["run"]) -> None:
         self.path, self.command = os.path.abspath(path), command
         self._headline = None                    # the headline columns, when first asked (headline)
         if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
@@ -241,7 +242,7 @@ class Tigris:
                             "and `--list-config --json` gave no flags or keys")
 
     @property
-    def headline(self):
+    def headline(self) -> list[str]:
         """sweep.csv's headline columns for this command: a registration's per-stage columns
         for the pipeline's stages as this binary lists them (`tigris register --list-stages`,
         core.pipeline_stages), asked when first needed: before a sweep runs its points (a binary
@@ -251,7 +252,7 @@ class Tigris:
             self._headline = self.command.headline_of(stages)
         return self._headline
 
-    def preset_file(self, name, error):
+    def preset_file(self, name: str, error: Callable[[str], Exception]) -> str:
         """The file of the binary's preset `name` (`tigris presets --json`); error(msg) when
         there is none."""
         if not hasattr(self, "_presets"):
@@ -262,7 +263,7 @@ class Tigris:
                         f"; presets: {', '.join(sorted(self._presets))}; a file needs a '/' or a .json name")
         return self._presets[name]
 
-    def _ask_json(self, sub, *flags):
+    def _ask_json(self, sub: str, *flags: str) -> Any:
         text = self._ask(sub, *flags)
         try:
             return json.loads(text)
@@ -270,7 +271,7 @@ class Tigris:
             raise SpecError(f"{self.path} {sub} {' '.join(flags)} did not print JSON ({e}): is it tigris "
                             "of this source tree?")
 
-    def _ask(self, sub, *flags):
+    def _ask(self, sub: str, *flags: str) -> str:
         what = " ".join(flags)
         try:
             p = core.capture([self.path, sub, *flags], timeout=60)
@@ -285,7 +286,9 @@ class Tigris:
 # The spec: {"base": {...}, "grid": {key: [values]}, "points": [{...}]}
 
 class Spec:
-    def __init__(self, path, tigris_path):
+    """A sweep spec read and checked against the binary: its base, grid and points, each key
+    canonical and each value typed as the binary takes it (errors name the spec's location)."""
+    def __init__(self, path: str, tigris_path: str) -> None:
         self.given, self.path = path, os.path.abspath(path)
         self.dir = os.path.dirname(self.path)
         self.names = {}                          # canonical key -> spelling in the spec
@@ -447,7 +450,7 @@ class Spec:
             out[canon] = self._value(canon, v, kloc)
         return out
 
-    def args(self, params):
+    def args(self, params: dict[str, Any]) -> list[str]:
         """tigris arguments of a point: flags, then --set, each sorted (stable for resume)."""
         a = []
         for k in sorted(k for k in params if k in self.tig.flags):
@@ -462,7 +465,7 @@ class Spec:
             a += ["--set", f"{k}={cli_value(params[k])}"]
         return a
 
-    def expand(self):
+    def expand(self) -> list[dict[str, Any]]:
         """Every point in a stable order: the grid's cross product (first key outermost), then
         `points`; each over base. A point repeating an earlier one is dropped."""
         own = [dict(zip(self.grid, combo)) for combo in itertools.product(*self.grid.values())] \
