@@ -2,27 +2,26 @@
 """Sampled simulation from the command line (docs/sampling.md): a sampled run against the full
 run of the same job, what auto declines and why, what refuses sampling, and what reports say.
 
-    tests/sampling_test.py --tigris build/bin/tigris
+    python3 -m pytest tests/sampling_test.py --tigris build/bin/tigris
 """
-import argparse
 import json
 import os
 import subprocess
 import sys
-import tempfile
 
-FAILS = []
+import pytest
+
+# 315 kNN k=51 slots in flight: the built-in job (115,110 queries) is long enough to sample.
+SMALL = ["--mode", "knn", "--k", "51", "--set", "sram.results.bytes=262144"]
 
 
 def check(ok, what):
-    if not ok:
-        FAILS.append(what)
-        print("FAIL: " + what)
+    assert ok, what
 
 
 def run(tig, out, *args, code=0):
     p = subprocess.run([tig, "run", "--out", out, *args], capture_output=True, text=True)
-    check(p.returncode == code, f"tigris run {' '.join(args)}: exit {p.returncode}, wanted {code}\n{p.stderr[-800:]}")
+    assert p.returncode == code, f"tigris run {' '.join(args)}: exit {p.returncode}, wanted {code}\n{p.stderr[-800:]}"
     stats = None
     if code == 0 and os.path.exists(os.path.join(out, "stats.json")):
         with open(os.path.join(out, "stats.json")) as f:
@@ -30,17 +29,16 @@ def run(tig, out, *args, code=0):
     return p, stats
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    tig = ap.parse_args().tigris
-    d = tempfile.mkdtemp(prefix="sampling-test-")
-    # 315 kNN k=51 slots in flight: the built-in job (115,110 queries) is long enough to sample.
-    small = ["--mode", "knn", "--k", "51", "--set", "sram.results.bytes=262144"]
+@pytest.fixture(scope="module")
+def d(tmp_path_factory):
+    return str(tmp_path_factory.mktemp("sampling"))
 
-    print("== a sampled run against the full run")
-    _, full = run(tig, os.path.join(d, "full"), *small, "--dump-results", os.path.join(d, "full.csv"))
-    p, samp = run(tig, os.path.join(d, "samp"), *small, "--set", "sim.sampling=auto",
+
+def test_sampled_against_full(tigris, d):
+    """A sampled run against the full run."""
+    tig = tigris
+    _, full = run(tig, os.path.join(d, "full"), *SMALL, "--dump-results", os.path.join(d, "full.csv"))
+    p, samp = run(tig, os.path.join(d, "samp"), *SMALL, "--set", "sim.sampling=auto",
                   "--dump-results", os.path.join(d, "samp.csv"))
     sm = samp["sampling"]
     check(full["sampling"] == {"requested": "off", "sampled": False, "why": "sim.sampling is off",
@@ -66,7 +64,10 @@ def main():
     check("  sampled " in p.stdout and "estimates" in p.stdout and "cycles  ~" in p.stdout,
           "the summary says the figures are estimates:\n" + p.stdout)
 
-    print("== what auto simulates in full, and why")
+
+def test_auto_simulates_in_full(tigris, d):
+    """What auto simulates in full, and why."""
+    tig = tigris
     _, paper = run(tig, os.path.join(d, "paper"), "--mode", "nn", "--set", "sim.sampling=auto")
     check(not paper["sampling"]["sampled"] and "too short to sample" in paper["sampling"]["why"],
           "the paper's machine holds 15,728 queries in flight: too short: " + paper["sampling"]["why"])
@@ -76,14 +77,17 @@ def main():
           "approximate search is simulated in full: " + approx["sampling"]["why"])
     check("sampled no: approximate search" in p.stdout, "the summary says why:\n" + p.stdout)
 
-    print("== what refuses sampling, and bad values")
-    p, _ = run(tig, os.path.join(d, "vcd"), *small, "--set", "sim.sampling=auto", "--vcd",
+
+def test_refusals_and_bad_values(tigris, d):
+    """What refuses sampling, and bad values."""
+    tig = tigris
+    p, _ = run(tig, os.path.join(d, "vcd"), *SMALL, "--set", "sim.sampling=auto", "--vcd",
                os.path.join(d, "w.vcd"), code=2)
     check("sim.sampling=off" in p.stderr, "waveforms need every query: " + p.stderr)
-    p, _ = run(tig, os.path.join(d, "tl"), *small, "--set", "sim.sampling=0.2", "--timeline",
+    p, _ = run(tig, os.path.join(d, "tl"), *SMALL, "--set", "sim.sampling=0.2", "--timeline",
                os.path.join(d, "t.json"), code=2)
     check("sim.sampling=off" in p.stderr, "a timeline needs every query: " + p.stderr)
-    p, _ = run(tig, os.path.join(d, "sch"), *small, "--set", "sim.sampling=0.2", "--dump-schedule",
+    p, _ = run(tig, os.path.join(d, "sch"), *SMALL, "--set", "sim.sampling=0.2", "--dump-schedule",
                os.path.join(d, "s.csv"), code=2)
     check("sim.sampling=off" in p.stderr and not os.path.exists(os.path.join(d, "s.csv")),
           "a schedule needs every query (issue 54: it was written with a fifth of the rows): " + p.stderr)
@@ -91,19 +95,22 @@ def main():
         p, _ = run(tig, os.path.join(d, "bad"), "--set", bad, code=2)
         check(bad.split("=")[0] in p.stderr, f"--set {bad} names the key: {p.stderr}")
 
-    print("== a share")
-    _, share = run(tig, os.path.join(d, "share"), *small, "--set", "sim.sampling=0.2")
+
+def test_a_share(tigris, d):
+    """A share."""
+    tig = tigris
+    _, share = run(tig, os.path.join(d, "share"), *SMALL, "--set", "sim.sampling=0.2")
     check(share["sampling"]["sampled"] and abs(share["sampling"]["simulated"] - 0.2 * share["queries"]) < 50,
           f"sim.sampling=0.2 simulates a fifth: {share['sampling']['simulated']} of {share['queries']}")
 
-    print("== without warming: a window's end is the next one's start")
-    _, cold = run(tig, os.path.join(d, "cold"), *small, "--set", "sim.sampling=auto", "--set", "sim.warm_queries=0")
+
+def test_without_warming(tigris, d):
+    """Without warming: a window's end is the next one's start."""
+    tig = tigris
+    _, cold = run(tig, os.path.join(d, "cold"), *SMALL, "--set", "sim.sampling=auto", "--set", "sim.warm_queries=0")
     check(cold["sampling"]["sampled"] and cold["sampling"]["warm_per_window"] == 0 and cold["verdict"] == "match",
           f"sim.warm_queries=0 samples: {cold['sampling']}")
 
-    print(f"{len(FAILS)} failure(s)")
-    sys.exit(1 if FAILS else 0)
-
 
 if __name__ == "__main__":
-    main()
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))
