@@ -1,8 +1,9 @@
 """pytest's configuration for the project's Python tests (docs/testing.md).
 
 The binary under test is an option and a fixture: `--tigris PATH` (default $TIGRIS, else
-build/bin/tigris of this tree), `--keep` keeps the tests' temporary folders. A run whose every
-test was skipped (no Slurm cluster, say) exits 77, which ctest reports as skipped.
+build/bin/tigris of this tree). `--keep` keeps the tests' temporary folders, `--record` rewrites
+the recordings a test compares against. A run whose every test was skipped (no Slurm cluster,
+say) exits 77, which ctest reports as skipped.
 """
 import os
 import types
@@ -17,6 +18,8 @@ def pytest_addoption(parser):
     parser.addoption("--tigris", default=os.environ.get("TIGRIS") or os.path.join(ROOT, "build", "bin", "tigris"),
                      help="the tigris binary under test (default: $TIGRIS, else build/bin/tigris)")
     parser.addoption("--keep", action="store_true", help="keep the tests' temporary folders")
+    parser.addoption("--record", action="store_true",
+                     help="rewrite the recordings a test compares against (tests/stats_files/) from this binary")
 
 
 @pytest.fixture(scope="session")

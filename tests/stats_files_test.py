@@ -6,13 +6,13 @@ for host speed (docs/performance.md) cannot move any figure unnoticed. Wall time
 the command line (paths) are removed; a timeline or VCD is compared by the SHA-256 of its body
 without its header (which names the command and the commit).
 
-    tests/stats_files_test.py --tigris build/bin/tigris
-    tests/stats_files_test.py --tigris build/bin/tigris --record   (rewrites tests/stats_files/)
+    python3 -m pytest tests/stats_files_test.py --tigris build/bin/tigris
+    python3 -m pytest tests/stats_files_test.py --tigris build/bin/tigris --record
+        (rewrites tests/stats_files/ from this binary)
 
 The clouds are written here, from a fixed generator: a street of ground, two walls and scattered
 clutter (12,000 points), searched with 3,000 points of the same street moved 0.4 m and turned.
 """
-import argparse
 import hashlib
 import json
 import math
@@ -20,7 +20,8 @@ import os
 import struct
 import subprocess
 import sys
-import tempfile
+
+import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RECORDED = os.path.join(HERE, "stats_files")
@@ -79,8 +80,7 @@ def digest_body(path, header_end):
     with open(path, "rb") as f:
         data = f.read()
     at = data.find(header_end)
-    if at < 0:
-        sys.exit(f"{path}: no {header_end!r} line")
+    assert at >= 0, f"{path}: no {header_end!r} line"
     return hashlib.sha256(data[at:]).hexdigest()
 
 
@@ -123,54 +123,42 @@ def first_difference(a, b, path=""):
     return None if a == b else f"{path}: recorded {json.dumps(a)}, now {json.dumps(b)}"
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    ap.add_argument("--record", action="store_true", help="rewrite tests/stats_files/ from this binary")
-    a = ap.parse_args()
-    d = tempfile.mkdtemp(prefix="stats-files-")
-    tigris = os.path.abspath(a.tigris)
-    os.chdir(d)  # relative paths: stats.json records the inputs' paths
-    write_bin("cloud.bin", street(12000, 1, 0.0, 0.0))
-    write_bin("queries.bin", street(3000, 2, 0.4, 1.0))
-    fails = []
-    for name, flags in RUNS.items():
-        waves = "+waves" in flags
-        flags = [f for f in flags if f != "+waves"]
-        out = name
-        cmd = [tigris, "run", "--cloud", "cloud.bin", "--queries", "queries.bin", "--out", out, *flags]
-        if waves:
-            cmd += ["--timeline", name + ".trace.json", "--vcd", name + ".vcd"]
-        p = subprocess.run(cmd, capture_output=True, text=True)
-        if p.returncode != 0:
-            fails.append(f"{name}: exit {p.returncode}\n{p.stderr[-1500:]}")
-            continue
-        with open(os.path.join(out, "stats.json")) as f:
-            now = {"stats": strip(json.load(f))}
-        if waves:
-            now["timeline_sha256"] = timeline_digest(name + ".trace.json")
-            now["vcd_sha256"] = digest_body(name + ".vcd", b"$timescale")
-        path = os.path.join(RECORDED, name + ".json")
-        if a.record:
-            os.makedirs(RECORDED, exist_ok=True)
-            with open(path, "w") as f:
-                json.dump(now, f, indent=1, sort_keys=True)
-                f.write("\n")
-            print(f"recorded {path}")
-            continue
-        with open(path) as f:
-            recorded = json.load(f)
-        diff = first_difference(recorded, now)
-        if diff:
-            fails.append(f"{name} ({' '.join(flags)}): {diff}")
-        else:
-            print(f"ok   {name}")
-    for f in fails:
-        print("FAIL " + f)
-    if fails:
-        sys.exit(1)
-    print(f"{len(RUNS)} runs: every stats.json figure, timeline and waveform as recorded")
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    """The clouds every run searches; the runs use relative paths (stats.json records them)."""
+    d = str(tmp_path_factory.mktemp("stats-files"))
+    write_bin(os.path.join(d, "cloud.bin"), street(12000, 1, 0.0, 0.0))
+    write_bin(os.path.join(d, "queries.bin"), street(3000, 2, 0.4, 1.0))
+    return d
+
+
+@pytest.mark.parametrize("name", list(RUNS))
+def test_stats_file(tigris, workdir, name, pytestconfig):
+    """Every stats.json figure (and the timeline and waveforms) of run `name` as recorded."""
+    flags = [f for f in RUNS[name] if f != "+waves"]
+    waves = "+waves" in RUNS[name]
+    cmd = [tigris, "run", "--cloud", "cloud.bin", "--queries", "queries.bin", "--out", name, *flags]
+    if waves:
+        cmd += ["--timeline", name + ".trace.json", "--vcd", name + ".vcd"]
+    p = subprocess.run(cmd, capture_output=True, text=True, cwd=workdir)
+    assert p.returncode == 0, f"{name}: exit {p.returncode}\n{p.stderr[-1500:]}"
+    with open(os.path.join(workdir, name, "stats.json")) as f:
+        now = {"stats": strip(json.load(f))}
+    if waves:
+        now["timeline_sha256"] = timeline_digest(os.path.join(workdir, name + ".trace.json"))
+        now["vcd_sha256"] = digest_body(os.path.join(workdir, name + ".vcd"), b"$timescale")
+    path = os.path.join(RECORDED, name + ".json")
+    if pytestconfig.getoption("record"):
+        os.makedirs(RECORDED, exist_ok=True)
+        with open(path, "w") as f:
+            json.dump(now, f, indent=1, sort_keys=True)
+            f.write("\n")
+        return
+    with open(path) as f:
+        recorded = json.load(f)
+    diff = first_difference(recorded, now)
+    assert not diff, f"{name} ({' '.join(flags)}): {diff}"
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))
