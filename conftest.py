@@ -6,11 +6,14 @@ the recordings a test compares against. A run whose every test was skipped (no S
 say) exits 77, which ctest reports as skipped.
 """
 import os
+import subprocess
+import time
 import types
 
 import pytest
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
+LOCAL_SLURM = os.path.join(ROOT, "scripts", "local_slurm.sh")
 SKIPPED_ALL = 77  # ctest's SKIP_RETURN_CODE for these tests
 
 
@@ -35,6 +38,32 @@ def tigris(pytestconfig):
 def a(pytestconfig, tigris):
     """The run's options as the tests' helpers take them: a.tigris, a.keep."""
     return types.SimpleNamespace(tigris=tigris, keep=pytestconfig.getoption("keep"))
+
+
+@pytest.fixture(scope="module")
+def slurm_cluster(tmp_path_factory):
+    """(environment with SLURM_CONF, folder) of a one-node Slurm cluster (scripts/local_slurm.sh),
+    stopped by PID at the end. Its tests skip with the reason when it cannot start (no root or
+    sudo, no packages), unless TIGRIS_REQUIRE_SLURM=1."""
+    d = str(tmp_path_factory.mktemp("slurm"))
+    cluster = os.path.join(d, "cluster")
+    t0 = time.monotonic()
+    p = subprocess.run([LOCAL_SLURM, "start", cluster], capture_output=True, text=True, timeout=600)
+    if p.returncode != 0 or not p.stdout.startswith("export SLURM_CONF="):
+        reason = (p.stderr.strip().splitlines() or ["no message"])[-1]
+        msg = f"local Slurm cluster did not start (exit {p.returncode}): {reason}"
+        subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True)
+        if os.environ.get("TIGRIS_REQUIRE_SLURM") == "1":
+            pytest.fail(f"{msg}\n{p.stderr}")
+        print(p.stderr[-3000:])
+        pytest.skip(msg)
+    print(f"cluster up in {time.monotonic() - t0:.1f} s", flush=True)
+    try:
+        yield dict(os.environ, SLURM_CONF=p.stdout.strip().split("=", 1)[1]), d
+    finally:
+        s = subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True, timeout=120)
+        print(s.stderr.strip())
+        assert s.returncode == 0 and not os.path.exists(os.path.join(cluster, "pids")), s.stderr
 
 
 def pytest_configure(config):

@@ -5,11 +5,9 @@ aside; --no-wait returns at once and `collect` gathers the finished array; sbatc
 shown. Skips (exit 77) with the reason when the cluster cannot start (not root and no sudo, no
 packages), unless TIGRIS_REQUIRE_SLURM=1. The cluster is stopped by PID whatever happens."""
 import os, subprocess, time
-import pytest
-from common import Workdir, main, options, read_csv, small_workload, sweep, tool_command, write_spec
+from common import main, options, read_csv, small_workload, sweep, tool_command, write_spec
 
 a = options()
-LOCAL_SLURM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "local_slurm.sh")
 SPEC = {"base": {"cloud": "cloud.bin", "queries": "queries.bin", "set": {"be.issue_policy": "mqmn"}},
         "grid": {"fe.recursion_units": [16, 64], "height": [6, 8]},
         "points": [{"mode": "radius", "radius": 0.8}, {"height": 14}]}    # height 14: an error row
@@ -88,37 +86,12 @@ def dse_slurm_vs_local(env, d):
     assert len(rows["local"]) == len(rows["array"]) == 3
 
 
-@pytest.fixture(scope="module")
-def cluster():
-    """(environment with SLURM_CONF, folder) of a one-node cluster, stopped by PID at the end;
-    the tests skip with the reason when it cannot start (unless TIGRIS_REQUIRE_SLURM=1)."""
-    with Workdir(a, "slurm") as d:
-        cluster = os.path.join(d, "cluster")
-        t0 = time.monotonic()
-        p = subprocess.run([LOCAL_SLURM, "start", cluster], capture_output=True, text=True, timeout=600)
-        if p.returncode != 0 or not p.stdout.startswith("export SLURM_CONF="):
-            reason = (p.stderr.strip().splitlines() or ["no message"])[-1]
-            msg = f"local Slurm cluster did not start (exit {p.returncode}): {reason}"
-            subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True)
-            if os.environ.get("TIGRIS_REQUIRE_SLURM") == "1":
-                pytest.fail(f"{msg}\n{p.stderr}")
-            print(p.stderr[-3000:])
-            pytest.skip(msg)
-        print(f"cluster up in {time.monotonic() - t0:.1f} s", flush=True)
-        try:
-            yield dict(os.environ, SLURM_CONF=p.stdout.strip().split("=", 1)[1]), d
-        finally:
-            s = subprocess.run([LOCAL_SLURM, "stop", cluster], capture_output=True, text=True, timeout=120)
-            print(s.stderr.strip())
-            assert s.returncode == 0 and not os.path.exists(os.path.join(cluster, "pids")), s.stderr
+def test_slurm_vs_local(slurm_cluster):
+    slurm_vs_local(*slurm_cluster)
 
 
-def test_slurm_vs_local(cluster):
-    slurm_vs_local(*cluster)
-
-
-def test_pipeline_dse_slurm_vs_local(cluster):
-    dse_slurm_vs_local(*cluster)
+def test_pipeline_dse_slurm_vs_local(slurm_cluster):
+    dse_slurm_vs_local(*slurm_cluster)
 
 
 if __name__ == "__main__":
