@@ -8,7 +8,6 @@ say) exits 77, which ctest reports as skipped.
 import os
 import subprocess
 import time
-import types
 
 import pytest
 
@@ -32,12 +31,6 @@ def tigris(pytestconfig):
     if not os.access(path, os.X_OK):
         pytest.exit(f"no tigris binary at {path} (give --tigris)", returncode=2)
     return path
-
-
-@pytest.fixture(scope="session")
-def a(pytestconfig, tigris):
-    """The run's options as the tests' helpers take them: a.tigris, a.keep."""
-    return types.SimpleNamespace(tigris=tigris, keep=pytestconfig.getoption("keep"))
 
 
 @pytest.fixture(scope="module")

@@ -1,48 +1,25 @@
 #include "odometry_command.hpp"
 #include "command.hpp"
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cerrno>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <map>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
-#include <tuple>
 #include <utility>
 
-#include <Eigen/LU>
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
-#include "core/child_batch.hpp"
 #include "core/children.hpp"
-#include "core/flag_values.hpp"
-#include "core/json_file.hpp"
+#include "core/digest.hpp"
 #include "core/out_folder.hpp"
 #include "core/slurm_array.hpp"
-#include "core/timer.hpp"
 #include "options.hpp"
 #include "python_tools.hpp"
-#include "registration/odometry_metrics.hpp"
 #include "registration/odometry_run.hpp"
-#include "registration/report.hpp"
 #include "registration/search_backends.hpp"
 #include "synth_command.hpp"
 #include "testbench/presets.hpp"
-#include "testbench/report.hpp"
-#include "testbench/run_inputs.hpp"
-#include "workloads/kitti_sequence.hpp"
-#include "workloads/pose.hpp"
 
 namespace tigris {
 namespace {

@@ -1,19 +1,16 @@
 #include "register_command.hpp"
 #include "command.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <optional>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
 #include "core/arg_checks.hpp"
-#include "core/flag_values.hpp"
+#include "core/digest.hpp"
+#include "core/out_folder.hpp"
 #include "options.hpp"
-#include "registration/pipeline.hpp"
 #include "registration/pipeline_flags.hpp"
 #include "registration/register_run.hpp"
 #include "registration/report.hpp"
@@ -22,11 +19,8 @@
 #include "testbench/accel_in_loop.hpp"
 #include "testbench/config.hpp"
 #include "testbench/presets.hpp"
-#include "testbench/report.hpp"
-#include "testbench/run_inputs.hpp"
 #include "testbench/sampling.hpp"
 #include "testbench/simulation.hpp"
-#include "traces/workload_trace.hpp"
 #include "workloads/frame_pair.hpp"
 
 namespace tigris {

@@ -1,33 +1,21 @@
 #include "run_command.hpp"
 #include "command.hpp"
 
-#include <chrono>
 #include <cstdio>
-#include <exception>
 #include <iostream>
 #include <optional>
-#include <thread>
 
 #include "core/arg_checks.hpp"
+#include "core/out_folder.hpp"
 #include "core/progress.hpp"
-#include "core/timer.hpp"
-#include "hw/job.hpp"
-#include "hw/mem/result_slots.hpp"
 #include "testbench/accel_job.hpp"
-#include "testbench/bottleneck.hpp"
 #include "testbench/config.hpp"
 #include "testbench/presets.hpp"
-#include "testbench/report.hpp"
 #include "testbench/run_inputs.hpp"
 #include "testbench/run_record.hpp"
-#include "testbench/run_report.hpp"
-#include "testbench/sampling.hpp"
-#include "testbench/scoreboard.hpp"
 #include "testbench/simulation.hpp"
-#include "testbench/stat_formulas.hpp"
 #include "testbench/stats_schema.hpp"
 #include "testbench/timeline.hpp"
-#include "tlm/tree_image.hpp"
 #include "trace_replay.hpp"
 #include "traces/schedule_csv.hpp"
 #include "workloads/workload.hpp"
