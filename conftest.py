@@ -5,8 +5,10 @@ build/bin/tigris of this tree). `--keep` keeps the tests' temporary folders, `--
 the recordings a test compares against. A run whose every test was skipped (no Slurm cluster,
 say) exits 77, which ctest reports as skipped.
 """
+import importlib.util
 import os
 import subprocess
+import sys
 import time
 
 import pytest
@@ -60,8 +62,16 @@ def slurm_cluster(tmp_path_factory):
 
 
 def pytest_configure(config):
-    # The sweep tests' helpers (sweep/tests/common.py) read the options from here.
-    os.environ["TIGRIS_TEST_BINARY"] = os.path.abspath(config.getoption("tigris"))
+    # The package tigris the tests import: the one on PYTHONPATH (an install under test), else
+    # the build tree's of the binary under test (it has the extension), else the source's (the
+    # tools need none).
+    binary = os.path.abspath(config.getoption("tigris"))
+    built = os.path.join(os.path.dirname(os.path.dirname(binary)), "python")
+    if importlib.util.find_spec("tigris") is None:
+        sys.path.insert(0, built if os.path.isfile(os.path.join(built, "tigris", "__main__.py"))
+                        else os.path.join(ROOT, "python"))
+    # The Python tests' helpers (python/tests/common.py) read the options from here.
+    os.environ["TIGRIS_TEST_BINARY"] = binary
     if config.getoption("keep"):
         os.environ["TIGRIS_TEST_KEEP"] = "1"
 

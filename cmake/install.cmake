@@ -28,8 +28,6 @@ foreach(dir core config sw_ref traces workloads registration tlm hw testbench)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tigris/${dir}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
 endforeach()
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/sweep/ DESTINATION ${CMAKE_INSTALL_DATADIR}/tigris/sweep
-        PATTERN "__pycache__" EXCLUDE PATTERN "tests" EXCLUDE)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/presets/ DESTINATION ${CMAKE_INSTALL_DATADIR}/tigris/presets)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples
         PATTERN "build" EXCLUDE PATTERN "__pycache__" EXCLUDE)

@@ -1,5 +1,5 @@
 // The one way a command owns its output folder (DESIGN 23; the contract is in
-// docs/architecture.md, "The shared core"; sweep/core/folders.py is the Python twin and writes the
+// docs/architecture.md, "The shared core"; tigris/core/folders.py is the Python twin and writes the
 // same DIR/manifest.json). Construct an OutFolder after every flag and input has been checked:
 // it creates or claims the folder, locks it for the run, refuses a folder holding files the
 // command did not write or an input it would overwrite, and decides between resuming and a

@@ -2,8 +2,8 @@
 // PREFIX/share/tigris/presets/ beside the binary. A preset is an ordinary configuration file
 // whose "//preset" member (a comment to the configuration reader) says why it exists and, when
 // it is one of `tigris reproduce --variants`' design variants ("variant"), which experiments it
-// can change and the leader width of its approximate runs (sweep/variants.py reads the same files). So `--config paper`
-// and `--config presets/paper.json` run the same machine.
+// can change and the leader width of its approximate runs (tigris/reports/variants.py reads the same files). So
+// `--config paper` and `--config presets/paper.json` run the same machine.
 #pragma once
 
 #include <string>

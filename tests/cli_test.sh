@@ -169,7 +169,7 @@ if grep -q '"rpce_kth": 4' "$tmp/inj/registration.json" && grep -q '"normals_she
    grep -q '"error": "kth_nearest"' "$tmp/inj/registration.json"; then passes=$((passes + 1))
 else echo "FAIL: the injection in registration.json"; failures=$((failures + 1)); fi
 
-# `tigris sweep` runs sweep/tigris_sweep.py with this binary: one point, a CSV row that matches.
+# `tigris sweep` runs tigris/tools/sweep.py with this binary: one point, a CSV row that matches.
 printf '{"base": {"cloud": "%s", "queries": "%s", "mode": "nn", "set": {"fe.recursion_units": 4}}, "grid": {"height": [0, 1]}}' \
   "$tmp/three.bin" "$tmp/three.bin" > "$tmp/spec.json"
 expect 0 "" -- sweep "$tmp/spec.json" --out "$tmp/sw" --jobs 1

@@ -3,111 +3,31 @@
 folders, inputs and child processes of the C++ commands (ref, run, register, odometry, synth).
 Each case is a reproduction of the hardening round that found each command doing these on its
 own; it must end with its exit code and a message naming what is wrong, and nothing that was
-not the command's may change. The Python commands' cases are in sweep/tests/test_hostile.py.
+not the command's may change. The Python commands' cases are in python/tests/test_hostile.py.
 
-Usage: hostile_core.py --tigris PATH [-k SUBSTRING]   (exit 0 when every case holds)
+Run: python3 -m pytest tests/hostile_core.py --tigris PATH [-k GROUP] (a test per group of
+cases; each names every case that failed).
 """
-import argparse
 import json
 import os
 import shutil
 import signal
 import subprocess
 import sys
-import tempfile
 import time
 
-from support import alive, descendants, digest
+import pytest
 
-TIMEOUT = 300  # per command; the sanitizer build is ~10x slower
-
-
-class Cases:
-    def __init__(self, tigris, d):
-        self.t, self.d, self.failures, self.count = tigris, d, [], 0
-
-    def run(self, args, **kw):
-        try:
-            return subprocess.run([self.t] + args, capture_output=True, text=True, errors="replace",
-                                  timeout=TIMEOUT, cwd=self.d, **kw)
-        except subprocess.TimeoutExpired:  # a hang: the case fails, the next one runs
-            return subprocess.CompletedProcess(args, -1, "", f"(no answer within {TIMEOUT} s: killed)")
-
-    def check(self, name, ok, detail=""):
-        self.count += 1
-        print(("ok   " if ok else "FAIL ") + name + ("" if ok else f"\n    {detail.strip()[:1500]}"), flush=True)
-        if not ok:
-            self.failures.append(name)
-
-    def expect(self, name, args, code, needles, also=None):
-        t0 = time.time()
-        p = self.run(args)
-        msg = p.stdout + p.stderr
-        problems = [f"exit {p.returncode}, want {code}"] if p.returncode != code else []
-        problems += [f"no {n!r} in the message" for n in needles if n not in msg]
-        if also and not problems:
-            try:
-                problem = also()
-            except (OSError, ValueError, KeyError, TypeError) as e:
-                problem = f"its outputs could not be checked: {e!r}"
-            problems += [problem] if problem else []
-        self.check(f"{name} ({time.time() - t0:.1f} s)", not problems,
-                   "; ".join(problems) + f"\n    tigris {' '.join(args)}\n    " + msg)
-        return p
-
-    def stop_parent(self, name, args, wait_for_children=1, sig=signal.SIGTERM):
-        """Starts args, waits for its children, signals the parent alone: every child must be gone."""
-        p = subprocess.Popen([self.t] + args, cwd=self.d, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                             text=True, errors="replace")
-        kids, t0 = set(), time.time()
-        while len(kids) < wait_for_children and time.time() - t0 < TIMEOUT and p.poll() is None:
-            kids = descendants(p.pid)
-            time.sleep(0.05)
-        if p.poll() is not None:
-            self.check(name, False, f"ended (exit {p.returncode}) before it had {wait_for_children} child(ren)")
-            return
-        time.sleep(0.3)
-        kids |= descendants(p.pid)
-        os.kill(p.pid, sig)
-        try:
-            _, err = p.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            self.check(name, False, "the parent did not end within 30 s of the signal")
-            return
-        # The parent stops its children before it exits: 2 s is slack, far less than the work
-        # they were doing (a pair's registration, a back-end, a replayed job).
-        deadline = time.time() + 2
-        while time.time() < deadline and any(alive(k) for k in kids):
-            time.sleep(0.1)
-        left = [k for k in kids if alive(k)]
-        for k in left:
-            os.kill(k, signal.SIGKILL)
-        self.check(f"{name}: {len(kids)} child process(es) stopped, exit {p.returncode}",
-                   p.returncode == 128 + sig and not left,
-                   f"exit {p.returncode}, still running: {left}\n{err}")
+from support import TIMEOUT, Cases, digest
 
 
-def main():
-    global TIMEOUT
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    ap.add_argument("-k", default="", help="only groups whose name holds this")
-    ap.add_argument("--timeout", type=float, default=TIMEOUT, help="seconds per command (a hang fails its case)")
-    a = ap.parse_args()
-    TIMEOUT = a.timeout
-    tigris = os.path.abspath(a.tigris)
-    with tempfile.TemporaryDirectory(prefix="tigris_core_") as d:
-        c = Cases(tigris, d)
-        p = c.run(["synth", "--frames", "3", "--out", "small"])
-        if p.returncode != 0:
-            print(p.stderr)
-            return 1
-        for name, group in GROUPS:
-            if a.k in name:
-                group(c, d)
-        print(f"{c.count - len(c.failures)} of {c.count} core cases hold")
-        return 1 if c.failures else 0
+@pytest.fixture(scope="module")
+def work(tigris, tmp_path_factory):
+    """The cases' working folder, with a small synthetic sequence (`small`) to copy."""
+    d = str(tmp_path_factory.mktemp("core"))
+    p = Cases(tigris, d).run(["synth", "--frames", "3", "--out", "small"])
+    assert p.returncode == 0, p.stderr
+    return d
 
 
 def copy_sequence(d, name):
@@ -339,5 +259,12 @@ def presets(c, d):
 GROUPS = [("folders", folders), ("odometry", odometry), ("inputs", inputs), ("children", children),
           ("presets", presets)]
 
+@pytest.mark.parametrize("group", [g for _, g in GROUPS], ids=[n for n, _ in GROUPS])
+def test_group(tigris, work, group):
+    c = Cases(tigris, work)
+    group(c, work)
+    assert not c.failures, f"{len(c.failures)} of {c.count} cases failed: " + "; ".join(c.failures)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

@@ -6,9 +6,10 @@ correct result; never a crash, a hang, a sanitizer report, an overwritten input 
 that echoes a megabyte or raw control bytes. `cases()` lists the plain exit-2 cases; `checked()`
 the ones with another exit code or a check of what was (not) written.
 
-Usage: hostile_inputs.py --tigris PATH [-k SUBSTRING]   (exit 0 when every case holds)
+Run: python3 -m pytest tests/hostile_inputs.py --tigris PATH (two tests, the plain exit-2 cases
+and the checked ones; each names every case that failed). Other tests import the scenes made
+here (make_register_files, room_points).
 """
-import argparse
 import json
 import math
 import os
@@ -16,8 +17,9 @@ import random
 import struct
 import subprocess
 import sys
-import tempfile
 import time
+
+import pytest
 
 from support import digest
 
@@ -409,29 +411,39 @@ def run_case(tigris, name, args, code, needles, check, out_dir):
     return problems, args, err
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    ap.add_argument("-k", default="", help="only cases whose name holds this")
-    a = ap.parse_args()
-    failures = 0
-    with tempfile.TemporaryDirectory(prefix="tigris_hostile_") as d:
-        f = make_files(d)
-        make_register_files(d, f)
-        todo = [(n, args, 2, [needle], None) for n, args, needle in cases(f, d)] + checked(f, d)
-        todo = [c for c in todo if a.k in c[0]]
-        for i, (name, args, code, needles, check) in enumerate(todo):
-            t0 = time.time()
-            problems, args, err = run_case(a.tigris, name, args, code, needles, check, os.path.join(d, f"out{i}"))
-            if problems:
-                failures += 1
-                print(f"FAIL {name}: {'; '.join(problems)}\n    tigris {' '.join(args)}\n    " +
-                      err.strip().replace("\n", "\n    ")[:1500])
-            else:
-                print(f"ok   {name} ({time.time() - t0:.1f} s)", flush=True)
-    print(f"{len(todo) - failures} of {len(todo)} hostile inputs handled")
-    return 1 if failures else 0
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    """(folder, {name: path}) of the hostile files and the register scenes."""
+    d = str(tmp_path_factory.mktemp("hostile"))
+    f = make_files(d)
+    make_register_files(d, f)
+    return d, f
+
+
+def run_all(tigris, d, todo, tag):
+    """Runs every case; fails naming each that did not hold."""
+    failed = []
+    for i, (name, args, code, needles, check) in enumerate(todo):
+        t0 = time.time()
+        problems, args, err = run_case(tigris, name, args, code, needles, check, os.path.join(d, f"{tag}{i}"))
+        if problems:
+            failed.append(name)
+            print(f"FAIL {name}: {'; '.join(problems)}\n    tigris {' '.join(args)}\n    " +
+                  err.strip().replace("\n", "\n    ")[:1500])
+        else:
+            print(f"ok   {name} ({time.time() - t0:.1f} s)", flush=True)
+    assert not failed, f"{len(failed)} of {len(todo)} hostile inputs not handled: " + "; ".join(failed)
+
+
+def test_exit_2(tigris, files):
+    d, f = files
+    run_all(tigris, d, [(n, args, 2, [needle], None) for n, args, needle in cases(f, d)], "plain")
+
+
+def test_checked(tigris, files):
+    d, f = files
+    run_all(tigris, d, checked(f, d), "checked")
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

@@ -17,9 +17,9 @@
              takes from sw_ref/ only arith, tree types and leader policy names; the accelerator's and the pipeline's
              configurations share one mechanism (the same reference table, errors and suggestions)
 
-    tests/newcomer_test.py --tigris build/bin/tigris [--part NAME ...] [--skip NAME ...]
+    python3 -m pytest tests/newcomer_test.py --tigris build/bin/tigris [-k NAME]
+(a test per part, in this order, sharing one folder; each names every check that failed)
 """
-import argparse
 import csv
 import hashlib
 import json
@@ -28,9 +28,11 @@ import shutil
 import re
 import subprocess
 import sys
-import tempfile
+
+import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TIGRIS = None  # the binary under test: the `work` fixture's
 failures = []
 
 
@@ -597,19 +599,24 @@ def part_layers(d):
 PARTS = {"redundancy": part_redundancy, "inputs": part_inputs, "schema": part_schema, "diff": part_diff, "plot": part_plot,
          "waves": part_waves, "timeline": part_timeline, "help": part_help, "layers": part_layers}
 
+
+
+@pytest.fixture(scope="module")
+def work(tigris, tmp_path_factory):
+    global TIGRIS
+    TIGRIS = tigris
+    return str(tmp_path_factory.mktemp("newcomer"))
+
+
+@pytest.mark.parametrize("part", list(PARTS))
+def test_part(work, part):
+    failures.clear()
+    try:
+        PARTS[part](work)
+    except AssertionError as e:
+        check(False, f"{part}: {e}")
+    assert not failures, f"{len(failures)} check(s) failed:\n" + "\n".join(failures)
+
+
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--tigris", required=True)
-    ap.add_argument("--part", nargs="+", choices=list(PARTS), default=list(PARTS))
-    ap.add_argument("--skip", nargs="+", choices=list(PARTS), default=[], help="parts left out (ctest layering runs one)")
-    a = ap.parse_args()
-    TIGRIS = os.path.abspath(a.tigris)
-    with tempfile.TemporaryDirectory(prefix="tigris-newcomer-") as d:
-        for name in [p for p in a.part if p not in a.skip]:
-            print(f"== {name}", flush=True)
-            try:
-                PARTS[name](d)
-            except AssertionError as e:
-                check(False, f"{name}: {e}")
-    print(f"{len(failures)} failure(s)" if failures else "all newcomer checks passed")
-    sys.exit(1 if failures else 0)
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

@@ -8,10 +8,10 @@ flagged, a missing scan and a short poses.txt refused, --compare's four runs and
 completing a missing scan with the same bytes, another drive into the folder refused) and
 `tigris odometry --synthetic 12` registering within the tolerances measured for it.
 
-Usage: odometry_cli_test.py --tigris PATH [--part sequence|synthetic|all]   (exit 0 when every
-check holds; ctest runs the two parts as odometry_cli and odometry_synthetic)
+Run: python3 -m pytest tests/odometry_cli_test.py --tigris PATH [-k sequence|synthetic] (ctest
+runs the two tests as odometry_cli and odometry_synthetic). Each test reports every check that
+failed, not only the first.
 """
-import argparse
 import csv
 import json
 import math
@@ -20,11 +20,13 @@ import random
 import struct
 import subprocess
 import sys
-import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from hostile_inputs import room_points  # noqa: E402
+from support import Checks  # noqa: E402
+
+import pytest  # noqa: E402
 
 AXIS = [[0, -1, 0, 0], [0, 0, -1, 0], [1, 0, 0, 0], [0, 0, 0, 1]]  # p_cam = A p_velo
 
@@ -136,38 +138,6 @@ def synthetic_checks(d, run, check, a_tigris):
     run(["odometry", "--out", os.path.join(d, "x")], 2, "give --sequence DIR")
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    ap.add_argument("--part", choices=("sequence", "synthetic", "all"), default="all",
-                    help="the KITTI-layout sequence checks, the synthetic drive's, or both")
-    a = ap.parse_args()
-    failures = []
-
-    def run(args, code=0, needle=None, env=None):
-        p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=900, env=env)
-        out = p.stdout + p.stderr
-        if p.returncode != code or (needle and needle not in out):
-            failures.append(f"tigris {' '.join(args)}: exit {p.returncode} (want {code})"
-                            + (f", no {needle!r}" if needle else "") + "\n    " + out.strip()[-1500:].replace("\n", "\n    "))
-        return out
-
-    def check(cond, what):
-        if not cond:
-            failures.append(what)
-
-    with tempfile.TemporaryDirectory(prefix="tigris_odometry_") as d:
-        if a.part != "synthetic":
-            sequence_checks(d, run, check)
-    with tempfile.TemporaryDirectory(prefix="tigris_synth_") as d:
-        if a.part != "sequence":
-            synthetic_checks(d, run, check, a.tigris)
-    for msg in failures:
-        print("FAIL", msg)
-    print(f"odometry_cli_test: {len(failures)} failures")
-    return 1 if failures else 0
-
-
 def sequence_checks(d, run, check):
     seq = os.path.join(d, "seq")
     make_sequence(seq)
@@ -267,5 +237,17 @@ def sequence_checks(d, run, check):
     run(["odometry", "--sequence", os.path.join(d, "nothing"), "--out", os.path.join(d, "x")], 2, "no such folder")
 
 
+def test_sequence(tigris, tmp_path):
+    c = Checks(tigris)
+    sequence_checks(str(tmp_path), c.run, c.check)
+    c.verify()
+
+
+def test_synthetic(tigris, tmp_path):
+    c = Checks(tigris)
+    synthetic_checks(str(tmp_path), c.run, c.check, tigris)
+    c.verify()
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

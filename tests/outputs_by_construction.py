@@ -12,9 +12,10 @@ input, another output, a file nobody wrote and a named pipe nobody reads: each m
 Only BASE is written by hand: the cheapest invocation of each command that has an output flag.
 A command with an output flag and no BASE entry fails the test.
 
-Usage: outputs_by_construction.py --tigris PATH
+Run: python3 -m pytest tests/outputs_by_construction.py --tigris PATH (three tests: the commands'
+output flags, the issue's reproductions, the Python module's keep=); each names every case that
+failed.
 """
-import argparse
 import hashlib
 import inspect
 import json
@@ -22,13 +23,15 @@ import os
 import subprocess
 import sys
 import signal
-import tempfile
 import threading
 import time
 
 import numpy as np
+import pytest
 
-TIMEOUT = 300
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import support  # noqa: E402
+from support import TIMEOUT  # noqa: E402
 
 
 def base_args(command, d):
@@ -57,23 +60,7 @@ def snapshot(d):
     return out
 
 
-class Cases:
-    def __init__(self, tigris, d):
-        self.t, self.d, self.failures, self.count = tigris, d, [], 0
-
-    def check(self, name, ok, detail=""):
-        self.count += 1
-        print(("ok   " if ok else "FAIL ") + name + ("" if ok else f"\n    {detail.strip()[:1500]}"), flush=True)
-        if not ok:
-            self.failures.append(name)
-
-    def run(self, args):
-        try:
-            return subprocess.run([self.t] + args, capture_output=True, text=True, errors="replace",
-                                  timeout=TIMEOUT, cwd=self.d, stdin=subprocess.DEVNULL)
-        except subprocess.TimeoutExpired:
-            return subprocess.CompletedProcess(args, -1, "", f"(no answer within {TIMEOUT} s: killed)")
-
+class Cases(support.Cases):
     def refused(self, name, args, needle):
         """args must exit 2 naming `needle`, and change no file under the work folder."""
         before = snapshot(self.d)
@@ -272,7 +259,7 @@ def python_cases(c, d, tigris):
     os.environ.setdefault("TIGRIS", tigris)
     import tigris as T
     cloud = np.fromfile(os.path.join(d, "cloud.bin"), "<f4").reshape(-1, 4)[:, :3].copy()
-    funcs = [(n, f) for n, f in vars(T).items()
+    funcs = [(n, f) for n, f in ((n, getattr(T, n)) for n in T.__all__)   # the module's names load lazily
              if inspect.isfunction(f) and not n.startswith("_") and "keep" in inspect.signature(f).parameters]
     c.check("the module has functions with keep=", len(funcs) >= 2, str([n for n, _ in funcs]))
     # The positive control: a new folder is taken, and taken again.
@@ -309,24 +296,39 @@ def python_cases(c, d, tigris):
                     f"{detail}; changed: {changed[:4]}")
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    a = ap.parse_args()
-    tigris = os.path.abspath(a.tigris)
+@pytest.fixture(scope="module")
+def work(tigris, tmp_path_factory):
+    """A folder with two small clouds, the cases' working folder."""
+    d = str(tmp_path_factory.mktemp("outputs"))
+    write_cloud(os.path.join(d, "cloud.bin"), 0.0)
+    write_cloud(os.path.join(d, "other.bin"), 0.3)
+    return d
+
+
+def verify(c):
+    assert not c.failures, f"{len(c.failures)} of {c.count} cases failed: " + "; ".join(c.failures)
+
+
+def test_output_flags(tigris, work):
     flags = output_flags(tigris)
-    with tempfile.TemporaryDirectory(prefix="tigris_outputs_") as d:
-        write_cloud(os.path.join(d, "cloud.bin"), 0.0)
-        write_cloud(os.path.join(d, "other.bin"), 0.3)
-        c = Cases(tigris, d)
-        c.check("some commands have output flags", len(flags) >= 3, json.dumps(flags))
-        for command, fl in sorted(flags.items()):
-            cli_cases(c, d, command, fl)
-        reproductions(c, d)
-        python_cases(c, d, tigris)
-    print(f"{c.count - len(c.failures)} of {c.count} cases hold")
-    return 1 if c.failures else 0
+    c = Cases(tigris, work)
+    c.check("some commands have output flags", len(flags) >= 3, json.dumps(flags))
+    for command, fl in sorted(flags.items()):
+        cli_cases(c, work, command, fl)
+    verify(c)
+
+
+def test_reproductions(tigris, work):
+    c = Cases(tigris, work)
+    reproductions(c, work)
+    verify(c)
+
+
+def test_python_keep(tigris, work):
+    c = Cases(tigris, work)
+    python_cases(c, work, tigris)
+    verify(c)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

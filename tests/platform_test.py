@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Tigris as a platform other programs use (docs/install.md): the install, relocated; a PCL
 program outside the tree built against the installed CMake package; the Python module from the
-relocated prefix; the Debian package's contents. Parts (--part, default all):
+relocated prefix; the Debian package's contents. A test per part, in this order:
 
   install   `cmake --install BUILD --prefix A`, A copied to B and removed: B/bin/tigris runs
             `run` (with a preset), `presets`, `sweep` (a spec naming a preset), `plot` and every
@@ -11,14 +11,15 @@ relocated prefix; the Debian package's contents. Parts (--part, default all):
             only): registers the built-in pair on the golden model, in the loop with a preset
             (the same transform, every job checked, none falling back), and records a trace that
             `tigris run --trace` replays bit-exact
-  python    python/tests with PYTHONPATH=B/lib/python3/dist-packages (the installed module finds
-            B/bin/tigris beside it)
+  python    with PYTHONPATH=B/lib/python3/dist-packages: `import tigris` gives the module and the
+            tools, `python3 -m tigris sweep` runs a sweep as `tigris sweep` does, and
+            python/tests/test_tigris.py passes (the installed package finds B/bin/tigris beside it)
   deb       `cpack -G DEB`: the package's Depends, and its files unpacked (dpkg-deb -x) run
             `tigris run --config paper` from there
 
-Usage: platform_test.py --build BUILD [--part P ...]   (exit 0 when every part holds)
+Run: python3 -m pytest tests/platform_test.py --tigris BUILD/bin/tigris [-k PART] (the build
+folder is the binary's: BUILD/bin/tigris).
 """
-import argparse
 import glob
 import json
 import os
@@ -26,7 +27,8 @@ import re
 import shutil
 import subprocess
 import sys
-import tempfile
+
+import pytest
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TIMEOUT = 1200
@@ -78,9 +80,11 @@ def part_install(build, prefix, tmp):
     tig = os.path.join(prefix, "bin", "tigris")
     for f in ("include/tigris/sw_ref/kdtree.hpp", "include/tigris/registration/search_plugin.hpp",
               "lib/cmake/TigrisTLM/TigrisTLMConfig.cmake", "share/tigris/presets/paper.json",
-              "share/tigris/sweep/tigris_sweep.py", "share/tigris/sweep/core/folders.py"):
+              "lib/python3/dist-packages/tigris/__main__.py", "lib/python3/dist-packages/tigris/tools/sweep.py",
+              "lib/python3/dist-packages/tigris/core/folders.py"):
         check(os.path.isfile(os.path.join(prefix, f)), f"the install has no {f}")
-    check(not glob.glob(os.path.join(prefix, "share/tigris/sweep/tests")), "the install carries the sweep's tests")
+    check(not glob.glob(os.path.join(prefix, "lib/python3/dist-packages/tigris/**/test*"), recursive=True) and
+          not os.path.exists(os.path.join(prefix, "share/tigris/sweep")), "the install carries tests or the old sweep/")
     check_no_tree_paths(tig, [SRC, os.path.abspath(build)])
     work = os.path.join(tmp, "work")
     os.makedirs(work)
@@ -156,11 +160,24 @@ def part_python(build, prefix, tmp):
     check(glob.glob(os.path.join(site, "tigris", "_tigris*.so")), "the install has no Python module")
     env = dict(os.environ, PYTHONPATH=site)               # the preloads, if any, stay for python3
     env.pop("TIGRIS", None)
-    out = sh([sys.executable, "-c", "import tigris; print(tigris.binary())"], env=env, cwd=tmp)
-    check(out.strip() == os.path.join(prefix, "bin", "tigris"), f"the installed module runs {out.strip()}")
-    sh([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", os.path.join(SRC, "python", "tests")],
-       env=env, cwd=tmp)
-    print("python: the relocated module passes python/tests")
+    out = sh([sys.executable, "-c", "import tigris, tigris.tools.sweep, tigris.reports.report; print(tigris.binary()); "
+              "print(tigris.tools.sweep.__file__)"], env=env, cwd=tmp)
+    check(out.split() == [os.path.join(prefix, "bin", "tigris"), os.path.join(site, "tigris", "tools", "sweep.py")],
+          f"the installed package runs and holds:\n{out}")
+    # python3 -m tigris sweep, as `tigris sweep` runs it: the same points, the same CSV.
+    work = os.path.join(tmp, "pysweep")
+    os.makedirs(work)
+    with open(os.path.join(work, "spec.json"), "w") as f:
+        json.dump({"base": {"mode": "nn"}, "grid": {"height": [4, 6]}}, f)
+    out = sh([sys.executable, "-m", "tigris", "sweep", "spec.json", "--out", "py", "--jobs", "2"], env=env, cwd=work)
+    check("2 ok" in out, f"python3 -m tigris sweep:\n{out}")
+    sh([os.path.join(prefix, "bin", "tigris"), "sweep", "spec.json", "--out", "bin", "--jobs", "2"], cwd=work)
+    rows = [[r.split(",")[:3] for r in open(os.path.join(work, d, "sweep.csv")).read().splitlines()] for d in ("py", "bin")]
+    check(rows[0] == rows[1] and len(rows[0]) == 3, f"python3 -m tigris sweep and tigris sweep differ: {rows}")
+    sh([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", os.path.join(SRC, "python", "tests", "test_tigris.py"),
+        "--tigris", os.path.join(prefix, "bin", "tigris")], env=env, cwd=tmp)
+    print("python: the relocated package gives the module and the tools; python3 -m tigris sweep is tigris sweep; "
+          "python/tests/test_tigris.py passes")
 
 
 def part_deb(build, prefix, tmp):
@@ -174,30 +191,29 @@ def part_deb(build, prefix, tmp):
     sh(["dpkg-deb", "-x", debs[0], root])
     run = sh([os.path.join(root, "usr", "bin", "tigris"), "run", "--config", "paper", "--out", "r"], cwd=tmp)
     check("MATCH" in run, f"the packaged binary:\n{run}")
+    # The package's Python tools are the binary's: found in usr/lib/python3/dist-packages beside it.
+    usage = sh([os.path.join(root, "usr", "bin", "tigris"), "diff", "--help"], cwd=tmp)
+    check("usage: tigris diff" in usage and
+          os.path.isfile(os.path.join(root, "usr", "lib", "python3", "dist-packages", "tigris", "__main__.py")),
+          f"the packaged tigris diff:\n{usage}")
     print(f"deb: {os.path.basename(debs[0])} depends on {depends.strip()}; its binary runs unpacked")
 
 
 PARTS = {"install": part_install, "example": part_example, "python": part_python, "deb": part_deb}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", required=True)
-    ap.add_argument("--part", nargs="+", choices=list(PARTS), default=list(PARTS))
-    a = ap.parse_args()
-    tmp = tempfile.mkdtemp(prefix="tigris-platform-")
-    try:
-        prefix = installed(os.path.abspath(a.build), tmp)
-        for p in a.part:
-            PARTS[p](os.path.abspath(a.build), prefix, tmp)
-    except AssertionError as e:
-        print(f"FAIL: {e}", file=sys.stderr)
-        return 1
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    print("platform: every part holds")
-    return 0
+@pytest.fixture(scope="module")
+def platform(tigris, tmp_path_factory):
+    """(the build folder, the relocated install prefix, a scratch folder)."""
+    build = os.path.dirname(os.path.dirname(tigris))
+    tmp = str(tmp_path_factory.mktemp("platform"))
+    return build, installed(build, tmp), tmp
+
+
+@pytest.mark.parametrize("part", list(PARTS))
+def test_part(platform, part):
+    PARTS[part](*platform)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

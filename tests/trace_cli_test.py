@@ -7,38 +7,25 @@ with --trace; `tigris register --search accel` (the accelerator in the loop) giv
 transform bit for bit, its modeled end-to-end formula and its configuration errors; and
 `tigris register --compare`, the four back-ends side by side.
 
-Usage: trace_cli_test.py --tigris PATH   (exit 0 when every check holds)
+Run: python3 -m pytest tests/trace_cli_test.py --tigris PATH (or python3 tests/trace_cli_test.py
+--tigris PATH). Each test reports every check that failed, not only the first.
 """
-import argparse
 import json
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
+
+import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from hostile_inputs import make_register_files  # noqa: E402  (the room scene)
+from support import Checks  # noqa: E402
 
 FIGURES = ("cycles", "energy_pj", "neighbors", "verdict", "modeled_seconds", "host_bytes", "visits", "vs_recorded")
 
 
-TIGRIS = None
-failures = []
-
-
-def run(args, code=0, needle=None):
-    p = subprocess.run([TIGRIS] + args, capture_output=True, text=True, timeout=900)
-    out = p.stdout + p.stderr
-    if p.returncode != code or (needle and needle not in out):
-        failures.append(f"tigris {' '.join(args)}: exit {p.returncode} (want {code})"
-                        + (f", no {needle!r}" if needle else "") + "\n    " + out.strip()[-1500:].replace("\n", "\n    "))
-    return out
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
+CHECKS = Checks()            # the binary is the `scene` fixture's
+run, check = CHECKS.run, CHECKS.check
 
 
 def record_and_replay(d, pair):
@@ -77,9 +64,11 @@ def record_and_replay(d, pair):
                   "exact: the accelerator's results differ from the recorded golden results")
 
 
-def replay_errors(d, f):
+def replay_errors(d, f, pair):
     """--trace-stages, flags that do not go with --trace, damaged and missing traces."""
     tr = os.path.join(d, "exact.trace")
+    if not os.path.isfile(tr):                   # record_and_replay did not run first (-k)
+        run(["register"] + pair + ["--record-trace", tr, "--out", os.path.join(d, "reg_errors")])
     run(["run", "--trace", tr, "--trace-stages", "normals,icp", "--out", os.path.join(d, "some")], 0, "MATCH")
     some = json.load(open(os.path.join(d, "some", "stats.json")))
     check(sorted(some["stages"]) == ["icp", "normals"], f"--trace-stages: stages {sorted(some['stages'])}")
@@ -185,24 +174,37 @@ def side_by_side(d, pair):
         "--record-trace records the CPU's searches")
 
 
-def main():
-    global TIGRIS
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tigris", required=True)
-    TIGRIS = ap.parse_args().tigris
-    with tempfile.TemporaryDirectory(prefix="tigris_trace_") as d:
-        f = {}
-        make_register_files(d, f)
-        pair = ["--source", f["room_b.ply"], "--target", f["room.ply"]]
-        record_and_replay(d, pair)
-        replay_errors(d, f)
-        in_the_loop(d, f, pair)
-        side_by_side(d, pair)
-    for m in failures:
-        print("FAIL", m)
-    print(f"trace_cli_test: {len(failures)} failures")
-    return 1 if failures else 0
+@pytest.fixture(scope="module")
+def scene(tigris, tmp_path_factory):
+    """(folder, the room scene's files, register's --source/--target flags)."""
+    CHECKS.tigris = tigris
+    d = str(tmp_path_factory.mktemp("trace"))
+    f = {}
+    make_register_files(d, f)
+    return d, f, ["--source", f["room_b.ply"], "--target", f["room.ply"]]
+
+
+def holds(part, *args):
+    """Runs a part of checks; fails naming every check that did not hold."""
+    part(*args)
+    CHECKS.verify()
+
+
+def test_record_and_replay(scene):
+    holds(record_and_replay, scene[0], scene[2])
+
+
+def test_replay_errors(scene):
+    holds(replay_errors, *scene)
+
+
+def test_in_the_loop(scene):
+    holds(in_the_loop, *scene)
+
+
+def test_side_by_side(scene):
+    holds(side_by_side, scene[0], scene[2])
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(pytest.main([__file__, *sys.argv[1:]]))

@@ -181,12 +181,12 @@ int print_summary(registration::OdometryRun& run, const OdometryOptions& o) {
   const registration::Odometry& odometry = run.odometry();
   odometry.print_summary(stdout, run.metrics(), o.sequence, o.search.empty() ? "exact" : o.search, run.note());
   std::string why;
-  const int plotted = run_python_module("odometry_plots", {o.out}, why);
+  const int plotted = run_python_module("odometry-plots", {o.out}, why);
   if (plotted != 0)
     std::fprintf(stderr, "tigris odometry: warning: the plots were not drawn (%s)\n",
                  plotted < 0 || !why.empty()
                      ? why.c_str()
-                     : ("python3 -m sweep.odometry_plots exit " + std::to_string(plotted)).c_str());
+                     : ("python3 -m tigris odometry-plots exit " + std::to_string(plotted)).c_str());
   std::printf("  wrote %s/poses.txt, pairs.csv, metrics.json, trajectory.csv%s (per pair: %s/pairs/)\n", o.out.c_str(),
               plotted == 0 ? ", trajectory.png, errors.png" : "", o.out.c_str());
   const std::size_t not_converged = odometry.totals().not_converged;

@@ -23,26 +23,23 @@ namespace fs = std::filesystem;
 
 struct Tool {
   const char* name;
-  const char* module;
   const char* summary;
 };
 const Tool kTools[] = {
-    {"sweep", "tigris_sweep",
+    {"sweep",
      "Design-space sweep from a JSON spec, locally (--jobs) or as a Slurm job array (--slurm); CSV, JSON and "
-     "resume (sweep/tigris_sweep.py; tigris sweep --help)"},
-    {"reproduce", "reproduce",
-     "The paper's section 6 experiments as sweeps, with figures and REPORT.md (sweep/reproduce.py; tigris "
-     "reproduce --help)"},
-    {"diff", "tigris_diff",
+     "resume (tigris sweep --help)"},
+    {"reproduce", "The paper's section 6 experiments as sweeps, with figures and REPORT.md (tigris reproduce --help)"},
+    {"diff",
      "Compare runs (stats.json files, run folders, sweep points): configuration differences, headline figures "
-     "side by side with ratios, every other differing leaf (sweep/tigris_diff.py; tigris diff --help)"},
-    {"plot", "tigris_plot",
+     "side by side with ratios, every other differing leaf (tigris diff --help)"},
+    {"plot",
      "Figures of a sweep folder or CSV: headline figures against each swept key, and the paper's figures the "
-     "sweep covers (sweep/tigris_plot.py; tigris plot --help)"},
-    {"pipeline-dse", "pipeline_dse",
+     "sweep covers (tigris plot --help)"},
+    {"pipeline-dse",
      "The paper's section 3: sample the registration pipeline's design space, run each point over a sequence "
      "(locally or on Slurm), Pareto frontiers of error against time, stage and KD-tree shares of the Pareto "
-     "points (sweep/pipeline_dse.py; tigris pipeline-dse --help)"},
+     "points (tigris pipeline-dse --help)"},
 };
 // Listed in `tigris --help` like every command (no flags of their own there: main() hands their
 // words to run_python_tool() before parsing).
@@ -52,11 +49,14 @@ const bool kRegistered = [] {
   return true;
 }();
 
-// The package folder: TIGRIS_SWEEP_DIR, else ../share/tigris/sweep beside this binary.
-std::string package_dir() {
-  const char* dir_env = std::getenv("TIGRIS_SWEEP_DIR");
+// The folder that holds the package tigris: $TIGRIS_PYTHONPATH, else ../python beside this
+// binary's bin/ (the build tree), else ../TIGRIS_PYTHON_DIR (an install: lib/python3/dist-packages).
+std::string package_parent() {
+  const char* dir_env = std::getenv("TIGRIS_PYTHONPATH");
   if (dir_env && *dir_env) return fs::path(dir_env).lexically_normal().string();
-  return (fs::path(share_dir()) / "sweep").string();
+  const fs::path prefix = fs::path(self_path()).parent_path().parent_path();
+  if (access((prefix / "python" / "tigris" / "__main__.py").c_str(), R_OK) == 0) return (prefix / "python").string();
+  return (prefix / TIGRIS_PYTHON_DIR).string();
 }
 
 // Debian's python3 carries python3-matplotlib; another one first on PATH may not.
@@ -73,16 +73,17 @@ std::string find_python() {
   return "";
 }
 
-// The command line that runs `module` of the package, with the package's parent on PYTHONPATH,
-// this binary as $TIGRIS and its commit for the manifests and figure footers. "" with `why`.
-std::vector<std::string> module_command(const std::string& module, const std::vector<std::string>& args,
+// The command line that runs `python3 -m tigris TOOL ARGS` with the package's parent on
+// PYTHONPATH, this binary as $TIGRIS and its commit for the manifests and figure footers. "" with
+// `why`.
+std::vector<std::string> module_command(const std::string& tool, const std::vector<std::string>& args,
                                         std::string& why) {
-  fs::path pkg(package_dir());
-  if (pkg.filename().empty()) pkg = pkg.parent_path();  // a trailing slash
-  if (access((pkg / (module + ".py")).c_str(), R_OK) != 0) {
-    why = (pkg / (module + ".py")).string() +
-          " is not there (the Python package `sweep`: share/tigris/sweep beside the binary's bin/; "
-          "set TIGRIS_SWEEP_DIR)";
+  fs::path parent(package_parent());
+  if (parent.filename().empty()) parent = parent.parent_path();  // a trailing slash
+  if (access((parent / "tigris" / "__main__.py").c_str(), R_OK) != 0) {
+    why = (parent / "tigris" / "__main__.py").string() +
+          " is not there (the Python package tigris: ../python or ../" TIGRIS_PYTHON_DIR
+          " beside the binary's bin/; set TIGRIS_PYTHONPATH to the folder that holds it)";
     return {};
   }
   const std::string python = find_python();
@@ -91,13 +92,12 @@ std::vector<std::string> module_command(const std::string& module, const std::ve
     return {};
   }
   const char* old = std::getenv("PYTHONPATH");
-  const std::string parent = pkg.parent_path().string();
-  setenv("PYTHONPATH", (old && *old ? parent + ":" + old : parent).c_str(), 1);
+  setenv("PYTHONPATH", (old && *old ? parent.string() + ":" + old : parent.string()).c_str(), 1);
   const std::string self = self_path();
   if (!self.empty()) setenv("TIGRIS", self.c_str(), 1);  // the tools call this very binary
   setenv("TIGRIS_COMMIT", build_commit(), 1);
-  // -P: the working folder does not go first on sys.path (a sweep.py there would shadow us).
-  std::vector<std::string> argv{python, "-P", "-m", pkg.filename().string() + "." + module};
+  // -P: the working folder does not go first on sys.path (a tigris.py there would shadow us).
+  std::vector<std::string> argv{python, "-P", "-m", "tigris", tool};
   argv.insert(argv.end(), args.begin(), args.end());
   return argv;
 }
@@ -107,12 +107,9 @@ std::vector<std::string> module_command(const std::string& module, const std::ve
 int run_python_tool(int argc, char** argv) {
   if (argc < 2) return -1;
   const std::string tool = argv[1];
-  const char* module = nullptr;
-  for (const Tool& t : kTools)
-    if (tool == t.name) module = t.module;
-  if (!module) return -1;
+  if (std::none_of(std::begin(kTools), std::end(kTools), [&](const Tool& t) { return tool == t.name; })) return -1;
   std::string why;
-  const std::vector<std::string> command = module_command(module, {argv + 2, argv + argc}, why);
+  const std::vector<std::string> command = module_command(tool, {argv + 2, argv + argc}, why);
   if (command.empty()) {
     std::cerr << "tigris: error: tigris " << tool << " needs " << why << '\n';
     return 2;
@@ -121,13 +118,13 @@ int run_python_tool(int argc, char** argv) {
   for (const std::string& a : command) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   execv(args[0], args.data());
-  std::cerr << "tigris: error: cannot run " << command[0] << " -m " << command[3] << ": " << std::strerror(errno)
+  std::cerr << "tigris: error: cannot run " << command[0] << " -m tigris " << tool << ": " << std::strerror(errno)
             << '\n';
   return 2;
 }
 
-int run_python_module(const std::string& module, const std::vector<std::string>& args, std::string& why) {
-  const std::vector<std::string> command = module_command(module, args, why);
+int run_python_module(const std::string& tool, const std::vector<std::string>& args, std::string& why) {
+  const std::vector<std::string> command = module_command(tool, args, why);
   if (command.empty()) return -1;
   int code = 0;
   try {

@@ -1,7 +1,7 @@
-// `tigris sweep`, `reproduce`, `diff`, `plot` and `pipeline-dse`: the analysis tools are the
-// Python package `sweep` (docs/sweeps.md), found beside this binary in ../share/tigris/sweep (the
-// build tree links it to the source tree's sweep/, an install copies it; TIGRIS_SWEEP_DIR
-// overrides). They run as `python3 -m sweep.<module>` with this binary as their `tigris`.
+// `tigris sweep`, `reproduce`, `diff`, `plot` and `pipeline-dse`: the analysis tools of the Python
+// package tigris (docs/sweeps.md), found beside this binary in ../python (the build tree) or
+// ../lib/python3/dist-packages (an install; TIGRIS_PYTHONPATH overrides). They run as
+// `python3 -m tigris TOOL` with this binary as their `tigris`.
 #pragma once
 
 #include <string>
@@ -13,8 +13,8 @@ namespace tigris {
 // the exit code); otherwise returns -1.
 int run_python_tool(int argc, char** argv);
 
-// Runs the package's `module` with `args` in a child process and waits; returns its exit code,
+// Runs the package's `tool` (python3 -m tigris TOOL) with `args` in a child process and waits; returns its exit code,
 // or -1 with `why` set when it could not start (no package, no python3).
-int run_python_module(const std::string& module, const std::vector<std::string>& args, std::string& why);
+int run_python_module(const std::string& tool, const std::vector<std::string>& args, std::string& why);
 
 }  // namespace tigris

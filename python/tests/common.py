@@ -1,18 +1,17 @@
-"""Shared helpers of the sweep package's tests, which pytest runs (conftest.py at the top of the
-tree gives --tigris and --keep; each file also runs standalone: python3 sweep/tests/test_X.py
---tigris build/bin/tigris [--keep]). Every test file imports this
-module first: it puts the repository (the folder that holds the `sweep` package) on sys.path,
-the one place the tests do, so they `import sweep.report as report`, `from sweep import
-evaldata`, `from sweep.core import folders`; the tools run as `python3 -m sweep.<tool>`
-(tool_command)."""
+"""Shared helpers of the Python package's tests, which pytest runs (conftest.py at the top of the
+tree gives --tigris and --keep and puts the package on sys.path; each file also runs standalone:
+python3 python/tests/test_X.py --tigris build/bin/tigris [--keep]). The tests import the package
+as a user does (`from tigris.reports import report`, `from tigris.core import folders`); the
+tools run as `python3 -m tigris TOOL` (tool_command)."""
 import argparse, csv, json, os, random, shutil, struct, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SWEEP = os.path.dirname(HERE)                    # the package
-REPO = os.path.dirname(SWEEP)                    # the folder that holds it
-if REPO not in sys.path:
-    sys.path.insert(0, REPO)
-from sweep.core import paper_stages, parse_stages, python_module_command  # noqa: E402
+REPO = os.path.dirname(os.path.dirname(HERE))     # the source tree
+PACKAGE = os.path.join(REPO, "python", "tigris")  # the package's source
+if os.path.join(REPO, "python") not in sys.path and not any(
+        os.path.isfile(os.path.join(p, "tigris", "__main__.py")) for p in sys.path):
+    sys.path.insert(0, os.path.join(REPO, "python"))   # standalone, before conftest.py has run
+from tigris.core import paper_stages, parse_stages, python_module_command  # noqa: E402
 sys.path.insert(0, os.path.join(REPO, "tests"))  # the tree's shared test helpers
 from support import alive, descendants, digest  # noqa: E402,F401
 
@@ -36,24 +35,24 @@ PAPER_STAGES = paper_stages(LIST_STAGES)         # [(title, key, time)]: outlier
 PAPER_TITLES = tuple(title for title, _, _ in PAPER_STAGES)
 
 
-def tool_command(module, *args, env=None, python=None):
-    """(argv, env) that run the package's tool `module` ("tigris_sweep", "reproduce", ...) as
-    `python3 -m sweep.<module> ARGS` with the repository first on PYTHONPATH; env: the
-    environment to start from (default os.environ)."""
-    return python_module_command(module, [str(x) for x in args], env=env, python=python)
+def tool_command(tool, *args, env=None, python=None):
+    """(argv, env) that run the package's tool ("sweep", "reproduce", ...) as `python3 -m tigris
+    TOOL ARGS` with the package's folder first on PYTHONPATH; env: the environment to start
+    from (default os.environ)."""
+    return python_module_command(tool, [str(x) for x in args], env=env, python=python)
 
 
-def run_tool(module, *args, env=None, python=None, **kw):
-    """subprocess.run of `python3 -m sweep.<module> ARGS` (tool_command), stdout and stderr
+def run_tool(tool, *args, env=None, python=None, **kw):
+    """subprocess.run of `python3 -m tigris TOOL ARGS` (tool_command), stdout and stderr
     captured as text; kw: more of subprocess.run's (cwd, timeout)."""
-    cmd, env = tool_command(module, *args, env=env, python=python)
+    cmd, env = tool_command(tool, *args, env=env, python=python)
     return subprocess.run(cmd, capture_output=True, text=True, env=env, **kw)
 
 
 def package_env(env=None):
     """env (default os.environ) with the repository first on PYTHONPATH: a child `python3 -c`
     that imports the package."""
-    return tool_command("tigris_sweep", env=env)[1]
+    return tool_command("sweep", env=env)[1]
 
 
 def options():
@@ -67,7 +66,7 @@ def options():
 
 
 def main(path):
-    """A test file run standalone (python3 sweep/tests/test_X.py [--tigris PATH] [--keep] [-k NAME]):
+    """A test file run standalone (python3 python/tests/test_X.py [--tigris PATH] [--keep] [-k NAME]):
     pytest on that file."""
     import pytest
     sys.exit(pytest.main([path, *sys.argv[1:]]))
@@ -110,10 +109,10 @@ def write_spec(folder, spec, name="spec.json"):
 
 
 def sweep(a, *args, check=None, timeout=300, env=None, **kw):
-    """Runs the driver (python3 -m sweep.tigris_sweep ARGS); returns the CompletedProcess
+    """Runs the driver (python3 -m tigris sweep ARGS); returns the CompletedProcess
     (stdout, stderr as text). env: the environment to start from (default os.environ); kw:
     more of subprocess.run's (cwd, preexec_fn)."""
-    cmd, env = tool_command("tigris_sweep", *args, env=env)
+    cmd, env = tool_command("sweep", *args, env=env)
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, **kw)
     if check is not None and p.returncode != check:
         raise AssertionError(f"exit {p.returncode}, expected {check}: {' '.join(args)}\n"

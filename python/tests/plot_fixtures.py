@@ -1,7 +1,7 @@
-"""Test helpers: sweep CSVs made by hand, in the column contract of tigris_sweep.py.
+"""Test helpers: sweep CSVs made by hand, in the column contract of tigris/tools/sweep.py.
 
 flatten(stats) turns a stats.json into the contract's stats columns (every scalar leaf by its
-dotted path, except `config` and lists); write_csv writes them in tigris_sweep.py's layout
+dotted path, except `config` and lists); write_csv writes them in tigris/tools/sweep.py's layout
 (or with every setting first). fake_stats(...) makes a small stats.json-shaped dict whose
 figures follow from a few numbers, so tests can state the values they expect; hand_made_csvs
 writes one CSV per experiment with such values. This is not a sweep runner: it runs nothing.
@@ -32,7 +32,7 @@ def write_csv(path, rows, layout="driver", base=(), sidecar=False):
     """rows: dicts with `settings` (spec name -> value), `stats` (dict or None) and optional
     `status` / `error`.
 
-    layout "driver" (tigris_sweep.py's): `point`, the swept keys, `status`, `error`,
+    layout "driver" (tigris/tools/sweep.py's): `point`, the swept keys, `status`, `error`,
     `wall_seconds`, then cloud, queries, mode and the `base` keys, then the stats; a stat whose
     path a setting column takes is written `stats.<path>` (`stats.queries`). Unset values are
     written as the driver does for cloud/queries/mode (`synthetic`, `nn`), else empty.

@@ -1,16 +1,16 @@
 #!/usr/bin/python3
-"""sweep/core/ on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
+"""tigris/core/ on its own: the input opener (links, kinds, bounds, JSON depth and duplicates),
 atomic writes, output folders (claim, foreign entries, lock, resume or fresh, the parent's files,
 the manifest), child processes (process groups, the death signal, stop on a signal), the
 Slurm and --list-flags helpers, provenance (what a figure's footer says) and the pipeline's
 stages as a binary lists them (fake binaries; test_pipeline_dse asks the real one). No tigris
 binary needed; about 10 s.
 
-    python3 sweep/tests/test_core.py [--keep]"""
+    python3 python/tests/test_core.py [--keep]"""
 import argparse, hashlib, json, os, signal, subprocess, sys, tempfile, textwrap, time
 import pytest
 from common import main, alive, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, package_env
-from sweep import core
+from tigris import core
 
 KEEP = os.environ.get("TIGRIS_TEST_KEEP") == "1"
 D = tempfile.mkdtemp(prefix="tigris-core-")
@@ -210,7 +210,7 @@ def test_lock():
     b.finish(0)
     # a killed holder leaves no lock behind
     p = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
-        import time; from sweep import core
+        import time; from tigris import core
         core.OutFolder({d!r}, "tool", ["r"]).claim(); print("held", flush=True); time.sleep(60)""")],
                          stdout=subprocess.PIPE, text=True, env=package_env())
     assert p.stdout.readline().strip() == "held"
@@ -287,7 +287,7 @@ def test_children_groups_and_death_signal():
     assert p.returncode == -signal.SIGKILL and time.monotonic() - t0 < 3
     # the death signal: a middle process killed with SIGKILL (no clean-up) takes its child along
     mid = subprocess.Popen([sys.executable, "-c", textwrap.dedent("""
-        import time; from sweep import core
+        import time; from tigris import core
         p = core.spawn(["sleep", "30"]); print(p.pid, flush=True); time.sleep(60)""")],
                            stdout=subprocess.PIPE, text=True, env=package_env())
     child = int(mid.stdout.readline())
@@ -309,7 +309,7 @@ def test_children_groups_and_death_signal():
 
 
 POOL = """
-import os, sys, time; from sweep import core
+import os, sys, time; from tigris import core
 core.handle_stop_signals()
 pids = open({pids!r}, "w")
 def launch(t):
@@ -340,7 +340,7 @@ def test_pool_stops_on_signal():
 
 
 # ----------------------------------------------------------------------------------------------
-# Provenance: what a figure's footer says (matplotlib's part: sweep/tests/test_plots.py)
+# Provenance: what a figure's footer says (matplotlib's part: python/tests/test_plots.py)
 
 def test_shortening():
     assert core.shorten("abcdef", 6) == "abcdef"

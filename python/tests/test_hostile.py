@@ -6,7 +6,7 @@ a changed workload. Each case: the exit code and a message naming the key, file 
 a traceback. Last, 2,000 seeded mutations of a valid spec through the validator (exit 0 or a
 clean exit 2, bounded time)."""
 import contextlib, io, json, os, random, re, resource, shutil, signal, subprocess, sys, time
-from common import (main, Workdir, alive, descendants, digest, options, package_env, read_csv, small_workload, sweep, tool_command,
+from common import (PACKAGE, main, Workdir, alive, descendants, digest, options, package_env, read_csv, small_workload, sweep, tool_command,
                     write_cloud, write_spec)
 
 a = options()
@@ -38,7 +38,7 @@ exec "{real}" "$@"
 # A tigris whose real runs all fail (what it lists for tools, --list-stages too, it lists).
 FAILING = """#!/bin/sh
 case " $* " in
-  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*) exec "{real}" "$@" ;;
+  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*|" presets --json ") exec "{real}" "$@" ;;
 esac
 echo "tigris run: error: injected failure" >&2
 exit 2
@@ -170,7 +170,7 @@ def test_collect_and_signals_mid_sweep():
             fake = wrapper(d, "slow-tigris", SLOW)
             spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"}, "grid": {"seed": [1, 9]}})
             out = os.path.join(d, "out")
-            cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "2", "--tigris", fake)
+            cmd, env = tool_command("sweep", spec, "--out", out, "--jobs", "2", "--tigris", fake)
             drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env,   # even under nohup
                                    preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL))
             t0 = time.monotonic()
@@ -239,7 +239,7 @@ def test_hostile_spec_files():
             out = os.path.join(d, "out-" + name)
             t0 = time.monotonic()
             p = sweep(a, path, "--out", out, "--tigris", a.tigris, timeout=60)
-            clean(p, 2, f"{name}", "tigris_sweep: error:", *words[name])
+            clean(p, 2, f"{name}", "tigris sweep: error:", *words[name])
             assert time.monotonic() - t0 < 10, f"{name}: {time.monotonic() - t0:.1f} s"
             assert not os.path.exists(out)
 
@@ -443,9 +443,9 @@ def mutate(r):
 
 def test_spec_fuzz():
     """2,000 seeded mutations of a valid spec through the driver's own main() (--check, the dry
-    check left out): each ends in exit 0 or exit 2 with one `tigris_sweep: error:` message, never
+    check left out): each ends in exit 0 or exit 2 with one `tigris sweep: error:` message, never
     another exception, each within 5 s; every 200th also through the real command line."""
-    from sweep import tigris_sweep as ts
+    from tigris.tools import sweep as ts
     ts.dry_check = lambda *args, **kw: None      # tigris per point: the CLI samples below have it
     r = random.Random(20240601)
     classes, slowest, t_all = {}, (0.0, None), time.monotonic()
@@ -471,9 +471,9 @@ def test_spec_fuzz():
             msg = err.getvalue()
             assert code in (0, 2), f"input {i}: exit {code}\n{msg}\n{data[:300]!r}"
             if code == 2:
-                assert msg.startswith("tigris_sweep: error: ") and msg.count("tigris_sweep: error:") == 1, \
+                assert msg.startswith("tigris sweep: error: ") and msg.count("tigris sweep: error:") == 1, \
                     f"input {i}: {msg!r}"
-                kind = msg.strip()[len("tigris_sweep: error: "):].replace(d + os.sep, "")
+                kind = msg.strip()[len("tigris sweep: error: "):].replace(d + os.sep, "")
                 kind = re.sub(r"^fuzz\.json(:\d+:\d+)?: ((base|grid|points|comment)[^ ]*: )?", "", kind)
                 kind = re.sub(r"'[^']*'|\"[^\"]*\"", "'...'", re.sub(r" \([^()]*\)", "", kind).split(": /")[0])
                 kind = re.sub(r"\d[\d,]*", "N", re.sub(r"^.*: unknown", "unknown", kind))[:60]
@@ -491,7 +491,7 @@ def test_spec_fuzz():
                     assert p.returncode == 2 and p.stderr.splitlines()[0] == msg.splitlines()[0], (p.stderr, msg)
                 else:
                     assert p.returncode in (0, 2), p.stderr
-                    assert p.returncode == 0 or p.stderr.startswith("tigris_sweep: error: "), p.stderr
+                    assert p.returncode == 0 or p.stderr.startswith("tigris sweep: error: "), p.stderr
     total = time.monotonic() - t_all
     print(f"  2000 inputs in {total:.1f} s (slowest {slowest[0]:.2f} s, input {slowest[1]}); "
           f"{sum(n for (c, _), n in classes.items() if c == 0)} exit 0, "
@@ -502,16 +502,14 @@ def test_spec_fuzz():
 
 # ---------------------------------------------------------------------------------- the shared core
 # Each reproduction of the shared core's Python cases: exit code and message, never a traceback, and what
-# must not have been written. T = the tigris binary; the tools run as `python3 -m sweep.TOOL`.
+# must not have been written. T = the tigris binary; the tools run as `python3 -m tigris TOOL`.
 
-TOOLS = {"sweep": "tigris_sweep", "reproduce": "reproduce", "diff": "tigris_diff", "plot": "tigris_plot",
-         "pipeline-dse": "pipeline_dse"}
 PY = "/usr/bin/python3" if os.access("/usr/bin/python3", os.X_OK) else sys.executable   # with matplotlib
 
 
 def tool_cmd(name, *args):
     """(argv, env) of a tool by its tigris sub-command name, on PY, with TIGRIS set."""
-    return tool_command(TOOLS[name], *args, env=dict(os.environ, TIGRIS=a.tigris), python=PY)
+    return tool_command(name, *args, env=dict(os.environ, TIGRIS=a.tigris), python=PY)
 
 
 def tool(name, *args, cwd=None, timeout=60, env=None):
@@ -525,7 +523,7 @@ def tool(name, *args, cwd=None, timeout=60, env=None):
 # A tigris whose real runs (not the dry check, the lists or synth) sleep: a run to stop mid-way.
 SLEEPY = """#!/bin/sh
 case " $* " in
-  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*|*" synth "*) exec "{real}" "$@" ;;
+  *--help*|*--list-flags*|*--list-config*|*--list-stages*|*".dry-check-no-such-folder"*|*" synth "*|" presets --json ") exec "{real}" "$@" ;;
 esac
 sleep {secs} & wait $!
 exec "{real}" "$@"
@@ -578,7 +576,7 @@ def test_concurrent_sweeps():
         small_workload(d, 200, 50)
         spec = write_spec(d, {"base": {"cloud": "cloud.bin"}, "grid": {"height": [4, 5]}})
         slow, out = sleepy(d, 2), os.path.join(d, "out")
-        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "2", "--tigris", slow, python=PY)
+        cmd, env = tool_command("sweep", spec, "--out", out, "--jobs", "2", "--tigris", slow, python=PY)
         procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
                  for _ in range(2)]
         res = [(p.pid,) + (p.wait(timeout=120),) + p.communicate() for p in procs]
@@ -752,7 +750,7 @@ def test_plot_hostile():
         with open(os.path.join(lone, "h.csv"), "w") as f:
             f.write("\n".join([lines[0]] + [",".join(c if i != at else "abc" for i, c in enumerate(l.split(",")))
                                             for l in lines[1:]]) + "\n")
-        code = ("import sys; from sweep import evaldata as ed; "
+        code = ("import sys; from tigris.data import evaldata as ed; "
                 "print(ed.workload_text(ed.Sweep([sys.argv[1]])))")
         p = subprocess.run([PY, "-c", code, os.path.join(lone, "h.csv")], capture_output=True, text=True,
                            env=package_env(dict(os.environ, TIGRIS=a.tigris)))
@@ -933,7 +931,7 @@ def test_read_while_written():
         sweep(a, write_spec(d, {"base": w, "grid": {"seed": [1, 2]}}), "--out", out, "--tigris", a.tigris, check=0)
         fake = wrapper(d, "slow-tigris", SLOW)
         spec = write_spec(d, {"base": w, "grid": {"seed": [1, 2, 9]}})
-        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--tigris", fake)
+        cmd, env = tool_command("sweep", spec, "--out", out, "--tigris", fake)
         drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env)
         try:
             t0 = time.monotonic()
@@ -957,19 +955,18 @@ def test_read_while_written():
 
 
 def test_sweep_dir_without_core():
-    """#54: TIGRIS_SWEEP_DIR at a copy of sweep/ without core/ gave a traceback: one line naming
-    the variable and the folder, exit 2."""
+    """#54: TIGRIS_PYTHONPATH at a copy of the package tigris without its layers (core/ and the
+    rest) gave a traceback: one line naming the variable and the folder, exit 2."""
     with Workdir(a, "core") as d:
-        pkg = os.path.join(d, "sweep")
+        pkg = os.path.join(d, "tigris")
         os.mkdir(pkg)
-        here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-        for f in os.listdir(here):
+        for f in os.listdir(PACKAGE):
             if f.endswith(".py"):
-                shutil.copyfile(os.path.join(here, f), os.path.join(pkg, f))
+                shutil.copyfile(os.path.join(PACKAGE, f), os.path.join(pkg, f))
         for args in (["plot", "--help"], ["diff", "a", "b"], ["sweep", "--list-flags"]):
             p = subprocess.run([a.tigris] + args, capture_output=True, text=True, timeout=60,
-                               env=dict(os.environ, TIGRIS_SWEEP_DIR=pkg))
-            clean(p, 2, f"TIGRIS_SWEEP_DIR={pkg}", "has no core/")
+                               env=dict(os.environ, TIGRIS_PYTHONPATH=d))
+            clean(p, 2, f"TIGRIS_PYTHONPATH={d}", "has no core/")
             assert len(p.stderr.strip().splitlines()) == 1 and not p.stdout, p.stderr
 
 

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""sweep/odometry_plots.py (tigris odometry's figures) on hand-made run folders: a trajectory with
+"""tigris/reports/odometry_plots.py (tigris odometry's figures) on hand-made run folders: a trajectory with
 KITTI segments, a short one (per-pair errors instead, said so), one without a ground truth, a
 missing metrics.json (exit 2 naming the file), and the footer saying what made the figures (from
 OUT/manifest.json; without one, the commit from TIGRIS_COMMIT).
-Run: python3 sweep/tests/test_odometry_plots.py (needs Debian's python3-matplotlib)."""
+Run: python3 python/tests/test_odometry_plots.py (needs Debian's python3-matplotlib)."""
 import contextlib
 import hashlib
 import json
@@ -13,9 +13,9 @@ import sys
 import tempfile
 import unittest
 
-from common import SWEEP, footer_clear, run_tool, main
+from common import footer_clear, run_tool, main
 
-SCRIPT = os.path.join(SWEEP, "odometry_plots.py")   # its sys.argv[0] when run as python3 -m sweep.odometry_plots
+SCRIPT = "tigris odometry-plots"   # its sys.argv[0] when run as python3 -m tigris odometry-plots
 
 try:
     import matplotlib  # noqa: F401
@@ -61,14 +61,14 @@ def write_manifest(d, argv, settings, inputs, commit=None):
 
 
 def plot(d, env=None):
-    return run_tool("odometry_plots", d, timeout=120, env=None if env is None else dict(os.environ, **env))
+    return run_tool("odometry-plots", d, timeout=120, env=None if env is None else dict(os.environ, **env))
 
 
 def footers(d, commit_env=None):
     """{figure: its footer} from odometry_plots.main() run here on d, each checked (as it is saved)
     to lie inside the figure and under every axes."""
-    from sweep import core
-    from sweep import odometry_plots
+    from tigris import core
+    from tigris.reports import odometry_plots
     saved, real_save, argv = {}, core.save_figure, sys.argv
     old = os.environ.pop("TIGRIS_COMMIT", None)
     if commit_env:

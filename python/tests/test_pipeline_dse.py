@@ -4,16 +4,17 @@ them, the Pareto computation against hand-made points, the sample, bad spaces, a
 columns, and a tiny design space end to end with a Pareto point's configuration run again through
 `tigris register --config`.
 
-    python3 sweep/tests/test_pipeline_dse.py --tigris build/bin/tigris [--keep]
+    python3 python/tests/test_pipeline_dse.py --tigris build/bin/tigris [--keep]
 """
 import json, os, subprocess
 
 from common import (main, LIST_STAGES, LIST_STAGES_OUTPUT, PAPER_STAGES, PAPER_TITLES, Workdir, footer_clear, options,
                     read_csv, run_tool, sweep, tool_command, write_spec)
-from sweep import core
-from sweep import dse_data
-from sweep import pipeline_dse as dse
-from sweep import tigris_sweep as ts
+from tigris import core
+from tigris.data import dse_data
+from tigris.reports.pipeline import pipeline_section
+from tigris.tools import pipeline_dse as dse
+from tigris.tools import sweep as ts
 
 A = options()
 
@@ -119,7 +120,7 @@ def test_figures_footer():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from sweep import core
+    from tigris import core
     with Workdir(A, "dse-footer") as d:
         space = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
         out = os.path.join(d, "out")
@@ -184,11 +185,11 @@ def test_bad_space():
                  ({"knob": []}, "unknown top-level key 'knob'")]
         for k, (space, want) in enumerate(cases):
             path = write_spec(d, space, f"space{k}.json")
-            p = run_tool("pipeline_dse", "--space", path, "--tigris", A.tigris, "--out", os.path.join(d, "out"),
+            p = run_tool("pipeline-dse", "--space", path, "--tigris", A.tigris, "--out", os.path.join(d, "out"),
                          timeout=60)
             assert p.returncode == 2 and want in p.stderr and path in p.stderr, (space, p.returncode, p.stderr)
         bad = write_spec(d, {"knobs": [{"key": "icp.max_iterations", "values": [0, 5]}], "anchors": []}, "bad.json")
-        p = run_tool("pipeline_dse", "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
+        p = run_tool("pipeline-dse", "--space", bad, "--pairs", "1", "--samples", "2", "--tigris", A.tigris,
                      "--out", os.path.join(d, "out"), timeout=300)
         assert p.returncode == 2 and "out of range" in p.stderr, p.stderr[-2000:]
 
@@ -205,13 +206,13 @@ def test_no_valid_point():
             f.write("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 1\n")
         space = write_spec(d, {"anchors": [], "knobs": [{"key": "icp.max_iterations", "values": [2, 10]}]}, "space.json")
         out = os.path.join(d, "out")
-        p = run_tool("pipeline_dse", "--space", space, "--samples", "2", "--sequence", seq,
+        p = run_tool("pipeline-dse", "--space", space, "--samples", "2", "--sequence", seq,
                      "--tigris", A.tigris, "--out", out, timeout=300)
         assert p.returncode == 1 and "no point converged" in p.stderr, (p.returncode, p.stderr[-2000:])
         cols, rows = read_csv(os.path.join(out, "points.csv"))
         assert len(rows) == 2 and all(r["status"] != "ok" for r in rows), rows
         assert not os.path.exists(os.path.join(out, "fig4.png"))
-        p = run_tool("pipeline_dse", "--space", space, "--sequence", d, "--tigris", A.tigris, "--out", out,
+        p = run_tool("pipeline-dse", "--space", space, "--sequence", d, "--tigris", A.tigris, "--out", out,
                      timeout=60)
         assert p.returncode == 2 and "no poses.txt" in p.stderr, p.stderr
 
@@ -249,7 +250,7 @@ def test_tiny_dse():
                                          {"key": "icp.error", "values": ["point_to_point", "point_to_plane"]}]},
                            "space.json")
         out = os.path.join(d, "dse")
-        cmd, env = tool_command("pipeline_dse", "--space", space, "--samples", "3", "--pairs", "1", "--jobs", "2",
+        cmd, env = tool_command("pipeline-dse", "--space", space, "--samples", "3", "--pairs", "1", "--jobs", "2",
                                 "--tigris", A.tigris, "--out", out)
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env=env)
         assert p.returncode == 0, p.stderr[-3000:]
@@ -309,8 +310,7 @@ def test_tiny_dse():
             d_["dp"] = "DP" + d_["dp"][1:]
         with open(os.path.join(out, "dse.json"), "w") as fh:
             json.dump(old, fh)
-        from sweep import report
-        lines, claims = report.pipeline_section(dse_data.read_dse(out), out, out, standalone=True)
+        lines, claims = pipeline_section(dse_data.read_dse(out), out, out, standalone=True)
         md = "\n".join(lines)
         assert "| F1 | " in md and "| DP1 |" not in md, md
         os.rename(cfg, os.path.join(out, "pareto", "DP1.json"))

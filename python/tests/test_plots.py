@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""sweep/plots.py: every figure from small hand-made CSVs (axes labels, titles, legends, PNG and
+"""tigris/reports/plots.py: every figure from small hand-made CSVs (axes labels, titles, legends, PNG and
 SVG files), rows picked by the settings swept, skipped figures, the command line, and the footer
-saying what made a figure (sweep/core/provenance.py) in plots.py's and tigris plot's figures.
-Run: python3 sweep/tests/test_plots.py (needs Debian's python3-matplotlib)."""
+saying what made a figure (tigris/core/provenance.py) in plots.py's and tigris plot's figures.
+Run: python3 python/tests/test_plots.py (needs Debian's python3-matplotlib)."""
 import hashlib
 import json
 import os
@@ -22,11 +22,11 @@ except ImportError:
         sys.exit("matplotlib missing for " + sys.executable + ": apt-get install python3-matplotlib")
 
 import plot_fixtures as fx  # noqa: E402
-from sweep import core  # noqa: E402
-from sweep import evaldata as ed  # noqa: E402
+from tigris import core  # noqa: E402
+from tigris.data import evaldata as ed  # noqa: E402
 
 if HAVE_MPL:
-    from sweep import plots
+    from tigris.reports import plots
 
 
 def texts(fig):
@@ -231,7 +231,7 @@ class Skipping(unittest.TestCase):
 
 def sweep_folder(d, csv_path, commit="5c40187850da"):
     """A sweep folder as tigris sweep leaves it: sweep.csv (a copy of csv_path) and the manifest
-    (in the format of sweep/core/folders.py)."""
+    (in the format of tigris/core/folders.py)."""
     os.makedirs(d)
     shutil.copy(csv_path, os.path.join(d, "sweep.csv"))
     m = {"tigris_manifest": 1, "command": "sweep", "argv": ["/opt/tigris/bin/tigris", "sweep", "spec.json", "--out", d],
@@ -262,7 +262,7 @@ class Footer(unittest.TestCase):
         sw_dir = os.path.join(self.tmp.name, "sw")
         sha = sweep_folder(sw_dir, self.csvs["units"])
         csv_path = os.path.join(sw_dir, "sweep.csv")
-        footer = plots.sweep_footer([csv_path], ["sweep/plots.py", csv_path, "--out", "figs"])
+        footer = plots.sweep_footer([csv_path], ["tigris/reports/plots.py", csv_path, "--out", "figs"])
         self.assertEqual(footer[0].split(core.SEP)[0], f"drawn by plots.py {csv_path} --out figs")
         self.assertEqual(footer[1], f"from {os.path.realpath(csv_path)} (sha256 {sha}), made by tigris sweep "
                                     f"spec.json --out {sw_dir} (commit 5c40187850da; "
@@ -298,7 +298,7 @@ class Footer(unittest.TestCase):
         out = os.path.join(self.tmp.name, "plots")
         env = dict(os.environ, TIGRIS_COMMIT="fd523df8c13c-dirty")
         env.pop("TIGRIS", None)                  # the manifest says "tigris" then
-        p = run_tool("tigris_plot", sw_dir, "--out", out, "--which", "sweep", "units", env=env, timeout=300)
+        p = run_tool("plot", sw_dir, "--out", out, "--which", "sweep", "units", env=env, timeout=300)
         self.assertEqual(p.returncode, 0, p.stderr)
         svgs = sorted(f for f in os.listdir(out) if f.endswith(".svg"))
         self.assertIn("units.svg", svgs)
@@ -323,7 +323,7 @@ class CommandLine(unittest.TestCase):
         self.csvs = fx.hand_made_csvs(self.tmp.name)
 
     def run_plots(self, *args):
-        return run_tool("plots", *args)
+        return run_tool("figures", *args)
 
     def test_which(self):
         out = os.path.join(self.tmp.name, "f")

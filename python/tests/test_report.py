@@ -1,19 +1,20 @@
 #!/usr/bin/python3
-"""sweep/report.py: the claim table (docs/model.md, §9 and §14) from tiny hand-made CSVs:
+"""tigris/reports/report.py: the claim table (docs/model.md, §9 and §14) from tiny hand-made CSVs:
 measured values, direction and 2x verdicts (hits, a failed direction, sizes beyond 2x),
 the work bound of the speed claims and the work-ratio verdict, missing claims, REPORT.md with
 the figures, the command line, and the paper's accounting's column and summary counts.
-Run: python3 sweep/tests/test_report.py"""
+Run: python3 python/tests/test_report.py"""
 import os
 import tempfile
 import unittest
 
 from common import PAPER_TITLES, run_tool, main
 import plot_fixtures as fx
-from sweep import dse_data
-from sweep import evaldata as ed
-from sweep import report
-from sweep import variants as vt
+from tigris.data import dse_data
+from tigris.data import evaldata as ed
+from tigris.reports import algorithm, evaluation, pipeline, report, tables
+from tigris.reports import claims as cl
+from tigris.reports import variants as vt
 
 try:
     import matplotlib  # noqa: F401
@@ -24,20 +25,20 @@ except ImportError:
 
 class Verdicts(unittest.TestCase):
     def test_within_2x(self):
-        self.assertTrue(report.within_2x(1.0, 2.0))
-        self.assertTrue(report.within_2x(4.0, 2.0))
-        self.assertFalse(report.within_2x(4.01, 2.0))
-        self.assertFalse(report.within_2x(0.99, 2.0))
-        self.assertFalse(report.within_2x(-0.1, 0.131))  # a gain of the wrong sign
-        self.assertIsNone(report.within_2x(None, 2.0))
-        self.assertIsNone(report.within_2x(1.0, None))
+        self.assertTrue(cl.within_2x(1.0, 2.0))
+        self.assertTrue(cl.within_2x(4.0, 2.0))
+        self.assertFalse(cl.within_2x(4.01, 2.0))
+        self.assertFalse(cl.within_2x(0.99, 2.0))
+        self.assertFalse(cl.within_2x(-0.1, 0.131))  # a gain of the wrong sign
+        self.assertIsNone(cl.within_2x(None, 2.0))
+        self.assertIsNone(cl.within_2x(1.0, None))
 
     def test_at_size_interpolates_log_log(self):
         pts = [(16.0, 2.0, None), (64.0, 8.0, None)]
-        v, how = report.at_size(pts, 32)
+        v, how = algorithm.at_size(pts, 32)
         self.assertAlmostEqual(v, 4.0)
         self.assertIn("interpolated between leaf-sets 16 and 64", how)
-        v, how = report.at_size([(64.0, 8.0, None), (128.0, 9.0, None)], 32)
+        v, how = algorithm.at_size([(64.0, 8.0, None), (128.0, 9.0, None)], 32)
         self.assertEqual(v, 8.0)
         self.assertIn("nearest measured leaf-set 64", how)
 
@@ -156,7 +157,7 @@ class WorkBound(unittest.TestCase):
         self.assertTrue(c.work_ratio)                             # 11.1x within 2x of 11.6x, above 3.1x
         self.assertEqual(vt.verdict(c), vt.WORK_RATIO)
         self.assertIn("ideal machine 3.10x: the paper's 11.1x is a work ratio", c.explanation)
-        self.assertEqual(report.speed_text(c), "1.27x / 11.60x / 3.10x")
+        self.assertEqual(tables.speed_text(c), "1.27x / 11.60x / 3.10x")
         lines = report.summary_lines([c])
         self.assertTrue(any(l.startswith("- **1 is a work ratio**") and "#1 " in l and
                             "11.1x (DP7) against cycles / work / ideal 1.27x / 11.60x / 3.10x" in l for l in lines), lines)
@@ -171,19 +172,19 @@ class WorkBound(unittest.TestCase):
     def test_rule(self):
         """Within 2x by the claim's own rule (a gain's for a +x% claim) and above the ideal by
         more than the no-change band."""
-        c = report.Claim("x", "9", "t", "2x", "h")
-        report.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=3.0)
+        c = cl.Claim("x", "9", "t", "2x", "h")
+        cl.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=3.0)
         self.assertTrue(c.work_ratio)                            # work 4x: gains 3 vs 2; ideal 2x < 3x
-        report.speed_bound(c, (300, 220, 0, 300, 200), (100, 100, 0, 100, 100), paper=2.01)
+        cl.speed_bound(c, (300, 220, 0, 300, 200), (100, 100, 0, 100, 100), paper=2.01)
         self.assertFalse(c.work_ratio)                           # work 2.2x, but 2.01x is the ideal 2x (1% band)
-        report.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=10.0)
+        cl.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=10.0)
         self.assertFalse(c.work_ratio)                           # a gain of 9 against 3: beyond 2x
-        report.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=8.0, rule=report.within_2x)
+        cl.speed_bound(c, (300, 400, 0, 300, 200), (100, 100, 0, 100, 100), paper=8.0, rule=cl.within_2x)
         self.assertTrue(c.work_ratio)                            # the claim's own rule: 8x within 2x of 4x
-        report.speed_bound(c, (300, 400, 0, 300, None), (100, 100, 0, 100, 100), paper=3.0)
+        cl.speed_bound(c, (300, 400, 0, 300, None), (100, 100, 0, 100, 100), paper=3.0)
         self.assertFalse(c.work_ratio)                           # no lower bound: no verdict of its own
         self.assertIsNone(c.speed["ideal"])
-        self.assertIn("ideal machine n/a", report.speed_bound(c, (1, 1, 0, 1, None), (1, 1, 0, 1, 1)))
+        self.assertIn("ideal machine n/a", cl.speed_bound(c, (1, 1, 0, 1, None), (1, 1, 0, 1, 1)))
 
     def test_registration_work(self):
         """A registration's accelerator jobs: cycles and visits summed over its stages, the ideal
@@ -196,8 +197,8 @@ class WorkBound(unittest.TestCase):
                "stages.normals.accelerator.visits.leaf_points": "10240",
                "stages.normals.accelerator.visits.follower_points": "10240"}
         # icp: max(6400 / 64, 2048 / 1024) = 100; normals: max(1, 20480 / 1024) = 20
-        self.assertEqual(report.register_work(row), (1500.0, 6400 + 2048 + 64 + 20480, 12288.0, 22528.0, 120.0))
-        self.assertIsNone(report.register_work({"seconds": "1"}))
+        self.assertEqual(cl.register_work(row), (1500.0, 6400 + 2048 + 64 + 20480, 12288.0, 22528.0, 120.0))
+        self.assertIsNone(cl.register_work({"seconds": "1"}))
 
 
 class Misses(unittest.TestCase):
@@ -260,7 +261,7 @@ class Document(unittest.TestCase):
                                               ("radius", 11, 64, 2.0, 4.0), ("radius", 12, 16, 1.0, 2.0))]
         with open(path, "w") as f:
             f.write(",".join(cols) + "\n" + "\n".join(",".join(r) for r in rows) + "\n")
-        claims = {c.cid: c for c in report.claims_redundancy_conventions(path)}
+        claims = {c.cid: c for c in algorithm.claims_redundancy_conventions(path)}
         nn = claims["redundancy-authors-nn-cross"]
         self.assertEqual(nn.measured, "20.00x (model's convention 2.00x)")  # halfway in log between 16 and 64
         self.assertTrue(nn.direction)
@@ -291,7 +292,7 @@ class Document(unittest.TestCase):
             f.write("point,status,preset,search,pairs,kitti.trajectory_length_m,rpe.mean_translation_m,"
                     "rpe.mean_rotation_deg\n"
                     "a,ok,dp4,exact,10,10.0,0.01,0.02\nb,ok,dp4,approx,10,10.0,0.01,0.06\n")
-        claims = {c.cid: c for c in report.claims_headline(reg, odo)}
+        claims = {c.cid: c for c in evaluation.claims_headline(reg, odo)}
         e2e = claims["e2e-cpu-dp7"]
         self.assertEqual(e2e.measured, "-75.0%")  # 20 s on the CPU -> 5 s
         self.assertTrue(e2e.direction)
@@ -305,7 +306,7 @@ class Document(unittest.TestCase):
         acc = os.path.join(self.tmp.name, "reg-paper.csv")
         with open(acc, "w") as f:
             f.write(",".join(cols) + "\n" + ",".join(["dp7-accel", "ok", "dp7", "accel", "30.0", "6.0", "4.5", "0.2"]) + "\n")
-        paper = {c.cid: c for c in report.claims_headline([reg, acc], odo)}
+        paper = {c.cid: c for c in evaluation.claims_headline([reg, acc], odo)}
         self.assertEqual(paper["approx-kd-dp7"].measured, "5.00x")  # 0.2 -> 0.04 s
         self.assertEqual(paper["e2e-cpu-dp7"].measured, "-77.5%")   # the CPU's 20 s kept
         self.assertEqual(claims["approx-e2e-dp7"].measured, "+25.0%")
@@ -368,7 +369,7 @@ class Document(unittest.TestCase):
             with open(os.path.join(out, "figures", name + ".svg")) as f:
                 svg = f.read()
             self.assertIn('id="tigris-footer"', svg, name)
-            self.assertIn("drawn by report.py", svg, name)
+            self.assertIn("drawn by 'tigris report'", svg, name)    # python3 -m tigris report
 
     def test_cli_no_figures_and_errors(self):
         out = os.path.join(self.tmp.name, "r3")
@@ -398,7 +399,7 @@ class PipelineClaims(unittest.TestCase):
                self.dp("DP3", 0.62, (0, 3, 1, 5, 0, 0, 1, 0))]   # descriptors largest; 90%
         ok = lambda t, e: {"status": "ok", "seconds_per_pair": t, "rpe_translation_m": e,  # noqa: E731
                            "rpe_rotation_deg": e, "kdtree_share": 0.7, "dp": ""}
-        c = {x.cid: x for x in report.claims_pipeline(self.dse(dps, {"dp4": ok(7, 0.006), "dp7": ok(55, 0.0003)}))}
+        c = {x.cid: x for x in pipeline.claims_pipeline(self.dse(dps, {"dp4": ok(7, 0.006), "dp7": ok(55, 0.0003)}))}
         self.assertEqual(c["pipe_kd"].measured, "41%-82%")
         self.assertFalse(c["pipe_kd"].direction)           # DP2 is below 50%
         self.assertIn("DP2", c["pipe_kd"].explanation)
@@ -410,25 +411,25 @@ class PipelineClaims(unittest.TestCase):
         self.assertIn("7.9x", c["pipe_presets"].explanation)
         # One stage dominating every DP fails the no-single-stage claim; all above 50% holds.
         same = [self.dp("DP1", 0.7, (0, 9, 0, 1, 0, 0, 0, 0)), self.dp("DP2", 0.8, (0, 8, 0, 1, 0, 0, 1, 0))]
-        c = {x.cid: x for x in report.claims_pipeline(self.dse(same))}
+        c = {x.cid: x for x in pipeline.claims_pipeline(self.dse(same))}
         self.assertFalse(c["pipe_no_dominant"].direction)
         self.assertTrue(c["pipe_kd"].direction)
         self.assertIn("normal estimation over half the time on every Pareto point", c["pipe_no_dominant"].explanation)
         self.assertIn("needs", c["pipe_presets"].explanation)  # no anchors: not measured
         # One stage largest almost everywhere but under half the time somewhere: holds, with counts.
         mostly = [self.dp("DP1", 0.7, (0, 4, 3, 3, 0, 0, 0, 0)), self.dp("DP2", 0.8, (0, 8, 0, 1, 0, 0, 1, 0))]
-        c = {x.cid: x for x in report.claims_pipeline(self.dse(mostly))}
+        c = {x.cid: x for x in pipeline.claims_pipeline(self.dse(mostly))}
         self.assertTrue(c["pipe_no_dominant"].direction)
         self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: normal estimation on 2 of 2")
         self.assertIn("normal estimation takes 40%-80%", c["pipe_no_dominant"].explanation)
         # With per-stage search seconds the lowest KD-tree share is explained by the stage's own work.
         low = self.dp("DP1", 0.5, (0, 4, 0, 4, 0, 0, 2, 0))
         low["stage_kdtree_seconds"] = dict(zip(self.STAGES, (0, 3.5, 0, 0.5, 0, 0, 2, 0)))
-        c = {x.cid: x for x in report.claims_pipeline(self.dse([low]))}
+        c = {x.cid: x for x in pipeline.claims_pipeline(self.dse([low]))}
         self.assertIn("mostly descriptor calculation's own computation (35% of the time, 88% of that stage)",
                       c["pipe_kd"].explanation)
         # No Pareto point: every claim says what it needs.
-        for x in report.claims_pipeline(self.dse([])):
+        for x in pipeline.claims_pipeline(self.dse([])):
             self.assertEqual(x.measured, "not measured")
 
     def test_stage_order_from_dse(self):
@@ -438,18 +439,18 @@ class PipelineClaims(unittest.TestCase):
         tie = (0, 3, 0, 3, 0, 0, 1, 0)                   # normal estimation = descriptor calculation
         dse = self.dse([self.dp("F1", 0.7, tie), self.dp("F2", 0.7, tie)])
         self.assertEqual(dse_data.stage_order(dse), list(self.STAGES))
-        c = {x.cid: x for x in report.claims_pipeline(dse)}
+        c = {x.cid: x for x in pipeline.claims_pipeline(dse)}
         self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: normal estimation on 2 of 2")
         flipped = dict(dse, stage_order=["descriptor calculation"] + [s for s in self.STAGES
                                                                       if s != "descriptor calculation"])
-        c = {x.cid: x for x in report.claims_pipeline(flipped)}
+        c = {x.cid: x for x in pipeline.claims_pipeline(flipped)}
         self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: descriptor calculation on 2 of 2")
         # A stage of a newer pipeline, named in stage_order and in the points' stages.
         new = [self.dp(f"F{k}", 0.6, (0, 1, 0, 1, 0, 0, 1, 0)) for k in (1, 2)]
         for d in new:
             d["stages"] = dict({"down-sampling": 6}, **d["stages"])
         newer = dict(self.dse(new), stage_order=["down-sampling"] + list(self.STAGES))
-        c = {x.cid: x for x in report.claims_pipeline(newer)}
+        c = {x.cid: x for x in pipeline.claims_pipeline(newer)}
         self.assertEqual(c["pipe_no_dominant"].measured, "largest stage: down-sampling on 2 of 2")
         self.assertIn("down-sampling over half the time on every Pareto point", c["pipe_no_dominant"].explanation)
         self.assertIn("the largest of the rest: down-sampling 67%", c["pipe_big3"].explanation)
@@ -481,7 +482,7 @@ class PipelineClaims(unittest.TestCase):
             dse = dse_data.read_dse(d)
             self.assertEqual([x["dp"] for x in dse["dps"]], ["F1", "F2"])
             self.assertEqual(dse["presets"]["dp4"]["dp"], "F1")
-            lines, claims = report.pipeline_section(dse, d, d, standalone=True)
+            lines, claims = pipeline.pipeline_section(dse, d, d, standalone=True)
             md = "\n".join(lines)
             self.assertIn("| Pareto point | design point | s/pair |", md)
             self.assertIn("| F2 | PDP2 | ", md)           # the point's own name is left as it is
@@ -491,7 +492,7 @@ class PipelineClaims(unittest.TestCase):
             self.assertIn("dp4: Pareto point F1", c["pipe_presets"].explanation)
             self.assertIn("the paper's DP4 (preset dp4)", c["pipe_presets"].text)
             # A summary handed over as it is (not read from a folder) is named the same way.
-            md2 = "\n".join(report.pipeline_section(old, d, d)[0])
+            md2 = "\n".join(pipeline.pipeline_section(old, d, d)[0])
             self.assertIn("| F1 | PDP1 | ", md2)
             self.assertNotIn("| DP1 |", md2)
 

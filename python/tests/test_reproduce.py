@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""sweep/reproduce.py: the sweep specs of the paper's experiments (full and --quick) and of
+"""tigris/tools/reproduce.py: the sweep specs of the paper's experiments (full and --quick) and of
 the paper's accounting beside them, the driver command lines (local and Slurm), argument errors,
 and the run -> figures -> REPORT.md flow with a stand-in driver (so no tigris run is needed),
 the paper's accounting's column and counts included.
-Run: python3 sweep/tests/test_reproduce.py"""
+Run: python3 python/tests/test_reproduce.py"""
 import json
 import os
 import shutil
@@ -11,10 +11,11 @@ import tempfile
 import textwrap
 import unittest
 
-from common import HERE, REPO, run_tool, main
-from sweep import reproduce
+from common import HERE, run_tool, main
+from tigris.reports import variants
+from tigris.tools import reproduce
 
-# A stand-in for tigris_sweep.py (plot_fixtures.py is copied beside it): expands the spec (grid product, then points, over base) and
+# A stand-in for tigris/tools/sweep.py (plot_fixtures.py is copied beside it): expands the spec (grid product, then points, over base) and
 # writes sweep.csv of hand-made stats in the driver's layout; `collect DIR` keeps the CSV.
 FAKE_DRIVER = textwrap.dedent('''\
     import itertools, json, os, sys
@@ -113,7 +114,7 @@ class Specs(unittest.TestCase):
         self.assertIn(0.12, s["approx-radius"]["grid"]["approx-thd"])  # 0.4 r
         for spec in s.values():
             self.assertNotIn("cloud", spec["base"])
-            self.assertTrue(spec["comment"].startswith("sweep/reproduce.py:"))
+            self.assertTrue(spec["comment"].startswith("tigris/tools/reproduce.py:"))
 
     def test_paper_accounting_always(self):
         """Without --variants too, every experiment the accounting can change runs under the
@@ -139,7 +140,7 @@ class Specs(unittest.TestCase):
             if name != "registrations":
                 self.assertEqual(spec["base"]["set"], PAPER_KEYS, name)
                 self.assertEqual(spec.get("grid"), default[name].get("grid"), name)
-        preset = os.path.join(REPO, "presets", "paper-accounting.json")
+        preset = os.path.join(variants.shipped_presets(), "paper-accounting.json")   # as the binary lists them
         self.assertEqual(full["registrations"]["points"],
                          [{"preset": p, "search": s, "accel-config": preset}
                           for p in ("dp4", "dp7") for s in ("accel", "accel-approx")])
@@ -177,14 +178,15 @@ class Specs(unittest.TestCase):
     def test_driver_command(self):
         a = reproduce.parse_args(["--jobs", "3", "--tigris", "/x/tigris"])
         cmd, env = reproduce.driver_command("s.json", "dir", a)
-        # -P: the working folder does not go first on sys.path (a sweep.py there would shadow the package)
-        self.assertEqual(cmd[1:], ["-P", "-m", "sweep.tigris_sweep", "s.json", "--out", "dir", "--tigris", "/x/tigris",
+        # -P: the working folder does not go first on sys.path (a tigris.py there would shadow the package)
+        self.assertEqual(cmd[1:], ["-P", "-m", "tigris", "sweep", "s.json", "--out", "dir", "--tigris", "/x/tigris",
                                    "--jobs", "3"])
-        self.assertEqual(env["PYTHONPATH"].split(os.pathsep)[0], REPO)   # python3 -m finds the package
+        self.assertEqual(env["PYTHONPATH"].split(os.pathsep)[0],            # python3 -m finds the package
+                         os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(reproduce.__file__)))))
         a = reproduce.parse_args(["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
                                   "--sbatch-arg", "--qos=low", "--no-wait"])
         cmd, _ = reproduce.driver_command("s.json", "dir", a)
-        self.assertEqual(cmd[7:], ["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
+        self.assertEqual(cmd[8:], ["--slurm", "--partition", "p", "--time", "1:00:00", "--chunk", "4",
                                    "--sbatch-arg=--qos=low", "--no-wait"])
 
     def test_argument_errors(self):

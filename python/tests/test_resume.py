@@ -33,7 +33,7 @@ def test_interrupt_and_resume():
         spec = write_spec(d, {"base": {"cloud": "cloud.bin", "queries": "queries.bin"},
                               "grid": {"fe.recursion_units": [16, 32, 64, 128]}})
         out = os.path.join(d, "out")
-        cmd, env = tool_command("tigris_sweep", spec, "--out", out, "--jobs", "1", "--tigris", a.tigris)
+        cmd, env = tool_command("sweep", spec, "--out", out, "--jobs", "1", "--tigris", a.tigris)
         drv = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=env)
         first = os.path.join(out, "points", "fe.recursion_units=16", "point.json")
         t0 = time.monotonic()

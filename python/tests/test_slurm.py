@@ -4,7 +4,7 @@ sweep as one job array (chunks of points) gives the same CSV as the local back-e
 aside; --no-wait returns at once and `collect` gathers the finished array; sbatch's errors are
 shown. Skips (exit 77) with the reason when the cluster cannot start (not root and no sudo, no
 packages), unless TIGRIS_REQUIRE_SLURM=1. The cluster is stopped by PID whatever happens."""
-import os, subprocess, time
+import os, re, subprocess, time
 from common import main, options, read_csv, small_workload, sweep, tool_command, write_spec
 
 a = options()
@@ -34,7 +34,7 @@ def slurm_vs_local(env, d):
               "--sbatch-arg", "--comment=tigris-sweep-test", "--tigris", a.tigris, check=1, env=env)
     assert "2 task(s) for 6 point(s)" in p.stderr and "[6/6]" in p.stderr, p.stderr
     same_csv(os.path.join(local, "sweep.csv"), os.path.join(array, "sweep.csv"))
-    job = [l for l in p.stderr.splitlines() if "submitted Slurm job array" in l][0].split()[5].rstrip(":")
+    job = re.search(r"submitted Slurm job array (\S+):", p.stderr).group(1)
     logs = sorted(f for f in os.listdir(os.path.join(array, "slurm")) if f.endswith(".out"))
     assert logs == [f"{job}_0.out", f"{job}_1.out"], logs
     pj = open(os.path.join(array, "points", "fe.recursion_units=16,height=6", "point.json")).read()
@@ -74,7 +74,7 @@ def dse_slurm_vs_local(env, d):
     rows = {}
     for where, extra in (("local", ["--jobs", "2"]), ("array", ["--slurm", "--time", "10"])):
         out = os.path.join(d, f"dse-{where}")
-        cmd, cenv = tool_command("pipeline_dse", "--space", space, "--samples", "3", "--pairs", "1",
+        cmd, cenv = tool_command("pipeline-dse", "--space", space, "--samples", "3", "--pairs", "1",
                                  "--tigris", a.tigris, "--out", out, *extra, env=env)
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env=cenv)
         assert p.returncode == 0, p.stderr[-3000:]

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""sweep/variants.py and `reproduce --variants`: verdicts and the classification of claims over
+"""tigris/reports/variants.py and `reproduce --variants`: verdicts and the classification of claims over
 design variants (from hand-made claims and hand-made CSVs), the variants' specs, user variants
 and their errors, and a small variant run end to end with tigris (the synthetic pair).
-Run: python3 sweep/tests/test_variants.py [--tigris PATH] (pytest)"""
+Run: python3 python/tests/test_variants.py [--tigris PATH] (pytest)"""
 import csv
 import json
 import os
@@ -20,10 +20,11 @@ if TIGRIS:
     os.environ["TIGRIS"] = TIGRIS
 
 import plot_fixtures as fx  # noqa: E402
-from sweep import evaldata as ed  # noqa: E402
-from sweep import report  # noqa: E402
-from sweep import reproduce  # noqa: E402
-from sweep import variants as vt  # noqa: E402
+from tigris.data import evaldata as ed  # noqa: E402
+from tigris.reports import report  # noqa: E402
+from tigris.reports import claims as cl  # noqa: E402
+from tigris.tools import reproduce  # noqa: E402
+from tigris.reports import variants as vt  # noqa: E402
 
 DEFAULTS = {"dram.bytes_per_cycle": 51.2, "node_cache.bytes": 131072, "leader-width": 0,
             "fe.top_levels_replicated": 0}
@@ -39,7 +40,7 @@ KEY_INFO = {"dram.bytes_per_cycle": {"type": "number", "min": 0.001, "max": 1e6,
 
 
 def claim(cid, measured, direction, within, explanation="facts"):
-    c = report.Claim(cid, "9", f"claim {cid}", "1x", "how")
+    c = cl.Claim(cid, "9", f"claim {cid}", "1x", "how")
     return c.set(measured, direction, within, explanation)
 
 
@@ -57,7 +58,7 @@ class Verdicts(unittest.TestCase):
         self.assertEqual(vt.verdict(claim("a", "1", False, False)), vt.FAILS)
         self.assertEqual(vt.verdict(claim("a", "1", False, None)), vt.FAILS)
         self.assertEqual(vt.verdict(claim("a", "1", None, None)), vt.NO_TEST)
-        self.assertEqual(vt.verdict(report.Claim("a", "9", "t", "p", "h")), vt.NOT_MEASURED)
+        self.assertEqual(vt.verdict(cl.Claim("a", "9", "t", "p", "h")), vt.NOT_MEASURED)
         self.assertEqual(vt.verdict(None), vt.NOT_MEASURED)
         for d, w in ((True, True), (True, False), (False, False)):  # a work ratio whatever its cycles say
             c = claim("a", "1", d, w)
@@ -135,7 +136,7 @@ class Classify(unittest.TestCase):
         self.assertIn("(fails at k (default) (1x); holds at 4 (2x))", vt.classify("x", cols, DEFAULTS)[1])
 
     def test_fails_everywhere_names_where_its_reason_comes_from(self):
-        cols = self.cols(report.Claim("x", "9", "t", "p", "h"), claim("x", "1x", False, False, "bound A"),
+        cols = self.cols(cl.Claim("x", "9", "t", "p", "h"), claim("x", "1x", False, False, "bound A"),
                          claim("x", "1x", False, False, "bound B"), claim("x", "1x", False, False, "bound C"))
         cls, text = vt.classify("x", cols, DEFAULTS)
         self.assertEqual(cls, "fails everywhere")
@@ -150,7 +151,7 @@ class Classify(unittest.TestCase):
         self.assertIn("the paper's number is a work ratio beyond the ideal machine's under all 4", text)
 
     def test_not_measured_somewhere(self):
-        cols = self.cols(claim("x", "1x", True, True), report.Claim("x", "9", "t", "p", "h"),
+        cols = self.cols(claim("x", "1x", True, True), cl.Claim("x", "9", "t", "p", "h"),
                          claim("x", "1x", True, True), claim("x", "1x", True, True))
         cls, text = vt.classify("x", cols, DEFAULTS)
         self.assertEqual(cls, "holds everywhere")
@@ -179,7 +180,7 @@ class Figure(unittest.TestCase):
 
     def draw(self, cols, footer=None):
         """Draws the figure; returns (fig as saved, drawn: its pixels, the matrix' rows)."""
-        from sweep import core
+        from tigris import core
         import matplotlib
         matplotlib.use("Agg")
         import numpy as np
@@ -210,12 +211,12 @@ class Figure(unittest.TestCase):
         for k in range(n_claims):
             d, w = kinds[k % len(kinds)]
             text = self.LONG if k == 2 else f"claim {k} with a text of some length (NN; value at leaf-set {k})"
-            base.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(
+            base.append(cl.Claim(f"c{k}", "9", text, "1x", "h").set(
                 "1.03x at 16 RU vs 1.69x at 64 RU (16x16 -> 128x128)" if k == 2 else f"{k}.0x", d, w, "x"))
             d2, w2 = kinds[(k + 1) % len(kinds)]
-            a.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.5x", d2, w2, "x"))
+            a.append(cl.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.5x", d2, w2, "x"))
             if k % 3:
-                b.append(report.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.7x", d, w, "x"))
+                b.append(cl.Claim(f"c{k}", "9", text, "1x", "h").set(f"{k}.7x", d, w, "x"))
         return [col("default", None, *base), col("dram-8x", d8, *a), col("nc-512k", nc, *b)]
 
     def test_a_colour_per_verdict(self):
@@ -292,12 +293,12 @@ class Figure(unittest.TestCase):
     def test_default_footer_names_the_command(self):
         import matplotlib.pyplot as plt
         old = sys.argv
-        sys.argv = ["/x/sweep/reproduce.py", "--variants", "dram-8x", "--out", "repro"]
+        sys.argv = ["/x/tigris/tools/reproduce.py", "--variants", "dram-8x", "--out", "repro"]
         try:
             fig, _, _ = self.draw(self.columns(3))
         finally:
             sys.argv = old
-        from sweep import core
+        from tigris import core
         text = core.footer_text(fig)
         self.assertTrue(text.startswith("made by reproduce.py --variants dram-8x --out repro"), text)
         self.assertIn("3 configurations: default, dram-8x, nc-512k", text)
@@ -345,7 +346,7 @@ class Specs(unittest.TestCase):
         v = vt.accounting("paper-accounting")
         self.assertEqual(v.set, {"dram.writeback": "off_critical_path", "energy.charge_result_dram": False,
                                  "result_buffer.leader_lists": "resident"})
-        self.assertEqual(v.accel_config, os.path.join(vt.PRESETS_DIR, "paper-accounting.json"))
+        self.assertEqual(v.accel_config, os.path.join(vt.shipped_presets(), "paper-accounting.json"))
         self.assertTrue(v.why)
         for quick in (False, True):
             for name, (_, spec) in reproduce.experiments(quick).items():
@@ -505,7 +506,7 @@ class EndToEnd(unittest.TestCase):
     def test_small_variant_run(self):
         tigris = TIGRIS or os.environ.get("TIGRIS")
         if not tigris:
-            from sweep import tigris_sweep as ts
+            from tigris.tools import sweep as ts
             tigris = ts.default_tigris()
         tmp = tempfile.mkdtemp()
         self.addCleanup(shutil.rmtree, tmp)

@@ -1,23 +1,5 @@
-"""Tigris TLM from Python: the golden model and the accelerator model on NumPy arrays.
-
-    import numpy as np, tigris
-    cloud = tigris.load_cloud("frame0.bin")                     # float32 (N, 3)
-    nn = tigris.search(cloud, queries, mode="nn")              # the golden model, in process
-    job = tigris.run(cloud, queries, mode="knn", k=8, preset="dram-2x")   # one accelerator job
-    job.stats["cycles"], job.verdict, job.bound
-    reg = tigris.register(source, target, preset="dp4", search="exact")
-    reg.transform                                              # 4 x 4
-
-`search` runs the golden model in this process. `run` and `register` run the `tigris` binary
-in a child process of their own (SystemC elaborates once per process), with the arrays written
-as KITTI .bin files to the job's folder (a temporary one, or keep=DIR: the command's --out
-folder, under the rule of --out); their figures are `tigris run`'s and `tigris register`'s,
-field for field. Errors are exceptions carrying the command line's messages: ValueError for bad
-arrays and settings (naming the argument), IndexError for a query index out of range,
-tigris.TigrisError for a refused run or folder, and tigris.MismatchError when the accelerator's
-results differ from the golden model's.
-docs/python.md is the tutorial.
-"""
+"""The NumPy module: the golden model in this process (_tigris) and the accelerator model
+through the tigris binary; `import tigris` exposes its names (see the package's docstring)."""
 import fcntl
 import fnmatch
 import hashlib
@@ -31,6 +13,8 @@ import warnings
 import numpy as np
 
 from . import _tigris
+from . import core
+from .data.binary import find_binary
 from ._tigris import InputError  # a bad cloud file (a ValueError), with the reader's message
 
 __all__ = ["load_cloud", "synthetic_pair", "search", "run", "register", "config_keys", "presets", "binary",
@@ -54,16 +38,11 @@ class MismatchError(TigrisError):
 
 def binary():
     """The tigris binary: $TIGRIS, else the one of the prefix or build tree this package sits in
-    (PREFIX/lib/python3/dist-packages/tigris -> PREFIX/bin/tigris; BUILD/python/tigris ->
-    BUILD/bin/tigris)."""
-    if os.environ.get("TIGRIS"):
-        return os.environ["TIGRIS"]
-    here = os.path.dirname(os.path.abspath(__file__))
-    for up in (("..", "..", "..", "..", "bin"), ("..", "..", "bin")):
-        path = os.path.normpath(os.path.join(here, *up, "tigris"))
-        if os.path.isfile(path) and os.access(path, os.X_OK):
-            return path
-    raise TigrisError(f"no tigris binary beside this package ({here}): set $TIGRIS")
+    (tigris.data.binary.find_binary)."""
+    path = find_binary()
+    if path is None:
+        raise TigrisError(f"no tigris binary beside this package ({os.path.dirname(__file__)}): set $TIGRIS")
+    return path
 
 
 def _call(args, parent_files=()):
@@ -631,17 +610,6 @@ def run(cloud=None, queries=None, mode="nn", k=10, radius=0.3, max_nn=0, height=
         job.close()
 
 
-def _flat(d, prefix=""):
-    """{"fe": {"recursion_units": 16}} as {"fe.recursion_units": 16} (comments "//..." left out)."""
-    out = {}
-    for k, v in d.items():
-        if not isinstance(k, str) or k.startswith("//"):
-            continue
-        key = f"{prefix}.{k}" if prefix else k
-        out.update(_flat(v, key) if isinstance(v, dict) else {key: v})
-    return out
-
-
 def _plain(v):
     """A NumPy scalar as the Python value JSON and the command line take."""
     return v.item() if isinstance(v, np.generic) else v
@@ -658,13 +626,13 @@ def _config_args(job, config, preset, flag, name):
     if preset:
         if "/" in preset or preset.endswith(".json"):
             with open(preset) as f:
-                merged.update(_flat(json.load(f)))
+                merged.update(core.dotted(json.load(f)))
         else:
             known = presets()
             if preset not in known:
                 raise ValueError(f"no preset named {preset!r}; presets: {', '.join(sorted(known))}")
             merged.update(known[preset]["sets"])
-    merged.update(_flat(config))
+    merged.update(core.dotted(config))
     return [flag, job.input(name, json.dumps(merged, default=_plain).encode())]
 
 

@@ -37,27 +37,41 @@ def size_text(b):
     return f"{b >> 30} GiB" if b >= 1 << 30 else f"{b >> 20} MiB" if b >= 1 << 20 else f"{b} bytes"
 
 
+def dotted(obj, prefix=""):
+    """A nested JSON object as {dotted key: leaf}, in order: {"fe": {"recursion_units": 16}} as
+    {"fe.recursion_units": 16}. Comment members ("//...") are left out; an empty object and a list
+    are leaves (the top-level empty object gives {}). The one flattener of configurations,
+    presets, settings and stats."""
+    if isinstance(obj, dict) and (obj or not prefix):
+        out = {}
+        for k, v in obj.items():
+            if isinstance(k, str) and k.startswith("//"):
+                continue
+            out.update(dotted(v, f"{prefix}.{k}" if prefix else str(k)))
+        return out
+    return {prefix: obj}
+
+
 def tigris_commit():
     """The tigris commit that runs this tool ($TIGRIS_COMMIT, as the binary's build_commit(): a
     hash, "-dirty" when the tree differed), "unknown" when run without the binary."""
     return os.environ.get(COMMIT_ENV) or "unknown"
 
 
-# The package (sweep/) and the folder that holds it: its tools run as modules of it.
-PACKAGE = __name__.split(".")[0]                                  # "sweep"
+# The package (tigris/) and the folder that holds it: its tools run through its dispatcher.
+PACKAGE = __name__.split(".")[0]                                  # "tigris"
 PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def python_module_command(module, args=(), env=None, python=None):
-    """(argv, env) that run the package's tool `module` (e.g. "tigris_sweep") as
-    `python3 -m sweep.tigris_sweep ARGS`: env is a copy of `env` (default os.environ) whose
-    PYTHONPATH starts with the absolute folder that holds the package, so the child finds it
-    from any working folder (and on a Slurm node sharing the file system). python: the
-    interpreter (default: this one)."""
+def python_module_command(tool, args=(), env=None, python=None):
+    """(argv, env) that run the package's tool (e.g. "sweep") as `python3 -m tigris sweep ARGS`:
+    env is a copy of `env` (default os.environ) whose PYTHONPATH starts with the absolute folder
+    that holds the package, so the child finds it from any working folder (and on a Slurm node
+    sharing the file system). python: the interpreter (default: this one)."""
     env = dict(os.environ if env is None else env)
     rest = env.get("PYTHONPATH", "")
     if rest.split(os.pathsep)[0] != PACKAGE_ROOT:
         env["PYTHONPATH"] = PACKAGE_ROOT + (os.pathsep + rest if rest else "")
-    # -P: the working folder does not go first on sys.path (a sweep.py or shlex.py there would
+    # -P: the working folder does not go first on sys.path (a tigris.py or shlex.py there would
     # shadow the package or the standard library).
-    return [python or sys.executable, "-P", "-m", f"{PACKAGE}.{module}"] + [str(a) for a in args], env
+    return [python or sys.executable, "-P", "-m", PACKAGE, tool] + [str(a) for a in args], env

@@ -1,7 +1,7 @@
 """Output folders: the one way a tool owns its --out (the C++ twin: core/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
 import fcntl, fnmatch, json, os, shlex, shutil, sys, time
-from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, now_utc, tigris_commit
+from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, dotted, now_utc, tigris_commit
 from .inputs import read_json_input
 
 
@@ -65,15 +65,6 @@ def _matches(name, is_dir, patterns):
         elif fnmatch.fnmatchcase(name, p):
             return p
     return None
-
-
-def _flat(obj, prefix=""):
-    if isinstance(obj, dict) and obj:
-        out = {}
-        for k, v in obj.items():
-            out.update(_flat(v, f"{prefix}.{k}" if prefix else str(k)))
-        return out
-    return {prefix: obj}
 
 
 def _show(v):
@@ -286,7 +277,7 @@ class OutFolder:
 
     def _changes(self, old, settings, inputs, strict):
         out = []
-        a, b = _flat(old.get("settings") or {}), _flat(settings)
+        a, b = dotted(old.get("settings") or {}), dotted(settings)
         for k in sorted(set(a) | set(b)):
             if a.get(k, "(unset)") != b.get(k, "(unset)"):
                 out.append(f"settings.{k}: {_show(a.get(k, '(unset)'))} -> {_show(b.get(k, '(unset)'))}")

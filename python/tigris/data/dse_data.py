@@ -5,7 +5,7 @@ import os
 import re
 from typing import Any
 
-from . import core
+from .. import core
 
 # The Pareto points' names: F1..Fn ("frontier point"). Not DPn: the paper's design points are
 # DP1..DP8 (its DP4 and DP7 are the presets dp4 and dp7); not Pn: the sampled points are P001...

@@ -1,6 +1,6 @@
 """Sweep CSVs -> rows with their effective settings (shared by plots.py and report.py).
 
-A `sweep.csv` of tigris_sweep.py (docs/sweeps.md): `point`, the swept keys by their spec
+A `sweep.csv` of tigris/tools/sweep.py (docs/sweeps.md): `point`, the swept keys by their spec
 name, `status` (ok|mismatch|error), `error`, `wall_seconds`, the base settings (cloud, queries,
 mode, the base's keys), then every scalar leaf of the point's stats.json (except `config` and
 lists) by its dotted path; a stat whose path a setting column takes is written `stats.<path>`
@@ -24,8 +24,8 @@ import sys
 
 from typing import Any, Callable, Iterable, Optional
 
-from . import core
-from . import tigris_sweep as ts
+from .. import core
+from . import binary
 
 Row = dict[str, Any]  # a CSV row: column -> text, plus `_csv`, `_set` and (ok rows) `eff`
 Eff = dict[str, Any]  # a row's effective settings: name -> value (defaults filled in)
@@ -43,8 +43,8 @@ SPEC_NAMES = {
 
 class _ModelDefaults(collections.abc.Mapping):
     """The model's defaults by effective name, read once from the tigris binary's own lists
-    (`tigris run --list-flags` and `--list-config --json`, via tigris_sweep), so no copy of them
-    lives here. The binary is the one tigris_sweep would use ($TIGRIS, or this tree's build)."""
+    (`tigris run --list-flags` and `--list-config --json`, via tigris sweep), so no copy of them
+    lives here. The binary is the one tigris sweep would use ($TIGRIS, or this tree's build)."""
     def __init__(self):
         self._d, self._radius, self._k = None, None, None
         self._over = {}
@@ -52,7 +52,7 @@ class _ModelDefaults(collections.abc.Mapping):
     @contextlib.contextmanager
     def overridden(self, values):
         """Within the block, `values` (effective name -> value) are the defaults: rows of a
-        design variant (sweep/variants.py) whose keys differ from the model's are then its
+        design variant (tigris/reports/variants.py) whose keys differ from the model's are then its
         'default configuration', so the claims find them."""
         self._load()
         old, self._over = self._over, dict(self._over, **values)
@@ -73,10 +73,10 @@ class _ModelDefaults(collections.abc.Mapping):
 
     def _load(self):
         if self._d is None:
-            path = ts.default_tigris()
+            path = binary.default_tigris()
             try:
-                run = ts.tigris_at(path, "run")
-            except ts.SpecError as e:
+                run = binary.tigris_at(path, "run")
+            except binary.SpecError as e:
                 raise RuntimeError(f"the model's defaults come from the tigris binary: {e}") from None
             d = {"cloud": "", "queries": "", "radius": None, "k": None, "approx": None}
             for col, name in SPEC_NAMES.items():
@@ -169,7 +169,7 @@ def _approx(v: Any, mode: str, radius: Optional[float]) -> Optional[float]:
 
 def setting_positions(path: str, cols: list[str]) -> set[int]:
     """Indexes of a CSV's setting columns: `point` and the swept keys before `status`; the base
-    settings (cloud, queries, mode, base keys), which tigris_sweep.py writes after
+    settings (cloud, queries, mode, base keys), which tigris/tools/sweep.py writes after
     `wall_seconds`, named by the sweep.json beside the CSV, or else the columns right after
     `wall_seconds` that look like run flags or configuration keys."""
     st = cols.index("status")
@@ -295,7 +295,7 @@ class Sweep:
         for name in ("scope", "in_flight"):
             if name in raw:
                 eff[name] = raw[name].strip().lower()
-        for name in ("cloud", "queries"):  # tigris_sweep.py writes `synthetic` for the built-in pair
+        for name in ("cloud", "queries"):  # tigris/tools/sweep.py writes `synthetic` for the built-in pair
             eff[name] = "" if raw.get(name, "") == "synthetic" else raw.get(name, "")
         for name, col in STAT_SETTINGS.items():
             v = row.get(col)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The figures of a `tigris odometry` run.
 
-    sweep/odometry_plots.py OUT
+    tigris/reports/odometry_plots.py OUT
 
 Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
   OUT/trajectory.png  top view (x forward, y left of the first frame's sensor, metres, equal
@@ -12,7 +12,7 @@ Reads OUT/trajectory.csv, OUT/pairs.csv and OUT/metrics.json and writes
                       (translation %, rotation deg/m); without a segment of 100 m (a short
                       trajectory) or a ground truth, the per-pair relative pose error instead,
                       and the figure says why.
-Each figure's footer says what made it (sweep/core/provenance.py), from OUT/manifest.json: the
+Each figure's footer says what made it (tigris/core/provenance.py), from OUT/manifest.json: the
 tigris odometry command line, the commit, the sequence (or synthetic drive), frames, preset and
 back-end, the inputs' SHA-256 and a digest of the settings.
 Exit 2 with a message naming the file when an input is missing or malformed.
@@ -23,7 +23,7 @@ import math
 import os
 import sys
 
-from . import core
+from .. import core
 
 import matplotlib
 matplotlib.use("Agg")
@@ -191,11 +191,12 @@ def run_details(settings, argv):
     return parts
 
 
-def main():
-    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 1 or argv[0].startswith("-"):
         print(__doc__.strip())
-        return 0 if len(sys.argv) == 2 else 2
-    out = sys.argv[1]
+        return 0 if len(argv) == 1 else 2
+    out = argv[0]
     path = os.path.join(out, "metrics.json")
     try:
         metrics = core.read_json_input(path)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The paper's evaluation figures from sweep CSVs (docs/sweeps.md).
 
-    python3 -m sweep.plots CSV... --out DIR [--which NAME ...]
+    python3 -m tigris figures CSV... --out DIR [--which NAME ...]
 
 Writes DIR/<name>.png and DIR/<name>.svg for every figure whose settings the CSVs sweep:
 
@@ -15,7 +15,7 @@ Writes DIR/<name>.png and DIR/<name>.svg for every figure whose settings the CSV
 A figure picks the rows it needs by the settings they sweep (the other settings held at one
 value: the largest such group); a figure whose settings are not swept is skipped with a message,
 or is an error (exit 2) when named with --which. Rows whose status is not ok are left out.
-Each figure's footer says what drew it and from what (sweep/core/provenance.py): this command
+Each figure's footer says what drew it and from what (tigris/core/provenance.py): this command
 line and, for each CSV, its SHA-256 and the command line and commit in the manifest.json of its
 sweep folder.
 """
@@ -28,10 +28,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 
-from . import evaldata as ed  # noqa: E402
-from . import core  # noqa: E402
+from .. import core  # noqa: E402
+from ..data import evaldata as ed  # noqa: E402
 from . import figure_truth  # noqa: E402
-from .evaldata import num  # noqa: E402
+from ..data.evaldata import num  # noqa: E402
 
 # The paper's redundancy at leaf-set size 32 (KITTI; section 4.1), drawn for comparison only.
 PAPER_REDUNDANCY_32 = {"nn": 35.0, "radius": 3.0}
@@ -456,7 +456,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="figures: " + ", ".join(FIGURES))
-    ap.add_argument("csv", nargs="+", help="sweep CSVs (tigris_sweep.py's DIR/sweep.csv)")
+    ap.add_argument("csv", nargs="+", help="sweep CSVs (tigris/tools/sweep.py's DIR/sweep.csv)")
     ap.add_argument("--out", required=True, help="folder for the PNG and SVG files")
     ap.add_argument("--which", nargs="+", choices=list(FIGURES), metavar="NAME",
                     help="only these figures (an error when one cannot be made): " + ", ".join(FIGURES))

@@ -25,7 +25,7 @@ import os
 import shlex
 import sys
 
-from . import core
+from .. import core
 
 PROG = "tigris diff"
 OTHER_SHOWN = 40
@@ -340,7 +340,7 @@ def show(res, show_all):
     return "\n".join(L)
 
 
-def main(argv):
+def compare_main(argv):
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n\n".join(__doc__.split("\n\n")[1:]))
@@ -375,8 +375,13 @@ def main(argv):
     return 1 if res["differ"] else 0
 
 
-if __name__ == "__main__":
+def main(argv):
+    """The command: compare_main with a closed pipe (| head) an exit 1, not a traceback."""
     try:
-        sys.exit(main(sys.argv[1:]))
+        return compare_main(argv)
     except BrokenPipeError:
-        sys.exit(1)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

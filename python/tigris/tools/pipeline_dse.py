@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """tigris pipeline-dse: the paper's section 3. Samples the registration pipeline's design space
-(its Table 1), runs every point as `tigris odometry` over one sequence through tigris_sweep
+(its Table 1), runs every point as `tigris odometry` over one sequence through tigris sweep
 (locally or as one Slurm job array), and finds the Pareto frontiers of error against time.
 
   tigris pipeline-dse [--space FILE] [--samples N] [--seed S] [--pairs N | --sequence DIR
@@ -22,7 +22,7 @@ Writes into DIR:
 The Pareto points are F1..Fn ("frontier point") by time: not DPn, which are the paper's own design
 points (its DP4 and DP7 are the presets dp4 and dp7), nor the sampled points P001..PN. Folders of
 earlier versions name them DP1..DPn: `tigris reproduce --dse` reads those as F1..Fn.
-Each figure's footer says what made it (sweep/core/provenance.py, from DIR/manifest.json): this
+Each figure's footer says what made it (tigris/core/provenance.py, from DIR/manifest.json): this
 command line, the commit, the sample's size and seed, the space file's and the sequence's SHA-256
 and a digest of the settings.
 
@@ -42,10 +42,12 @@ interrupted.
 """
 import argparse, csv, io, json, math, os, random, re, shlex, signal, subprocess, sys
 
-from . import core
-from . import report
-from .dse_data import PARETO, pareto_number
-from .tigris_sweep import Spec, SpecError, default_tigris, joined_sbatch_args
+from .. import core
+from ..data.binary import SpecError, default_tigris
+from ..data.dse_data import PARETO, pareto_number
+from ..data.spec import Spec
+from ..reports.pipeline import pipeline_section
+from .sweep import joined_sbatch_args
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 PROG = "tigris pipeline-dse"
@@ -337,24 +339,6 @@ def write_configs(out, points, dps):
     return paths
 
 
-def claims(points, dps):
-    """The paper's section-3 claims, measured on the Pareto points."""
-    dp_points = [points[i] for i in sorted(dps, key=lambda i: pareto_number(dps[i]))]
-    shares, big3, dominant = [], [], {}
-    for p in dp_points:
-        total = sum(v for v in p["stages"].values() if v) or None
-        if total is None or p["kdtree_share"] is None:
-            continue
-        shares.append(p["kdtree_share"])
-        big3.append(sum(p["stages"].get(s) or 0 for s in ("normal estimation", "descriptor calculation", "RPCE")) / total)
-        top = max(p["stages"], key=lambda s: p["stages"][s] or 0)
-        dominant[top] = dominant.get(top, 0) + 1
-    return {"dps": len(dp_points),
-            "kdtree_share_min": min(shares) if shares else None, "kdtree_share_max": max(shares) if shares else None,
-            "normals_descriptors_rpce_share_min": min(big3) if big3 else None,
-            "dominant_stage_counts": dominant}
-
-
 # Where a label may go, in points from its marker: beside it first, then further out on a leader
 # line, so a cluster of frontier points (several within a second and a few per cent of error)
 # still gets one readable label each.
@@ -401,7 +385,7 @@ def plot(out, points, fronts, dps, title, footer=(), stage_order=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from . import figure_truth  # noqa: F401  (svg text, flat-axis guard)
+    from ..reports import figure_truth  # noqa: F401  (svg text, flat-axis guard)
 
     ok = [p for p in points if p["valid"]]
     bad = [p for p in points if not p["valid"] and p["seconds_per_pair"] is not None
@@ -486,15 +470,16 @@ def plot(out, points, fronts, dps, title, footer=(), stage_order=None):
 
 # ----------------------------------------------------------------------------------------------
 
-def write_report(out, summary):
-    """DIR/REPORT.md: the paper's section-3 claims against this exploration, in the words and
-    verdicts of `tigris reproduce`'s report (which adds the same section with --dse DIR)."""
-    lines, claims = report.pipeline_section(summary, out, out, standalone=True)
+def report_lines(summary, out):
+    """(DIR/REPORT.md's lines, the claims): the paper's section-3 claims against this
+    exploration, in the words and verdicts of `tigris reproduce`'s report (which adds the same
+    section with --dse DIR)."""
+    lines, claims = pipeline_section(summary, out, out, standalone=True)
     held = [c for c in claims if c.direction]
     lines[3:3] = [f"The claims below are measured on this exploration's Pareto points; the direction "
                   f"holds for {len(held)} of {sum(c.direction is not None for c in claims)} "
                   "(docs/registration.md explains the space and the stages)."]
-    core.atomic_write(os.path.join(out, "REPORT.md"), "\n".join(lines))
+    return lines, claims
 
 
 def parse_args(argv):
@@ -506,7 +491,7 @@ def parse_args(argv):
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.split("\n")[7:]))
     core.role(ap.add_argument("--space", default=DEFAULT_SPACE, metavar="FILE",
-                              help="design space JSON (default: sweep/pipeline_space.json, every Table 1 knob "
+                              help="design space JSON (default: tigris/tools/pipeline_space.json, every Table 1 knob "
                               "this pipeline has)"), "input")
     ap.add_argument("--samples", type=int, default=100, metavar="N",
                     help="points drawn from the space, besides the anchors (default %(default)s; a small N "
@@ -577,7 +562,7 @@ def check_sequence(a):
     return seq, frames
 
 
-def main(argv):
+def explore_main(argv):
     a = parse_args(argv)
     tigris = os.path.abspath(a.tigris)
     if not (os.path.isfile(tigris) and os.access(tigris, os.X_OK)):
@@ -630,7 +615,7 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
             if getattr(a, opt):
                 args += [f"--{opt}", str(getattr(a, opt))]
         args += [f"--sbatch-arg={s}" for s in a.sbatch_arg]
-    sweep, env = core.python_module_command("tigris_sweep", args)     # python3 -m sweep.tigris_sweep
+    sweep, env = core.python_module_command("sweep", args)     # python3 -m tigris sweep
     say(f"{len(pts)} points: {shlex.join(sweep)}")
     rc = run_sweep(sweep, env)
     if rc == 2:
@@ -673,7 +658,6 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
     footer = core.footer_lines(core.provenance(out, command="pipeline-dse"),
                                details=[f"{len(drawn)} sampled points, seed {a.seed}"])
     plot(out, points, fronts, dps, title, footer, stage_order)
-    measured = claims(points, dps)
     summary = {"command_line": f"{PROG} {shlex.join(argv)}", "space_file": os.path.abspath(a.space), "space": space,
                "sampling": how, "seed": a.seed, "sequence": where, "points": len(points),
                "ok": sum(p["status"] == "ok" for p in points),
@@ -688,10 +672,12 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
                             dp=dps[i], config=configs[i]) for i in sorted(dps, key=lambda i: pareto_number(dps[i]))],
                "presets": {p["point"].split("=")[1]: {k: p[k] for k in ("status", "seconds_per_pair", "rpe_translation_m",
                                                                           "rpe_rotation_deg", "kdtree_share", "dp")}
-                           for p in points if p["point"].startswith("preset=")},
-               "claims": measured}
+                           for p in points if p["point"].startswith("preset=")}}
+    # The section-3 claims as the report measures them, once (reports/pipeline.py).
+    lines, measured = report_lines(summary, out)
+    summary["claims"] = [c.record() for c in measured]
     core.write_json(os.path.join(out, "dse.json"), summary)
-    write_report(out, summary)
+    core.atomic_write(os.path.join(out, "REPORT.md"), "\n".join(lines))
     print(f"{'Pareto':6} {'point':14} {'s/pair':>7} {'RPE m':>8} {'RPE deg':>8} {'KD-tree':>7}  frontier")
     for d in summary["dps"]:
         i = next(k for k, p in enumerate(points) if p["point"] == d["point"])
@@ -699,32 +685,36 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
         on = "+".join(w for w, f in (("translation", fronts[0]), ("rotation", fronts[1])) if i in f)
         print(f"{d['dp']:6} {d['point']:14} {d['seconds_per_pair']:7.2f} {d['rpe_translation_m']:8.4f} "
               f"{d['rpe_rotation_deg']:8.4f} {'   -' if d_kd is None else f'{100 * d_kd:6.1f}%'}  {on}")
-    c = measured
-    if c["dps"]:
-        print(f"KD-tree search {100 * c['kdtree_share_min']:.0f}-{100 * c['kdtree_share_max']:.0f}% of the time on the "
-              f"{c['dps']} Pareto points (paper: 50-85%); normal estimation + descriptors + RPCE at least "
-              f"{100 * c['normals_descriptors_rpce_share_min']:.0f}% (paper: over 90%)")
+    for c in measured:
+        holds = {True: "holds", False: "does not hold", None: "not measured"}[c.direction]
+        print(f"{c.text}: {c.measured} (paper: {c.paper}; the direction {holds})")
     print(f"{summary['ok']} ok, {summary['not_converged']} not converged, {summary['failed']} failed of {len(points)}; "
           f"wrote {out}/points.csv, fig4.png, fig5.png, pareto/{PARETO}*.json, dse.json, REPORT.md")
     return 0
 
 
-if __name__ == "__main__":
+def main(argv):
+    """The command: explore_main, its stops and errors said in one line with an exit code (2 a
+    refused input or folder, SBATCH_FAILED a failed submission, 128 + the signal)."""
     core.handle_stop_signals()
     try:
-        sys.exit(main(sys.argv[1:]))
+        return explore_main(argv)
     except core.Refused as e:
         say(f"error: {e}")
-        sys.exit(2)
+        return 2
     except core.SlurmFailed as e:
         say(f"error: {e}")
-        sys.exit(core.SBATCH_FAILED)
+        return core.SBATCH_FAILED
     except (OSError, ValueError) as e:           # a full disk, an unreadable file: named
         say(f"error: {getattr(e, 'filename', None) or ''}{': ' if getattr(e, 'filename', None) else ''}"
             f"{getattr(e, 'strerror', None) or e}")
-        sys.exit(2)
+        return 2
     except KeyboardInterrupt as e:
         code = core.exit_status(e)
         say(f"interrupted ({signal.Signals(code - 128).name}): the sweep and its points stopped; finished "
             "points are kept: rerun the same command to resume")
-        sys.exit(code)
+        return code
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -7,7 +7,7 @@ each figure's name carries its sweep's, sweep_<key>-<name>.png (the sweep folder
 CSV's without .csv; sweep_<key>-<name>-<n>.png, n its place on the command line, when two share a
 name): two sweeps of one key never write one file. The other swept keys give one line per
 combination when there are at most six; otherwise they are held at the model's default (or their
-first value) and the title says so. Then the paper's figures (sweep/plots.py: redundancy, units,
+first value) and the title says so. Then the paper's figures (tigris/reports/plots.py: redundancy, units,
 height, optimizations, memory_traffic, approx) that the sweep's settings cover.
 
 Every figure names its workload and the settings all its points share; an axis whose values vary
@@ -36,10 +36,9 @@ except ImportError:
     sys.exit("tigris plot: error: matplotlib is missing from this python3 (Debian: apt-get install "
              "python3-matplotlib; `tigris plot` uses /usr/bin/python3)")
 
-from . import core  # noqa: E402
-from . import evaldata as ed  # noqa: E402
-from . import figure_truth  # noqa: E402
-from . import plots  # noqa: E402
+from .. import core  # noqa: E402
+from ..data import evaldata as ed  # noqa: E402
+from ..reports import figure_truth, plots  # noqa: E402
 
 PROG = "tigris plot"
 MAX_LINES = 6
@@ -199,7 +198,7 @@ def sweep_figure(key, rows, swept, ys, workload):
     return fig, notes
 
 
-def main(argv):
+def plot_main(argv):
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n\n".join(__doc__.split("\n\n")[1:]))
@@ -300,15 +299,20 @@ def draw(a, paths, tables, stems, sw, workload, out, footer):
             die(f"cannot make {e}")
         written += [m[0] for m in made.values()]
         if skipped:
-            say(f"paper figures this sweep does not cover: {', '.join(skipped)} (python3 -m sweep.plots --help says "
+            say(f"paper figures this sweep does not cover: {', '.join(skipped)} (python3 -m tigris figures --help says "
                 "what each needs)")
     if not written:
         die("no figure could be made from " + ", ".join(paths))
     return 0
 
 
-if __name__ == "__main__":
+def main(argv):
+    """The command: plot_main with a refused input or folder said in one line, exit 2."""
     try:
-        sys.exit(main(sys.argv[1:]))
+        return plot_main(argv)
     except core.Refused as e:
         die(str(e))
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

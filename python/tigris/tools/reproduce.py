@@ -1,14 +1,14 @@
 #!/usr/bin/python3
 """Reproduces the paper's evaluation (section 6) as sweeps, then the figures and REPORT.md.
 
-    python3 -m sweep.reproduce [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
+    python3 -m tigris reproduce [--out DIR] [--cloud FILE [--queries FILE]] [--quick] [--jobs N]
                                [--tigris PATH] [--only EXP ...] [--specs-only | --report-only]
                                [--variants [NAME ...]] [--variants-file FILE]
                                [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                                         [--sbatch-arg ARG ...] [--no-wait]]
 
 Writes one sweep spec per experiment to DIR/specs/<exp>.json, runs each with the sweep driver
-beside this module (python3 -m sweep.tigris_sweep SPEC --out DIR/sweeps/<exp>), locally (--jobs)
+beside this module (python3 -m tigris sweep SPEC --out DIR/sweeps/<exp>), locally (--jobs)
 or as Slurm job arrays (--slurm and its options are passed through), then plots.py's figures into
 DIR/figures and report.py's DIR/REPORT.md. Finished points are skipped on a rerun, so an
 interrupted or --no-wait run is completed by running the same command again (or --report-only
@@ -37,14 +37,14 @@ import shlex
 import signal
 import sys
 
-from . import core
-from . import dse_data
-from . import report
-from . import tigris_sweep as ts
-from . import variants as vt
+from .. import core
+from ..data import binary, dse_data
+from ..data.spec import FLAG_KEYS
+from ..reports import report
+from ..reports import variants as vt
 
 HERE = os.path.dirname(os.path.realpath(__file__))
-DRIVER = os.path.join(HERE, "tigris_sweep.py")   # the sweep driver, run as python3 -m sweep.tigris_sweep
+DRIVER = os.path.join(HERE, "sweep.py")   # the sweep driver, run as python3 -m tigris sweep
 NC_DEFAULT = 131072
 RADIUS = 0.30
 WORKLOAD = "workload.json"
@@ -209,7 +209,7 @@ def write_specs(out, names, quick, cloud, queries):
             spec = with_workload(spec, cloud, queries)
             if name == "redundancy" and cloud and queries:  # also the cloud searched in itself
                 spec["points"] += [dict(p, queries=os.path.abspath(cloud)) for p in spec["points"]]
-            spec["comment"] = f"sweep/reproduce.py{' --quick' if quick else ''}: {what}"
+            spec["comment"] = f"tigris/tools/reproduce.py{' --quick' if quick else ''}: {what}"
             path = os.path.join(out, "specs", name + ".json")
             write_json(path, spec)
             made.append((name, path, os.path.join(out, "sweeps", name)))
@@ -251,7 +251,7 @@ def variant_plan(out, plan, chosen, defaults, quick, cloud, queries, omit=()):
                     entries.append((name, None, folder))
                     continue
                 spec = with_workload(vt.apply(spec, v, defaults), cloud, queries)
-                spec["comment"] = (f"sweep/reproduce.py{' --quick' if quick else ''}: {what}; "
+                spec["comment"] = (f"tigris/tools/reproduce.py{' --quick' if quick else ''}: {what}; "
                                    f"variant {v.name}: {v.describe()}")
                 path = os.path.join(vdir, "specs", name + ".json")
                 write_json(path, spec)
@@ -274,10 +274,10 @@ def accounting_plan(out, plan, defaults, quick, cloud, queries):
 
 
 def driver_argv(a, args):
-    """(argv, env) of the sweep driver with `args`: the package's tigris_sweep as a module
+    """(argv, env) of the sweep driver with `args`: the package's tigris sweep as a module
     (env: PYTHONPATH finds the package), or another script --driver names (env: this one's)."""
     if os.path.realpath(a.driver) == os.path.realpath(DRIVER):
-        return core.python_module_command("tigris_sweep", args)
+        return core.python_module_command("sweep", args)
     return [sys.executable, a.driver] + list(args), None
 
 
@@ -319,8 +319,8 @@ def parse_args(argv):
     ap.add_argument("--quick", action="store_true", help="small grids (a few minutes on 2 cores)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="local points at once")
     core.role(ap.add_argument("--tigris", help="tigris binary (passed to the driver)"), "input")
-    core.role(ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris_sweep.py "
-                              "beside this script)"), "input")
+    core.role(ap.add_argument("--driver", default=DRIVER, help="the sweep driver (default: tigris/tools/sweep.py, "
+                              "run as python3 -m tigris sweep)"), "input")
     core.role(ap.add_argument("--dse", metavar="DIR", help="a `tigris pipeline-dse` folder: the report adds "
                               "the paper's section-3 claims measured there"), "input")
     ap.add_argument("--only", nargs="+", metavar="EXP", choices=names, help="only these experiments")
@@ -339,7 +339,7 @@ def parse_args(argv):
     g.add_argument("--specs-only", action="store_true", help="write the specs, run nothing")
     g.add_argument("--report-only", action="store_true",
                    help="no runs: re-collect the sweep folders, then the figures and the report")
-    s = ap.add_argument_group("Slurm (passed to tigris_sweep.py)")
+    s = ap.add_argument_group("Slurm (passed to tigris/tools/sweep.py)")
     s.add_argument("--slurm", action="store_true", help="run every sweep as a Slurm job array")
     s.add_argument("--partition")
     s.add_argument("--time")
@@ -435,13 +435,13 @@ def choose_variants(a):
     if a.variants is None and not a.variants_file:
         return [], {}
     try:
-        tig = ts.tigris_at(a.tigris or ts.default_tigris(), "run")
-    except ts.SpecError as e:
+        tig = binary.tigris_at(a.tigris or binary.default_tigris(), "run")
+    except binary.SpecError as e:
         raise Refused(f"--variants: the model's keys and defaults come from the tigris binary: {e}")
     defaults = dict(tig.config, **{"leader-width": tig.flags.get("leader-width")})
     try:
         user = vt.load(a.variants_file, list(experiments(a.quick)), tig.key_info,
-                       set(ts.FLAG_KEYS["run"].values())) if a.variants_file else []
+                       set(FLAG_KEYS["run"].values())) if a.variants_file else []
         chosen = vt.choose(a.variants or [], user, a.variants_file)
         known = set(experiments(a.quick))
         for v in chosen:                          # a shipped preset naming no experiment of ours

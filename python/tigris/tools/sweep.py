@@ -1,11 +1,11 @@
 #!/usr/bin/python3
-"""tigris_sweep: runs a sweep spec of `tigris run`, `ref`, `register` or `odometry` points
+"""tigris sweep: runs a sweep spec of `tigris run`, `ref`, `register` or `odometry` points
 locally or as one Slurm job array, and collects one CSV (docs/sweeps.md).
 
-  python3 -m sweep.tigris_sweep SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
+  python3 -m tigris sweep SPEC.json --out DIR [--jobs N] [--tigris PATH] [--check]
                   [--slurm [--partition P] [--time T] [--mem M] [--chunk K]
                            [--sbatch-arg ARG ...] [--no-wait]]
-  python3 -m sweep.tigris_sweep collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
+  python3 -m tigris sweep collect DIR      re-collect DIR/sweep.csv and DIR/sweep.json
 
 Python 3 standard library only, with the package's core (folders, inputs, child processes);
 Slurm tasks run this same module as `_task TASKFILE INDEX`. The folder is held for the run and
@@ -14,115 +14,21 @@ Exit codes: 0 every point ok, 1 some point mismatched or failed (the CSV is stil
 2 bad spec, arguments or sweep folder, 3 Slurm submission failed, 128 + the signal when
 interrupted (130 SIGINT, 129 SIGHUP, 143 SIGTERM; finished points kept).
 """
-import argparse, csv, datetime, difflib, hashlib, io, itertools, json, math, os, re, shlex
+import argparse, csv, datetime, io, json, os, re, shlex
 import shutil, signal, socket, subprocess, sys, tempfile, time
-from decimal import Decimal
-from typing import Any, Callable
 
-from . import core
+from .. import core
+from ..data.binary import COMMANDS, SpecError, Tigris, default_tigris, tigris_at  # noqa: F401
+from ..data.spec import NOT_SWEEPABLE, Spec, cli_value, csv_value, inputs_of  # noqa: F401
 
-PROG = "tigris_sweep"
-TOP_KEYS = ("command", "base", "grid", "points", "comment")
-PER_RUN = "per-run output files are not swept"
-NOT_SWEEPABLE = {"out": "the sweep gives every point its own --out", "help": "", "list-config": "", "list-flags": "",
-                 "json": "", "stats-schema": "",
-                 "set": "write configuration keys as dotted keys (or under \"set\" in base/points)",
-                 "vcd": PER_RUN, "timeline": PER_RUN, "timeline-queries": PER_RUN,
-                 "schedule": "tigris run does not replay", "dump-results": PER_RUN, "dump-schedule": PER_RUN,
-                 "record-trace": PER_RUN, "compare": "a point is one registration; sweep \"search\" instead",
-                 "accel-set": "set accelerator keys in an --accel-config file",
-                 "slurm": "the sweep's own --slurm runs the points", "no-wait": "", "partition": "",
-                 "chunk": "", "sbatch-arg": "", "mem": "", "time": ""}
+PROG = "tigris sweep"
 
-
-class Command:
-    """What a sweep point runs: a tigris sub-command, the file its result is in, and how that
-    result reads (ok / mismatch / not_converged)."""
-    def __init__(self, name, result, files, folders, fixed, required, config_from, headline, stage_columns=None):
-        self.name, self.result, self.files, self.folders = name, result, files, folders
-        self.fixed = fixed                       # always a column, so a CSV tells what ran
-        self.required = required                 # a flag its --help must list (is it tigris?)
-        self.config_from = config_from           # the sub-command whose --list-config has its keys
-        self.headline = headline                 # sweep.csv's first columns after status
-        # (prefix, fields): headline columns per pipeline stage after those, `{prefix}.{field}`
-        # with the stage's key in the prefix, the stages as the binary lists them (Tigris.headline)
-        self.stage_columns = stage_columns
-        self.paths = files + folders
-        # the flag that takes the accelerator's configuration: a file, or a preset's name
-        self.preset_flag = "config" if name == "run" else "accel-config" if config_from == "register" else None
-
-    def headline_of(self, stages):
-        """The headline with the columns of `stages` (core.pipeline_stages), in their order."""
-        if not self.stage_columns:
-            return list(self.headline)
-        prefix, fields = self.stage_columns
-        return list(self.headline) + [f"{prefix.format(key=s['key'])}.{f}" for s in stages for f in fields]
-
-    def status(self, rc, result):
-        """(status, message) of a finished process; None: it gave no result (an error)."""
-        if not isinstance(result, dict):
-            return None
-        if self.name == "ref":
-            return ("ok", "") if rc == 0 else None
-        if self.name == "run":
-            verdict = result.get("verdict")
-            if rc == 0 and verdict == "match":
-                return "ok", ""
-            return ("mismatch", "mismatch") if rc in (0, 1) and verdict == "mismatch" else None
-        if rc not in (0, 1):
-            return None
-        if self.name == "register":
-            st = result.get("status")
-            return ("ok", "") if st == "converged" else ("not_converged", f"registration {st}")
-        bad = result.get("not_converged_pairs")
-        if not isinstance(bad, int):
-            return None
-        return ("ok", "") if bad == 0 else ("not_converged", f"{bad} of {result.get('pairs')} pairs not converged")
-
-
-COMMANDS = {
-    "run": Command("run", "stats.json", ("cloud", "queries", "config"), (), ("cloud", "queries", "mode"),
-                   "cloud", "run", [
-                       "cycles", "seconds", "energy_pj.total", "power_w", "area_mm2.total",
-                       "units.recursion_units.utilization", "units.search_units.utilization",
-                       "units.search_units.pe_utilization", "bottleneck.bound", "bottleneck.cause",
-                       "bottleneck.share", "lower_bound_cycles", "verdict", "accuracy.exact_match_fraction",
-                       "accuracy.mean_extra_distance_m", "accuracy.recall", "accuracy.precision",
-                       "sampling.sampled", "sampling.simulated", "sampling.relative_half_width"]),
-    # The golden model alone (no configuration keys: its flags are its settings).
-    "ref": Command("ref", "stats.json", ("cloud", "queries", "schedule"), (), ("cloud", "queries", "mode"),
-                   "cloud", None, ["visits.top", "visits.leaf_points", "tree.leaf_set_mean",
-                                   "redundancy.model.ratio", "redundancy.authors.ratio"]),
-    "register": Command("register", "registration.json",
-                        ("source", "target", "config", "ground-truth", "kitti-poses", "accel-config"), (),
-                        ("source", "target", "preset", "search"), "source", "register", [
-                            "error.translation_m", "error.rotation_deg", "seconds", "kdtree_seconds",
-                            "kdtree_share", "kdtree_work.distances_and_neighbors"],
-                        ("stages.{key}", ("seconds", "search_seconds", "searches"))),
-    "odometry": Command("odometry", "metrics.json", ("config", "accel-config"), ("sequence",),
-                        ("sequence", "preset", "search"), "sequence", "register", [
-                            "rpe.mean_translation_m", "rpe.mean_rotation_deg", "kitti.t_err_percent",
-                            "kitti.r_err_deg_per_m", "ate.rmse_m", "seconds_per_pair", "pairs", "not_converged_pairs",
-                            "totals.seconds", "totals.kdtree_search_seconds", "totals.kdtree_share"],
-                        ("stages.{key}.per_pair_mean", ("seconds", "kdtree_search_seconds", "searches"))),
-}
 WALL = "wall_seconds"
-# Flags that tigris applies over a configuration key: a spec giving both would run the flag's
-# value while the CSV shows the key's, so one spelling only.
-PIPELINE_FLAG_KEYS = {"height": "search.top_height", "approx-thd": "search.nn_thd", "inject-kth": "inject.rpce_kth"}
-FLAG_KEYS = {"run": {"height": "tree.top_height", "split-axis": "tree.split_axis",
-                     "leader-capacity": "leader.capacity_per_leaf"},
-             "ref": {}, "register": PIPELINE_FLAG_KEYS, "odometry": PIPELINE_FLAG_KEYS}
-MAX_POINTS = 100_000                                 # a spec's points, counted before expanding
-MAX_SPEC_BYTES = 16 << 20
 # The sweep folder's own entries (its manifest's outputs); `tigris plot DIR` writes DIR/plots.
 OUTPUTS = ["plan.json", "points/", "sweep.csv", "sweep.json", "slurm/", "plots/"]
 # The sweep's files in a point's folder, which the point's tigris (the folder's owner) leaves alone.
 POINT_FILES = ["point.json", "stdout.txt", "stderr.txt"]
 
-
-class SpecError(core.Refused):
-    """A bad spec, argument or sweep folder: printed, exit 2."""
 
 
 def say(line):
@@ -158,358 +64,9 @@ def now():
     return datetime.datetime.now().astimezone().isoformat(timespec="milliseconds")
 
 
-def cli_value(v):
-    """A spec value as tigris reads it: booleans true/false, numbers in plain decimal."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        r = repr(v)
-        return format(Decimal(r), "f") if "e" in r or "E" in r else r
-    return str(v)
-
-
-def csv_value(v):
-    return "" if v is None else cli_value(v)
-
-
-def typed(text):
-    """A default from tigris's help text as a JSON-like value."""
-    if text in ("true", "false"):
-        return text == "true"
-    for conv in (int, float):
-        try:
-            return conv(text)
-        except ValueError:
-            pass
-    return text
-
-
 # ----------------------------------------------------------------------------------------------
-# The tigris binary: its run flags and configuration keys, with their defaults
-
-def is_preset_name(v: str) -> bool:
-    """A configuration value naming a preset, as tigris reads it: no '/' and no .json ending."""
-    return "/" not in v and not v.endswith(".json")
-
-
-def default_tigris() -> str:
-    """$TIGRIS (the binary that started this tool), else the binary of the prefix or build tree
-    this package sits in (PREFIX/share/tigris/sweep -> PREFIX/bin/tigris), else the source
-    tree's build/bin/tigris."""
-    if os.environ.get("TIGRIS"):
-        return os.environ["TIGRIS"]
-    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "bin", "tigris")
-    if os.path.isfile(beside) and os.access(beside, os.X_OK):
-        return os.path.normpath(beside)
-    repo = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
-    return os.path.join(repo, "build", "bin", "tigris")
-
-
-def tigris_at(path: str, command: str = "run", _seen: dict = {}) -> "Tigris":
-    """The Tigris of a binary and sub-command, asked once per process (the spec fuzz test
-    validates thousands)."""
-    key = (os.path.abspath(path), command)
-    if key not in _seen:
-        _seen[key] = Tigris(key[0], COMMANDS[command])
-    return _seen[key]
-
-
-class Tigris:
-    """A tigris binary's flags and configuration keys for one sub-command, as the binary lists
-    them for tools (`tigris COMMAND --list-flags`, `tigris COMMAND --list-config --json`), so the
-    sweep never carries a copy of them."""
-    def __init__(self, path: str, command: "Command" = COMMANDS["run"]) -> None:
-        self.path, self.command = os.path.abspath(path), command
-        self._headline = None                    # the headline columns, when first asked (headline)
-        if not (os.path.isfile(self.path) and os.access(self.path, os.X_OK)):
-            raise SpecError(f"tigris binary not found or not executable: {self.path} "
-                            "(give --tigris PATH or set $TIGRIS)")
-        self.flags = {}                          # flag -> default (None: no default)
-        self.switches = set()                    # flags without a value (`--redundancy`): true or false
-        for f in self._ask_json(command.name, "--list-flags").get("flags", []):
-            self.flags[f["flag"]] = typed(f["default"]) if f.get("default") not in (None, "") else None
-            if f.get("takes_value") is False:
-                self.switches.add(f["flag"])
-        self.config = {}                         # configuration key -> default
-        self.key_info = {}                       # configuration key -> its entry (type, unit, range, doc)
-        keys = self._ask_json(command.config_from, "--list-config", "--json").get("keys", []) \
-            if command.config_from else []
-        for k in keys:
-            self.config[k["key"]] = k["default"]
-            self.key_info[k["key"]] = k
-        if command.required not in self.flags or (command.config_from and not self.config):
-            raise SpecError(f"{self.path} does not look like tigris: `tigris {command.name} --list-flags` "
-                            "and `--list-config --json` gave no flags or keys")
-
-    @property
-    def headline(self) -> list[str]:
-        """sweep.csv's headline columns for this command: a registration's per-stage columns
-        for the pipeline's stages as this binary lists them (`tigris register --list-stages`,
-        core.pipeline_stages), asked when first needed: before a sweep runs its points (a binary
-        that cannot list them is refused then, not after the points ran) and by collect."""
-        if self._headline is None:
-            stages = core.pipeline_stages(self.path) if self.command.stage_columns else []
-            self._headline = self.command.headline_of(stages)
-        return self._headline
-
-    def preset_file(self, name: str, error: Callable[[str], Exception]) -> str:
-        """The file of the binary's preset `name` (`tigris presets --json`); error(msg) when
-        there is none."""
-        if not hasattr(self, "_presets"):
-            self._presets = {p["name"]: p["file"] for p in self._ask_json("presets", "--json").get("presets", [])}
-        if name not in self._presets:
-            near = difflib.get_close_matches(name, list(self._presets), 1)
-            raise error(f"no preset named '{name}'" + (f" (did you mean '{near[0]}'?)" if near else "") +
-                        f"; presets: {', '.join(sorted(self._presets))}; a file needs a '/' or a .json name")
-        return self._presets[name]
-
-    def _ask_json(self, sub: str, *flags: str) -> Any:
-        text = self._ask(sub, *flags)
-        try:
-            return json.loads(text)
-        except ValueError as e:
-            raise SpecError(f"{self.path} {sub} {' '.join(flags)} did not print JSON ({e}): is it tigris "
-                            "of this source tree?")
-
-    def _ask(self, sub: str, *flags: str) -> str:
-        what = " ".join(flags)
-        try:
-            p = core.capture([self.path, sub, *flags], timeout=60)
-        except (OSError, subprocess.TimeoutExpired) as e:
-            raise SpecError(f"cannot run {self.path} {sub} {what}: {e}")
-        if p.returncode != 0:
-            raise SpecError(f"{self.path} {sub} {what} failed (exit {p.returncode}): {p.stderr.strip()}")
-        return p.stdout
-
-
-# ----------------------------------------------------------------------------------------------
-# The spec: {"base": {...}, "grid": {key: [values]}, "points": [{...}]}
-
-class Spec:
-    """A sweep spec read and checked against the binary: its base, grid and points, each key
-    canonical and each value typed as the binary takes it (errors name the spec's location)."""
-    def __init__(self, path: str, tigris_path: str) -> None:
-        self.given, self.path = path, os.path.abspath(path)
-        self.dir = os.path.dirname(self.path)
-        self.names = {}                          # canonical key -> spelling in the spec
-        self.where = {}                          # canonical key -> spec locations
-        raw = core.read_json_input(path, "the spec", MAX_SPEC_BYTES, "a sweep spec is at most "
-                                   f"{MAX_SPEC_BYTES >> 20} MiB: split the sweep")
-        self.raw = raw
-        if not isinstance(raw, dict):
-            raise SpecError(f"{path}: the spec must be a JSON object with base, grid, points")
-        for k in raw:
-            if k not in TOP_KEYS:
-                raise SpecError(self._at(k, f"unknown top-level key (allowed: {', '.join(TOP_KEYS)})"))
-        command = raw.get("command", "run")
-        if command not in COMMANDS:
-            raise SpecError(self._at("command", f"{json.dumps(command)[:60]} is not a tigris command a sweep "
-                                     f"runs (allowed: {', '.join(COMMANDS)}; default run)"))
-        self.command = COMMANDS[command]
-        self.tig = tigris_at(tigris_path, command)
-        self.kind = f"{command} flag"            # how error messages name a flag
-        if not isinstance(raw.get("comment", ""), str):
-            raise SpecError(self._at("comment", "must be text"))
-        self.base = self._settings(raw.get("base", {}), "base")
-        grid = raw.get("grid", {})
-        if not isinstance(grid, dict):
-            raise SpecError(self._at("grid", "must be an object {key: [values, ...]}"))
-        self.grid = {}
-        for key, values in grid.items():
-            loc = f"grid[\"{key}\"]"
-            if key == "set":
-                raise SpecError(self._at(loc, "write configuration keys in the grid as dotted keys"))
-            canon = self._key(key, loc)
-            if not isinstance(values, list):
-                raise SpecError(self._at(loc, "must be a list of values"))
-            if not values:
-                raise SpecError(self._at(loc, "is an empty list: the grid would have no points"))
-            if len(values) > MAX_POINTS:
-                raise SpecError(self._at(loc, f"has {len(values):,} values, more than a sweep's "
-                                         f"{MAX_POINTS:,} points: split the sweep"))
-            self.grid[canon] = [self._value(canon, v, f"{loc}[{i}]") for i, v in enumerate(values)]
-        points = raw.get("points", [])
-        if not isinstance(points, list):
-            raise SpecError(self._at("points", "must be a list of objects"))
-        if len(points) > MAX_POINTS:
-            raise SpecError(self._at("points", f"has {len(points):,} points, more than the limit of "
-                                     f"{MAX_POINTS:,}: split the sweep"))
-        self.points = [self._settings(p, f"points[{i}]") for i, p in enumerate(points)]
-        if "points" in raw and not points and not grid:
-            raise SpecError(self._at("points", "is empty and there is no grid: nothing to run"))
-        # Counted before the cross product is built: a big grid is refused, not expanded.
-        self.count = (math.prod(len(v) for v in self.grid.values()) if self.grid else 0) + len(self.points)
-        if self.count > MAX_POINTS:
-            shape = " x ".join(str(len(v)) for v in self.grid.values())
-            more = f" + {len(self.points):,} points" if self.grid and self.points else ""
-            raise SpecError(f"{path}: {self.count:,} points ({f'grid {shape}' if shape else 'points'}{more}), "
-                            f"more than the limit of {MAX_POINTS:,}: split the sweep")
-        for flag, key in FLAG_KEYS[command].items():
-            if flag in self.where and key in self.where:
-                raise SpecError(f"{path}: '{self.names[flag]}' ({', '.join(self.where[flag])}) and "
-                                f"'{self.names[key]}' ({', '.join(self.where[key])}) set one thing "
-                                f"two ways (tigris {command}'s --{flag} overrides {key}, so the CSV would "
-                                "show values that did not run): use one spelling")
-        self.swept = list(self.grid)             # grid keys, then the points' keys
-        for p in self.points:
-            self.swept += [k for k in p if k not in self.swept]
-
-    def _at(self, loc, msg):
-        loc = loc if len(loc) <= 200 else loc[:200] + "..."
-        return f"{self.given}: {loc}: {msg}"
-
-    def _key(self, key, loc):
-        """A spec key's canonical name (flag or configuration key); unknown keys are errors."""
-        if not isinstance(key, str) or not key:
-            raise SpecError(self._at(loc, "empty key"))
-        if len(key) > 200:
-            raise SpecError(self._at(loc, "unknown key (longer than 200 characters)"))
-        flag = key.replace("_", "-")
-        if "." not in key and flag in NOT_SWEEPABLE:
-            raise SpecError(self._at(loc, f"'{key}' cannot be set in a sweep spec"
-                                     + (f": {NOT_SWEEPABLE[flag]}" if NOT_SWEEPABLE[flag] else "")))
-        if "." not in key and flag in self.tig.flags:
-            canon = flag
-        elif key in self.tig.config:
-            canon = key
-        else:
-            kind = "configuration key" if "." in key else self.kind
-            listing = f"tigris {self.command.config_from} --list-config"
-            pool = list(self.tig.config) if "." in key else [f for f in self.tig.flags if f not in NOT_SWEEPABLE]
-            near = difflib.get_close_matches(flag if "." not in key else key, pool, 1, 0.6)
-            # A configuration key without its block: recursion_units -> fe.recursion_units.
-            blocks = [c for c in self.tig.config if c.split(".")[-1] == key or c.endswith("." + key)]
-            if "." not in key and blocks:
-                near = blocks[:1] if len(blocks) == 1 else near
-                if len(blocks) > 1:
-                    raise SpecError(self._at(loc, f"unknown {self.kind} '{key}': configuration keys carry their "
-                                             f"block; did you mean one of {', '.join(blocks)}?"))
-            hint = f" (did you mean '{near[0]}'?)" if near else (
-                f" ({self.kind}s: {', '.join(pool)}; configuration keys are dotted, see "
-                f"`{listing}`)" if "." not in key else f" (see `{listing}`)")
-            raise SpecError(self._at(loc, f"unknown {kind} '{key}'{hint}"))
-        self.names.setdefault(canon, key)
-        self.where.setdefault(canon, []).append(loc)
-        return canon
-
-    def _value(self, canon, v, loc):
-        if isinstance(v, (dict, list)) or v is None:
-            got = {dict: "an object", list: "a list", type(None): "null"}[type(v)]
-            raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a number, text or boolean, got {got}"))
-        if isinstance(v, float) and not math.isfinite(v):
-            raise SpecError(self._at(loc, "needs a finite number"))
-        if isinstance(v, str):                   # it becomes an argument and a CSV cell
-            if len(v) > 4096:
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' is longer than 4096 characters"))
-            if "\0" in v:
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' contains a NUL character"))
-            try:
-                v.encode("utf-8")
-            except UnicodeEncodeError:
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' is not valid Unicode text "
-                                         "(a lone surrogate escape)"))
-        if canon in self.tig.switches and not isinstance(v, bool):
-            raise SpecError(self._at(loc, f"{self.kind} '{self.names[canon]}' is a switch: true or false"))
-        if canon in self.tig.flags and canon not in self.tig.switches and isinstance(v, bool):
-            raise SpecError(self._at(loc, f"{self.kind} '{self.names[canon]}' takes a number or text, not a boolean"))
-        if canon in self.command.paths and canon in self.tig.flags:
-            what = "folder" if canon in self.command.folders else "file"
-            if not isinstance(v, str) or not v.strip():
-                raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a {what} name, got {json.dumps(v)}"))
-            if canon == self.command.preset_flag and is_preset_name(v):
-                # Kept as written (the CSV's cell, the point's name), resolved in args().
-                self.tig.preset_file(v, lambda msg: SpecError(self._at(loc, msg)))
-                return v
-            full = os.path.join(self.dir, v)
-            if not (os.path.isdir(full) if what == "folder" else os.path.isfile(full)):
-                raise SpecError(self._at(loc, f"no such {what}: {full} (relative paths are relative to "
-                                         "the spec's folder)"))
-        return v
-
-    def _settings(self, obj, loc):
-        if not isinstance(obj, dict):
-            raise SpecError(self._at(loc, "must be an object"))
-        out = {}
-        for key, v in obj.items():
-            if key == "set":
-                if not isinstance(v, dict):
-                    raise SpecError(self._at(f"{loc}.set", "must be an object {\"dotted.key\": value}"))
-                for sk, sv in v.items():
-                    sloc = f"{loc}.set[\"{sk}\"]"
-                    canon = self._key(sk, sloc)
-                    if canon not in self.tig.config:
-                        raise SpecError(self._at(sloc, f"'{sk}' is a {self.kind}: put it beside \"set\", not in it"))
-                    if canon in out:
-                        raise SpecError(self._at(sloc, f"'{sk}' is set twice in {loc}"))
-                    out[canon] = self._value(canon, sv, sloc)
-                continue
-            kloc = f"{loc}[\"{key}\"]"
-            canon = self._key(key, kloc)
-            if canon in out:
-                raise SpecError(self._at(kloc, f"'{key}' is set twice in {loc}"))
-            out[canon] = self._value(canon, v, kloc)
-        return out
-
-    def args(self, params: dict[str, Any]) -> list[str]:
-        """tigris arguments of a point: flags, then --set, each sorted (stable for resume)."""
-        a = []
-        for k in sorted(k for k in params if k in self.tig.flags):
-            v = params[k]
-            if k in self.tig.switches:
-                a += [f"--{k}"] if v else []
-                continue
-            if k == self.command.preset_flag and is_preset_name(v):
-                v = self.tig.preset_file(v, SpecError)
-            a += [f"--{k}", os.path.join(self.dir, v) if k in self.command.paths else cli_value(v)]
-        for k in sorted(k for k in params if k not in self.tig.flags):
-            a += ["--set", f"{k}={cli_value(params[k])}"]
-        return a
-
-    def expand(self) -> list[dict[str, Any]]:
-        """Every point in a stable order: the grid's cross product (first key outermost), then
-        `points`; each over base. A point repeating an earlier one is dropped."""
-        own = [dict(zip(self.grid, combo)) for combo in itertools.product(*self.grid.values())] \
-            if self.grid else ([] if self.points else [{}])
-        own += self.points
-        pts, seen, ids = [], set(), {}
-        for o in own:
-            params = dict(self.base)
-            params.update(o)
-            if self.command.name == "run" and "queries" in params and "cloud" not in params:
-                raise SpecError(f"{self.given}: 'queries' ({', '.join(self.where['queries'])}) without "
-                                "'cloud': tigris run refuses --queries without --cloud (a cloud alone "
-                                "is searched in itself)")
-            args = self.args(params)
-            if tuple(args) in seen:
-                continue
-            seen.add(tuple(args))
-            pid = ",".join(f"{k}={_id_value(k, o[k], self.command.preset_flag)}" for k in sorted(o)) or "base"
-            pts.append({"id": pid, "own": o, "params": params, "args": args})
-            ids.setdefault(pid, []).append(pts[-1])
-        for pid, same in ids.items():            # names that sanitise alike or are too long
-            if len(same) > 1 or len(pid) > 150:
-                for p in same:
-                    h = hashlib.sha1(json.dumps(p["args"]).encode()).hexdigest()[:10]
-                    p["id"] = f"{pid[:120]}~{h}"
-        return pts
-
-
-def _id_value(key, v, preset_flag=None):
-    """A point's name for a value: a path's file name; for the preset flag, a preset's name and a
-    file's relative path as written (./top-6: ._top-6), so the two never read alike."""
-    if key == preset_flag and not os.path.isabs(v):
-        s = v
-    else:
-        s = os.path.basename(v) if any(key in c.paths for c in COMMANDS.values()) else cli_value(v)
-    return re.sub(r"[^A-Za-z0-9._+-]", "_", s) or "_"
-
-
-# ----------------------------------------------------------------------------------------------
-# Child processes: core.pool and core.spawn (own process groups, stopped with the driver)
-
-
-# ----------------------------------------------------------------------------------------------
-# One point: `tigris run ARGS --out DIR/points/<id>`, recorded in point.json
+# One point: `tigris run ARGS --out DIR/points/<id>`, recorded in point.json (child processes:
+# core.pool and core.spawn, in their own process groups, stopped with the driver)
 
 def point_dir(out, pid):
     return os.path.join(out, "points", pid)
@@ -700,15 +257,10 @@ def check_folder(out, plan):
              f"of the CSV (e.g. {stale[0]})")
 
 
-def flatten(obj, prefix=""):
+def flatten(stats):
     """Scalar leaves of stats.json as (dotted path, value); lists and `config` left out."""
-    for k, v in obj.items():
-        path = f"{prefix}{k}"
-        if isinstance(v, dict):
-            if path != "config":
-                yield from flatten(v, path + ".")
-        elif not isinstance(v, list):
-            yield path, v
+    return [(k, v) for k, v in core.dotted(stats).items()
+            if not isinstance(v, (dict, list)) and k != "config" and not k.startswith("config.")]
 
 
 def ordered_union(cols, keys):
@@ -939,9 +491,9 @@ def run_slurm(a, plan, todo, out, names):
     tasks = os.path.join(sdir, f"tasks-{stamp}.json")
     write_json(tasks, {"dir": out, "chunks": chunks})
     script = os.path.join(sdir, f"array-{stamp}.sh")
-    # python3 -m sweep.tigris_sweep on the node, the package found by its absolute folder.
-    task, env = core.python_module_command("tigris_sweep", ["_task", tasks])
-    write_text(script, "#!/bin/sh\n# One task of a tigris_sweep job array: runs its chunk of points.\n"
+    # python3 -m tigris sweep on the node, the package found by its absolute folder.
+    task, env = core.python_module_command("sweep", ["_task", tasks])
+    write_text(script, "#!/bin/sh\n# One task of a tigris sweep job array: runs its chunk of points.\n"
                f"PYTHONPATH={shlex.quote(env['PYTHONPATH'])}\nexport PYTHONPATH\n"
                f"exec {shlex.join(task)} \"$SLURM_ARRAY_TASK_ID\"\n")
     os.chmod(script, 0o755)
@@ -988,7 +540,7 @@ def collect_command_line(out):
     ($TIGRIS), else this module with the package on PYTHONPATH."""
     if os.environ.get("TIGRIS"):
         return f"{shlex.quote(os.environ['TIGRIS'])} sweep collect {shlex.quote(out)}"
-    cmd, env = core.python_module_command("tigris_sweep", ["collect", out])
+    cmd, env = core.python_module_command("sweep", ["collect", out])
     return f"PYTHONPATH={shlex.quote(env['PYTHONPATH'])} {shlex.join(cmd)}"
 
 
@@ -1080,35 +632,6 @@ def parse_args(argv):
     return a
 
 
-def inputs_of(spec, pts):
-    """(flag, path) of every file the points read, and their identities for the manifest: a
-    finished point is kept on a rerun only while the files it read are the same."""
-    paths, seen, frames = [("the spec", spec.path)], set(), {}
-    for p in pts:
-        args = dict(zip(p["args"][::2], p["args"][1::2]))
-        for i in range(0, len(p["args"]) - 1, 2):
-            flag = p["args"][i][2:]
-            if flag in spec.command.paths and p["args"][i + 1] not in seen:
-                seen.add(p["args"][i + 1])
-                paths.append((f"'{spec.names.get(flag, flag)}'", p["args"][i + 1]))
-            if flag in spec.command.folders:     # a sequence: only the scans of the points' --frames
-                m = re.fullmatch(r"(\d+):(\d+)", str(args.get("--frames", "")))
-                want = (int(m.group(1)), int(m.group(2))) if m else None          # None: every frame
-                key = p["args"][i + 1]
-                if key not in frames:
-                    frames[key] = want
-                elif frames[key] is not None:
-                    frames[key] = None if want is None else (min(frames[key][0], want[0]), max(frames[key][1], want[1]))
-    ids = []
-    for flag, path in paths[1:]:
-        role = f"{flag.strip(chr(39))} {os.path.relpath(path, spec.dir)}"
-        if os.path.isdir(path):
-            ids += core.sequence_inputs(role, path, frames.get(path))
-        else:
-            ids.append(core.input_identity(role, path))
-    return paths, ids
-
-
 def run(a):
     tigris_at(a.tigris or default_tigris())    # a missing binary is named before the spec is read
     spec = Spec(a.spec, a.tigris or default_tigris())
@@ -1169,7 +692,7 @@ def main(argv):
             return run_task(argv[1], argv[2])
         if argv[:1] == ["collect"]:
             if len(argv) != 2 or argv[1].startswith("-") or not argv[1].strip():
-                die("usage: tigris_sweep.py collect DIR")
+                die("usage: tigris/tools/sweep.py collect DIR")
             return collect_command(os.path.abspath(argv[1]))
         return run(parse_args(argv))
     except core.Refused as e:

@@ -28,7 +28,8 @@ import math
 import os
 import re
 
-from . import core
+from .. import core
+from ..data import binary
 
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,62}$")
 DEFAULT = "default"
@@ -84,24 +85,20 @@ def _show(v):
 # default column is the model's default configuration: 0 top levels replicated, DRAM 51.2
 # bytes/cycle, 128 Point Buffer banks and ports, a 128 KiB Node Cache, leaders checked at a query's
 # first leaf (the authors' code), a Leader Check counting leaders still searching (wait).
-PRESETS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "presets")
-
-
-def _flat(d, prefix=""):
-    out = {}
-    for k, v in d.items():
-        if k.startswith("//"):
-            continue
-        key = f"{prefix}.{k}" if prefix else k
-        out.update(_flat(v, key) if isinstance(v, dict) else {key: v})
-    return out
+def shipped_presets():
+    """The folder of the shipped presets, as the binary the tools run lists them (`tigris presets
+    --json`), in a build tree as in an install."""
+    try:
+        return binary.tigris_at(binary.default_tigris()).presets_dir
+    except binary.SpecError as e:
+        raise VariantError(f"the shipped presets: {e}")
 
 
 def builtin(presets_dir=None):
     """The shipped presets that are design variants, in name order (numbers numerically). The
     files are plain JSON (no comments: this reads them too); `tigris presets` checks every key
     and value, reproduce the experiments they name; a bad one is a VariantError naming it."""
-    folder = presets_dir or PRESETS_DIR
+    folder = presets_dir or shipped_presets()
     try:
         names = sorted((f[:-5] for f in os.listdir(folder) if f.endswith(".json")), key=natural)
     except OSError as e:
@@ -120,7 +117,7 @@ def builtin(presets_dir=None):
                 exps is not None and not (isinstance(exps, list) and exps and all(isinstance(e, str) for e in exps)):
             raise VariantError(f"{path}: \"//preset\".\"variant\" takes \"experiments\" (a list of names) and "
                                f"\"leader_width\" (an integer >= 0), got {json.dumps(var)}")
-        sets = _flat(d)
+        sets = core.dotted(d)
         # leader.width is the configuration key of --leader-width: on the approximate points only
         # (an exact run has no leaders), as "leader_width" did before it was a key.
         if "leader.width" in sets:
@@ -146,11 +143,11 @@ def accounting(name, presets_dir=None):
     it beside the default always, registrations included (its file is their --accel-config). It
     is not a design variant: the robustness matrix is about details the paper leaves open,
     under the default accounting."""
-    path = os.path.join(presets_dir or PRESETS_DIR, name + ".json")
+    path = os.path.join(presets_dir or shipped_presets(), name + ".json")
     d, meta = _read_preset(path)
     if not isinstance(meta.get("accounting"), str):
         raise VariantError(f"{path}: not an accounting preset (its \"//preset\" has no \"accounting\")")
-    return Variant(name, meta.get("why", ""), _flat(d), accel_config=path)
+    return Variant(name, meta.get("why", ""), core.dotted(d), accel_config=path)
 
 
 def is_accounting(name):
@@ -593,7 +590,7 @@ def claim_label(i, claim, cls):
 
 
 def default_footer(columns):
-    """The footer of a figure drawn by this process (tigris reproduce, sweep/report.py) from the
+    """The footer of a figure drawn by this process (tigris reproduce, tigris/reports/report.py) from the
     claims it measured: its command line, the commit, the configurations."""
     import sys
     return core.footer_lines(core.provenance(argv=sys.argv),
