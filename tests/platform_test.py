@@ -193,9 +193,13 @@ def part_deb(build, prefix, tmp):
     check("MATCH" in run, f"the packaged binary:\n{run}")
     # The package's Python tools are the binary's: found in usr/lib/python3/dist-packages beside it.
     usage = sh([os.path.join(root, "usr", "bin", "tigris"), "diff", "--help"], cwd=tmp)
-    check("usage: tigris diff" in usage and
-          os.path.isfile(os.path.join(root, "usr", "lib", "python3", "dist-packages", "tigris", "__main__.py")),
-          f"the packaged tigris diff:\n{usage}")
+    check("usage: tigris diff" in usage, f"the packaged tigris diff:\n{usage}")
+    site = os.path.join(root, "usr", "lib", "python3", "dist-packages")
+    out = sh([sys.executable, "-c", "import tigris, tigris.tools.sweep; print(tigris.binary()); "
+              "print(tigris.search(*tigris.synthetic_pair()).indices.shape)"],
+             env=dict({k: v for k, v in PLAIN_ENV.items() if k != "TIGRIS"}, PYTHONPATH=site), cwd=tmp)
+    check(out.split()[0] == os.path.join(root, "usr", "bin", "tigris") and "(" in out,
+          f"import tigris from the package's files:\n{out}")
     print(f"deb: {os.path.basename(debs[0])} depends on {depends.strip()}; its binary runs unpacked")
 
 
