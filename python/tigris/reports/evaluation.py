@@ -290,90 +290,89 @@ def _speedups(sw, axis, fixed):
     return pts
 
 
-def claims_units(sw):
-    out = []
-    how = (f"cycles along one axis of the RU x SU x PE sweep with the other two at the paper's "
-           f"64 RU / 32 SU / 32 PE (exact search, top height 10); the knee is the smallest count "
-           f"whose doubling speeds up by less than {100 * (KNEE_GAIN - 1):.0f}% (when every doubling "
-           f"swept gains more, the knee is at or beyond the largest count: '>= N', within 2x only "
-           f"decidable when N > 2x the paper's). Direction: the doubling into the paper's knee "
-           f"gains at least {100 * (KNEE_GAIN - 1):.0f}% and more than the doubling out of it. Size: knee within a factor 2 of the paper's.")
-    for s in searches(sw.ok)[:1]:
-        for axis, (name, col) in UNIT_NAMES.items():
-            paper = PAPER["knee"][axis]
-            c = Claim(f"knee-{axis}", "9", f"RU/SU/PE sweep: knee in {name} count ({label(s)})",
-                      f"{paper}", how)
-            out.append(c)
-            pts = _speedups(sw, axis, s)
-            if len(pts) < 2:
-                c.missing(f"a sweep of `{col}` (the other two at the defaults)")
-                continue
-            by = {v: cyc for v, cyc, _ in pts}
-            doublings = [(v, by[v] / by[2 * v]) for v, _, _ in pts if 2 * v in by]
-            if not doublings:
-                c.missing(f"two `{col}` values a factor 2 apart (the other two at the defaults)")
-                continue
-            knee = next((v for v, g in doublings if g < KNEE_GAIN), None)
-            at = knee if knee is not None else doublings[-1][0]  # the doubling at the knee, or the last
-            rows = {v: r for v, _, r in pts}
-            work = f"; doubling {at}->{2 * at}: " + speed_bound(c, run_work(rows[at]), run_work(rows[2 * at]))
-            direction = None
-            if paper // 2 in by and paper in by and 2 * paper in by:
-                into, out_of = by[paper // 2] / by[paper], by[paper] / by[2 * paper]
-                direction = into >= KNEE_GAIN and out_of < into
-            steps = ", ".join(f"{v}->{2 * v} {g:.2f}x" for v, g in doublings)
-            if knee is None:
-                # Every doubling swept gains >= 10%: the knee lies beyond the last doubling.
-                last = doublings[-1][0] * 2
-                knee_row = [r for v, _, r in pts if v == last][0]
-                c.set(f">= {last} (every doubling swept gains >= {100 * (KNEE_GAIN - 1):.0f}%)",
-                      direction, False if last > 2 * paper else None,
-                      f"speed-up per doubling: {steps}; at {last} {name}: {short_bound(knee_row)}{work}")
-            else:
-                knee_row = [r for v, _, r in pts if v == knee][0]
-                c.set(f"{knee}", direction, within_2x(knee, paper),
-                      f"speed-up per doubling: {steps}; at {knee} {name}: {short_bound(knee_row)}{work}")
-        # At few RUs the front-end bounds the run: SU/PE counts help little.
-        c = Claim("low-ru-frontend-bound", "9", "at 16-32 RU the front-end bounds the run: more "
-                  "SU x PE helps only marginally (back-end scaling gain at the fewest RU / at 64 RU)",
-                  "marginal at 16-32 RU; balanced at 64 (no number)",
-                  "speed-up from the smallest to the largest SU x PE configuration swept, at the "
-                  "fewest RUs swept and at 64 RUs (exact search, top height 10). Direction: the "
-                  "gain at the fewest RUs is smaller.")
-        out.append(c)
-        grid = [r for r in sw.ok if all(r["eff"][k] == v for k, v in s.items())
-                and r["eff"]["approx"] is None]
-        grid, _ = ed.select(grid, {"ru", "su", "pe"})
-        rus = sorted({r["eff"]["ru"] for r in grid})
-        common = None
-        for ru in rus:
-            cf = {(r["eff"]["su"], r["eff"]["pe"]) for r in grid if r["eff"]["ru"] == ru}
-            common = cf if common is None else common & cf
-        if len(rus) < 2 or 64 not in rus or rus[0] >= 64 or not common or len(common) < 2:
-            c.missing("an RU x (SU or PE) grid that includes 64 RU and fewer")
-            continue
-        lo_cfg = min(common, key=lambda t: (t[0] * t[1], t[0]))
-        hi_cfg = max(common, key=lambda t: (t[0] * t[1], t[0]))
+UNITS_HOW = (f"cycles along one axis of the RU x SU x PE sweep with the other two at the paper's "
+             f"64 RU / 32 SU / 32 PE (exact search, top height 10); the knee is the smallest count "
+             f"whose doubling speeds up by less than {100 * (KNEE_GAIN - 1):.0f}% (when every doubling "
+             f"swept gains more, the knee is at or beyond the largest count: '>= N', within 2x only "
+             f"decidable when N > 2x the paper's). Direction: the doubling into the paper's knee "
+             f"gains at least {100 * (KNEE_GAIN - 1):.0f}% and more than the doubling out of it. Size: knee "
+             f"within a factor 2 of the paper's.")
 
-        def gain(ru):
-            a = ed.find(grid, ru=ru, su=lo_cfg[0], pe=lo_cfg[1], **s)
-            b = ed.find(grid, ru=ru, su=hi_cfg[0], pe=hi_cfg[1], **s)
-            if a is None or b is None or not num(a, "cycles") or not num(b, "cycles"):
-                return None, None
-            return num(a, "cycles") / num(b, "cycles"), b
-        g_lo, row_lo = gain(rus[0])
-        g_64, _ = gain(64)
-        if g_lo is None or g_64 is None:         # e.g. a small cloud: no row at top height 10
-            c.missing(f"the grid's {lo_cfg[0]}x{lo_cfg[1]} and {hi_cfg[0]}x{hi_cfg[1]} rows at "
-                      f"{rus[0]} and 64 RU at the default top height 10")
-            continue
-        c.set(f"{xf(g_lo)} at {rus[0]} RU vs {xf(g_64)} at 64 RU "
-              f"({lo_cfg[0]}x{lo_cfg[1]} -> {hi_cfg[0]}x{hi_cfg[1]})", up(g_64 / g_lo), None,
-              f"{rus[0]} RU with {hi_cfg[0]} SU x {hi_cfg[1]} PE: {short_bound(row_lo)}")
-    if not out:
-        out.append(Claim("knee", "9", "RU/SU/PE sweep 16..128 has its knee near 64/32/32",
-                         "64 / 32 / 32", how).missing("an RU x SU x PE sweep"))
-    return out
+
+def claim_knee(sw, s, axis):
+    """The knee of one unit count's scaling (RU, SU or PE) against the paper's."""
+    name, col = UNIT_NAMES[axis]
+    paper = PAPER["knee"][axis]
+    c = Claim(f"knee-{axis}", "9", f"RU/SU/PE sweep: knee in {name} count ({label(s)})", f"{paper}", UNITS_HOW)
+    pts = _speedups(sw, axis, s)
+    if len(pts) < 2:
+        return c.missing(f"a sweep of `{col}` (the other two at the defaults)")
+    by = {v: cyc for v, cyc, _ in pts}
+    doublings = [(v, by[v] / by[2 * v]) for v, _, _ in pts if 2 * v in by]
+    if not doublings:
+        return c.missing(f"two `{col}` values a factor 2 apart (the other two at the defaults)")
+    knee = next((v for v, g in doublings if g < KNEE_GAIN), None)
+    at = knee if knee is not None else doublings[-1][0]  # the doubling at the knee, or the last
+    rows = {v: r for v, _, r in pts}
+    work = f"; doubling {at}->{2 * at}: " + speed_bound(c, run_work(rows[at]), run_work(rows[2 * at]))
+    direction = None
+    if paper // 2 in by and paper in by and 2 * paper in by:
+        into, out_of = by[paper // 2] / by[paper], by[paper] / by[2 * paper]
+        direction = into >= KNEE_GAIN and out_of < into
+    steps = ", ".join(f"{v}->{2 * v} {g:.2f}x" for v, g in doublings)
+    if knee is None:
+        # Every doubling swept gains >= 10%: the knee lies beyond the last doubling.
+        last = doublings[-1][0] * 2
+        return c.set(f">= {last} (every doubling swept gains >= {100 * (KNEE_GAIN - 1):.0f}%)",
+                     direction, False if last > 2 * paper else None,
+                     f"speed-up per doubling: {steps}; at {last} {name}: {short_bound(rows[last])}{work}")
+    return c.set(f"{knee}", direction, within_2x(knee, paper),
+                 f"speed-up per doubling: {steps}; at {knee} {name}: {short_bound(rows[knee])}{work}")
+
+
+def claim_low_ru_frontend(sw, s):
+    """At few RUs the front-end bounds the run: SU/PE counts help little."""
+    c = Claim("low-ru-frontend-bound", "9", "at 16-32 RU the front-end bounds the run: more "
+              "SU x PE helps only marginally (back-end scaling gain at the fewest RU / at 64 RU)",
+              "marginal at 16-32 RU; balanced at 64 (no number)",
+              "speed-up from the smallest to the largest SU x PE configuration swept, at the "
+              "fewest RUs swept and at 64 RUs (exact search, top height 10). Direction: the "
+              "gain at the fewest RUs is smaller.")
+    grid = [r for r in sw.ok if all(r["eff"][k] == v for k, v in s.items()) and r["eff"]["approx"] is None]
+    grid, _ = ed.select(grid, {"ru", "su", "pe"})
+    rus = sorted({r["eff"]["ru"] for r in grid})
+    common = None
+    for ru in rus:
+        cf = {(r["eff"]["su"], r["eff"]["pe"]) for r in grid if r["eff"]["ru"] == ru}
+        common = cf if common is None else common & cf
+    if len(rus) < 2 or 64 not in rus or rus[0] >= 64 or not common or len(common) < 2:
+        return c.missing("an RU x (SU or PE) grid that includes 64 RU and fewer")
+    lo_cfg = min(common, key=lambda t: (t[0] * t[1], t[0]))
+    hi_cfg = max(common, key=lambda t: (t[0] * t[1], t[0]))
+
+    def gain(ru):
+        a = ed.find(grid, ru=ru, su=lo_cfg[0], pe=lo_cfg[1], **s)
+        b = ed.find(grid, ru=ru, su=hi_cfg[0], pe=hi_cfg[1], **s)
+        if a is None or b is None or not num(a, "cycles") or not num(b, "cycles"):
+            return None, None
+        return num(a, "cycles") / num(b, "cycles"), b
+    g_lo, row_lo = gain(rus[0])
+    g_64, _ = gain(64)
+    if g_lo is None or g_64 is None:         # e.g. a small cloud: no row at top height 10
+        return c.missing(f"the grid's {lo_cfg[0]}x{lo_cfg[1]} and {hi_cfg[0]}x{hi_cfg[1]} rows at "
+                         f"{rus[0]} and 64 RU at the default top height 10")
+    return c.set(f"{xf(g_lo)} at {rus[0]} RU vs {xf(g_64)} at 64 RU "
+                 f"({lo_cfg[0]}x{lo_cfg[1]} -> {hi_cfg[0]}x{hi_cfg[1]})", up(g_64 / g_lo), None,
+                 f"{rus[0]} RU with {hi_cfg[0]} SU x {hi_cfg[1]} PE: {short_bound(row_lo)}")
+
+
+def claims_units(sw):
+    """The unit-count sweep (the first search present): each axis's knee, and the front-end bound
+    at few RUs."""
+    out = [c for s in searches(sw.ok)[:1]
+           for c in [claim_knee(sw, s, axis) for axis in UNIT_NAMES] + [claim_low_ru_frontend(sw, s)]]
+    return out or [Claim("knee", "9", "RU/SU/PE sweep 16..128 has its knee near 64/32/32", "64 / 32 / 32",
+                         UNITS_HOW).missing("an RU x SU x PE sweep")]
 
 
 def claims_height(sw):

@@ -26,6 +26,93 @@ def _own_compute(dp, order):
     return s, rest[s] / total, rest[s] / dp["stages"][s]
 
 
+BIG3 = ("normal estimation", "descriptor calculation", "RPCE")  # the paper's three largest stages
+NEEDS_DPS = "a pipeline-dse with at least one Pareto point"
+
+
+def claim_kdtree_share(dps, order, how):
+    """KD-tree search takes 50-85% of the time on every Pareto point."""
+    c = Claim("pipe_kd", "3", "KD-tree search takes 50-85% of the time on every Pareto point", "50-85%", how)
+    if not dps:
+        return c.missing(NEEDS_DPS)
+    kd = [(d["kdtree_share"], d) for d in dps if d.get("kdtree_share") is not None]
+    if not kd:
+        raise ValueError("no Pareto point has a KD-tree share")
+    lo, hi = min(kd, key=lambda t: t[0]), max(kd, key=lambda t: t[0])
+    below = [d for v, d in kd if v < 0.5]
+    expl = f"{len(dps)} Pareto points; lowest {lo[1]['dp']} ({lo[1]['point']}) {pct(lo[0], 0)}"
+    own = _own_compute(lo[1], order)
+    if own:
+        expl += (f", the rest of its time mostly {own[0]}'s own computation ({pct(own[1], 0)} of the time, "
+                 f"{pct(own[2], 0)} of that stage)")
+    else:  # a dse.json without per-stage search seconds: the largest stage outside the paper's three
+        sh = _shares(lo[1], order)
+        top = max((s for s in order if s not in BIG3), key=lambda s: sh[s])
+        expl += f", where {top} takes {pct(sh[top], 0)}"
+    expl += f"; highest {hi[1]['dp']} {pct(hi[0], 0)}"
+    if below:
+        expl += f"; below 50%: {', '.join(d['dp'] for d in below)}"
+    return c.set(f"{pct(lo[0], 0)}-{pct(hi[0], 0)}", not below, within_2x(lo[0], 0.5) and within_2x(hi[0], 0.85),
+                 expl)
+
+
+def claim_big3(dps, order, how):
+    """Normal estimation, descriptors and RPCE take over 90% of the time."""
+    c = Claim("pipe_big3", "3", "normal estimation, descriptors and RPCE take over 90% of the time", "> 90%", how)
+    if not dps:
+        return c.missing(NEEDS_DPS)
+    big = [(sum(_shares(d, order).get(s, 0) for s in BIG3), d) for d in dps]
+    v, d = min(big, key=lambda t: t[0])
+    sh = _shares(d, order)
+    rest = sorted((s for s in order if s not in BIG3), key=lambda s: -sh[s])[:2]
+    return c.set(f"at least {pct(v, 0)} (lowest {d['dp']})", v > 0.9, within_2x(v, 0.9),
+                 f"{d['dp']} ({d['point']}), the largest of the rest: " + ", ".join(f"{s} {pct(sh[s], 0)}" for s in rest)
+                 + " (outlier removal is a stage this pipeline has and the paper's does not)")
+
+
+def claim_no_dominant(dps, order, how):
+    """No single stage dominates across the Pareto points. The paper's sense: no stage is an
+    acceleration target for every DP (normal estimation is about 80% of DP8 and under 30% of
+    DP1-2). Tested as: no stage takes over half the time on every Pareto point; the largest
+    stage per DP is reported beside it."""
+    c = Claim("pipe_no_dominant", "3", "no single stage dominates across the Pareto points", "no single stage", how)
+    if not dps:
+        return c.missing(NEEDS_DPS)
+    tops = {}
+    for d in dps:
+        sh = _shares(d, order)
+        tops.setdefault(max(order, key=lambda s: sh[s]), []).append(d["dp"])
+    low = {s: min(_shares(d, order)[s] for d in dps) for s in order}
+    high = {s: max(_shares(d, order)[s] for d in dps) for s in order}
+    majority = [s for s in order if low[s] > 0.5]
+    return c.set("largest stage: " + "; ".join(f"{s} on {len(v)} of {len(dps)}" for s, v in tops.items()),
+                 not majority, None,
+                 "; ".join(f"{s} takes {pct(low[s], 0)}-{pct(high[s], 0)}" for s in tops)
+                 + (f"; {', '.join(majority)} over half the time on every Pareto point" if majority else
+                    "; no stage takes over half the time on every Pareto point")
+                 + " (paper: normal estimation under 30% in DP1-2, about 80% in DP8)")
+
+
+def claim_presets(dse, how):
+    """The paper's DP4 is performance-oriented, its DP7 accuracy-oriented (the presets dp4, dp7)."""
+    c = Claim("pipe_presets", "3", "the paper's DP4 (preset dp4) is performance-oriented, its DP7 (preset dp7) "
+              "accuracy-oriented", "DP4 faster, DP7 more accurate", how)
+    p4, p7 = (dse.get("presets") or {}).get("dp4"), (dse.get("presets") or {}).get("dp7")
+    figs = ("seconds_per_pair", "rpe_translation_m", "rpe_rotation_deg")
+    if not (p4 and p7 and all(p.get("status") == "ok" and all(isinstance(p.get(f), (int, float)) for f in figs)
+                              for p in (p4, p7))):
+        return c.missing("the dp4 and dp7 anchors of a pipeline-dse, both converged")
+    faster = p4["seconds_per_pair"] < p7["seconds_per_pair"]
+    better = p7["rpe_translation_m"] < p4["rpe_translation_m"] and p7["rpe_rotation_deg"] < p4["rpe_rotation_deg"]
+    where = lambda p: f"Pareto point {p['dp']}" if p.get("dp") else "not on a frontier"  # noqa: E731
+    return c.set(f"dp4 {p4['seconds_per_pair']:.2f} s, {p4['rpe_translation_m'] * 1e3:.2f} mm, "
+                 f"{p4['rpe_rotation_deg']:.4f} deg; dp7 {p7['seconds_per_pair']:.2f} s, "
+                 f"{p7['rpe_translation_m'] * 1e3:.2f} mm, {p7['rpe_rotation_deg']:.4f} deg",
+                 faster and better, None,
+                 f"dp7 takes {p7['seconds_per_pair'] / p4['seconds_per_pair']:.1f}x dp4's time; "
+                 f"dp4: {where(p4)}, dp7: {where(p7)}")
+
+
 def claims_pipeline(dse):
     """The paper's section-3 claims against a pipeline-dse's Pareto points (its dse.json), the
     stages in its order (dse_data.stage_order)."""
@@ -34,83 +121,8 @@ def claims_pipeline(dse):
     how = (f"`tigris pipeline-dse` ({dse.get('sampling')}; {dse.get('points')} points on the {dse.get('sequence')}): "
            "the Pareto points (DP1..DPn) of mean registration seconds per pair against mean relative pose error "
            "(translation, rotation); stage times per pair from `tigris register`, RPCE = ICP's KD-tree searches")
-    out = []
-    c = Claim("pipe_kd", "3", "KD-tree search takes 50-85% of the time on every Pareto point", "50-85%", how)
-    if not dps:
-        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
-    else:
-        kd = [(d["kdtree_share"], d) for d in dps if d.get("kdtree_share") is not None]
-        if not kd:
-            raise ValueError("no Pareto point has a KD-tree share")
-        lo, hi = min(kd, key=lambda t: t[0]), max(kd, key=lambda t: t[0])
-        below = [d for v, d in kd if v < 0.5]
-        expl = f"{len(dps)} Pareto points; lowest {lo[1]['dp']} ({lo[1]['point']}) {pct(lo[0], 0)}"
-        own = _own_compute(lo[1], order)
-        if own:
-            expl += (f", the rest of its time mostly {own[0]}'s own computation ({pct(own[1], 0)} of the time, "
-                     f"{pct(own[2], 0)} of that stage)")
-        else:  # a dse.json without per-stage search seconds: the largest stage outside the paper's three
-            sh = _shares(lo[1], order)
-            top = max((s for s in order if s not in ("normal estimation", "descriptor calculation", "RPCE")),
-                      key=lambda s: sh[s])
-            expl += f", where {top} takes {pct(sh[top], 0)}"
-        expl += f"; highest {hi[1]['dp']} {pct(hi[0], 0)}"
-        if below:
-            expl += f"; below 50%: {', '.join(d['dp'] for d in below)}"
-        out.append(c.set(f"{pct(lo[0], 0)}-{pct(hi[0], 0)}", not below,
-                         within_2x(lo[0], 0.5) and within_2x(hi[0], 0.85), expl))
-    c = Claim("pipe_big3", "3", "normal estimation, descriptors and RPCE take over 90% of the time", "> 90%", how)
-    if dps:
-        big = [(sum(_shares(d, order).get(s, 0) for s in ("normal estimation", "descriptor calculation", "RPCE")), d)
-               for d in dps]
-        v, d = min(big, key=lambda t: t[0])
-        sh = _shares(d, order)
-        rest = sorted((s for s in order if s not in ("normal estimation", "descriptor calculation", "RPCE")),
-                      key=lambda s: -sh[s])[:2]
-        out.append(c.set(f"at least {pct(v, 0)} (lowest {d['dp']})", v > 0.9, within_2x(v, 0.9),
-                         f"{d['dp']} ({d['point']}), the largest of the rest: " + ", ".join(f"{s} {pct(sh[s], 0)}" for s in rest)
-                         + " (outlier removal is a stage this pipeline has and the paper's does not)"))
-    else:
-        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
-    c = Claim("pipe_no_dominant", "3", "no single stage dominates across the Pareto points", "no single stage", how)
-    if dps:
-        # The paper's sense: no stage is an acceleration target for every DP (normal estimation is
-        # about 80% of DP8 and under 30% of DP1-2). Tested as: no stage takes over half the time
-        # on every Pareto point; the largest stage per DP is reported beside it.
-        tops = {}
-        for d in dps:
-            sh = _shares(d, order)
-            tops.setdefault(max(order, key=lambda s: sh[s]), []).append(d["dp"])
-        low = {s: min(_shares(d, order)[s] for d in dps) for s in order}
-        high = {s: max(_shares(d, order)[s] for d in dps) for s in order}
-        majority = [s for s in order if low[s] > 0.5]
-        out.append(c.set("largest stage: " + "; ".join(f"{s} on {len(v)} of {len(dps)}" for s, v in tops.items()),
-                         not majority, None,
-                         "; ".join(f"{s} takes {pct(low[s], 0)}-{pct(high[s], 0)}" for s in tops)
-                         + (f"; {', '.join(majority)} over half the time on every Pareto point" if majority else
-                            "; no stage takes over half the time on every Pareto point")
-                         + " (paper: normal estimation under 30% in DP1-2, about 80% in DP8)"))
-    else:
-        out.append(c.missing("a pipeline-dse with at least one Pareto point"))
-    c = Claim("pipe_presets", "3", "the paper's DP4 (preset dp4) is performance-oriented, its DP7 (preset dp7) "
-              "accuracy-oriented",
-              "DP4 faster, DP7 more accurate", how)
-    p4, p7 = (dse.get("presets") or {}).get("dp4"), (dse.get("presets") or {}).get("dp7")
-    figs = ("seconds_per_pair", "rpe_translation_m", "rpe_rotation_deg")
-    if p4 and p7 and all(p.get("status") == "ok" and all(isinstance(p.get(f), (int, float)) for f in figs)
-                         for p in (p4, p7)):
-        faster = p4["seconds_per_pair"] < p7["seconds_per_pair"]
-        better = p7["rpe_translation_m"] < p4["rpe_translation_m"] and p7["rpe_rotation_deg"] < p4["rpe_rotation_deg"]
-        where = lambda p: f"Pareto point {p['dp']}" if p.get("dp") else "not on a frontier"  # noqa: E731
-        out.append(c.set(f"dp4 {p4['seconds_per_pair']:.2f} s, {p4['rpe_translation_m'] * 1e3:.2f} mm, "
-                         f"{p4['rpe_rotation_deg']:.4f} deg; dp7 {p7['seconds_per_pair']:.2f} s, "
-                         f"{p7['rpe_translation_m'] * 1e3:.2f} mm, {p7['rpe_rotation_deg']:.4f} deg",
-                         faster and better, None,
-                         f"dp7 takes {p7['seconds_per_pair'] / p4['seconds_per_pair']:.1f}x dp4's time; "
-                         f"dp4: {where(p4)}, dp7: {where(p7)}"))
-    else:
-        out.append(c.missing("the dp4 and dp7 anchors of a pipeline-dse, both converged"))
-    return out
+    return [claim_kdtree_share(dps, order, how), claim_big3(dps, order, how), claim_no_dominant(dps, order, how),
+            claim_presets(dse, how)]
 
 
 def pipeline_section(dse, dse_dir, fig_rel, standalone=False):
