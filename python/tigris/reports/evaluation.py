@@ -12,86 +12,101 @@ GPU_HOW = ("needs a GPU: the paper's baselines Base-KD / Base-2SKD run the KD-tr
            "KD-tree index) and compare them with the modeled KD-tree seconds of `tigris register --compare`")
 
 
-def claims_headline(reg_csv, odo_csv):
-    """The paper's most quoted claims (section 6): end to end with the accelerator in the loop
-    against the CPU-only system, the approximate search's speed-up and accuracy cost, and the
-    GPU comparisons (not measurable here). From reproduce's `registrations` sweep (tigris
-    register points; several CSVs: a later one's point of a preset and search replaces an
-    earlier one's, an accounting's accelerator points the default's) and `odometry-approx`
-    sweep (tigris odometry over a synthetic drive)."""
-    reg = {(r.get("preset"), r.get("search")): r for r in ok_rows(reg_csv)}
-    how = ("`tigris register` of frame 1 into frame 0 per preset and back-end (reproduce's `registrations` sweep): "
+REG_HOW = ("`tigris register` of frame 1 into frame 0 per preset and back-end (reproduce's `registrations` sweep): "
            "end to end = the registration's seconds on the CPU (PCL's FLANN: the CPU-only system) against the "
            "accelerator in the loop (its modeled KD-tree and host time + the run's other CPU time); one timing each, "
            "with the sweep's --jobs points side by side, which slows the CPU parts (`tigris register --compare "
            "--repeat N` gives quotable medians with ranges on an idle machine)")
-    out = []
+ODO_HOW = ("`tigris odometry --synthetic N` per preset, search exact and approximate (reproduce's `odometry-approx` "
+           "sweep): translation error = mean RPE translation / mean step, in %; rotation error = mean RPE rotation "
+           "/ mean step, in deg/m (the drive is shorter than KITTI's 100 m segments, so its t_err/r_err are empty). "
+           "Two conventions: the model's (the preset's top height 10, 16 leaders per leaf) and the authors' "
+           "(PointCloud-pipeline's bin/config.txt: leaves of 64 points for normal estimation and 32 for ICP, "
+           "`search.normals_leaf_size` / `search.rpce_leaf_size`, and a leader list bounded by nothing, "
+           "`search.leader_capacity` 2^20), exact search being the same in both")
 
-    def e2e(p, s):
-        r = reg.get((p, s))
-        if not r:
-            return None
-        return fnum(r, "seconds") if s in ("flann", "exact") else fnum(r, "accelerator.modeled_end_to_end_seconds")
 
-    def kd(p, s):
-        r = reg.get((p, s))
+class Registrations:
+    """The `registrations` sweep's rows by (preset, search): each one's end-to-end and KD-tree
+    seconds, measured on the CPU (flann, exact) or modeled (the accelerator in the loop)."""
+    def __init__(self, reg_csv):
+        self.rows = {(r.get("preset"), r.get("search")): r for r in ok_rows(reg_csv)}
+
+    def e2e(self, p, s):
+        r = self.rows.get((p, s))
+        return None if not r else (fnum(r, "seconds") if s in ("flann", "exact")
+                                   else fnum(r, "accelerator.modeled_end_to_end_seconds"))
+
+    def kd(self, p, s):
+        r = self.rows.get((p, s))
         return None if not r else (fnum(r, "kdtree_seconds") if s in ("flann", "exact")
                                    else fnum(r, "accelerator.modeled_kdtree_seconds"))
 
-    for p, paper in (("dp7", 0.866), ("dp4", None)):
-        c = Claim(f"e2e-cpu-{p}", "9", f"{p.upper()} end to end: the accelerator (exact) against the CPU-only system",
-                  "-86.6%" if paper else "n/a (the paper gives DP4 against the GPU only)", how)
-        cpu, acc = e2e(p, "flann"), e2e(p, "accel")
-        if cpu and acc:
-            cut = 1 - acc / cpu
-            out.append(c.set(f"-{pct(cut)}", cut > NO_CHANGE, within_2x(cut, paper) if paper else None,
-                             f"CPU with FLANN {cpu:.2f} s (KD-tree {kd(p, 'flann'):.2f} s) -> {acc:.2f} s (KD-tree "
-                             f"{kd(p, 'accel'):.4f} s modeled); what remains is the CPU's work outside KD-tree search"))
-        else:
-            out.append(c.missing(f"`tigris register --preset {p}` with --search flann and accel (reproduce's "
-                                 "registrations sweep)"))
-    c = Claim("approx-kd-dp7", "9", "approximate search speeds up the KD-tree search over Acc-2SKD (DP7, whole "
-              "registration; exact / approximate modeled KD-tree seconds)", "11.1x", how)
-    ex, ap = kd("dp7", "accel"), kd("dp7", "accel-approx")
-    if ex and ap:
-        works = [register_work(reg[("dp7", s)]) for s in ("accel", "accel-approx")]
-        work = "; accelerator jobs: " + speed_bound(c, *works, PAPER["approx_speedup"]) if all(works) else ""
-        fb = [fnum(reg[("dp7", s)], "accelerator.fallback_searches") for s in ("accel", "accel-approx")]
-        if all(works) and None not in fb:  # the modeled seconds hold both: the jobs' cycles, the CPU's fallbacks
-            work += (f"; the jobs' cycles {works[0][0]:,.0f} -> {works[1][0]:,.0f}, searches the accelerator could "
-                     f"not batch (timed on the CPU, in the modeled seconds) {fb[0]:,.0f} -> {fb[1]:,.0f}")
-        out.append(c.set(xf(ex / ap), up(ex / ap), within_2x_gain(ex / ap, PAPER["approx_speedup"]),
-                         f"modeled KD-tree {ex:.4f} s -> {ap:.4f} s (normal estimation's radius searches and ICP's "
-                         f"NN searches together; the single-job claims above show each){work}"))
-    else:
-        out.append(c.missing("`tigris register --preset dp7` with --search accel and accel-approx"))
-    c = Claim("approx-e2e-dp7", "9", "approximate search improves the end to end (DP7, accelerator exact / "
-              "approximate)", "+7.5%", how)
-    ex, ap = e2e("dp7", "accel"), e2e("dp7", "accel-approx")
-    if ex and ap:
-        g = ex / ap - 1
-        out.append(c.set(f"{'+' if g >= 0 else ''}{pct(g)}", g > NO_CHANGE, within_2x(g, 0.075),
-                         f"end to end {ex:.2f} s -> {ap:.2f} s"))
-    else:
-        out.append(c.missing("`tigris register --preset dp7` with --search accel and accel-approx"))
 
-    # Accuracy: per metre of the drive, from the relative pose errors (a short synthetic drive
-    # has no 100 m KITTI segment; KITTI's r_err is per metre too).
-    # Rows of the authors' convention set the per-stage leaf sizes (reproduce.AUTHORS_ACCURACY).
+def claim_e2e_cpu(regs, p, paper):
+    """A preset's end to end with the accelerator (exact) against the CPU-only system."""
+    c = Claim(f"e2e-cpu-{p}", "9", f"{p.upper()} end to end: the accelerator (exact) against the CPU-only system",
+              "-86.6%" if paper else "n/a (the paper gives DP4 against the GPU only)", REG_HOW)
+    cpu, acc = regs.e2e(p, "flann"), regs.e2e(p, "accel")
+    if not (cpu and acc):
+        return c.missing(f"`tigris register --preset {p}` with --search flann and accel (reproduce's "
+                         "registrations sweep)")
+    cut = 1 - acc / cpu
+    return c.set(f"-{pct(cut)}", cut > NO_CHANGE, within_2x(cut, paper) if paper else None,
+                 f"CPU with FLANN {cpu:.2f} s (KD-tree {regs.kd(p, 'flann'):.2f} s) -> {acc:.2f} s (KD-tree "
+                 f"{regs.kd(p, 'accel'):.4f} s modeled); what remains is the CPU's work outside KD-tree search")
+
+
+def claim_approx_kd(regs):
+    """Approximate search's KD-tree speed-up over Acc-2SKD in a whole DP7 registration."""
+    c = Claim("approx-kd-dp7", "9", "approximate search speeds up the KD-tree search over Acc-2SKD (DP7, whole "
+              "registration; exact / approximate modeled KD-tree seconds)", "11.1x", REG_HOW)
+    ex, ap = regs.kd("dp7", "accel"), regs.kd("dp7", "accel-approx")
+    if not (ex and ap):
+        return c.missing("`tigris register --preset dp7` with --search accel and accel-approx")
+    rows = [regs.rows[("dp7", s)] for s in ("accel", "accel-approx")]
+    works = [register_work(r) for r in rows]
+    work = "; accelerator jobs: " + speed_bound(c, *works, PAPER["approx_speedup"]) if all(works) else ""
+    fb = [fnum(r, "accelerator.fallback_searches") for r in rows]
+    if all(works) and None not in fb:  # the modeled seconds hold both: the jobs' cycles, the CPU's fallbacks
+        work += (f"; the jobs' cycles {works[0][0]:,.0f} -> {works[1][0]:,.0f}, searches the accelerator could "
+                 f"not batch (timed on the CPU, in the modeled seconds) {fb[0]:,.0f} -> {fb[1]:,.0f}")
+    return c.set(xf(ex / ap), up(ex / ap), within_2x_gain(ex / ap, PAPER["approx_speedup"]),
+                 f"modeled KD-tree {ex:.4f} s -> {ap:.4f} s (normal estimation's radius searches and ICP's "
+                 f"NN searches together; the single-job claims above show each){work}")
+
+
+def claim_approx_e2e(regs):
+    """Approximate search's end-to-end gain over exact, both on the accelerator (DP7)."""
+    c = Claim("approx-e2e-dp7", "9", "approximate search improves the end to end (DP7, accelerator exact / "
+              "approximate)", "+7.5%", REG_HOW)
+    ex, ap = regs.e2e("dp7", "accel"), regs.e2e("dp7", "accel-approx")
+    if not (ex and ap):
+        return c.missing("`tigris register --preset dp7` with --search accel and accel-approx")
+    g = ex / ap - 1
+    return c.set(f"{'+' if g >= 0 else ''}{pct(g)}", g > NO_CHANGE, within_2x(g, 0.075),
+                 f"end to end {ex:.2f} s -> {ap:.2f} s")
+
+
+def claims_odometry_accuracy(odo_csv):
+    """Approximate search's accuracy cost per preset, in both conventions. Per metre of the drive,
+    from the relative pose errors (a short synthetic drive has no 100 m KITTI segment; KITTI's
+    r_err is per metre too). Rows of the authors' convention set the per-stage leaf sizes
+    (reproduce.AUTHORS_ACCURACY)."""
     odo = {(r.get("preset"), r.get("search"), "authors" if fnum(r, "search.rpce_leaf_size") else "model"): r
            for r in ok_rows(odo_csv)}
-    ohow = ("`tigris odometry --synthetic N` per preset, search exact and approximate (reproduce's `odometry-approx` "
-            "sweep): translation error = mean RPE translation / mean step, in %; rotation error = mean RPE rotation "
-            "/ mean step, in deg/m (the drive is shorter than KITTI's 100 m segments, so its t_err/r_err are empty). "
-            "Two conventions: the model's (the preset's top height 10, 16 leaders per leaf) and the authors' "
-            "(PointCloud-pipeline's bin/config.txt: leaves of 64 points for normal estimation and 32 for ICP, "
-            "`search.normals_leaf_size` / `search.rpce_leaf_size`, and a leader list bounded by nothing, "
-            "`search.leader_capacity` 2^20), exact search being the same in both")
+    out = []
     for p, rot in (("dp4", 0.05), ("dp7", 0.0006)):
         for conv, label_ in (("model", ""), ("authors", ", authors' convention: leaves of 64 / 32 points, unbounded "
                                                        "leaders")):
             out += accuracy_claims(p, rot, odo.get((p, "exact", "model")), odo.get((p, "approx", conv)),
-                                   "" if conv == "model" else "-authors", label_, ohow)
+                                   "" if conv == "model" else "-authors", label_, ODO_HOW)
+    return out
+
+
+def claims_gpu():
+    """The GPU comparisons: not measurable here (GPU_HOW says why)."""
+    out = []
     for cid, text, paper in (("gpu-kd", "the accelerator's KD-tree search against the GPU (DP7, Acc-2SKD / Base-KD)",
                               "77.2x"),
                              ("gpu-e2e", "end to end against the GPU baseline (DP7)", "-41.7%"),
@@ -101,6 +116,18 @@ def claims_headline(reg_csv, odo_csv):
         c.explanation = GPU_HOW
         out.append(c)
     return out
+
+
+def claims_headline(reg_csv, odo_csv):
+    """The paper's most quoted claims (section 6): end to end with the accelerator in the loop
+    against the CPU-only system, the approximate search's speed-up and accuracy cost, and the
+    GPU comparisons (not measurable here). From reproduce's `registrations` sweep (tigris
+    register points; several CSVs: a later one's point of a preset and search replaces an
+    earlier one's, an accounting's accelerator points the default's) and `odometry-approx`
+    sweep (tigris odometry over a synthetic drive)."""
+    regs = Registrations(reg_csv)
+    return ([claim_e2e_cpu(regs, p, paper) for p, paper in (("dp7", 0.866), ("dp4", None))]
+            + [claim_approx_kd(regs), claim_approx_e2e(regs)] + claims_odometry_accuracy(odo_csv) + claims_gpu())
 
 
 def _per_metre(r, col):
