@@ -3,7 +3,8 @@ Acc-KD accuracy, the search optimizations, the Node Cache, the unit counts, the 
 and approximate search."""
 from ..data import evaldata as ed
 from ..data.evaldata import num
-from .claims import Claim, KNEE_GAIN, NO_CHANGE, PAPER, UNIT_NAMES, fnum, label, ok_rows, pct, register_work, run_work, searches, short_bound, speed_bound, up, within_2x, within_2x_gain, xf
+from .claims import (Claim, KNEE_GAIN, NO_CHANGE, PAPER, UNIT_NAMES, fnum, label, ok_rows, pct, per_search,
+                     register_work, run_work, searches, short_bound, speed_bound, up, within_2x, within_2x_gain, xf)
 from .algorithm import at_size  # noqa: F401
 
 
@@ -195,78 +196,75 @@ def opt_rows(sw, s):
             "+Forward": f(), "MQMN": f(policy="mqmn")}
 
 
-def claims_optimizations(sw):
-    out = []
-    spec = [
-        ("bypass", "bypassing helps (No-Opt -> Bypass, speed-up)", "No-Opt", "Bypass",
-         "bypass_gain", "+13.1%"),
-        ("forward", "forwarding helps (Bypass -> +Forward, speed-up)", "Bypass", "+Forward",
-         "forward_gain", "+10.5%"),
-        ("mqmn-speed", "MQMN ~2x faster than MQSN (+Forward -> MQMN, speed-up)", "+Forward",
-         "MQMN", "mqmn_speedup", "2x"),
-    ]
-    how_gain = ("gain = cycles(before) / cycles(after) - 1, exact search, top height 10, default "
-                "machine; No-Opt = fe.bypassing=false, fe.forwarding=false; Bypass = "
-                "fe.forwarding=false; +Forward = both on (default); MQMN = be.issue_policy=mqmn "
-                "with both on. The size test compares the gains (for MQMN the speed-ups).")
-    ss = searches(sw.ok)
-    for cid, text, a, b, key, paper in spec:
-        done = False
-        for s in ss:
-            rows = opt_rows(sw, s)
-            ra, rb = rows[a], rows[b]
-            if ra is None or rb is None:
-                continue
-            done = True
-            sp = num(ra, "cycles") / num(rb, "cycles")
-            c = Claim(f"{cid}-{s['mode']}", "9", f"{text}, {label(s)}", paper, how_gain)
-            if cid == "bypass":
-                fact = (f"RU prune cycles {num(ra, 'units.recursion_units.prune_cycles') or 0:,.0f} -> "
-                        f"{num(rb, 'units.recursion_units.prune_cycles') or 0:,.0f}; No-Opt: {short_bound(ra)}")
-            elif cid == "forward":
-                fact = (f"RU PI->RS stall cycles "
-                        f"{num(ra, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f} -> "
-                        f"{num(rb, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f}; "
-                        f"Bypass: {short_bound(ra)}")
-            else:
-                fact = (f"MQSN: {num(ra, 'units.search_units.queries_per_batch') or 0:.2f} queries/batch, "
-                        f"{short_bound(ra)}. MQMN: {short_bound(rb)}")
-            factor = PAPER[key] if cid == "mqmn-speed" else 1 + PAPER[key]  # a gain's speed-up
-            fact += "; " + speed_bound(c, run_work(ra), run_work(rb), factor)
-            if cid == "mqmn-speed":
-                c.set(xf(sp), up(sp), within_2x_gain(sp, PAPER[key]), fact)
-            else:
-                c.set(f"{100 * (sp - 1):+.1f}%", up(sp), within_2x(sp - 1, PAPER[key]), fact)
-            out.append(c)
-        if not done:
-            out.append(Claim(cid, "9", text, paper, how_gain).missing(
-                f"the {a} and {b} rows (fe.bypassing / fe.forwarding / be.issue_policy)"))
+OPT_HOW = ("gain = cycles(before) / cycles(after) - 1, exact search, top height 10, default "
+           "machine; No-Opt = fe.bypassing=false, fe.forwarding=false; Bypass = "
+           "fe.forwarding=false; +Forward = both on (default); MQMN = be.issue_policy=mqmn "
+           "with both on. The size test compares the gains (for MQMN the speed-ups).")
+
+
+def opt_fact(cid, ra, rb):
+    """The measured fact behind an optimization's gain: what it removes."""
+    if cid == "bypass":
+        return (f"RU prune cycles {num(ra, 'units.recursion_units.prune_cycles') or 0:,.0f} -> "
+                f"{num(rb, 'units.recursion_units.prune_cycles') or 0:,.0f}; No-Opt: {short_bound(ra)}")
+    if cid == "forward":
+        return (f"RU PI->RS stall cycles "
+                f"{num(ra, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f} -> "
+                f"{num(rb, 'units.recursion_units.stall_cycles.pi_rs_dependency') or 0:,.0f}; "
+                f"Bypass: {short_bound(ra)}")
+    return (f"MQSN: {num(ra, 'units.search_units.queries_per_batch') or 0:.2f} queries/batch, "
+            f"{short_bound(ra)}. MQMN: {short_bound(rb)}")
+
+
+def claims_optimization(sw, cid, text, a, b, key, paper):
+    """One optimization's speed-up, row `a` (before) against row `b` (after), per search."""
+    def measure(s, ra, rb):
+        sp = num(ra, "cycles") / num(rb, "cycles")
+        c = Claim(f"{cid}-{s['mode']}", "9", f"{text}, {label(s)}", paper, OPT_HOW)
+        factor = PAPER[key] if cid == "mqmn-speed" else 1 + PAPER[key]  # a gain's speed-up
+        fact = opt_fact(cid, ra, rb) + "; " + speed_bound(c, run_work(ra), run_work(rb), factor)
+        if cid == "mqmn-speed":
+            return c.set(xf(sp), up(sp), within_2x_gain(sp, PAPER[key]), fact)
+        return c.set(f"{100 * (sp - 1):+.1f}%", up(sp), within_2x(sp - 1, PAPER[key]), fact)
+    return per_search(searches(sw.ok), lambda s: (opt_rows(sw, s)[a], opt_rows(sw, s)[b]), measure,
+                      Claim(cid, "9", text, paper, OPT_HOW).missing(
+                          f"the {a} and {b} rows (fe.bypassing / fe.forwarding / be.issue_policy)"))
+
+
+def claims_mqmn_traffic(sw):
+    """MQMN's Node Set traffic against MQSN's (the paper: far more, no number)."""
     how = ("Node Set bytes read (Point Buffer `buffers.points.read_bytes` + Node Cache "
            "`buffers.node_cache.read_bytes`: a Node Set streams from one or the other) with MQMN "
            "/ with MQSN (+Forward), exact search, top height 10; the paper gives no number "
            "(direction only). The Point Buffer alone is in the explanation.")
-    done = False
-    for s in ss:
-        rows = opt_rows(sw, s)
-        if rows["+Forward"] is None or rows["MQMN"] is None:
-            continue
-        done = True
-        a, b = rows["+Forward"], rows["MQMN"]
+
+    def measure(s, a, b):
         pa, pb = num(a, "buffers.points.read_bytes") or 0, num(b, "buffers.points.read_bytes") or 0
         na, nb = num(a, "buffers.node_cache.read_bytes") or 0, num(b, "buffers.node_cache.read_bytes") or 0
         v = (pb + nb) / (pa + na) if pa + na else float("nan")
         ta, tb = (sum(ed.buffer_traffic(r, sw.columns).values()) for r in (a, b))
         c = Claim(f"mqmn-traffic-{s['mode']}", "9", f"MQMN has far more Point Buffer (Node Set) "
                   f"traffic than MQSN ({label(s)}; MQMN / MQSN bytes)", "far more (no number)", how)
-        c.set(xf(v), up(v), None,
-              f"Point Buffer {ed.fmt_bytes(pa)} -> {ed.fmt_bytes(pb)} ({pb / pa if pa else 0:.2f}x); "
-              f"Node Cache reads {ed.fmt_bytes(na)} -> {ed.fmt_bytes(nb)}; all on-chip traffic "
-              f"{ed.fmt_bytes(ta)} -> {ed.fmt_bytes(tb)}")
-        out.append(c)
-    if not done:
-        out.append(Claim("mqmn-traffic", "9", "MQMN has far more Point Buffer traffic than MQSN",
-                         "far more (no number)", how).missing("the +Forward and MQMN rows"))
-    return out
+        return c.set(xf(v), up(v), None,
+                     f"Point Buffer {ed.fmt_bytes(pa)} -> {ed.fmt_bytes(pb)} ({pb / pa if pa else 0:.2f}x); "
+                     f"Node Cache reads {ed.fmt_bytes(na)} -> {ed.fmt_bytes(nb)}; all on-chip traffic "
+                     f"{ed.fmt_bytes(ta)} -> {ed.fmt_bytes(tb)}")
+    return per_search(searches(sw.ok), lambda s: (opt_rows(sw, s)["+Forward"], opt_rows(sw, s)["MQMN"]), measure,
+                      Claim("mqmn-traffic", "9", "MQMN has far more Point Buffer traffic than MQSN",
+                            "far more (no number)", how).missing("the +Forward and MQMN rows"))
+
+
+def claims_optimizations(sw):
+    """The search optimizations (bypassing, forwarding, MQMN) and MQMN's traffic."""
+    out = []
+    for spec in (("bypass", "bypassing helps (No-Opt -> Bypass, speed-up)", "No-Opt", "Bypass", "bypass_gain",
+                  "+13.1%"),
+                 ("forward", "forwarding helps (Bypass -> +Forward, speed-up)", "Bypass", "+Forward",
+                  "forward_gain", "+10.5%"),
+                 ("mqmn-speed", "MQMN ~2x faster than MQSN (+Forward -> MQMN, speed-up)", "+Forward", "MQMN",
+                  "mqmn_speedup", "2x")):
+        out += claims_optimization(sw, *spec)
+    return out + claims_mqmn_traffic(sw)
 
 
 def nc_rows(sw, s):
