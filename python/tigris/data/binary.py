@@ -14,7 +14,9 @@ class SpecError(core.Refused):
 class Command:
     """What a sweep point runs: a tigris sub-command, the file its result is in, and how that
     result reads (ok / mismatch / not_converged)."""
-    def __init__(self, name, result, files, folders, fixed, required, config_from, headline, stage_columns=None):
+    def __init__(self, name: str, result: str, files: tuple[str, ...], folders: tuple[str, ...],
+                 fixed: tuple[str, ...], required: str, config_from: "str | None", headline: list[str],
+                 stage_columns: "tuple[str, tuple[str, ...]] | None" = None) -> None:
         self.name, self.result, self.files, self.folders = name, result, files, folders
         self.fixed = fixed                       # always a column, so a CSV tells what ran
         self.required = required                 # a flag its --help must list (is it tigris?)
@@ -27,14 +29,14 @@ class Command:
         # the flag that takes the accelerator's configuration: a file, or a preset's name
         self.preset_flag = "config" if name == "run" else "accel-config" if config_from == "register" else None
 
-    def headline_of(self, stages):
+    def headline_of(self, stages: list[dict[str, Any]]) -> list[str]:
         """The headline with the columns of `stages` (core.pipeline_stages), in their order."""
         if not self.stage_columns:
             return list(self.headline)
         prefix, fields = self.stage_columns
         return list(self.headline) + [f"{prefix.format(key=s['key'])}.{f}" for s in stages for f in fields]
 
-    def status(self, rc, result):
+    def status(self, rc: int, result: Any) -> "tuple[str, str] | None":
         """(status, message) of a finished process; None: it gave no result (an error)."""
         if not isinstance(result, dict):
             return None
@@ -83,7 +85,7 @@ COMMANDS = {
                         ("stages.{key}.per_pair_mean", ("seconds", "kdtree_search_seconds", "searches"))),
 }
 
-def typed(text):
+def typed(text: str) -> Any:
     """A default from tigris's help text as a JSON-like value."""
     if text in ("true", "false"):
         return text == "true"

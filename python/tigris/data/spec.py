@@ -32,7 +32,7 @@ MAX_POINTS = 100_000                                 # a spec's points, counted 
 MAX_SPEC_BYTES = 16 << 20
 
 
-def cli_value(v):
+def cli_value(v: Any) -> str:
     """A spec value as tigris reads it: booleans true/false, numbers in plain decimal."""
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -42,7 +42,7 @@ def cli_value(v):
     return str(v)
 
 
-def csv_value(v):
+def csv_value(v: Any) -> str:
     return "" if v is None else cli_value(v)
 
 
@@ -118,11 +118,11 @@ class Spec:
         for p in self.points:
             self.swept += [k for k in p if k not in self.swept]
 
-    def _at(self, loc, msg):
+    def _at(self, loc: str, msg: str) -> str:
         loc = loc if len(loc) <= 200 else loc[:200] + "..."
         return f"{self.given}: {loc}: {msg}"
 
-    def _key(self, key, loc):
+    def _key(self, key: str, loc: str) -> str:
         """A spec key's canonical name (flag or configuration key); unknown keys are errors."""
         if not isinstance(key, str) or not key:
             raise SpecError(self._at(loc, "empty key"))
@@ -156,7 +156,7 @@ class Spec:
         self.where.setdefault(canon, []).append(loc)
         return canon
 
-    def _value(self, canon, v, loc):
+    def _value(self, canon: str, v: Any, loc: str) -> Any:
         if isinstance(v, (dict, list)) or v is None:
             got = {dict: "an object", list: "a list", type(None): "null"}[type(v)]
             raise SpecError(self._at(loc, f"'{self.names[canon]}' needs a number, text or boolean, got {got}"))
@@ -190,7 +190,7 @@ class Spec:
                                          "the spec's folder)"))
         return v
 
-    def _settings(self, obj, loc):
+    def _settings(self, obj: Any, loc: str) -> dict[str, Any]:
         if not isinstance(obj, dict):
             raise SpecError(self._at(loc, "must be an object"))
         out = {}
@@ -258,7 +258,7 @@ class Spec:
         return pts
 
 
-def _id_value(key, v, preset_flag=None):
+def _id_value(key: str, v: Any, preset_flag: "str | None" = None) -> str:
     """A point's name for a value: a path's file name; for the preset flag, a preset's name and a
     file's relative path as written (./top-6: ._top-6), so the two never read alike."""
     if key == preset_flag and not os.path.isabs(v):
@@ -269,7 +269,7 @@ def _id_value(key, v, preset_flag=None):
 
 
 
-def inputs_of(spec, pts):
+def inputs_of(spec: Spec, pts: list[dict[str, Any]]) -> tuple[list[tuple[str, str]], list[dict[str, Any]]]:
     """(flag, path) of every file the points read, and their identities for the manifest: a
     finished point is kept on a rerun only while the files it read are the same."""
     paths, seen, frames = [("the spec", spec.path)], set(), {}
