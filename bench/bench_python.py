@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The Python module's cost against the command line: the same 64-point design-space exploration
-(RU x SU x PE 16..128, exact NN on the built-in pair, tigris/tools/examples/units.json's grid) as a
+(RU x SU x PE 16..128, exact NN on the built-in pair, python/tigris/tools/examples/units.json's grid) as a
 Python loop (examples/python/dse_loop.py: tigris.run per point, arrays written per job) and as
 `tigris sweep`, both two jobs at a time, run in turn N times; prints each one's median
 [min-max] wall seconds and the median of the pairwise ratios.
@@ -37,7 +37,7 @@ def main():
     loop = ["/usr/bin/python3", os.path.join(ROOT, "examples", "python", "dse_loop.py"), "--jobs", str(a.jobs),
             "--out", os.path.join(tmp, "dse.png")]
     sweep_out = os.path.join(tmp, "sw")
-    sweep = [tig, "sweep", os.path.join(ROOT, "sweep", "examples", "units.json"), "--out", sweep_out,
+    sweep = [tig, "sweep", os.path.join(ROOT, "python", "tigris", "tools", "examples", "units.json"), "--out", sweep_out,
              "--jobs", str(a.jobs)]
     py, sw = [], []
     try:

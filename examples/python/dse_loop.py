@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """A design-space exploration in a Python loop: Recursion Units x Search Units x PEs per SU
-(16..128 each, 64 points, the grid of tigris/tools/examples/units.json) on the built-in pair, each
+(16..128 each, 64 points, the grid of python/tigris/tools/examples/units.json) on the built-in pair, each
 point one accelerator job checked against the golden model; then search time against power,
 one point per configuration (the paper's Figure 13), into dse_loop.png.
 
