@@ -347,7 +347,7 @@ def _read_results(path, queries):
 # folder, or one an earlier call of the same function (or the same command) wrote; any other
 # file in it, or one of this module's files changed since, is a TigrisError naming them.
 
-_MANIFEST, _RECORD, _TMP_PREFIX = "manifest.json", "keep.json", ".tigris-tmp-"
+_MANIFEST, _RECORD, _TMP_PREFIX = core.MANIFEST, "keep.json", core.TMP_PREFIX
 _INPUT_FILES = {"run": ("cloud.bin", "queries.bin", "config.json"),
                 "register": ("source.bin", "target.bin", "pipeline.json", "accel.json")}
 
@@ -472,20 +472,15 @@ def _ours(d, where, function, command):
 
 
 def _replace(path, data):
-    """Writes `data` (bytes or an array) beside `path` and renames it over it: a failed write
-    leaves the old file (or none), and a symbolic link is replaced, never written through."""
-    d, name = os.path.split(path)
-    tmp = os.path.join(d, f"{_TMP_PREFIX}{name}-{os.getpid()}")
-    try:
+    """Writes `data` (bytes or an array) through the shared core's replace_file (beside `path`,
+    renamed over it); a TigrisError naming `path` when it cannot."""
+    def write(tmp):
         with open(tmp, "wb") as f:
             f.write(memoryview(data).cast("B"))
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            os.remove(tmp)
-        except OSError:
-            pass
-        raise TigrisError(f"cannot write {path}: {e.strerror or e}") from None
+    try:
+        core.replace_file(path, write)
+    except core.Refused as e:
+        raise TigrisError(str(e)) from None
 
 
 class _Job:

@@ -5,9 +5,10 @@ from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, dotted
 from .inputs import read_json_input
 
 
-def _replace(path, write):
+def replace_file(path, write):
     """Calls write(tmp) for .tigris-tmp-<name>-<pid> beside path, then renames it over path: a
-    killed run leaves the old file or none, never half a file."""
+    killed run leaves the old file or none, never half a file, and a symbolic link at path is
+    replaced, never written through. Refused naming path when it cannot."""
     d, name = os.path.split(os.path.abspath(path))
     tmp = os.path.join(d, f"{TMP_PREFIX}{name}-{os.getpid()}")
     try:
@@ -22,14 +23,14 @@ def _replace(path, write):
 
 
 def atomic_write(path, data):
-    """Writes data (str or bytes) to path through _replace."""
+    """Writes data (str or bytes) to path through replace_file."""
     if isinstance(data, str):
         data = data.encode("utf-8", "backslashreplace")
 
     def write(tmp):
         with open(tmp, "wb") as f:
             f.write(data)
-    _replace(path, write)
+    replace_file(path, write)
 
 
 def write_json(path, obj):
@@ -37,9 +38,9 @@ def write_json(path, obj):
 
 
 def save_figure(fig, path, **kw):
-    """A matplotlib figure written through _replace (format from path's extension)."""
+    """A matplotlib figure written through replace_file (format from path's extension)."""
     fmt = os.path.splitext(path)[1][1:] or "png"
-    _replace(path, lambda tmp: fig.savefig(tmp, format=fmt, **kw))
+    replace_file(path, lambda tmp: fig.savefig(tmp, format=fmt, **kw))
 
 
 def parent_outputs():
