@@ -1,7 +1,8 @@
 """Output folders: the one way a tool owns its --out (the C++ twin: core/out_folder.*):
 manifest, lock, ownership, resume or fresh, atomic writes."""
-import fcntl, fnmatch, json, os, shlex, shutil, sys, time
-from .base import MANIFEST, PARENT_ENV, TMP_PREFIX, Interrupted, Refused, dotted, now_utc, tigris_commit
+import fcntl, fnmatch, json, os, shlex, shutil, signal, sys, time
+from .base import (MANIFEST, PARENT_ENV, SBATCH_FAILED, TMP_PREFIX, Interrupted, Refused, SlurmFailed, dotted,
+                   now_utc, tigris_commit)
 from .inputs import read_json_input
 
 
@@ -416,6 +417,29 @@ def refuse_if_written(path, name, enclosing=False):
                           "not final; wait until that run has finished")
         finally:
             os.close(fd)
+
+
+def run_command(body, say, stopped, also=()):
+    """A command's main around body() -> exit code, the same exit codes for every tool: a refused
+    input or folder, an OSError (a full disk, a folder gone) or one of `also` said through
+    say("error: ...") and 2; a failed Slurm submission SBATCH_FAILED; a stop signal said as
+    "interrupted (SIGNAME): " + `stopped` and 128 + the signal. Never a traceback for these."""
+    try:
+        return body()
+    except Refused as e:
+        say(f"error: {e}")
+        return 2
+    except SlurmFailed as e:
+        say(f"error: {e}")
+        return SBATCH_FAILED
+    except (OSError, *also) as e:
+        name = getattr(e, "filename", None)
+        say(f"error: {name + ': ' if isinstance(name, str) else ''}{getattr(e, 'strerror', None) or e}")
+        return 2
+    except KeyboardInterrupt as e:
+        code = exit_status(e)
+        say(f"interrupted ({signal.Signals(code - 128).name}): {stopped}")
+        return code
 
 
 def exit_status(exc):

@@ -40,7 +40,7 @@ Exit codes: 0 done (also with failed points: they are recorded), 1 no point conv
 frontier), 2 bad arguments, space or folder, 3 Slurm submission failed, 128 + a signal when
 interrupted.
 """
-import argparse, csv, io, json, math, os, random, re, shlex, signal, subprocess, sys
+import argparse, csv, io, json, math, os, random, re, shlex, subprocess, sys
 
 from .. import core
 from ..data.binary import SpecError, default_tigris
@@ -694,26 +694,11 @@ def explore(a, argv, tigris, stages, space, knobs, out, drawn, how):
 
 
 def main(argv):
-    """The command: explore_main, its stops and errors said in one line with an exit code (2 a
-    refused input or folder, SBATCH_FAILED a failed submission, 128 + the signal)."""
+    """The command: explore_main, its stops and errors said in one line with an exit code
+    (core.run_command)."""
     core.handle_stop_signals()
-    try:
-        return explore_main(argv)
-    except core.Refused as e:
-        say(f"error: {e}")
-        return 2
-    except core.SlurmFailed as e:
-        say(f"error: {e}")
-        return core.SBATCH_FAILED
-    except (OSError, ValueError) as e:           # a full disk, an unreadable file: named
-        say(f"error: {getattr(e, 'filename', None) or ''}{': ' if getattr(e, 'filename', None) else ''}"
-            f"{getattr(e, 'strerror', None) or e}")
-        return 2
-    except KeyboardInterrupt as e:
-        code = core.exit_status(e)
-        say(f"interrupted ({signal.Signals(code - 128).name}): the sweep and its points stopped; finished "
-            "points are kept: rerun the same command to resume")
-        return code
+    return core.run_command(lambda: explore_main(argv), say, "the sweep and its points stopped; finished points "
+                            "are kept: rerun the same command to resume", also=(ValueError,))
 
 
 if __name__ == "__main__":

@@ -687,25 +687,17 @@ def sweep_into(a, out, spec, tig, plan, pts):
 
 def main(argv):
     core.handle_stop_signals()                   # a hang-up or kill stops the points like Ctrl-C
-    try:
+
+    def body():
         if argv[:1] == ["_task"] and len(argv) == 3:
             return run_task(argv[1], argv[2])
         if argv[:1] == ["collect"]:
             if len(argv) != 2 or argv[1].startswith("-") or not argv[1].strip():
-                die("usage: tigris/tools/sweep.py collect DIR")
+                die("usage: tigris sweep collect DIR")
             return collect_command(os.path.abspath(argv[1]))
         return run(parse_args(argv))
-    except core.Refused as e:
-        die(str(e))
-    except core.SlurmFailed as e:
-        die(str(e), core.SBATCH_FAILED)
-    except OSError as e:                         # a full disk, a folder gone: named, no traceback
-        die(f"{e.filename + ': ' if isinstance(e.filename, str) else ''}{e.strerror or e}")
-    except KeyboardInterrupt as e:
-        code = core.exit_status(e)
-        note(f"interrupted ({signal.Signals(code - 128).name}): running points stopped; "
-             "finished points are kept (rerun the same command to resume)")
-        return code
+    return core.run_command(body, lambda m: say(f"{PROG}: {m}"), "running points stopped; finished points are "
+                            "kept (rerun the same command to resume)")
 
 
 if __name__ == "__main__":
