@@ -34,7 +34,7 @@ __all__ = ["load_cloud", "synthetic_pair", "search", "run", "register", "config_
 def __getattr__(name):
     if name not in __all__:
         raise AttributeError(f"module 'tigris' has no attribute '{name}'")
-    from . import model   # noqa: the one deferred import: NumPy and the extension, when first used
+    from . import model   # the one deferred import: NumPy and the extension, when first used
     return getattr(model, name)
 
 

@@ -1,7 +1,7 @@
 """The paper's section 6 energy and area measured (docs/model.md, §14)."""
 from ..data import evaldata as ed
 from ..data.evaldata import num
-from .evaluation import nc_rows, opt_rows
+from .evaluation import nc_rows, opt_pair
 from .claims import (Claim, NO_CHANGE, PAPER, SPLIT_NAMES, label, pct, per_search, searches, up, within_2x,
                      within_2x_gain, xf)
 
@@ -94,7 +94,7 @@ def claims_mqmn_power(sw):
                      f"{(num(a, 'energy_pj.sram_read') or 0) / 1e6:,.1f} -> "
                      f"{(num(b, 'energy_pj.sram_read') or 0) / 1e6:,.1f} uJ; "
                      f"DRAM {pct((num(a, 'energy_pj.dram') or 0) / num(a, 'energy_pj.total'))} of MQSN's energy")
-    return per_search(searches(sw.ok), lambda s: (opt_rows(sw, s)["+Forward"], opt_rows(sw, s)["MQMN"]), measure,
+    return per_search(searches(sw.ok), opt_pair(sw, "+Forward", "MQMN"), measure,
                       Claim("mqmn-power", "14", "MQMN ~4x the power of MQSN(+Forward)", "4x", how)
                       .missing("the +Forward and MQMN rows"))
 

@@ -196,6 +196,14 @@ def opt_rows(sw, s):
             "+Forward": f(), "MQMN": f(policy="mqmn")}
 
 
+def opt_pair(sw, a, b):
+    """rows(s) for per_search: the optimization rows `a` (before) and `b` (after) of search s."""
+    def rows(s):
+        r = opt_rows(sw, s)
+        return r[a], r[b]
+    return rows
+
+
 OPT_HOW = ("gain = cycles(before) / cycles(after) - 1, exact search, top height 10, default "
            "machine; No-Opt = fe.bypassing=false, fe.forwarding=false; Bypass = "
            "fe.forwarding=false; +Forward = both on (default); MQMN = be.issue_policy=mqmn "
@@ -226,7 +234,7 @@ def claims_optimization(sw, cid, text, a, b, key, paper):
         if cid == "mqmn-speed":
             return c.set(xf(sp), up(sp), within_2x_gain(sp, PAPER[key]), fact)
         return c.set(f"{100 * (sp - 1):+.1f}%", up(sp), within_2x(sp - 1, PAPER[key]), fact)
-    return per_search(searches(sw.ok), lambda s: (opt_rows(sw, s)[a], opt_rows(sw, s)[b]), measure,
+    return per_search(searches(sw.ok), opt_pair(sw, a, b), measure,
                       Claim(cid, "9", text, paper, OPT_HOW).missing(
                           f"the {a} and {b} rows (fe.bypassing / fe.forwarding / be.issue_policy)"))
 
@@ -249,7 +257,7 @@ def claims_mqmn_traffic(sw):
                      f"Point Buffer {ed.fmt_bytes(pa)} -> {ed.fmt_bytes(pb)} ({pb / pa if pa else 0:.2f}x); "
                      f"Node Cache reads {ed.fmt_bytes(na)} -> {ed.fmt_bytes(nb)}; all on-chip traffic "
                      f"{ed.fmt_bytes(ta)} -> {ed.fmt_bytes(tb)}")
-    return per_search(searches(sw.ok), lambda s: (opt_rows(sw, s)["+Forward"], opt_rows(sw, s)["MQMN"]), measure,
+    return per_search(searches(sw.ok), opt_pair(sw, "+Forward", "MQMN"), measure,
                       Claim("mqmn-traffic", "9", "MQMN has far more Point Buffer traffic than MQSN",
                             "far more (no number)", how).missing("the +Forward and MQMN rows"))
 
